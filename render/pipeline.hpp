@@ -1,0 +1,83 @@
+// The table of pipelines and the single render entry point. Every pipeline shares the front end
+// (request -> polygons in world space -> camera) and is one function in its own file plus one row in
+// pipeline.cpp's table; validation, GET /v1/pipelines, the tests and the benchmarks iterate that
+// table. A render is a pure function of (scene, polygons, camera, options): no mutable globals.
+#pragma once
+
+#include "camera.hpp"
+#include "image.hpp"
+#include "scene.hpp"
+#include "tessellate.hpp"
+
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace rr {
+
+struct StageTimings {  // wall-clock milliseconds; a stage that did not run stays 0
+  double parse_ms = 0.0;
+  double tessellate_ms = 0.0;
+  double raster_ms = 0.0;
+  double shade_ms = 0.0;
+  double encode_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+struct RenderStats {
+  size_t polygons = 0;         // in the tessellated scene
+  size_t polygons_culled = 0;  // skipped before rasterization (back-facing or outside the view)
+  size_t polygons_drawn = 0;   // reached the rasterizer
+  size_t triangles = 0;        // rasterized after clipping
+  size_t fragments = 0;        // pixels that passed coverage (before the depth test)
+};
+
+struct Frame {
+  Image image;   // RGB8
+  IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
+};
+
+struct FrameInput {
+  const Scene& scene;
+  const PolygonSoup& soup;
+  const ViewTransform& view;
+  const RenderOptions& options;
+};
+
+using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats,
+                            StageTimings& timings);
+
+struct PipelineInfo {
+  PipelineKind kind;
+  const char* name;
+  const char* summary;
+  PipelineFn draw;
+};
+
+std::span<const PipelineInfo> pipeline_table();
+const PipelineInfo* find_pipeline(std::string_view name);
+const PipelineInfo& pipeline_info(PipelineKind kind);
+
+struct RenderResult {
+  Frame frame;
+  StageTimings timings;
+  RenderStats stats;
+};
+
+// Draws one frame of an already tessellated scene (timings: raster, shade, total).
+RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Camera& camera,
+                          const RenderOptions& options);
+
+// The whole path from request text to PNG bytes, timing every stage; throws InputError on bad input.
+struct EncodedRender {
+  RenderRequest request;
+  RenderResult result;  // result.timings covers parse .. encode and total
+  std::string png;
+  std::string scene_id;
+};
+EncodedRender render_request_text(std::string_view request_json);
+
+// One JSON object of timings and counts, as printed by the CLI and returned by the service.
+std::string timings_json(const StageTimings& timings, const RenderStats& stats);
+
+}  // namespace rr

@@ -1,0 +1,61 @@
+#include "support/test_support.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rr::testing {
+
+std::filesystem::path source_dir() { return ROOMRENDER_SOURCE_DIR; }
+
+std::filesystem::path examples_dir() { return source_dir() / "examples"; }
+
+std::optional<std::filesystem::path> shared_data_dir() {
+  auto dir = source_dir().parent_path() / "shared" / "data";
+  if (std::filesystem::is_directory(dir)) return dir;
+  return std::nullopt;
+}
+
+std::filesystem::path output_dir(const std::string& suite) {
+  auto dir = std::filesystem::path(ROOMRENDER_BINARY_DIR) / "test-output" / suite;
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+void write_file(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::vector<std::filesystem::path> example_files() {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(examples_dir())) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string ids_as_ascii(const IdBuffer& ids) {
+  std::string art;
+  for (int y = 0; y < ids.height; ++y) {
+    for (int x = 0; x < ids.width; ++x) {
+      uint32_t id = ids.at(x, y);
+      art += id == background_id ? '.' : char('0' + id % 10);
+    }
+    art += '\n';
+  }
+  return art;
+}
+
+}  // namespace rr::testing

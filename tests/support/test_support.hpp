@@ -1,0 +1,30 @@
+// Helpers shared by the test suites: repository paths, file I/O, example requests, and the optional
+// third-party data in ../shared (tests that need it skip when it is absent, as in a fresh clone).
+#pragma once
+
+#include "render/image.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rr::testing {
+
+std::filesystem::path source_dir();  // the repository root
+std::filesystem::path examples_dir();
+// ../shared/data beside the repository, or nullopt when absent.
+std::optional<std::filesystem::path> shared_data_dir();
+std::filesystem::path output_dir(const std::string& suite);  // build/test-output/<suite>, created
+
+std::string read_file(const std::filesystem::path& path);
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+// Every examples/*.json, sorted by name.
+std::vector<std::filesystem::path> example_files();
+
+// An id buffer as ASCII art, one row per line: '.' for background, otherwise the id's last digit
+// ('0'..'9'), so small exact fixtures read like pictures.
+std::string ids_as_ascii(const IdBuffer& ids);
+
+}  // namespace rr::testing
