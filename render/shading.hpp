@@ -4,6 +4,8 @@
 // the side facing the eye, so a single triangle seen from behind is not black.
 #pragma once
 
+#include "draw.hpp"
+#include "pipeline.hpp"
 #include "scene.hpp"
 #include "tessellate.hpp"
 
@@ -27,5 +29,22 @@ Color shade_lambert(const Scene& scene, const Material& material, Vec3 p_world, 
 // normal (flipped toward the eye for open surfaces). Lights behind the polygon's plane cost nothing
 // beyond the plane test.
 Color shade_flat(const Scene& scene, const PolygonSoup& soup, const Polygon& polygon, Vec3 eye);
+
+// Shading of the polygons of one frame, shared by every pipeline:
+//   prepare(i)   once per polygon that may be visible (the "shade" stage): per-polygon lighting;
+//   bind(i, s)   after project_polygon, before drawing it: selects the polygon and its clipped vertices;
+//   fragment(f, k) per covered pixel: the colour (constant for flat shading).
+class SurfaceShader {
+ public:
+  explicit SurfaceShader(const FrameInput& input);
+  void prepare(uint32_t index);
+  void bind(uint32_t index, const DrawScratch& scratch);
+  Color fragment(const Fragment&, size_t) const { return current_; }
+
+ private:
+  const FrameInput& input_;
+  std::vector<Color> flat_;  // per polygon index
+  Color current_{0.0f};
+};
 
 }  // namespace rr

@@ -1,0 +1,87 @@
+// The pipeline table and the render entry points. Adding a pipeline is one row here plus its own
+// file; everything that lists pipelines (validation, GET /v1/pipelines, tests, benchmarks) reads
+// this table.
+#include "render/pipeline.hpp"
+
+#include "render/scene_json.hpp"
+#include "render/timer.hpp"
+#include "render/zbuffer.hpp"
+
+#include <array>
+#include <cassert>
+
+#include <nlohmann/json.hpp>
+
+namespace rr {
+
+namespace {
+constexpr std::array<PipelineInfo, 1> pipelines = {{
+    {PipelineKind::zbuffer, "zbuffer",
+     "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
+     draw_zbuffer},
+}};
+}  // namespace
+
+std::span<const PipelineInfo> pipeline_table() { return pipelines; }
+
+const PipelineInfo* find_pipeline(std::string_view name) {
+  for (const PipelineInfo& p : pipelines) {
+    if (name == p.name) return &p;
+  }
+  return nullptr;
+}
+
+const PipelineInfo& pipeline_info(PipelineKind kind) {
+  for (const PipelineInfo& p : pipelines) {
+    if (p.kind == kind) return p;
+  }
+  assert(false && "every PipelineKind has a row in the table");
+  return pipelines[0];
+}
+
+RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Camera& camera,
+                          const RenderOptions& options) {
+  Stopwatch clock;
+  RenderResult result;
+  result.frame.image = Image(options.width, options.height, scene.background);
+  result.frame.ids = IdBuffer(options.width, options.height);
+  result.stats.polygons = soup.polygons.size();
+  ViewTransform view = make_view(camera, options.width, options.height);
+  FrameInput input{scene, soup, view, options};
+  pipeline_info(options.pipeline).draw(input, result.frame, result.stats, result.timings);
+  result.timings.total_ms = clock.elapsed_ms();
+  return result;
+}
+
+EncodedRender render_request_text(std::string_view request_json) {
+  Stopwatch total, clock;
+  EncodedRender out;
+  out.request = parse_request(request_json);
+  double parse_ms = clock.lap_ms();
+  PolygonSoup soup = tessellate(out.request.scene.geometry);
+  double tessellate_ms = clock.lap_ms();
+  out.result = render_frame(out.request.scene, soup, out.request.camera, out.request.options);
+  clock.lap_ms();
+  out.png = encode_png(out.result.frame.image);
+  StageTimings& t = out.result.timings;
+  t.parse_ms = parse_ms;
+  t.tessellate_ms = tessellate_ms;
+  t.encode_ms = clock.lap_ms();
+  out.scene_id = scene_id(out.request.scene.geometry);
+  t.total_ms = total.elapsed_ms();
+  return out;
+}
+
+std::string timings_json(const StageTimings& t, const RenderStats& s) {
+  auto ms = [](double v) { return std::round(v * 1000.0) / 1000.0; };  // microsecond resolution
+  nlohmann::ordered_json j;
+  j["timings_ms"] = {{"parse", ms(t.parse_ms)},         {"tessellate", ms(t.tessellate_ms)},
+                     {"raster", ms(t.raster_ms)},       {"shade", ms(t.shade_ms)},
+                     {"encode", ms(t.encode_ms)},       {"total", ms(t.total_ms)}};
+  j["counts"] = {{"polygons", s.polygons},     {"polygons_culled", s.polygons_culled},
+                 {"polygons_drawn", s.polygons_drawn}, {"triangles", s.triangles},
+                 {"fragments", s.fragments}};
+  return j.dump();
+}
+
+}  // namespace rr
