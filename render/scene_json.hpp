@@ -3,6 +3,7 @@
 // Kind::invalid, documented limits -> Kind::too_large. On success every default is applied.
 #pragma once
 
+#include "errors.hpp"
 #include "scene.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,0 +1,532 @@
+// scene_json: JSON text -> RenderRequest. Checks the documented defaults (docs/scene-format.md), that
+// every class of error carries its exact kind and JSON Pointer, that hostile bodies (deep nesting,
+// huge images) are refused quickly, and that the scene id ignores number spelling, camera and lights.
+#include "render/errors.hpp"
+#include "render/scene_json.hpp"
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+
+namespace rr {
+namespace {
+
+using Kind = InputError::Kind;
+using nlohmann::json;
+
+struct Failure {
+  Kind kind = Kind::malformed;
+  std::string pointer;
+  std::string detail;
+};
+
+// The error parse_request raises for `text`; a test failure when it accepts the text.
+Failure failure_of(std::string_view text, const ParseLimits& limits = {}) {
+  try {
+    parse_request(text, limits);
+  } catch (const InputError& e) {
+    return {e.kind(), e.pointer(), e.what()};
+  }
+  ADD_FAILURE() << "accepted: " << text.substr(0, 200);
+  return {Kind::malformed, "<accepted>", ""};
+}
+
+void expect_error(std::string_view text, Kind kind, const std::string& pointer,
+                  const std::string& detail_part = "", const ParseLimits& limits = {}) {
+  SCOPED_TRACE(std::string(text.substr(0, 200)));
+  Failure f = failure_of(text, limits);
+  EXPECT_EQ(f.kind, kind) << f.detail;
+  EXPECT_EQ(f.pointer, pointer) << f.detail;
+  EXPECT_NE(f.detail.find(detail_part), std::string::npos) << f.detail;
+}
+
+// A request whose scene holds one wall from (0,0) to (5,0), 2.5 m high, with the given openings.
+std::string wall_with_openings(const std::string& openings) {
+  return R"({"scene":{"walls":[{"start":[0,0],"end":[5,0],"openings":[)" + openings + "]}]}}";
+}
+
+std::string one_solid(const std::string& solid) { return R"({"scene":{"solids":[)" + solid + "]}}"; }
+
+std::string camera(const std::string& members) { return R"({"camera":{)" + members + "}}"; }
+
+Color hex_color(int r, int g, int b) { return Color(float(r) / 255.f, float(g) / 255.f, float(b) / 255.f); }
+
+double elapsed_ms(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// --- defaults ------------------------------------------------------------------------------------------
+
+TEST(SceneJson, EmptyRequestGetsDocumentedDefaults) {
+  RenderRequest r = parse_request("{}");
+  EXPECT_FALSE(r.scene.geometry.has_floor);
+  EXPECT_TRUE(r.scene.geometry.walls.empty());
+  EXPECT_TRUE(r.scene.geometry.solids.empty());
+  EXPECT_TRUE(r.scene.lights.empty());
+  EXPECT_EQ(r.scene.background, Color(0.0f));
+  EXPECT_EQ(r.scene.ambient.color, Color(1.0f));
+  EXPECT_FLOAT_EQ(r.scene.ambient.intensity, 0.2f);
+  EXPECT_EQ(r.camera.position, Vec3(0.0, 1.6, 5.0));
+  EXPECT_EQ(r.camera.target, Vec3(0.0, 1.0, 0.0));
+  EXPECT_EQ(r.camera.up, Vec3(0.0, 1.0, 0.0));
+  EXPECT_EQ(r.camera.fov_y_deg, 60.0);
+  EXPECT_EQ(r.camera.near, 0.1);
+  EXPECT_EQ(r.camera.far, 100.0);
+  EXPECT_EQ(r.options.width, 640);
+  EXPECT_EQ(r.options.height, 480);
+  EXPECT_EQ(r.options.pipeline, PipelineKind::zbuffer);
+  EXPECT_EQ(r.options.shading, ShadingMode::flat);
+  // Empty members behave as absent ones.
+  RenderRequest empty_members = parse_request(R"({"scene":{},"camera":{},"options":{}})");
+  EXPECT_EQ(scene_id(empty_members.scene.geometry), scene_id(r.scene.geometry));
+  EXPECT_EQ(empty_members.options.width, 640);
+}
+
+TEST(SceneJson, MinimalFloorGetsDefaults) {
+  Floor f = parse_request(R"({"scene":{"floor":{"cells":[2,3]}}})").scene.geometry.floor;
+  EXPECT_EQ(f.cells_x, 2);
+  EXPECT_EQ(f.cells_z, 3);
+  EXPECT_EQ(f.origin, Vec2(0.0, 0.0));
+  EXPECT_EQ(f.cell_size, 1.0);
+  EXPECT_EQ(f.elevation, 0.0);
+  ASSERT_EQ(f.colors.size(), 2u);
+  EXPECT_EQ(f.colors[0], hex_color(0xd9, 0xd4, 0xc7));
+  EXPECT_EQ(f.colors[1], hex_color(0x8c, 0x85, 0x79));
+  EXPECT_EQ(f.material.specular, 0.0f);
+  EXPECT_EQ(f.material.shininess, 32.0f);
+}
+
+TEST(SceneJson, MinimalWallGetsDefaults) {
+  RenderRequest r = parse_request(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0]}]}})");
+  ASSERT_EQ(r.scene.geometry.walls.size(), 1u);
+  const Wall& w = r.scene.geometry.walls[0];
+  EXPECT_EQ(w.end, Vec2(4.0, 0.0));
+  EXPECT_EQ(w.thickness, 0.15);
+  EXPECT_EQ(w.height, 2.5);
+  EXPECT_EQ(w.base, 0.0);
+  EXPECT_EQ(w.color, hex_color(0xe6, 0xe1, 0xd6));
+  EXPECT_TRUE(w.openings.empty());
+}
+
+TEST(SceneJson, DoorAndWindowDefaultsDependOnType) {
+  RenderRequest r = parse_request(wall_with_openings(
+      R"({"type":"door","offset":0.5,"width":0.9},{"type":"window","offset":2,"width":1})"));
+  const auto& openings = r.scene.geometry.walls.at(0).openings;
+  ASSERT_EQ(openings.size(), 2u);
+  const Opening& door = openings[0];
+  EXPECT_EQ(door.type, OpeningType::door);
+  EXPECT_EQ(door.height, 2.0);
+  EXPECT_EQ(door.sill, 0.0);
+  EXPECT_EQ(door.color, hex_color(0x8b, 0x5a, 0x2b));
+  EXPECT_EQ(door.opacity, 1.0f);
+  EXPECT_TRUE(door.leaf);
+  const Opening& window = openings[1];
+  EXPECT_EQ(window.type, OpeningType::window);
+  EXPECT_EQ(window.height, 1.2);
+  EXPECT_EQ(window.sill, 0.9);
+  EXPECT_EQ(window.color, hex_color(0xa8, 0xc8, 0xe8));
+  EXPECT_FLOAT_EQ(window.opacity, 0.35f);
+}
+
+TEST(SceneJson, SolidDefaultsDependOnType) {
+  RenderRequest r = parse_request(R"({"scene":{"solids":[
+    {"type":"box","center":[1,2],"size":[1,2,3]},
+    {"type":"cylinder","center":[0,0],"radius":0.5,"height":1},
+    {"type":"pyramid","center":[0,0],"size":[1,1,1]},
+    {"type":"prism","points":[[0,0],[1,0],[0,1]],"height":2},
+    {"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2]]}]}})");
+  const auto& s = r.scene.geometry.solids;
+  ASSERT_EQ(s.size(), 5u);
+  EXPECT_EQ(s[0].type, SolidType::box);
+  EXPECT_EQ(s[0].center, Vec2(1.0, 2.0));
+  EXPECT_EQ(s[0].base, 0.0);
+  EXPECT_EQ(s[0].rotation_y_deg, 0.0);
+  EXPECT_EQ(s[0].size, Vec3(1.0, 2.0, 3.0));
+  EXPECT_EQ(s[1].segments, 32);
+  EXPECT_TRUE(s[1].smooth);
+  EXPECT_TRUE(s[1].caps);
+  EXPECT_EQ(s[2].type, SolidType::pyramid);
+  EXPECT_EQ(s[3].points.size(), 3u);
+  EXPECT_EQ(s[3].base, 0.0);
+  EXPECT_EQ(s[4].type, SolidType::mesh);
+  EXPECT_FALSE(s[4].smooth);
+  EXPECT_FALSE(s[4].closed);
+  EXPECT_EQ(s[4].scale, Vec3(1.0));
+  EXPECT_EQ(s[4].position, Vec3(0.0));
+  EXPECT_EQ(s[4].faces, (std::vector<std::vector<uint32_t>>{{0, 1, 2}}));
+  for (const Solid& solid : s) EXPECT_EQ(solid.material.shininess, 32.0f);
+}
+
+TEST(SceneJson, LightDefaultsAndUnitDirection) {
+  RenderRequest r = parse_request(R"({"scene":{"lights":[
+    {"type":"directional","direction":[0,-3,4]},
+    {"type":"directional"},
+    {"type":"point","position":[1,2,3]}]}})");
+  const auto& lights = r.scene.lights;
+  ASSERT_EQ(lights.size(), 3u);
+  EXPECT_NEAR(lights[0].direction.y, -0.6, 1e-15);
+  EXPECT_NEAR(lights[0].direction.z, 0.8, 1e-15);
+  EXPECT_EQ(lights[0].intensity, 1.0f);
+  EXPECT_EQ(lights[0].color, Color(1.0f));
+  EXPECT_EQ(lights[1].direction, Vec3(0.0, -1.0, 0.0));
+  EXPECT_EQ(lights[2].type, LightType::point);
+  EXPECT_EQ(lights[2].position, Vec3(1.0, 2.0, 3.0));
+  EXPECT_EQ(lights[2].attenuation, Vec3(1.0, 0.0, 0.0));
+}
+
+TEST(SceneJson, ColoursAsHexInAnyCaseOrArrays) {
+  RenderRequest r = parse_request(R"({"scene":{"background":"#FF8000","ambient":{"color":[1,0.5,0]},
+    "floor":{"cells":[1,1],"colors":["#ff8000","#0a0B0c"]}}})");
+  EXPECT_EQ(r.scene.background, hex_color(255, 128, 0));
+  EXPECT_EQ(r.scene.ambient.color, Color(1.0f, 0.5f, 0.0f));
+  EXPECT_EQ(r.scene.geometry.floor.colors[0], hex_color(255, 128, 0));
+  EXPECT_EQ(r.scene.geometry.floor.colors[1], hex_color(10, 11, 12));
+  expect_error(R"({"scene":{"background":"#ff800"}})", Kind::invalid, "/scene/background", "#rrggbb");
+  expect_error(R"({"scene":{"background":"#gg8000"}})", Kind::invalid, "/scene/background");
+  expect_error(R"({"scene":{"background":[1,2,0]}})", Kind::invalid, "/scene/background/1",
+               "at most 1");
+  expect_error(R"({"scene":{"background":[1,0]}})", Kind::invalid, "/scene/background");
+}
+
+TEST(SceneJson, EveryExampleParses) {
+  auto files = testing::example_files();
+  EXPECT_FALSE(files.empty());
+  for (const auto& file : files) {
+    SCOPED_TRACE(file.string());
+    EXPECT_NO_THROW(parse_request(testing::read_file(file)));
+  }
+}
+
+// --- schema errors -------------------------------------------------------------------------------------
+
+TEST(SceneJsonErrors, UnknownKeysAnywhere) {
+  expect_error(R"({"scene":{},"extra":1})", Kind::invalid, "/extra", "unknown key");
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"frame":"oak"})"),
+               Kind::invalid, "/scene/walls/0/openings/0/frame", "unknown key");
+  // A door has no sill: the key belongs to windows only.
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"sill":0.5})"),
+               Kind::invalid, "/scene/walls/0/openings/0/sill", "unknown key");
+  expect_error(R"({"scene":{"a/b~c":1}})", Kind::invalid, "/scene/a~1b~0c", "unknown key");
+  expect_error(one_solid(R"({"type":"box","center":[0,0],"size":[1,1,1],"material":{"gloss":1}})"),
+               Kind::invalid, "/scene/solids/0/material/gloss", "unknown key");
+}
+
+TEST(SceneJsonErrors, WrongTypes) {
+  expect_error("[]", Kind::invalid, "", "must be an object");
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"thickness":"thick"}]}})",
+               Kind::invalid, "/scene/walls/0/thickness", "must be a number");
+  expect_error(R"({"scene":{"walls":{}}})", Kind::invalid, "/scene/walls", "must be an array");
+  expect_error(R"({"scene":{"walls":[{"start":[0,"0"],"end":[1,0]}]}})", Kind::invalid,
+               "/scene/walls/0/start/1", "must be a number");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"caps":1})"),
+               Kind::invalid, "/scene/solids/0/caps", "true or false");
+  expect_error(one_solid(R"({"type":"sphere"})"), Kind::invalid, "/scene/solids/0/type");
+  expect_error(R"({"options":{"width":640.5}})", Kind::invalid, "/options/width", "integer");
+  expect_error(R"({"options":{"pipeline":"raytrace"}})", Kind::invalid, "/options/pipeline",
+               "zbuffer");
+  expect_error(R"({"options":{"shading":"toon"}})", Kind::invalid, "/options/shading", "flat");
+  expect_error(R"({"scene":{"version":2}})", Kind::invalid, "/scene/version");
+}
+
+TEST(SceneJsonErrors, MissingRequiredKeysNameTheKey) {
+  expect_error(R"({"scene":{"walls":[{"end":[1,0]}]}})", Kind::invalid, "/scene/walls/0",
+               "\"start\"");
+  expect_error(R"({"scene":{"floor":{}}})", Kind::invalid, "/scene/floor", "\"cells\"");
+  expect_error(one_solid(R"({"center":[0,0]})"), Kind::invalid, "/scene/solids/0", "\"type\"");
+}
+
+TEST(SceneJsonErrors, OutOfRange) {
+  expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"opacity":1.5})"),
+               Kind::invalid, "/scene/walls/0/openings/0/opacity", "must be at most 1");
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"height":0}]}})", Kind::invalid,
+               "/scene/walls/0/height", "must be greater than 0");
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[2e6,0]}]}})", Kind::invalid,
+               "/scene/walls/0/end/0", "at most 1000000");
+  expect_error(R"({"scene":{"walls":[{"start":[1,1],"end":[1,1]}]}})", Kind::invalid,
+               "/scene/walls/0/end", "from start");
+  expect_error(R"({"scene":{"ambient":{"intensity":-1}}})", Kind::invalid,
+               "/scene/ambient/intensity", "at least 0");
+  expect_error(R"({"scene":{"floor":{"cells":[0,3]}}})", Kind::invalid, "/scene/floor/cells/0");
+  expect_error(R"({"scene":{"floor":{"cells":[2,2],"colors":["#ffffff"]}}})", Kind::invalid,
+               "/scene/floor/colors", "at least 2");
+  expect_error(one_solid(R"({"type":"box","center":[0,0],"size":[1,1,1],
+                             "material":{"shininess":0.5}})"),
+               Kind::invalid, "/scene/solids/0/material/shininess", "at least 1");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":2})"),
+               Kind::invalid, "/scene/solids/0/segments", "at least 3");
+  expect_error(R"({"scene":{"lights":[{"type":"directional","direction":[0,0,0]}]}})",
+               Kind::invalid, "/scene/lights/0/direction", "zero");
+}
+
+// JSON Schema's "integer" is any number with a zero fraction; the parser must agree with the schema.
+TEST(SceneJsonErrors, IntegersMayBeSpelledWithAZeroFraction) {
+  RenderRequest r = parse_request(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,
+                                         "segments":16.0})"));
+  EXPECT_EQ(r.scene.geometry.solids.at(0).segments, 16);
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":16.5})"),
+               Kind::invalid, "/scene/solids/0/segments", "must be an integer");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":"16"})"),
+               Kind::invalid, "/scene/solids/0/segments", "must be an integer");
+}
+
+// --- semantic rules ------------------------------------------------------------------------------------
+
+TEST(SceneJsonRules, OpeningMustFitItsWall) {
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1},
+                                     {"type":"window","offset":4.2,"width":1})"),
+               Kind::invalid, "/scene/walls/0/openings/1",
+               "opening extends past the end of its wall (offset + width = 5.2 m > length 5 m)");
+  expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"sill":1.5,"height":1.2})"),
+               Kind::invalid, "/scene/walls/0/openings/0", "above its wall");
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"height":2.6})"),
+               Kind::invalid, "/scene/walls/0/openings/0", "above its wall");
+  // Exactly reaching the end and the top is allowed.
+  EXPECT_NO_THROW(parse_request(wall_with_openings(
+      R"({"type":"window","offset":4,"width":1,"sill":1.3,"height":1.2})")));
+}
+
+TEST(SceneJsonRules, OpeningsMustNotOverlap) {
+  expect_error(wall_with_openings(R"({"type":"window","offset":3,"width":1},
+                                     {"type":"door","offset":0,"width":1},
+                                     {"type":"door","offset":1.5,"width":2})"),
+               Kind::invalid, "/scene/walls/0/openings/2", "overlaps opening 0");
+  // Touching is allowed.
+  EXPECT_NO_THROW(parse_request(wall_with_openings(
+      R"({"type":"door","offset":0,"width":1},{"type":"window","offset":1,"width":1})")));
+}
+
+TEST(SceneJsonRules, MeshFacesMustBeValid) {
+  const std::string vertices = R"("vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0]])";
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,2],[0,2,4]]})"),
+               Kind::invalid, "/scene/solids/0/faces/1/2", "out of range");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,-1]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0/2", "out of range");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,1.5]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0/2", "integer");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,2,1]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0/3", "twice");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0", "at least 3");
+  // Lift one corner of the quad 1 mm: far more than 1e-6 of a ~1.4 m mesh.
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,0.001],[0,1,0]],
+                             "faces":[[0,1,2],[0,1,2,3]]})"),
+               Kind::invalid, "/scene/solids/0/faces/1", "not planar");
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[2,0,0]],"faces":[[0,1,2]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0", "zero area");
+  // Within tolerance: 1e-9 m off a ~1.4 m mesh.
+  EXPECT_NO_THROW(parse_request(one_solid(
+      R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,1e-9],[0,1,0]],"faces":[[0,1,2,3]]})")));
+}
+
+TEST(SceneJsonRules, MeshFromJsonBuiltInCodeAcceptsSignedIndices) {
+  json request = {{"scene",
+                   {{"solids",
+                     {{{"type", "mesh"},
+                       {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}},
+                       {"faces", {{0, 1, 2}}}}}}}}};
+  ASSERT_TRUE(request["scene"]["solids"][0]["faces"][0][1].is_number_integer());
+  EXPECT_EQ(request_from_json(request).scene.geometry.solids.at(0).faces.at(0).at(2), 2u);
+}
+
+TEST(SceneJsonRules, PrismMustBeSimplePolygon) {
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,1],[1,0],[0,1]],"height":1})"),
+               Kind::invalid, "/scene/solids/0/points", "intersect");
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0],[1,0],[0,1]],"height":1})"),
+               Kind::invalid, "/scene/solids/0/points", "repeats");
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0],[2,0]],"height":1})"),
+               Kind::invalid, "/scene/solids/0/points");
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0]],"height":1})"), Kind::invalid,
+               "/scene/solids/0/points", "at least 3");
+  // Non-convex but simple (an L), in either winding.
+  EXPECT_NO_THROW(parse_request(one_solid(
+      R"({"type":"prism","points":[[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],"height":1})")));
+  EXPECT_NO_THROW(parse_request(one_solid(
+      R"({"type":"prism","points":[[0,2],[1,2],[1,1],[2,1],[2,0],[0,0]],"height":1})")));
+}
+
+TEST(SceneJsonRules, CameraMustBeUsable) {
+  expect_error(camera(R"("fov_y":0)"), Kind::invalid, "/camera/fov_y", "greater than 1");
+  expect_error(camera(R"("fov_y":1)"), Kind::invalid, "/camera/fov_y", "greater than 1");
+  expect_error(camera(R"("fov_y":170)"), Kind::invalid, "/camera/fov_y", "less than 170");
+  EXPECT_NO_THROW(parse_request(camera(R"("fov_y":169.9)")));
+  expect_error(camera(R"("near":1,"far":1)"), Kind::invalid, "/camera/far", "greater than 1");
+  expect_error(camera(R"("near":2,"far":1)"), Kind::invalid, "/camera/far");
+  expect_error(camera(R"("near":0)"), Kind::invalid, "/camera/near", "greater than 0");
+  expect_error(camera(R"("near":1e-6,"far":100)"), Kind::invalid, "/camera/far", "exceeds");
+  expect_error(camera(R"("position":[0,5,0],"target":[0,0,0])"), Kind::invalid, "/camera/up",
+               "parallel");
+  expect_error(camera(R"("position":[0,0,0],"target":[0,0,-1],"up":[0,0,2])"), Kind::invalid,
+               "/camera/up", "parallel");
+  expect_error(camera(R"("position":[1,2,3],"target":[1,2,3])"), Kind::invalid, "/camera/target",
+               "coincide");
+}
+
+// --- limits --------------------------------------------------------------------------------------------
+
+TEST(SceneJsonLimits, HugeImageIsTooLargeAndRefusedFast) {
+  auto start = std::chrono::steady_clock::now();
+  expect_error(R"({"options":{"width":100000}})", Kind::too_large, "/options/width", "at most 4096");
+  EXPECT_LT(elapsed_ms(start), 100.0);
+  expect_error(R"({"options":{"height":4097}})", Kind::too_large, "/options/height");
+  expect_error(R"({"options":{"width":0}})", Kind::invalid, "/options/width");
+  EXPECT_NO_THROW(parse_request(R"({"options":{"width":4096,"height":4096}})"));
+  ParseLimits limits;
+  limits.max_pixels = 1000;
+  expect_error(R"({"options":{"width":100,"height":11}})", Kind::too_large, "/options/width",
+               "1100 pixels", limits);
+}
+
+TEST(SceneJsonLimits, WorkLimitsAreTooLarge) {
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":1025})"),
+               Kind::too_large, "/scene/solids/0/segments", "at most 1024");
+  expect_error(R"({"scene":{"floor":{"cells":[1001,1000]}}})", Kind::too_large, "/scene/floor/cells");
+  expect_error(R"({"scene":{"floor":{"cells":[1000001,1]}}})", Kind::too_large, "/scene/floor/cells/0");
+  EXPECT_NO_THROW(parse_request(R"({"scene":{"floor":{"cells":[1000,1000]}}})"));
+  ParseLimits limits;
+  limits.max_polygons = 50;
+  expect_error(R"({"scene":{"floor":{"cells":[10,10]}}})", Kind::too_large, "/scene", "polygons",
+               limits);
+  std::string faces = "[0,1,2]";
+  for (int i = 0; i < 60; ++i) faces += ",[0,1,2]";
+  expect_error(
+      one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[)" + faces + "]}"),
+      Kind::too_large, "/scene/solids/0/faces", "61 faces", limits);
+}
+
+// --- malformed text ------------------------------------------------------------------------------------
+
+TEST(SceneJsonMalformed, DeepNestingIsRefusedFastWhileParsing) {
+  std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  std::string pointer_at_65th_level;
+  for (int level = 0; level < 64; ++level) pointer_at_65th_level += "/0";
+  auto start = std::chrono::steady_clock::now();
+  expect_error(deep, Kind::malformed, pointer_at_65th_level, "deeper than 64");
+  EXPECT_LT(elapsed_ms(start), 100.0);
+  // Exactly at the limit is fine; one more level is not.
+  ParseLimits limits;
+  limits.max_depth = 3;
+  EXPECT_NO_THROW(parse_json_text("[[[1]]]", limits));
+  EXPECT_NO_THROW(parse_json_text(R"({"a":{"b":[]}})", limits));
+  try {
+    parse_json_text(R"({"a":{"b":[{}]}})", limits);
+    ADD_FAILURE() << "accepted 4 levels";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.kind(), Kind::malformed);
+    EXPECT_EQ(e.pointer(), "/a/b/0");
+  }
+}
+
+TEST(SceneJsonMalformed, DuplicateKeys) {
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"start":[2,2]}]}})", Kind::malformed,
+               "/scene/walls/0/start", "duplicate key");
+  expect_error(R"({"camera":{},"camera":{}})", Kind::malformed, "/camera", "duplicate key");
+}
+
+TEST(SceneJsonMalformed, NonFiniteNumbers) {
+  expect_error(R"({"camera":{"fov_y":NaN}})", Kind::malformed, "");
+  expect_error(R"({"camera":{"fov_y":Infinity}})", Kind::malformed, "");
+  // nlohmann itself reports the overflow as a parse error, so there is no pointer.
+  expect_error(R"({"camera":{"fov_y":1e999}})", Kind::malformed, "", "overflow");
+  expect_error(R"({"camera":{"position":[0,-1e999,0]}})", Kind::malformed, "", "overflow");
+  // In JSON built in code NaN can exist; it is refused as invalid there.
+  json request = {{"camera", {{"fov_y", std::nan("")}}}};
+  try {
+    request_from_json(request);
+    ADD_FAILURE() << "accepted NaN";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.kind(), Kind::invalid);
+    EXPECT_EQ(e.pointer(), "/camera/fov_y");
+  }
+}
+
+TEST(SceneJsonMalformed, SyntaxErrorsReportTheByteOffset) {
+  Failure truncated = failure_of(R"({"scene":{"walls":[)");
+  EXPECT_EQ(truncated.kind, Kind::malformed);
+  EXPECT_EQ(truncated.pointer, "");
+  EXPECT_NE(truncated.detail.find("byte 20"), std::string::npos) << truncated.detail;
+  expect_error("", Kind::malformed, "", "byte");
+  expect_error("{} {}", Kind::malformed, "", "byte");
+  expect_error(R"({"a":1,})", Kind::malformed, "", "byte");
+}
+
+TEST(SceneJsonMalformed, InvalidUtf8) {
+  Failure f = failure_of("{\"scene\":{\"walls\":[{\"id\":\"caf\xE9\"}]}}");
+  EXPECT_EQ(f.kind, Kind::malformed);
+  EXPECT_NE(f.detail.find("byte"), std::string::npos) << f.detail;
+  // The detail goes into a JSON problem body, so it must itself be valid UTF-8.
+  EXPECT_NO_THROW((void)json(f.detail).dump()) << f.detail;
+  expect_error("{\"scene\":{\"\xC0\xAF\":1}}", Kind::malformed, "");
+}
+
+// --- canonical JSON and scene id -----------------------------------------------------------------------
+
+std::string id_of(const std::string& text) { return scene_id(parse_request(text).scene.geometry); }
+
+TEST(SceneId, NumberSpellingDoesNotMatter) {
+  EXPECT_EQ(id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0],"height":3}]}})"),
+            id_of(R"({"scene":{"walls":[{"start":[0.0,0e0],"end":[4.0,0],"height":3.0}]}})"));
+  // Spelled-out defaults equal omitted ones.
+  EXPECT_EQ(id_of(R"({"scene":{"floor":{"cells":[2,2]}}})"),
+            id_of(R"({"scene":{"floor":{"cells":[2,2],"cell_size":1,"colors":["#D9D4C7","#8c8579"],
+                                       "material":{"specular":0,"shininess":32}}}})"));
+}
+
+TEST(SceneId, CameraLightsAndBackgroundDoNotMatter) {
+  const std::string walls = R"("walls":[{"start":[0,0],"end":[4,0]}])";
+  EXPECT_EQ(id_of("{\"scene\":{" + walls + "}}"),
+            id_of("{\"scene\":{" + walls + R"(,"background":"#ff0000","ambient":{"intensity":1},
+                  "lights":[{"type":"point","position":[0,2,0]}]},
+                  "camera":{"position":[3,3,3]},"options":{"width":10}})"));
+}
+
+TEST(SceneId, GeometryChangesDoMatter) {
+  std::string base = id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0]}]}})");
+  EXPECT_NE(base, id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0.5]}]}})"));
+  EXPECT_NE(base, id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0],"color":"#000000"}]}})"));
+  EXPECT_NE(base, id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0]}],"floor":{"cells":[1,1]}}})"));
+  EXPECT_EQ(base.size(), 16u);
+  EXPECT_EQ(base.find_first_not_of("0123456789abcdef"), std::string::npos) << base;
+}
+
+// Every number in the canonical form is a double, whatever the request spelled.
+bool all_numbers_are_doubles(const json& j) {
+  if (j.is_number()) return j.is_number_float();
+  if (j.is_structured()) {
+    for (const json& child : j) {
+      if (!all_numbers_are_doubles(child)) return false;
+    }
+  }
+  return true;
+}
+
+TEST(SceneId, CanonicalJsonHoldsStaticGeometryOnly) {
+  RenderRequest r = parse_request(R"({"scene":{"floor":{"cells":[2,3]},
+    "walls":[{"start":[0,0],"end":[5,0],"id":"north","openings":[{"type":"door","offset":1,"width":1}]}],
+    "solids":[{"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2]]},
+              {"type":"cylinder","center":[0,0],"radius":1,"height":1}],
+    "lights":[{"type":"directional"}]}})");
+  json canonical = canonical_static_json(r.scene.geometry);
+  EXPECT_TRUE(all_numbers_are_doubles(canonical)) << canonical.dump();
+  EXPECT_EQ(canonical.size(), 3u);
+  EXPECT_TRUE(canonical.contains("floor") && canonical.contains("walls") && canonical.contains("solids"));
+  EXPECT_EQ(canonical["floor"]["cells"], json({2.0, 3.0}));
+  EXPECT_FALSE(canonical["walls"][0].contains("id"));
+  EXPECT_EQ(canonical["walls"][0]["openings"][0]["type"], "door");
+  EXPECT_EQ(canonical["solids"][0]["faces"], json({{0.0, 1.0, 2.0}}));
+  EXPECT_EQ(canonical["solids"][1]["segments"], 32.0);
+  EXPECT_EQ(canonical_static_json(StaticGeometry{})["floor"], json(nullptr));
+}
+
+// --- pointers ------------------------------------------------------------------------------------------
+
+TEST(JsonPointer, AppendEscapesTildeAndSlash) {
+  EXPECT_EQ(pointer_append("", "a/b~c"), "/a~1b~0c");
+  EXPECT_EQ(pointer_append("/scene", "~1"), "/scene/~01");
+  EXPECT_EQ(pointer_append("/scene/walls", size_t(3)), "/scene/walls/3");
+  EXPECT_EQ(pointer_append("", ""), "/");
+}
+
+}  // namespace
+}  // namespace rr
