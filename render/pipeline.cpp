@@ -75,12 +75,23 @@ EncodedRender render_request_text(std::string_view request_json) {
 std::string timings_json(const StageTimings& t, const RenderStats& s) {
   auto ms = [](double v) { return std::round(v * 1000.0) / 1000.0; };  // microsecond resolution
   nlohmann::ordered_json j;
-  j["timings_ms"] = {{"parse", ms(t.parse_ms)},         {"tessellate", ms(t.tessellate_ms)},
-                     {"raster", ms(t.raster_ms)},       {"shade", ms(t.shade_ms)},
-                     {"encode", ms(t.encode_ms)},       {"total", ms(t.total_ms)}};
+  j["timings_ms"] = {{"parse", ms(t.parse_ms)},   {"tessellate", ms(t.tessellate_ms)},
+                     {"build", ms(t.build_ms)},   {"sort", ms(t.sort_ms)},
+                     {"traverse", ms(t.traverse_ms)}, {"shadow", ms(t.shadow_ms)},
+                     {"raster", ms(t.raster_ms)}, {"shade", ms(t.shade_ms)},
+                     {"encode", ms(t.encode_ms)}, {"total", ms(t.total_ms)}};
   j["counts"] = {{"polygons", s.polygons},     {"polygons_culled", s.polygons_culled},
                  {"polygons_drawn", s.polygons_drawn}, {"triangles", s.triangles},
-                 {"fragments", s.fragments}};
+                 {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated}};
+  j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
+  if (s.painter_pairs_tested || s.painter_splits) {
+    j["painter"] = {{"pairs_tested", s.painter_pairs_tested}, {"splits", s.painter_splits}};
+  }
+  if (!s.bsp_cache.empty()) {
+    j["bsp"] = {{"cache", s.bsp_cache},        {"nodes", s.bsp_nodes},
+                {"depth", s.bsp_depth},        {"input_polygons", s.bsp_input_polygons},
+                {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits}};
+  }
   return j.dump();
 }
 

@@ -18,6 +18,10 @@ namespace rr {
 struct StageTimings {  // wall-clock milliseconds; a stage that did not run stays 0
   double parse_ms = 0.0;
   double tessellate_ms = 0.0;
+  double build_ms = 0.0;     // BSP tree build (0 on a cache hit)
+  double sort_ms = 0.0;      // painter's depth sort (and Newell tests)
+  double traverse_ms = 0.0;  // BSP back-to-front walk
+  double shadow_ms = 0.0;    // shadow-map passes
   double raster_ms = 0.0;
   double shade_ms = 0.0;
   double encode_ms = 0.0;
@@ -30,6 +34,18 @@ struct RenderStats {
   size_t polygons_drawn = 0;   // reached the rasterizer
   size_t triangles = 0;        // rasterized after clipping
   size_t fragments = 0;        // pixels that passed coverage (before the depth test)
+  size_t lights_evaluated = 0; // light-polygon (flat) or light-vertex/pixel evaluations
+  bool shadow_skipped = true;  // no shadow pass ran (no light, shadows off, or nothing to cast)
+  // Painter.
+  size_t painter_pairs_tested = 0;  // pairs that needed Newell's extra tests
+  size_t painter_splits = 0;
+  // BSP.
+  std::string bsp_cache;  // "hit", "miss" or "" when the pipeline has no tree
+  size_t bsp_nodes = 0;
+  size_t bsp_depth = 0;
+  size_t bsp_input_polygons = 0;
+  size_t bsp_fragments = 0;  // polygons stored in the tree after splitting
+  size_t bsp_splits = 0;
 };
 
 struct Frame {

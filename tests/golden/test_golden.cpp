@@ -9,6 +9,7 @@
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <string>
@@ -23,6 +24,8 @@ struct GoldenCase {
   std::string example;  // file stem in examples/
   std::string pipeline;
 };
+
+void PrintTo(const GoldenCase& c, std::ostream* os) { *os << c.example << " with " << c.pipeline; }
 
 std::vector<GoldenCase> golden_cases() {
   std::vector<GoldenCase> cases;
