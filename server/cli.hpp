@@ -1,0 +1,41 @@
+// The roomrender subcommands behind server/main.cpp: render (request -> PNG, ids, timings line),
+// export (request -> Wavefront OBJ of the tessellated scene) and serve (the HTTP service). Each takes
+// the arguments after its name and returns the exit code: 0 ok, 1 failed, 2 usage error. Machine
+// output is one JSON line: results on stdout, errors on stderr as {"error": ..., "pointer": ...}.
+#pragma once
+
+#include "render/tessellate.hpp"
+#include "server/http_server.hpp"
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace rr::server {
+
+std::string_view version();
+std::string usage_text();  // every subcommand with its options, for `roomrender help`
+
+int run_render(std::span<const std::string> args);
+int run_export(std::span<const std::string> args);
+int run_serve(std::span<const std::string> args);
+
+// A command line that cannot be obeyed; exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The serve configuration: defaults, then ROOMRENDER_* variables read through `getenv`, then flags
+// (flags win). Throws UsageError naming the flag or variable that is wrong.
+ServerConfig serve_config_from(std::span<const std::string> args,
+                               const std::function<std::optional<std::string>(const char*)>& getenv);
+
+// The tessellated scene as Wavefront OBJ: `comment` as '#' lines, then per polygon in id order its
+// vertices as `v` lines (shortest round-trip decimals, so reading back is exact) and one `f` line,
+// so polygon id k is the k-th `f` line.
+std::string encode_obj(const PolygonSoup& soup, std::string_view comment);
+
+}  // namespace rr::server
