@@ -40,34 +40,38 @@ const PipelineInfo& pipeline_info(PipelineKind kind) {
 }
 
 RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Camera& camera,
-                          const RenderOptions& options) {
+                          const RenderOptions& options, const RenderContext& context) {
   Stopwatch clock;
   RenderResult result;
   result.frame.image = Image(options.width, options.height, scene.background);
   result.frame.ids = IdBuffer(options.width, options.height);
   result.stats.polygons = soup.polygons.size();
   ViewTransform view = make_view(camera, options.width, options.height);
-  FrameInput input{scene, soup, view, options};
+  FrameInput input{scene, soup, view, options, context};
+  check_cancel(context.cancel);
   pipeline_info(options.pipeline).draw(input, result.frame, result.stats, result.timings);
   result.timings.total_ms = clock.elapsed_ms();
   return result;
 }
 
-EncodedRender render_request_text(std::string_view request_json) {
+EncodedRender render_request_text(std::string_view request_json, const RenderContext& context) {
   Stopwatch total, clock;
   EncodedRender out;
   out.request = parse_request(request_json);
   double parse_ms = clock.lap_ms();
   PolygonSoup soup = tessellate(out.request.scene.geometry);
   double tessellate_ms = clock.lap_ms();
-  out.result = render_frame(out.request.scene, soup, out.request.camera, out.request.options);
+  out.scene_id = scene_id(out.request.scene.geometry);
+  RenderContext frame_context = context;
+  if (frame_context.scene_id.empty()) frame_context.scene_id = out.scene_id;
+  clock.lap_ms();  // the id is the cache key; hashing is not a render stage
+  out.result = render_frame(out.request.scene, soup, out.request.camera, out.request.options, frame_context);
   clock.lap_ms();
   out.png = encode_png(out.result.frame.image);
   StageTimings& t = out.result.timings;
   t.parse_ms = parse_ms;
   t.tessellate_ms = tessellate_ms;
   t.encode_ms = clock.lap_ms();
-  out.scene_id = scene_id(out.request.scene.geometry);
   t.total_ms = total.elapsed_ms();
   return out;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "camera.hpp"
+#include "cancel.hpp"
 #include "image.hpp"
 #include "scene.hpp"
 #include "tessellate.hpp"
@@ -53,11 +54,23 @@ struct Frame {
   IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
 };
 
+class BspCache;    // bsp_cache.hpp: trees of static scenes, shared across requests
+struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
+
+// What outlives one render and is shared across requests (all optional).
+struct RenderContext {
+  BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
+  const CancelToken* cancel = nullptr;   // null: never cancelled
+  std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
+};
+
 struct FrameInput {
   const Scene& scene;
   const PolygonSoup& soup;
   const ViewTransform& view;
   const RenderOptions& options;
+  const RenderContext& context;
+  const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
 };
 
 using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats,
@@ -80,9 +93,10 @@ struct RenderResult {
   RenderStats stats;
 };
 
-// Draws one frame of an already tessellated scene (timings: raster, shade, total).
+// Draws one frame of an already tessellated scene (timings: shadow, build/sort/traverse, raster,
+// shade, total). Throws RenderCancelled when context.cancel expires.
 RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Camera& camera,
-                          const RenderOptions& options);
+                          const RenderOptions& options, const RenderContext& context = {});
 
 // The whole path from request text to PNG bytes, timing every stage; throws InputError on bad input.
 struct EncodedRender {
@@ -91,7 +105,7 @@ struct EncodedRender {
   std::string png;
   std::string scene_id;
 };
-EncodedRender render_request_text(std::string_view request_json);
+EncodedRender render_request_text(std::string_view request_json, const RenderContext& context = {});
 
 // One JSON object of timings and counts, as printed by the CLI and returned by the service.
 std::string timings_json(const StageTimings& timings, const RenderStats& stats);

@@ -13,6 +13,7 @@ namespace rr {
 
 struct MaterialParams {
   float specular = 0.0f;    // Blinn-Phong specular strength, 0..1
+  Color specular_color{1.0f, 1.0f, 1.0f};
   float shininess = 32.0f;  // Blinn-Phong exponent
 };
 
@@ -122,14 +123,39 @@ struct Camera {
   double far = 100.0;
 };
 
-enum class PipelineKind { zbuffer };  // one row each in pipeline.cpp's table
-enum class ShadingMode { flat };
+enum class PipelineKind { zbuffer, painter, bsp };  // one row each in pipeline.cpp's table
+enum class ShadingMode { flat, gouraud, phong };    // one row each in shading.cpp's table
+
+// Painter's sort key: mean / min (nearest vertex) / max view depth, or newell (mean order refined by
+// the Newell-Newell-Sancha tests, splitting polygons to break cycles).
+enum class PainterKey { mean, min, max, newell };
+
+struct BspOptions {
+  // Splitter score w1*|front - back| + w2*splits + w3*coplanar (lower is better).
+  double w1 = 1.0;
+  double w2 = 4.0;
+  double w3 = -1.0;
+  // Classification band as a fraction of the scene's bounding-box diagonal (docs/scene-format.md).
+  double epsilon = 1e-7;
+  int max_candidates = 32;  // splitter candidates scored per node when the node holds more polygons
+};
+
+struct ShadowOptions {
+  int size = 2048;           // shadow map side in texels (per cube face for point lights), 64..4096
+  int pcf = 1;               // percentage-closer filter kernel: 1 (hard), 3 or 5
+  double bias = 0.0;         // extra constant depth bias in texels of depth, added to the default
+  double slope_bias = 0.0;   // extra slope-scaled bias, added to the default
+};
 
 struct RenderOptions {
   int width = 640;
   int height = 480;
   PipelineKind pipeline = PipelineKind::zbuffer;
   ShadingMode shading = ShadingMode::flat;
+  PainterKey painter_key = PainterKey::mean;
+  BspOptions bsp;
+  bool shadows = false;
+  ShadowOptions shadow;
 };
 
 struct RenderRequest {

@@ -56,8 +56,9 @@ MaterialParams read_material(const ObjectReader& owner) {
   MaterialParams out;
   const json* value = owner.find("material");
   if (!value) return out;
-  ObjectReader r(*value, owner.at("material"), {"specular", "shininess"});
+  ObjectReader r(*value, owner.at("material"), {"specular", "specular_color", "shininess"});
   out.specular = float(r.number("specular", 0.0, unit_interval));
+  out.specular_color = r.color("specular_color", out.specular_color);
   out.shininess = float(r.number("shininess", 32.0, NumberRange{1.0, 10000.0}));
   return out;
 }
@@ -430,8 +431,46 @@ std::string table_names(const Table& table) {
   return names;
 }
 
+constexpr std::array<std::string_view, 4> painter_keys = {"mean", "min", "max", "newell"};
+
+PainterKey read_painter(const json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer, {"key"});
+  const json* key = r.find("key");
+  if (!key) return PainterKey::mean;
+  for (size_t i = 0; i < painter_keys.size(); ++i) {
+    if (key->is_string() && key->get_ref<const std::string&>() == painter_keys[i]) return PainterKey(i);
+  }
+  throw_invalid(r.at("key"), "must be one of: mean, min, max, newell");
+}
+
+BspOptions read_bsp(const json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer, {"w1", "w2", "w3", "epsilon", "max_candidates"});
+  BspOptions o;
+  const NumberRange weight{-1e6, 1e6};
+  o.w1 = r.number("w1", o.w1, weight);
+  o.w2 = r.number("w2", o.w2, weight);
+  o.w3 = r.number("w3", o.w3, weight);
+  o.epsilon = r.number("epsilon", o.epsilon, NumberRange{0.0, 1e-2});
+  o.max_candidates = int(r.integer("max_candidates", o.max_candidates, NumberRange{1.0, 4096.0}));
+  return o;
+}
+
+ShadowOptions read_shadow(const json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer, {"size", "pcf", "bias", "slope_bias"});
+  ShadowOptions o;
+  NumberRange size{64.0, 4096.0};
+  size.kind_above = Kind::too_large;
+  o.size = int(r.integer("size", o.size, size));
+  o.pcf = int(r.integer("pcf", o.pcf, NumberRange{1.0, 5.0}));
+  if (o.pcf % 2 == 0) throw_invalid(r.at("pcf"), "must be 1, 3 or 5");
+  o.bias = r.number("bias", o.bias, NumberRange{-100.0, 100.0});
+  o.slope_bias = r.number("slope_bias", o.slope_bias, NumberRange{-100.0, 100.0});
+  return o;
+}
+
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer, {"width", "height", "pipeline", "shading"});
+  ObjectReader r(value, pointer,
+                 {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
   side.kind_above = Kind::too_large;
@@ -452,6 +491,10 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
     if (!info) throw_invalid(r.at("shading"), "must be one of: " + table_names(shading_table()));
     o.shading = info->mode;
   }
+  if (const json* painter = r.find("painter")) o.painter_key = read_painter(*painter, r.at("painter"));
+  if (const json* bsp = r.find("bsp")) o.bsp = read_bsp(*bsp, r.at("bsp"));
+  o.shadows = r.boolean("shadows", o.shadows);
+  if (const json* shadow = r.find("shadow")) o.shadow = read_shadow(*shadow, r.at("shadow"));
   return o;
 }
 

@@ -54,11 +54,11 @@ Color shade_flat(const Scene& scene, const PolygonSoup& soup, const Polygon& pol
   return shade_lambert(scene, soup.materials[polygon.material], centroid, n);
 }
 
-SurfaceShader::SurfaceShader(const FrameInput& input)
-    : input_(input), flat_(input.soup.polygons.size()) {}
+SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
+    : input_(input), soup_(soup), flat_(soup.polygons.size()) {}
 
 void SurfaceShader::prepare(uint32_t index) {
-  flat_[index] = shade_flat(input_.scene, input_.soup, input_.soup.polygons[index], input_.view.eye);
+  flat_[index] = shade_flat(input_.scene, soup_, soup_.polygons[index], input_.view.eye);
 }
 
 void SurfaceShader::bind(uint32_t index, const DrawScratch&) { current_ = flat_[index]; }

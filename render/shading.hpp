@@ -36,13 +36,16 @@ Color shade_flat(const Scene& scene, const PolygonSoup& soup, const Polygon& pol
 //   fragment(f, k) per covered pixel: the colour (constant for flat shading).
 class SurfaceShader {
  public:
-  explicit SurfaceShader(const FrameInput& input);
+  // `soup` holds the polygons being drawn: input.soup, or fragments made from it (painter splits,
+  // BSP fragments) that keep their source's id, material, object and flags.
+  SurfaceShader(const FrameInput& input, const PolygonSoup& soup);
   void prepare(uint32_t index);
   void bind(uint32_t index, const DrawScratch& scratch);
   Color fragment(const Fragment&, size_t) const { return current_; }
 
  private:
   const FrameInput& input_;
+  const PolygonSoup& soup_;
   std::vector<Color> flat_;  // per polygon index
   Color current_{0.0f};
 };

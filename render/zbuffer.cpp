@@ -25,7 +25,7 @@ double mean_view_depth(const ViewTransform& view, const PolygonSoup& soup, const
 void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings) {
   const PolygonSoup& soup = input.soup;
   Stopwatch clock;
-  SurfaceShader shader(input);
+  SurfaceShader shader(input, soup);
   std::vector<uint32_t> opaque, translucent;
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
     const Polygon& poly = soup.polygons[i];
