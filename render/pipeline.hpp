@@ -7,6 +7,7 @@
 #include "camera.hpp"
 #include "cancel.hpp"
 #include "image.hpp"
+#include "lru_cache.hpp"
 #include "scene.hpp"
 #include "tessellate.hpp"
 
@@ -54,7 +55,8 @@ struct Frame {
   IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
 };
 
-class BspCache;    // bsp_cache.hpp: trees of static scenes, shared across requests
+struct BspTree;  // bsp.hpp: a tree of one static scene for one set of BSP options
+using BspCache = SharedLruCache<BspTree>;  // keyed by scene id + BSP options, shared across requests
 struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
 
 // What outlives one render and is shared across requests (all optional).
