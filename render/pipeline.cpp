@@ -4,6 +4,7 @@
 #include "render/pipeline.hpp"
 
 #include "render/scene_json.hpp"
+#include "render/png.hpp"
 #include "render/timer.hpp"
 #include "render/zbuffer.hpp"
 
@@ -67,7 +68,7 @@ EncodedRender render_request_text(std::string_view request_json, const RenderCon
   clock.lap_ms();  // the id is the cache key; hashing is not a render stage
   out.result = render_frame(out.request.scene, soup, out.request.camera, out.request.options, frame_context);
   clock.lap_ms();
-  out.png = encode_png(out.result.frame.image);
+  out.png = encode_png(out.result.frame.image, out.request.options.png_compression);
   StageTimings& t = out.result.timings;
   t.parse_ms = parse_ms;
   t.tessellate_ms = tessellate_ms;

@@ -130,6 +130,9 @@ enum class ShadingMode { flat, gouraud, phong };    // one row each in shading.c
 // the Newell-Newell-Sancha tests, splitting polygons to break cycles).
 enum class PainterKey { mean, min, max, newell };
 
+// PNG encoder (png.hpp): fast (parallel zlib strips), small (stb_image_write, the reference), none.
+enum class PngCompression { fast, small, none };  // one row each in png.cpp's table
+
 struct BspOptions {
   // Splitter score w1*|front - back| + w2*splits + w3*coplanar (lower is better).
   double w1 = 1.0;
@@ -156,6 +159,7 @@ struct RenderOptions {
   BspOptions bsp;
   bool shadows = false;
   ShadowOptions shadow;
+  PngCompression png_compression = PngCompression::fast;
 };
 
 struct RenderRequest {

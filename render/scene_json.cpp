@@ -7,6 +7,7 @@
 #include "errors.hpp"
 #include "json_reader.hpp"
 #include "pipeline.hpp"
+#include "png.hpp"
 #include "scene_checks.hpp"
 #include "shading.hpp"
 #include "tessellate.hpp"
@@ -468,9 +469,21 @@ ShadowOptions read_shadow(const json& value, const std::string& pointer) {
   return o;
 }
 
+PngCompression read_png(const json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer, {"compression"});
+  PngCompression mode = PngCompression::fast;
+  if (const json* name = r.find("compression")) {
+    const PngCompressionInfo* info =
+        name->is_string() ? find_png_compression(name->get<std::string>()) : nullptr;
+    if (!info) throw_invalid(r.at("compression"), "must be one of: " + table_names(png_compression_table()));
+    mode = info->mode;
+  }
+  return mode;
+}
+
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer,
-                 {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow"});
+                 {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
   side.kind_above = Kind::too_large;
@@ -495,6 +508,7 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   if (const json* bsp = r.find("bsp")) o.bsp = read_bsp(*bsp, r.at("bsp"));
   o.shadows = r.boolean("shadows", o.shadows);
   if (const json* shadow = r.find("shadow")) o.shadow = read_shadow(*shadow, r.at("shadow"));
+  if (const json* png = r.find("png")) o.png_compression = read_png(*png, r.at("png"));
   return o;
 }
 
