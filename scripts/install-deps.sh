@@ -1,14 +1,25 @@
 #!/usr/bin/env bash
 # Installs the Debian packages roomrender builds and tests with. Idempotent: asks apt only for what
 # is missing, so a second run is instant and needs no network.
+#   scripts/install-deps.sh          everything the README's commands need (build + all tests)
+#   scripts/install-deps.sh build    only what compiling and the C++ tests need (the Dockerfile's
+#                                    build stage uses this, so the image never carries test tools)
 set -euo pipefail
 
-packages=(
+build_packages=(
   build-essential cmake pkg-config
   libcpp-httplib-dev nlohmann-json3-dev libglm-dev libstb-dev googletest libgtest-dev
   zlib1g-dev
+)
+test_packages=(
   curl ca-certificates
 )
+
+case "${1:-all}" in
+  build) packages=("${build_packages[@]}") ;;
+  all) packages=("${build_packages[@]}" "${test_packages[@]}") ;;
+  *) echo "usage: $0 [build|all]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

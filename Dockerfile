@@ -1,0 +1,47 @@
+# roomrender as a container. Two stages on Debian 12:
+#   build    installs the build packages (scripts/install-deps.sh build), compiles with -Werror and
+#            runs the unit tests, so a broken build never yields an image;
+#   runtime  only the binary, its shared libraries (from Debian's packages), the web page, the
+#            examples and the schemas, run as an unprivileged user.
+# Configuration is by environment variable (ROOMRENDER_PORT, ROOMRENDER_BIND, ROOMRENDER_THREADS, ...;
+# see `roomrender serve --help`); SIGTERM drains in-flight renders and exits 0.
+# Checked without a Docker engine by scripts/container-check.sh (podman/buildah, chroot isolation).
+
+FROM docker.io/library/debian:bookworm AS build
+COPY scripts/install-deps.sh /tmp/install-deps.sh
+RUN /tmp/install-deps.sh build && rm -rf /var/lib/apt/lists/*
+WORKDIR /src
+COPY CMakeLists.txt ./
+COPY render render
+COPY server server
+COPY tests tests
+COPY bench bench
+COPY examples examples
+COPY schemas schemas
+COPY clients clients
+RUN cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROOMRENDER_WERROR=ON -DROOMRENDER_BENCH=OFF \
+ && cmake --build build -j"$(nproc)" --target roomrender unit_tests \
+ && build/tests/unit_tests --gtest_brief=1
+
+FROM docker.io/library/debian:bookworm AS runtime
+# libcpp-httplib0.11 pulls in OpenSSL, zlib and brotli, which the binary links; nothing else.
+RUN apt-get update \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libcpp-httplib0.11 zlib1g \
+ && rm -rf /var/lib/apt/lists/* /var/cache/apt/* /var/log/apt /var/log/dpkg.log \
+ && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin roomrender
+COPY --from=build /src/build/roomrender /usr/local/bin/roomrender
+COPY --from=build /src/clients/web /usr/share/roomrender/web
+COPY --from=build /src/examples /usr/share/roomrender/examples
+COPY --from=build /src/schemas /usr/share/roomrender/schemas
+ENV ROOMRENDER_PORT=8080 \
+    ROOMRENDER_BIND=0.0.0.0 \
+    ROOMRENDER_WEB_DIR=/usr/share/roomrender/web \
+    ROOMRENDER_EXAMPLES_DIR=/usr/share/roomrender/examples
+USER roomrender
+EXPOSE 8080
+# bash's /dev/tcp keeps curl (and its dozen libraries) out of the image.
+HEALTHCHECK --interval=15s --timeout=3s --start-period=5s --retries=3 \
+  CMD ["bash", "-c", "exec 3<>/dev/tcp/127.0.0.1/${ROOMRENDER_PORT} && printf 'GET /livez HTTP/1.0\\r\\n\\r\\n' >&3 && head -n1 <&3 | grep -q ' 200 '"]
+STOPSIGNAL SIGTERM
+ENTRYPOINT ["/usr/local/bin/roomrender"]
+CMD ["serve"]
