@@ -43,9 +43,12 @@ struct ImportOptions {
   // Written into the request's "options"; the default camera's field of view is fitted to this aspect.
   int width = 640;
   int height = 480;
-  // OBJ only: the text of a material library named by `mtllib` (the name as written in the file), or
-  // nullopt when it is not available. Null: materials are not read.
-  std::function<std::optional<std::string>(const std::string& name)> read_material_library;
+  // The text of a file the imported one refers to, by the name written in it (an OBJ's `mtllib`, a
+  // Sweet Home 3D piece's `model`), or nullopt when it is not available. Null: none are read.
+  std::function<std::optional<std::string>(const std::string& name)> read_companion;
+  // Sweet Home 3D only: draw furniture with its OBJ model (through read_companion) where available,
+  // instead of a box of the piece's size. Off by default: models multiply the polygon count ~50x.
+  bool furniture_models = false;
 };
 
 struct ImportResult {

@@ -5,7 +5,7 @@
 // group's size (the validator allows 1e-6) fan-triangulated, faces of zero area dropped; each repair
 // is counted in a warning. Bad numbers and indices are errors naming the line.
 #include "import.hpp"
-#include "import_common.hpp"
+#include "import_obj.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,37 +17,9 @@
 namespace rr {
 
 using nlohmann::json;
-using namespace import_detail;
+namespace import_detail {
 
 namespace {
-
-constexpr uint32_t no_normal = UINT32_MAX;
-constexpr size_t max_faces = 2'000'000;  // the request's polygon limit: more could never render
-
-struct Corner {
-  uint32_t v = 0;
-  uint32_t vn = no_normal;
-};
-
-struct Face {
-  uint32_t first_corner = 0;
-  uint32_t corner_count = 0;
-};
-
-struct Group {
-  std::string name;
-  std::string material;
-  std::vector<Face> faces;
-};
-
-struct ObjData {
-  std::vector<Vec3> positions;
-  std::vector<Vec3> normals;
-  size_t texcoords = 0;
-  std::vector<Corner> corners;
-  std::vector<Group> groups;
-  std::vector<std::string> libraries;
-};
 
 // Parses one `f` token's index (1-based, or negative from the end) against `count` defined so far.
 uint32_t resolve_index(std::string_view field, size_t count, const char* what, size_t line) {
@@ -106,6 +78,8 @@ std::string rest_of_line(std::string_view line, std::string_view keyword) {
   while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t')) rest.remove_suffix(1);
   return std::string(rest);
 }
+
+}  // namespace
 
 ObjData parse_obj(std::string_view text) {
   ObjData obj;
@@ -170,11 +144,7 @@ void parse_mtl(std::string_view text, std::map<std::string, Color>& colors) {
   }
 }
 
-struct RepairCounts {
-  size_t triangulated = 0;      // non-planar faces split into triangles
-  size_t degenerate = 0;        // faces or triangles of zero area dropped
-  size_t dropped_normals = 0;   // groups whose normals were incomplete or zero
-};
+namespace {
 
 // Twice the area, and the largest distance of a corner from the plane through the centroid, as
 // scene_checks computes them for validation.
@@ -192,20 +162,21 @@ std::pair<double, double> area_and_flatness(const std::vector<Vec3>& p) {
   return {twice_area, off_plane};
 }
 
-// One group as a mesh solid: vertices split per (position, normal) pair, faces repaired.
-json group_mesh(const Group& g, const ObjData& obj, double scale, const std::map<std::string, Color>& colors,
-                RepairCounts& repairs, Box3& box) {
+}  // namespace
+
+json group_mesh(const Group& g, const ObjData& obj, const std::vector<Vec3>& positions,
+                const std::vector<Vec3>& normals_in, bool mirrored, Color color, RepairCounts& repairs, Box3& box) {
   bool with_normals = !obj.normals.empty();
   Box3 group_box;
   for (const Face& f : g.faces) {
     for (uint32_t k = 0; k < f.corner_count; ++k) {
       const Corner& c = obj.corners[f.first_corner + k];
-      group_box.add(obj.positions[c.v]);
+      group_box.add(positions[c.v]);
       if (c.vn == no_normal || !(glm::length(obj.normals[c.vn]) > 0.0)) with_normals = false;
     }
   }
   if (!obj.normals.empty() && !with_normals) ++repairs.dropped_normals;
-  box.add(group_box.lo * scale), box.add(group_box.hi * scale);
+  box.add(group_box.lo), box.add(group_box.hi);
   const double size = glm::length(group_box.hi - group_box.lo);
   // 4x the validator's zero-area threshold, so rounding in either computation cannot disagree.
   const double min_twice_area = 8.0 * (1e-8 * size) * (1e-8 * size);
@@ -216,10 +187,10 @@ json group_mesh(const Group& g, const ObjData& obj, double scale, const std::map
     uint64_t key = (uint64_t(c.v) << 32) | (with_normals ? c.vn : 0u);
     auto [it, inserted] = local.try_emplace(key, uint32_t(local.size()));
     if (inserted) {
-      const Vec3& p = obj.positions[c.v];
+      const Vec3& p = positions[c.v];
       vertices.push_back({p.x, p.y, p.z});
       if (with_normals) {
-        const Vec3 n = glm::normalize(obj.normals[c.vn]);
+        const Vec3 n = glm::normalize(normals_in[c.vn]);
         normals.push_back(json_vec3(n));
       }
     }
@@ -229,7 +200,7 @@ json group_mesh(const Group& g, const ObjData& obj, double scale, const std::map
   std::vector<Vec3> points;
   auto emit = [&](const std::vector<Corner>& corners) {
     points.clear();
-    for (const Corner& c : corners) points.push_back(obj.positions[c.v]);
+    for (const Corner& c : corners) points.push_back(positions[c.v]);
     if (!(area_and_flatness(points).first > min_twice_area)) return ++repairs.degenerate, void();
     json& face = faces.emplace_back(json::array());
     for (const Corner& c : corners) face.push_back(local_index(c));
@@ -241,12 +212,13 @@ json group_mesh(const Group& g, const ObjData& obj, double scale, const std::map
       if (ring.empty() || ring.back().v != c.v) ring.push_back(c);
     }
     while (ring.size() > 1 && ring.front().v == ring.back().v) ring.pop_back();
+    if (mirrored) std::reverse(ring.begin(), ring.end());  // a mirror turns fronts into backs
     if (ring.size() < 3) {
       ++repairs.degenerate;
       continue;
     }
     points.clear();
-    for (const Corner& c : ring) points.push_back(obj.positions[c.v]);
+    for (const Corner& c : ring) points.push_back(positions[c.v]);
     std::set<uint32_t> distinct;
     for (const Corner& c : ring) distinct.insert(c.v);
     bool flat = ring.size() == 3 || area_and_flatness(points).second <= 1e-7 * size;
@@ -266,14 +238,25 @@ json group_mesh(const Group& g, const ObjData& obj, double scale, const std::map
   json mesh = {{"type", "mesh"}, {"vertices", std::move(vertices)}, {"faces", std::move(faces)}};
   std::string id = g.name.empty() ? g.material : (g.material.empty() ? g.name : g.name + " / " + g.material);
   if (!id.empty()) mesh["id"] = id;
-  auto color = colors.find(g.material);
-  mesh["color"] = json_color(color != colors.end() ? color->second : Color{0.7f});
-  if (scale != 1.0) mesh["scale"] = scale;
+  mesh["color"] = json_color(color);
   if (with_normals) mesh["normals"] = std::move(normals);
   return mesh;
 }
 
-}  // namespace
+void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& warnings) {
+  if (repairs.triangulated) {
+    warnings.push_back(std::to_string(repairs.triangulated) + " non-planar faces were split into triangles");
+  }
+  if (repairs.degenerate) warnings.push_back(std::to_string(repairs.degenerate) + " faces of zero area were dropped");
+  if (repairs.dropped_normals) {
+    warnings.push_back(std::to_string(repairs.dropped_normals) +
+                       " groups had faces without (or with zero) normals: their normals were dropped");
+  }
+}
+
+}  // namespace import_detail
+
+using namespace import_detail;
 
 ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   const double scale = resolve_scale(options, ImportFormat::obj);
@@ -281,7 +264,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   ImportResult result;
   std::map<std::string, Color> colors;
   for (const std::string& library : obj.libraries) {
-    std::optional<std::string> mtl = options.read_material_library ? options.read_material_library(library)
+    std::optional<std::string> mtl = options.read_companion ? options.read_companion(library)
                                                                     : std::nullopt;
     if (mtl) {
       parse_mtl(*mtl, colors);
@@ -299,23 +282,18 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
     result.warnings.push_back("materials without a Kd colour, drawn grey: " + names);
   }
   RepairCounts repairs;
-  Box3 box;
+  Box3 box;  // in file units; the meshes keep them and carry the scale
   json solids = json::array();
   for (const Group& g : obj.groups) {
-    json mesh = group_mesh(g, obj, scale, colors, repairs, box);
+    auto color = colors.find(g.material);
+    json mesh = group_mesh(g, obj, obj.positions, obj.normals, false,
+                           color != colors.end() ? color->second : Color{0.7f}, repairs, box);
+    if (scale != 1.0) mesh["scale"] = scale;
     if (!mesh["faces"].empty()) solids.push_back(std::move(mesh));
   }
   if (solids.empty()) throw InputError(Kind::invalid, "", "the OBJ file has no faces to draw");
-  if (repairs.triangulated) {
-    result.warnings.push_back(std::to_string(repairs.triangulated) + " non-planar faces were split into triangles");
-  }
-  if (repairs.degenerate) {
-    result.warnings.push_back(std::to_string(repairs.degenerate) + " faces of zero area were dropped");
-  }
-  if (repairs.dropped_normals) {
-    result.warnings.push_back(std::to_string(repairs.dropped_normals) +
-                              " groups had faces without (or with zero) normals: their normals were dropped");
-  }
+  add_repair_warnings(repairs, result.warnings);
+  box.lo *= scale, box.hi *= scale;
   const double aspect = double(options.width) / double(options.height);
   result.request = {{"scene",
                      {{"background", "#20242a"},

@@ -9,6 +9,7 @@
 #include <pugixml.hpp>
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,8 +48,10 @@ double required_number(const Sh3dElement& e, const char* name);
 // "AARRGGBB" or "RRGGBB" hex -> colour (alpha ignored); nullopt when absent or not hex.
 std::optional<Color> color_attribute(const pugi::xml_node& node, const char* name);
 
-// The element's level (absent: the ground at elevation 0); nullptr when it names an unknown level.
-const Sh3dLevel* level_of(const Sh3dElement& e, const Sh3dHome& h);
+// The element's level (absent: the ground at elevation 0), or nullptr when that level is hidden
+// (its elements are left out, as Sweet Home 3D's 3D view leaves them out). A level the home does not
+// define is an InputError, since its elevation cannot be known.
+const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h);
 
 // A door or window as the walls see it: its span along its own x axis, in metres.
 struct Sh3dOpening {
@@ -60,6 +63,30 @@ struct Sh3dOpening {
   double width = 0.0, depth = 0.0, height = 0.0, elevation = 0.0;  // elevation above its level
   std::string level;
 };
+
+// Where a piece of furniture goes: the centre of its box on the plan, its bottom, its size (x along
+// its width, y up, z along its depth) and its angle (Sweet Home 3D's: clockwise on the plan).
+struct PiecePlacement {
+  Vec2 centre{0.0};
+  double base = 0.0;
+  Vec3 size{1.0};
+  double angle = 0.0;
+};
+
+struct Sh3dModel;  // a parsed furniture OBJ and its .mtl colours (import_sh3d_models.cpp)
+
+// Furniture models read so far, by the `model` attribute; null when unavailable or unreadable.
+struct Sh3dModelCache {
+  std::map<std::string, std::shared_ptr<const Sh3dModel>> by_name;
+  size_t missing = 0, unreadable = 0, polygons_repaired = 0;
+};
+
+// Appends a piece's model as mesh solids placed as Sweet Home 3D places it (the model's box, after
+// its modelRotation, scaled onto the piece's box; modelMirrored flips its width axis), coloured by the
+// piece's color, else its <material> colours by name, else the model's .mtl. False when the model is
+// not available through options.read_companion (its name as written, then furniture/<file name>).
+bool add_piece_model(const Sh3dElement& e, const PiecePlacement& place, const ImportOptions& options,
+                     Sh3dModelCache& cache, nlohmann::json& solids);
 
 // Walls (arcs split into segments, sloped tops as a wall plus a wedge mesh) with every door and
 // window cut into the walls it intersects. Appends to `walls` and `solids`, warnings to `warnings`.

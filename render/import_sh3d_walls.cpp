@@ -56,7 +56,8 @@ std::vector<Vec2> arc_points(Vec2 a, Vec2 b, double extent) {
                                glm::length(centre + rotate(a - centre, -extent) - b)
                            ? extent
                            : -extent;
-  const int steps = std::max(2, int(std::ceil(std::abs(extent) / max_arc_step_rad)));
+  // 1e-6 absorbs the rounding of a file's "1.0471976" for 60 degrees.
+  const int steps = std::max(2, int(std::ceil(std::abs(extent) / max_arc_step_rad - 1e-6)));
   std::vector<Vec2> points;
   for (int k = 0; k <= steps; ++k) points.push_back(centre + rotate(a - centre, sweep * k / steps));
   points.front() = a, points.back() = b;  // exact ends, so joined walls still share them
@@ -66,10 +67,10 @@ std::vector<Vec2> arc_points(Vec2 a, Vec2 b, double extent) {
 // The pieces of one <wall>, or none (with a warning) when it is hidden or has no length.
 void read_wall(const Sh3dElement& e, size_t source, const Sh3dHome& h, std::vector<Piece>& pieces,
                std::vector<WallSource>& sources, std::vector<std::string>& warnings) {
-  const Sh3dLevel* level = level_of(e, h);
+  const Sh3dLevel* level = visible_level(e, h);
   std::string id = e.node.attribute("id").as_string("");
   sources.push_back({id.empty() ? e.pointer : id, 0.0});
-  if (!level || !level->visible) return;
+  if (!level) return;
   // Rounded once here, so the lengths computed below are the ones the request validator computes.
   const Vec2 a = round_plan(Vec2(required_number(e, "xStart"), required_number(e, "yStart")) / 100.0);
   const Vec2 b = round_plan(Vec2(required_number(e, "xEnd"), required_number(e, "yEnd")) / 100.0);

@@ -90,12 +90,17 @@ std::optional<Color> color_attribute(const pugi::xml_node& node, const char* nam
   return Color{float((value >> 16) & 0xff) / 255.0f, float((value >> 8) & 0xff) / 255.0f, float(value & 0xff) / 255.0f};
 }
 
-const Sh3dLevel* level_of(const Sh3dElement& e, const Sh3dHome& h) {
+const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h) {
   static const Sh3dLevel ground;
   pugi::xml_attribute a = e.node.attribute("level");
   if (!a) return &ground;
   auto it = h.levels.find(a.as_string());
-  return it == h.levels.end() ? nullptr : &it->second;
+  if (it == h.levels.end()) {
+    throw InputError(InputError::Kind::invalid, e.pointer,
+                     "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" + a.as_string() +
+                         "', which the home does not define");
+  }
+  return it->second.visible ? &it->second : nullptr;
 }
 
 }  // namespace import_detail
@@ -148,18 +153,6 @@ void read_levels(const Elements& all, Sh3dHome& h, std::vector<std::string>& war
     }
     h.levels[id] = level;
   }
-}
-
-// Elements on hidden levels are left out silently (the level's warning says so); an unknown level is
-// an error, since its elevation cannot be known.
-const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h) {
-  const Sh3dLevel* level = level_of(e, h);
-  if (!level) {
-    throw InputError(Kind::invalid, e.pointer, "line " + std::to_string(e.line) + ": <" + e.node.name() +
-                                                   "> names level '" + e.node.attribute("level").as_string() +
-                                                   "', which the home does not define");
-  }
-  return level->visible ? level : nullptr;
 }
 
 std::vector<Sh3dOpening> read_openings(const Elements& all, const Sh3dHome& h) {
@@ -220,9 +213,10 @@ Color piece_color(const pugi::xml_node& node) {
 }
 
 // Furniture and lamps as boxes; each lamp's light sources as point lights.
-void add_furniture(const Elements& all, const Sh3dHome& h, json& solids, json& lights,
-                   std::vector<std::string>& warnings) {
+void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& options, json& solids,
+                   json& lights, std::vector<std::string>& warnings) {
   size_t skipped = 0;
+  Sh3dModelCache models;
   for (const char* kind : {"pieceOfFurniture", "light"}) {
     for (const Sh3dElement& e : elements_named(all, kind)) {
       const Sh3dLevel* level = visible_level(e, h);
@@ -235,10 +229,13 @@ void add_furniture(const Elements& all, const Sh3dHome& h, json& solids, json& l
         ++skipped;
         continue;
       }
-      solids.push_back({{"type", "box"}, {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
-                        {"center", json_vec2(centre)}, {"base", round_m(base)},
-                        {"size", json_vec3(size)}, {"rotation_y", -angle * 180.0 / pi},
-                        {"color", json_color(piece_color(e.node))}});
+      const PiecePlacement place{centre, base, size, angle};
+      if (!options.furniture_models || !add_piece_model(e, place, options, models, solids)) {
+        solids.push_back({{"type", "box"}, {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
+                          {"center", json_vec2(centre)}, {"base", round_m(base)},
+                          {"size", json_vec3(size)}, {"rotation_y", -angle * 180.0 / pi},
+                          {"color", json_color(piece_color(e.node))}});
+      }
       const double power = std::clamp(number_attribute(e, "power", 0.5), 0.0, 1.0);
       for (pugi::xml_node source : e.node.children("lightSource")) {
         Sh3dElement s{source, e.pointer, e.line};
@@ -254,6 +251,14 @@ void add_furniture(const Elements& all, const Sh3dHome& h, json& solids, json& l
     }
   }
   if (skipped) warnings.push_back(std::to_string(skipped) + " pieces of furniture with no size were left out");
+  if (models.missing || models.unreadable) {
+    warnings.push_back(std::to_string(models.missing) + " furniture models were not found and " +
+                       std::to_string(models.unreadable) + " could not be read: those pieces are boxes");
+  }
+  if (models.polygons_repaired) {
+    warnings.push_back("furniture models: " + std::to_string(models.polygons_repaired) +
+                       " faces were triangulated or dropped (non-planar or of zero area)");
+  }
 }
 
 // The observer camera: eye at (x, z, y) / 100, looking along yaw (0 looks toward +y on the plan,
@@ -294,7 +299,7 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   Box3 box;
   add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
   add_rooms(all, h, solids, result.warnings);
-  add_furniture(all, h, solids, lights, result.warnings);
+  add_furniture(all, h, options, solids, lights, result.warnings);
   const double aspect = double(options.width) / double(options.height);
   std::optional<json> camera = observer_camera(all, aspect, box);
   if (!camera) {

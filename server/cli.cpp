@@ -35,7 +35,8 @@ namespace {
 constexpr const char* render_synopsis =
     "roomrender render REQUEST.json -o OUT.png [--ids FILE] [--width N] [--height N] [--pipeline NAME]\n"
     "  roomrender render --obj MODEL.obj [--scale S] -o OUT.png [...the same options]";
-constexpr const char* import_synopsis = "roomrender import FILE [--format sh3d|r2v|obj] [--scale S] [--width N] [--height N]";
+constexpr const char* import_synopsis =
+    "roomrender import FILE [--format sh3d|r2v|obj] [--scale S] [--width N] [--height N] [--furniture boxes|models]";
 constexpr const char* export_synopsis = "roomrender export REQUEST.json --obj FILE";
 constexpr const char* serve_synopsis =
     "roomrender serve [--port 8080] [--bind 127.0.0.1] [--threads N] [--web-dir DIR]\n"
@@ -180,6 +181,7 @@ std::string imported_request_text(const ParsedArgs& args, std::optional<ImportFo
   // Only the aspect matters here: sizes out of range are reported by the request validator later.
   if (auto w = flag(args, "--width")) options.width = std::max(1, parse_any_int(*w, "--width"));
   if (auto h = flag(args, "--height")) options.height = std::max(1, parse_any_int(*h, "--height"));
+  options.furniture_models = flag(args, "--furniture") == "models";
   ImportResult result = import_path(file, format, options);
   for (const std::string& warning : result.warnings) print_json_line(stderr, {{"warning", warning}});
   return result.request.dump();
@@ -234,7 +236,7 @@ int run_import(std::span<const std::string> argv) {
   ParsedArgs args;
   std::optional<ImportFormat> format;
   try {
-    args = parse_args(argv, {"--format", "--scale", "--width", "--height"});
+    args = parse_args(argv, {"--format", "--scale", "--width", "--height", "--furniture"});
     if (args.help) return std::printf("usage: %s\n", import_synopsis), 0;
     if (args.positional.size() != 1) throw UsageError("expected one file to import");
     if (auto name = flag(args, "--format")) {
@@ -245,6 +247,9 @@ int run_import(std::span<const std::string> argv) {
     if (auto scale = flag(args, "--scale")) parse_scale(*scale);
     if (auto w = flag(args, "--width")) parse_any_int(*w, "--width");
     if (auto h = flag(args, "--height")) parse_any_int(*h, "--height");
+    if (auto f = flag(args, "--furniture"); f && *f != "boxes" && *f != "models") {
+      throw UsageError("--furniture must be boxes or models, not '" + *f + "'");
+    }
   } catch (const UsageError& e) {
     return usage_failure(import_synopsis, e.what());
   }

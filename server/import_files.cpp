@@ -27,10 +27,10 @@ ImportResult import_path(const std::filesystem::path& file, std::optional<Import
   if (!format) {
     throw std::runtime_error("cannot tell the format of " + file.string() + "; pass --format sh3d|r2v|obj");
   }
-  if (!options.read_material_library) {
-    // mtllib names are relative to the OBJ file's directory, as every OBJ reader takes them.
+  if (!options.read_companion) {
+    // Names in the file (mtllib, a piece's model) are relative to its directory, as OBJ readers take them.
     const std::filesystem::path dir = file.parent_path();
-    options.read_material_library = [dir](const std::string& name) { return read_optional(dir / name); };
+    options.read_companion = [dir](const std::string& name) { return read_optional(dir / name); };
   }
   return import_file_text(*bytes, *format, options);
 }

@@ -16,7 +16,7 @@ using rr::InputError;
 
 rr::ImportOptions with_mtl(const std::string& name, const std::string& text) {
   rr::ImportOptions options;
-  options.read_material_library = [name, text](const std::string& asked) -> std::optional<std::string> {
+  options.read_companion = [name, text](const std::string& asked) -> std::optional<std::string> {
     if (asked == name) return text;
     return std::nullopt;
   };

@@ -185,6 +185,51 @@ TEST(ImportSh3d, Sh3dZipIsReadThroughItsHomeXml) {
   EXPECT_THROW(rr::import_file_text(broken, rr::ImportFormat::sweethome3d), InputError);
 }
 
+// A model 2 x 1 x 4 units, its x face group in material "red"; the piece turns it by 90 degrees.
+TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
+  const std::string model =
+      "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
+      "usemtl red\nf 2 3 7 6\nusemtl plain\nf 1 5 8 4\n";
+  const char* home = R"(<home>
+    <pieceOfFurniture name='Box' model='models/thing.obj' x='300' y='400' elevation='10' angle='1.5707963'
+        width='100' depth='50' height='200'><material name='red' color='FFFF0000'/></pieceOfFurniture>
+    <pieceOfFurniture name='Lost' model='models/lost.obj' x='0' y='0' width='10' depth='10' height='10'/>
+  </home>)";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  std::vector<std::string> asked;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    asked.push_back(name);
+    if (name == "furniture/thing.obj") return model;  // found in the fallback place only
+    return std::nullopt;
+  };
+  ImportResult r = rr::import_sweethome3d(home, options);
+  EXPECT_EQ(asked, (std::vector<std::string>{"models/thing.obj", "furniture/thing.obj", "models/lost.obj",
+                                             "furniture/lost.obj"}));
+  const json& solids = r.request["scene"]["solids"];
+  ASSERT_EQ(solids.size(), 3u);  // two groups of the model, and a box for the missing one
+  EXPECT_EQ(solids[0]["color"], json::array({1.0, 0.0, 0.0}));
+  EXPECT_EQ(solids[2]["type"], "box");
+  ASSERT_EQ(r.warnings.size(), 2u);  // the missing model, then the missing observer camera
+  EXPECT_EQ(r.warnings[0], "1 furniture models were not found and 0 could not be read: those pieces are boxes");
+  // Width (model x, 2 units -> 1 m) turned by the angle runs along +z; depth (4 units -> 0.5 m)
+  // along -x; height 1 unit -> 2 m from the elevation up.
+  rr::Vec3 lo{1e9}, hi{-1e9};
+  for (const json& mesh : {solids[0], solids[1]}) {
+    for (const json& v : mesh["vertices"]) {
+      rr::Vec3 p{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+      lo = glm::min(lo, p), hi = glm::max(hi, p);
+    }
+  }
+  EXPECT_NEAR(lo.x, 2.75, 1e-6);
+  EXPECT_NEAR(hi.x, 3.25, 1e-6);
+  EXPECT_NEAR(lo.y, 0.1, 1e-6);
+  EXPECT_NEAR(hi.y, 2.1, 1e-6);
+  EXPECT_NEAR(lo.z, 3.5, 1e-6);
+  EXPECT_NEAR(hi.z, 4.5, 1e-6);
+  EXPECT_NO_THROW(rr::request_from_json(r.request));
+}
+
 // --- the example homes -------------------------------------------------------------------------------
 
 struct XmlWall {
@@ -247,6 +292,26 @@ TEST(ImportSh3d, ExampleHomeMatchesItsXml) {
     }
     EXPECT_TRUE(found) << d.attribute("name").value() << " is not an opening of " << best->id << " at " << along;
   }
+}
+
+// Models multiply the polygons (Studio: 513 -> ~35,000), so only one home renders them here.
+TEST(ImportSh3d, ExampleHomeWithFurnitureModels) {
+  auto dir = rr::testing::shared_data_dir();
+  if (!dir) GTEST_SKIP() << "../shared/data is absent";
+  const auto home_dir = *dir / "floorplans/sweethome3d";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    if (!std::filesystem::exists(home_dir / name)) return std::nullopt;
+    return rr::testing::read_file(home_dir / name);
+  };
+  std::string xml = rr::testing::read_file(home_dir / "Studio.xml");
+  ImportResult boxes = rr::import_sweethome3d(xml);
+  ImportResult models = rr::import_sweethome3d(xml, options);
+  for (const std::string& w : models.warnings) EXPECT_EQ(w.find("not found"), std::string::npos) << w;
+  EXPECT_GT(models.request["scene"]["solids"].size(), 2 * boxes.request["scene"]["solids"].size());
+  EXPECT_EQ(models.request["scene"]["walls"], boxes.request["scene"]["walls"]);
+  EXPECT_GT(rr::testing::covered_share(models.request, "zbuffer"), 0.5);
 }
 
 class ExampleHome : public ::testing::TestWithParam<std::filesystem::path> {};
