@@ -148,11 +148,11 @@ std::pair<double, double> cut_span(const Sh3dOpening& o, const Piece& p) {
   return {std::max(t - 0.5 * o.width, 0.0), std::min(t + 0.5 * o.width, length)};
 }
 
-json opening_json(const Sh3dOpening& o, double offset, double width, double sill, double height, bool leaf) {
+json opening_json(const Sh3dOpening& o, double offset, double width, double sill, double height) {
   // Not rounded: offset + width must stay within the wall's length to 1e-9 m.
   json j = {{"id", o.name + " (" + o.element->pointer + ")"}, {"offset", offset}, {"width", width}, {"height", height}};
   if (o.door && sill <= 0.01) {
-    j.update({{"type", "door"}, {"leaf", leaf}});
+    j.update({{"type", "door"}, {"leaf", o.leaf}});
   } else if (o.door) {  // a door above the floor: an opaque panel in a window opening
     j.update({{"type", "window"}, {"sill", sill}, {"color", "#8b5a2b"}, {"opacity", 1}});
   } else {
@@ -184,7 +184,6 @@ void cut_opening(const Sh3dOpening& o, std::vector<Piece>& pieces, const std::ve
                          std::to_string(sources[hit_sources[0]].length) + " m long)");
   }
   if (covered < o.width - 0.02) warnings.push_back(describe(o) + " reaches past the end of its wall; clamped");
-  const bool leaf = o.name.find("pen") == std::string::npos && o.name.find("rame") == std::string::npos;
   for (auto& [i, span] : hits) {
     Piece& p = pieces[i];
     const double wall_height = std::min(p.height_start, p.height_end);
@@ -213,7 +212,7 @@ void cut_opening(const Sh3dOpening& o, std::vector<Piece>& pieces, const std::ve
       warnings.push_back(describe(o) + " overlaps another opening of wall '" + p.id + "'; narrowed to the free part");
     }
     p.spans.push_back(span);
-    p.openings.push_back(opening_json(o, span.first, span.second - span.first, sill, height, leaf));
+    p.openings.push_back(opening_json(o, span.first, span.second - span.first, sill, height));
   }
 }
 

@@ -162,7 +162,9 @@ std::vector<Sh3dOpening> read_openings(const Elements& all, const Sh3dHome& h) {
     Sh3dOpening o;
     o.element = &e;
     o.name = e.node.attribute("name").as_string("");
-    o.door = lower(o.name + " " + e.node.attribute("catalogId").as_string("")).find("door") != std::string::npos;
+    const std::string words = lower(o.name + " " + e.node.attribute("catalogId").as_string(""));
+    o.door = words.find("door") != std::string::npos;
+    o.leaf = words.find("open") == std::string::npos && words.find("frame") == std::string::npos;
     o.centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
     const double angle = number_attribute(e, "angle", 0.0);
     o.axis = {std::cos(angle), std::sin(angle)};

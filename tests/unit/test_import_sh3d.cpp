@@ -55,6 +55,7 @@ TEST(ImportSh3d, SmallHomeMapsEveryElement) {
   // The door's centre is 1 m along the wall, so its near edge is at 1 - 0.8 / 2.
   const json& door = w0["openings"][0];
   EXPECT_EQ(door["type"], "door");
+  EXPECT_EQ(door["leaf"], true);
   EXPECT_NEAR(door["offset"].get<double>(), 0.6, 1e-9);
   EXPECT_NEAR(door["width"].get<double>(), 0.8, 1e-9);
   EXPECT_NEAR(door["height"].get<double>(), 2.1, 1e-9);
