@@ -24,9 +24,9 @@ RUN cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROOMRENDER_WERROR=ON -DROOM
  && build/tests/unit_tests --gtest_brief=1
 
 FROM docker.io/library/debian:bookworm AS runtime
-# libcpp-httplib0.11 pulls in OpenSSL, zlib and brotli, which the binary links; nothing else.
+# libcpp-httplib0.11 pulls in OpenSSL, zlib and brotli; pugixml and libzip read Sweet Home 3D files.
 RUN apt-get update \
- && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libcpp-httplib0.11 zlib1g \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libcpp-httplib0.11 zlib1g libpugixml1v5 libzip4 \
  && rm -rf /var/lib/apt/lists/* /var/cache/apt/* /var/log/apt /var/log/dpkg.log \
  && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin roomrender
 COPY --from=build /src/build/roomrender /usr/local/bin/roomrender

@@ -77,6 +77,7 @@ struct Solid {
   // Mesh: vertices in object space, transformed by scale, then rotation_y, then position.
   std::vector<Vec3> vertices;
   std::vector<std::vector<uint32_t>> faces;
+  std::vector<Vec3> normals;  // mesh: empty, or one shading normal per vertex (object space, unit)
   Vec3 position{0.0, 0.0, 0.0};
   Vec3 scale{1.0, 1.0, 1.0};
   bool closed = false;  // mesh only; the other solids know whether they are closed

@@ -273,9 +273,27 @@ Vec3 read_scale(const ObjectReader& r, const Bounds& b) {
   return read_vec3(*value, r.at("scale"), b.length);
 }
 
+// Optional per-vertex shading normals (e.g. an OBJ's vn): one per vertex, each non-zero; stored unit.
+void read_mesh_normals(const ObjectReader& r, Solid& s) {
+  const json& normals = r.array("normals");
+  if (normals.empty()) return;
+  if (normals.size() != s.vertices.size()) {
+    throw_invalid(r.at("normals"), "must hold one normal per vertex (" + std::to_string(s.vertices.size()) +
+                                       "), not " + std::to_string(normals.size()));
+  }
+  s.normals.reserve(normals.size());
+  for (size_t i = 0; i < normals.size(); ++i) {
+    std::string at = pointer_append(r.at("normals"), i);
+    Vec3 n = read_vec3(normals[i], at, NumberRange{});
+    double length = glm::length(n);
+    if (!(length > 0.0) || !std::isfinite(length)) throw_invalid(at, "must be a non-zero vector");
+    s.normals.push_back(n / length);
+  }
+}
+
 void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
   ObjectReader r(value, pointer, {"type", "id", "color", "material", "vertices", "faces", "position",
-                                  "scale", "rotation_y", "smooth", "closed"});
+                                  "scale", "rotation_y", "smooth", "closed", "normals"});
   read_common(r, s);
   const json& vertices = r.array("vertices", true);
   const json& faces = r.array("faces", true);
@@ -296,6 +314,7 @@ void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bo
   if (auto bad = find_bad_mesh_face(s.vertices, s.faces)) {
     throw_invalid(pointer_append(r.at("faces"), bad->face), bad->problem);
   }
+  read_mesh_normals(r, s);
   s.position = r.vec3("position", Vec3{0.0}, b.coordinate);
   s.scale = read_scale(r, b);
   s.rotation_y_deg = r.number("rotation_y", 0.0, NumberRange{});
@@ -604,6 +623,11 @@ void add_type_members(const Solid& s, json& out) {
       out.update({{"vertices", vertices}, {"faces", faces}, {"position", vec(s.position)},
                   {"scale", vec(s.scale)}, {"rotation_y", num(s.rotation_y_deg)},
                   {"smooth", s.smooth}, {"closed", s.closed}});
+      if (!s.normals.empty()) {  // only when given, so scenes without normals keep their ids
+        json normals = json::array();
+        for (Vec3 n : s.normals) normals.push_back(vec(n));
+        out["normals"] = normals;
+      }
       break;
     }
   }

@@ -336,6 +336,13 @@ void add_prism(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t obj
   }
 }
 
+// A mesh's given normal in world space: the inverse transpose of scale, then rotation_y.
+glm::vec3 mesh_normal_to_world(const Solid& s, Vec3 n, double angle_rad) {
+  const Vec3 scaled = n / s.scale;
+  const Vec2 xz = rotate_plan({scaled.x, scaled.z}, angle_rad);
+  return glm::vec3(glm::normalize(Vec3(xz.x, scaled.y, xz.y)));
+}
+
 // One polygon per face (triangles for non-convex faces). Object space -> world: scale, then
 // rotate_y, then translate. A mirroring scale would turn faces inside out, so it reverses them.
 void add_mesh(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t object) {
@@ -364,7 +371,11 @@ void add_mesh(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t obje
   for (size_t f = 0; f < faces.size(); ++f) {
     const Vec3 n = detail::newell_vector(faces[f]);
     shading.clear();
-    if (s.smooth) {
+    if (!s.normals.empty()) {
+      std::vector<uint32_t> ids = s.faces[f];
+      if (mirrored) std::reverse(ids.begin(), ids.end());
+      for (uint32_t v : ids) shading.push_back(mesh_normal_to_world(s, s.normals[v], a));
+    } else if (s.smooth) {
       std::vector<uint32_t> ids = s.faces[f];
       if (mirrored) std::reverse(ids.begin(), ids.end());
       for (uint32_t v : ids) {
@@ -380,7 +391,8 @@ void add_solid(SoupBuilder& out, const Solid& s, size_t index) {
   const bool closed = s.type == SolidType::cylinder ? s.caps
                       : s.type == SolidType::mesh   ? s.closed
                                                     : true;
-  const bool smooth = (s.type == SolidType::cylinder || s.type == SolidType::mesh) && s.smooth;
+  const bool smooth = (s.type == SolidType::cylinder || s.type == SolidType::mesh) &&
+                      (s.smooth || !s.normals.empty());
   const uint32_t object = out.add_object("/scene/solids/" + std::to_string(index), closed, smooth);
   const uint32_t material = out.add_material(solid_material(s));
   switch (s.type) {

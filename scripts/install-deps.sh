@@ -9,7 +9,7 @@ set -euo pipefail
 build_packages=(
   build-essential cmake pkg-config
   libcpp-httplib-dev nlohmann-json3-dev libglm-dev libstb-dev googletest libgtest-dev
-  zlib1g-dev
+  zlib1g-dev libpugixml-dev libzip-dev
 )
 test_packages=(
   curl ca-certificates

@@ -6,6 +6,7 @@
 #include "render/errors.hpp"
 #include "render/pipeline.hpp"
 #include "render/scene_json.hpp"
+#include "server/import_files.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -32,7 +33,10 @@ namespace rr::server {
 namespace {
 
 constexpr const char* render_synopsis =
-    "roomrender render REQUEST.json -o OUT.png [--ids FILE] [--width N] [--height N] [--pipeline NAME]";
+    "roomrender render REQUEST.json -o OUT.png [--ids FILE] [--width N] [--height N] [--pipeline NAME]\n"
+    "  roomrender render --obj MODEL.obj [--scale S] -o OUT.png [...the same options]";
+constexpr const char* import_synopsis =
+    "roomrender import FILE [--format sh3d|r2v|obj] [--scale S] [--width N] [--height N] [--furniture boxes|models]";
 constexpr const char* export_synopsis = "roomrender export REQUEST.json --obj FILE";
 constexpr const char* serve_synopsis =
     "roomrender serve [--port 8080] [--bind 127.0.0.1] [--threads N] [--web-dir DIR]\n"
@@ -160,13 +164,36 @@ void write_number(std::string& out, double value) {
   out.append(buffer, result.ptr);
 }
 
+double parse_scale(const std::string& text) {
+  char* end = nullptr;
+  double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !(value >= 1e-9 && value <= 1e6)) {
+    throw UsageError("--scale must be a number in [1e-9, 1e6] (metres per file unit), not '" + text + "'");
+  }
+  return value;
+}
+
+// Imports FILE (format given, or recognised when nullopt) with the --scale/--width/--height flags;
+// warnings go to stderr as JSON lines. Returns the request as JSON text.
+std::string imported_request_text(const ParsedArgs& args, std::optional<ImportFormat> format, const std::string& file) {
+  ImportOptions options;
+  if (auto scale = flag(args, "--scale")) options.scale = parse_scale(*scale);
+  // Only the aspect matters here: sizes out of range are reported by the request validator later.
+  if (auto w = flag(args, "--width")) options.width = std::max(1, parse_any_int(*w, "--width"));
+  if (auto h = flag(args, "--height")) options.height = std::max(1, parse_any_int(*h, "--height"));
+  options.furniture_models = flag(args, "--furniture") == "models";
+  ImportResult result = import_path(file, format, options);
+  for (const std::string& warning : result.warnings) print_json_line(stderr, {{"warning", warning}});
+  return result.request.dump();
+}
+
 }  // namespace
 
 std::string_view version() { return ROOMRENDER_VERSION; }
 
 std::string usage_text() {
   return std::string("roomrender ") + ROOMRENDER_VERSION + ": a CPU room renderer served over HTTP\n\nusage:\n  " +
-         render_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis +
+         render_synopsis + "\n  " + import_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis +
          "\n  roomrender help | --help\n  roomrender --version\n\n"
          "REQUEST.json may be '-' for stdin. render prints one JSON line of timings (ms) and counts;\n"
          "errors are one JSON line on stderr: {\"error\": ..., \"pointer\": ...}. Exit codes: 0 ok,\n"
@@ -177,9 +204,13 @@ std::string usage_text() {
 int run_render(std::span<const std::string> argv) {
   ParsedArgs args;
   try {
-    args = parse_args(argv, {"--output", "--ids", "--width", "--height", "--pipeline"});
+    args = parse_args(argv, {"--output", "--ids", "--width", "--height", "--pipeline", "--obj", "--scale"});
     if (args.help) return std::printf("usage: %s\n", render_synopsis), 0;
-    if (args.positional.size() != 1) throw UsageError("expected one request file");
+    if (args.positional.size() != (flag(args, "--obj") ? 0u : 1u)) {
+      throw UsageError(flag(args, "--obj") ? "give either a request file or --obj, not both" : "expected one request file");
+    }
+    if (flag(args, "--scale") && !flag(args, "--obj")) throw UsageError("--scale goes with --obj");
+    if (auto scale = flag(args, "--scale")) parse_scale(*scale);
     if (!flag(args, "--output")) throw UsageError("-o OUT.png is required");
     // Checked now so a bad number is a usage error, not a failed render.
     if (auto w = flag(args, "--width")) parse_any_int(*w, "--width");
@@ -188,7 +219,9 @@ int run_render(std::span<const std::string> argv) {
     return usage_failure(render_synopsis, e.what());
   }
   return run_reporting_errors([&] {
-    EncodedRender out = render_request_text(apply_overrides(read_input(args.positional[0]), args));
+    std::string text = flag(args, "--obj") ? imported_request_text(args, ImportFormat::obj, *flag(args, "--obj"))
+                                           : read_input(args.positional[0]);
+    EncodedRender out = render_request_text(apply_overrides(text, args));
     write_output(*flag(args, "--output"), out.png);
     if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(out.result.frame.ids));
     nlohmann::ordered_json line = nlohmann::ordered_json::parse(timings_json(out.result.timings, out.result.stats));
@@ -196,6 +229,34 @@ int run_render(std::span<const std::string> argv) {
     line["width"] = out.result.frame.image.width;
     line["height"] = out.result.frame.image.height;
     print_json_line(stdout, line);
+  });
+}
+
+int run_import(std::span<const std::string> argv) {
+  ParsedArgs args;
+  std::optional<ImportFormat> format;
+  try {
+    args = parse_args(argv, {"--format", "--scale", "--width", "--height", "--furniture"});
+    if (args.help) return std::printf("usage: %s\n", import_synopsis), 0;
+    if (args.positional.size() != 1) throw UsageError("expected one file to import");
+    if (auto name = flag(args, "--format")) {
+      const ImportFormatInfo* info = find_import_format(*name);
+      if (!info) throw UsageError("--format must be sh3d, r2v or obj, not '" + *name + "'");
+      format = info->format;
+    }
+    if (auto scale = flag(args, "--scale")) parse_scale(*scale);
+    if (auto w = flag(args, "--width")) parse_any_int(*w, "--width");
+    if (auto h = flag(args, "--height")) parse_any_int(*h, "--height");
+    if (auto f = flag(args, "--furniture"); f && *f != "boxes" && *f != "models") {
+      throw UsageError("--furniture must be boxes or models, not '" + *f + "'");
+    }
+  } catch (const UsageError& e) {
+    return usage_failure(import_synopsis, e.what());
+  }
+  return run_reporting_errors([&] {
+    std::string text = imported_request_text(args, format, args.positional[0]) + "\n";
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    std::fflush(stdout);
   });
 }
 

@@ -21,6 +21,7 @@ std::string usage_text();  // every subcommand with its options, for `roomrender
 
 int run_render(std::span<const std::string> args);
 int run_export(std::span<const std::string> args);
+int run_import(std::span<const std::string> args);  // FILE -> request JSON on stdout
 int run_serve(std::span<const std::string> args);
 
 // A command line that cannot be obeyed; exit code 2.

@@ -17,6 +17,7 @@ struct Command {
 constexpr Command commands[] = {
     {"render", rr::server::run_render},
     {"export", rr::server::run_export},
+    {"import", rr::server::run_import},
     {"serve", rr::server::run_serve},
 };
 

@@ -1,0 +1,334 @@
+// Sweet Home 3D import: a hand-made Home.xml whose every mapping is computed by hand (cm -> m,
+// centre-based door positions -> offsets, sloped and arc walls, rotation sign, observer camera), the
+// errors (malformed XML, an opening wider than its wall, a missing attribute), a .sh3d zip, and the
+// nine example homes of ../shared/data: one checked against its XML read independently with pugixml,
+// all of them imported and rendered with every pipeline.
+#include "import_test_util.hpp"
+#include "render/import.hpp"
+
+#include <gtest/gtest.h>
+#include <pugixml.hpp>
+#include <zip.h>
+
+#include <cmath>
+
+namespace {
+
+using nlohmann::json;
+using rr::ImportResult;
+using rr::InputError;
+
+const char* small_home = R"(<?xml version='1.0'?>
+<home version='5500' wallHeight='250.0'>
+  <observerCamera attribute='observerCamera' x='100' y='200' z='170' yaw='0' pitch='0' fieldOfView='1.5707964'/>
+  <wall id='w0' xStart='0' yStart='0' xEnd='400' yEnd='0' height='250' thickness='10'/>
+  <wall id='w1' xStart='400' yStart='0' xEnd='400' yEnd='300' height='250' heightAtEnd='150' thickness='10'/>
+  <wall id='w2' xStart='400' yStart='300' xEnd='0' yEnd='300' height='250' thickness='20' arcExtent='1.0471976'/>
+  <room name='Room' floorColor='FF0000FF'><point x='0' y='0'/><point x='400' y='0'/><point x='400' y='300'/><point x='0' y='300'/></room>
+  <doorOrWindow name='Door' catalogId='eTeks#door' x='100' y='2' angle='0' width='80' depth='10' height='210'/>
+  <doorOrWindow name='Window' catalogId='eTeks#window' x='300' y='0' elevation='100' angle='3.1415927' width='60' depth='12' height='100'/>
+  <pieceOfFurniture name='Table' x='200' y='150' angle='1.5707964' width='120' depth='80' height='75' color='FFFF0000'/>
+  <light name='Lamp' x='50' y='50' elevation='200' width='20' depth='20' height='40' power='0.5'>
+    <lightSource x='0.5' y='0.5' z='0' color='00FFFFFF'/>
+  </light>
+</home>
+)";
+
+const json* find_by_id(const json& items, const std::string& id) {
+  for (const json& item : items) {
+    if (item.value("id", "") == id) return &item;
+  }
+  return nullptr;
+}
+
+TEST(ImportSh3d, SmallHomeMapsEveryElement) {
+  ImportResult r = rr::import_sweethome3d(small_home);
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+  const json& scene = r.request["scene"];
+  // w0 + w1 + the 60 degree arc in 6 segments of 10 degrees.
+  ASSERT_EQ(scene["walls"].size(), 8u) << scene["walls"].dump();
+  const json& w0 = *find_by_id(scene["walls"], "w0");
+  EXPECT_EQ(w0["start"], json::array({0.0, 0.0}));
+  EXPECT_EQ(w0["end"], json::array({4.0, 0.0}));
+  EXPECT_DOUBLE_EQ(w0["thickness"].get<double>(), 0.1);
+  ASSERT_EQ(w0["openings"].size(), 2u);
+  // The door's centre is 1 m along the wall, so its near edge is at 1 - 0.8 / 2.
+  const json& door = w0["openings"][0];
+  EXPECT_EQ(door["type"], "door");
+  EXPECT_EQ(door["leaf"], true);
+  EXPECT_NEAR(door["offset"].get<double>(), 0.6, 1e-9);
+  EXPECT_NEAR(door["width"].get<double>(), 0.8, 1e-9);
+  EXPECT_NEAR(door["height"].get<double>(), 2.1, 1e-9);
+  // A window turned by 180 degrees still spans its width along the wall; elevation becomes the sill.
+  const json& window = w0["openings"][1];
+  EXPECT_EQ(window["type"], "window");
+  EXPECT_NEAR(window["offset"].get<double>(), 2.7, 1e-6);
+  EXPECT_NEAR(window["width"].get<double>(), 0.6, 1e-6);
+  EXPECT_NEAR(window["sill"].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(window["height"].get<double>(), 1.0, 1e-9);
+  // Sloped top: a wall as high as its lower end and a wedge up to 2.5 m at its start.
+  const json& w1 = *find_by_id(scene["walls"], "w1");
+  EXPECT_DOUBLE_EQ(w1["height"].get<double>(), 1.5);
+  const json* wedge = find_by_id(scene["solids"], "w1 (sloped top)");
+  ASSERT_NE(wedge, nullptr);
+  double top = 0.0;
+  for (const json& v : (*wedge)["vertices"]) top = std::max(top, v[1].get<double>());
+  EXPECT_DOUBLE_EQ(top, 2.5);
+  // The arc from (4, 3) to (0, 3) bulges toward +z: radius 4, sagitta 4 (1 - cos 30 deg).
+  const json& first = *find_by_id(scene["walls"], "w2 #1");
+  const json& middle = *find_by_id(scene["walls"], "w2 #3");
+  const json& last = *find_by_id(scene["walls"], "w2 #6");
+  EXPECT_EQ(first["start"], json::array({4.0, 3.0}));
+  EXPECT_EQ(last["end"], json::array({0.0, 3.0}));
+  EXPECT_NEAR(middle["end"][0].get<double>(), 2.0, 1e-5);
+  EXPECT_NEAR(middle["end"][1].get<double>(), 3.0 + 4.0 * (1.0 - std::cos(rr::pi / 6.0)), 1e-5);
+}
+
+TEST(ImportSh3d, SmallHomeFurnitureRoomLightAndCamera) {
+  ImportResult r = rr::import_sweethome3d(small_home);
+  const json& scene = r.request["scene"];
+  const json* table = find_by_id(scene["solids"], "Table (/home/pieceOfFurniture/0)");
+  ASSERT_NE(table, nullptr);
+  EXPECT_EQ((*table)["center"], json::array({2.0, 1.5}));
+  EXPECT_EQ((*table)["size"], json::array({1.2, 0.75, 0.8}));
+  // Sweet Home 3D turns clockwise on the plan (y down); rotation_y turns counter-clockwise.
+  EXPECT_NEAR((*table)["rotation_y"].get<double>(), -90.0, 1e-4);
+  EXPECT_EQ((*table)["color"], json::array({1.0, 0.0, 0.0}));
+  const json* room = find_by_id(scene["solids"], "room Room (/home/room/0)");
+  ASSERT_NE(room, nullptr);
+  EXPECT_EQ((*room)["type"], "prism");
+  EXPECT_DOUBLE_EQ((*room)["base"].get<double>() + (*room)["height"].get<double>(), 0.0);  // top at the floor
+  // The lamp's light source sits at the bottom centre of its 20 x 20 x 40 cm box, 2 m up.
+  ASSERT_EQ(scene["lights"].size(), 2u);  // the default sun and the lamp
+  EXPECT_EQ(scene["lights"][1]["position"], json::array({0.5, 2.0, 0.5}));
+  // The observer at (100, 200) cm, eyes 170 cm up, yaw 0 looks toward +y of the plan (+z here).
+  const json& camera = r.request["camera"];
+  EXPECT_EQ(camera["position"], json::array({1.0, 1.7, 2.0}));
+  EXPECT_EQ(camera["target"], json::array({1.0, 1.7, 3.0}));
+  // 90 degrees horizontally at 4:3 is 2 atan(3/4) vertically.
+  EXPECT_NEAR(camera["fov_y"].get<double>(), 2.0 * std::atan(0.75) * 180.0 / rr::pi, 1e-3);
+  EXPECT_NO_THROW(rr::request_from_json(r.request));
+}
+
+void expect_input_error(const std::string& xml, InputError::Kind kind, const std::string& pointer,
+                        const std::string& words) {
+  try {
+    rr::import_sweethome3d(xml);
+    ADD_FAILURE() << "no error; expected: " << words;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.kind(), kind) << e.what();
+    EXPECT_EQ(e.pointer(), pointer) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImportSh3d, MalformedXmlNamesTheLine) {
+  expect_input_error("<?xml version='1.0'?>\n<home>\n  <wall id='w0' xStart='0'\n</home>\n",
+                     InputError::Kind::malformed, "/line/4", "line 4: not well-formed XML");
+  expect_input_error("<plan/>", InputError::Kind::malformed, "/plan", "not Sweet Home 3D's <home>");
+}
+
+TEST(ImportSh3d, OpeningWiderThanItsWallIsAnError) {
+  expect_input_error(R"(<home>
+    <wall id='short' xStart='0' yStart='0' xEnd='50' yEnd='0' thickness='10' height='250'/>
+    <doorOrWindow name='Wide window' x='25' y='0' elevation='90' width='100' depth='10' height='100'/>
+  </home>)",
+                     InputError::Kind::invalid, "/home/doorOrWindow/0",
+                     "line 3: window 'Wide window' is 1.000000 m wide, wider than the wall 'short'");
+}
+
+TEST(ImportSh3d, MissingOrBadAttributeNamesIt) {
+  expect_input_error("<home>\n<wall id='w' yStart='0' xEnd='50' yEnd='0'/></home>", InputError::Kind::invalid,
+                     "/home/wall/0", "line 2: <wall> attribute xStart is missing");
+  expect_input_error("<home><wall id='w' xStart='zero' yStart='0' xEnd='50' yEnd='0'/></home>",
+                     InputError::Kind::invalid, "/home/wall/0", "attribute xStart 'zero' is not a number");
+  expect_input_error("<home><wall level='nowhere' xStart='0' yStart='0' xEnd='50' yEnd='0'/></home>",
+                     InputError::Kind::invalid, "/home/wall/0", "names level 'nowhere'");
+}
+
+TEST(ImportSh3d, OpeningPastTheWallEndIsClampedWithAWarning) {
+  ImportResult r = rr::import_sweethome3d(R"(<home>
+    <wall id='w' xStart='0' yStart='0' xEnd='200' yEnd='0' thickness='10' height='250'/>
+    <doorOrWindow name='Window' x='180' y='0' elevation='90' width='80' depth='10' height='100'/>
+  </home>)");
+  ASSERT_EQ(r.warnings.size(), 2u);  // clamped, and no observer camera
+  EXPECT_NE(r.warnings[0].find("reaches past the end of its wall; clamped"), std::string::npos) << r.warnings[0];
+  const json& o = r.request["scene"]["walls"][0]["openings"][0];
+  EXPECT_NEAR(o["offset"].get<double>(), 1.4, 1e-9);
+  EXPECT_NEAR(o["width"].get<double>(), 0.6, 1e-9);  // 1.4 .. 2.0, the wall's end
+  EXPECT_NO_THROW(rr::request_from_json(r.request));
+}
+
+TEST(ImportSh3d, HiddenLevelsAreLeftOut) {
+  ImportResult r = rr::import_sweethome3d(R"(<home>
+    <level id='l0' name='Ground' elevation='0' floorThickness='12' height='250'/>
+    <level id='l1' name='Roof' elevation='250' floorThickness='12' height='250' visible='false'/>
+    <wall level='l0' xStart='0' yStart='0' xEnd='200' yEnd='0'/>
+    <wall level='l1' xStart='0' yStart='0' xEnd='200' yEnd='0'/>
+  </home>)");
+  EXPECT_EQ(r.request["scene"]["walls"].size(), 1u);
+  EXPECT_NE(r.warnings[0].find("level 'Roof' is hidden"), std::string::npos) << r.warnings[0];
+}
+
+TEST(ImportSh3d, Sh3dZipIsReadThroughItsHomeXml) {
+  auto path = rr::testing::output_dir("unit") / "small.sh3d";
+  int error = 0;
+  zip_t* archive = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+  ASSERT_NE(archive, nullptr);
+  zip_source_t* source = zip_source_buffer(archive, small_home, std::strlen(small_home), 0);
+  ASSERT_GE(zip_file_add(archive, "Home.xml", source, ZIP_FL_ENC_UTF_8), 0);
+  ASSERT_EQ(zip_close(archive), 0);
+  std::string bytes = rr::testing::read_file(path);
+  EXPECT_EQ(rr::detect_import_format(bytes, "x.bin"), rr::ImportFormat::sweethome3d);
+  EXPECT_EQ(rr::import_file_text(bytes, rr::ImportFormat::sweethome3d).request,
+            rr::import_sweethome3d(small_home).request);
+  std::string broken = bytes.substr(0, 40);
+  EXPECT_THROW(rr::import_file_text(broken, rr::ImportFormat::sweethome3d), InputError);
+}
+
+// A model 2 x 1 x 4 units, its x face group in material "red"; the piece turns it by 90 degrees.
+TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
+  const std::string model =
+      "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
+      "usemtl red\nf 2 3 7 6\nusemtl plain\nf 1 5 8 4\n";
+  const char* home = R"(<home>
+    <pieceOfFurniture name='Box' model='models/thing.obj' x='300' y='400' elevation='10' angle='1.5707963'
+        width='100' depth='50' height='200'><material name='red' color='FFFF0000'/></pieceOfFurniture>
+    <pieceOfFurniture name='Lost' model='models/lost.obj' x='0' y='0' width='10' depth='10' height='10'/>
+  </home>)";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  std::vector<std::string> asked;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    asked.push_back(name);
+    if (name == "furniture/thing.obj") return model;  // found in the fallback place only
+    return std::nullopt;
+  };
+  ImportResult r = rr::import_sweethome3d(home, options);
+  EXPECT_EQ(asked, (std::vector<std::string>{"models/thing.obj", "furniture/thing.obj", "models/lost.obj",
+                                             "furniture/lost.obj"}));
+  const json& solids = r.request["scene"]["solids"];
+  ASSERT_EQ(solids.size(), 3u);  // two groups of the model, and a box for the missing one
+  EXPECT_EQ(solids[0]["color"], json::array({1.0, 0.0, 0.0}));
+  EXPECT_EQ(solids[2]["type"], "box");
+  ASSERT_EQ(r.warnings.size(), 2u);  // the missing model, then the missing observer camera
+  EXPECT_EQ(r.warnings[0], "1 furniture models were not found and 0 could not be read: those pieces are boxes");
+  // Width (model x, 2 units -> 1 m) turned by the angle runs along +z; depth (4 units -> 0.5 m)
+  // along -x; height 1 unit -> 2 m from the elevation up.
+  rr::Vec3 lo{1e9}, hi{-1e9};
+  for (const json& mesh : {solids[0], solids[1]}) {
+    for (const json& v : mesh["vertices"]) {
+      rr::Vec3 p{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+      lo = glm::min(lo, p), hi = glm::max(hi, p);
+    }
+  }
+  EXPECT_NEAR(lo.x, 2.75, 1e-6);
+  EXPECT_NEAR(hi.x, 3.25, 1e-6);
+  EXPECT_NEAR(lo.y, 0.1, 1e-6);
+  EXPECT_NEAR(hi.y, 2.1, 1e-6);
+  EXPECT_NEAR(lo.z, 3.5, 1e-6);
+  EXPECT_NEAR(hi.z, 4.5, 1e-6);
+  EXPECT_NO_THROW(rr::request_from_json(r.request));
+}
+
+// --- the example homes -------------------------------------------------------------------------------
+
+struct XmlWall {
+  std::string id;
+  double x0, y0, x1, y1, thickness;
+};
+
+// 3BedroomApartment.xml has one storey, no arc walls and every door or window inside one wall, so
+// each <wall> is one wall and each <doorOrWindow> one opening.
+TEST(ImportSh3d, ExampleHomeMatchesItsXml) {
+  auto dir = rr::testing::shared_data_dir();
+  if (!dir) GTEST_SKIP() << "../shared/data is absent";
+  std::string xml = rr::testing::read_file(*dir / "floorplans/sweethome3d/3BedroomApartment.xml");
+  pugi::xml_document doc;
+  ASSERT_TRUE(doc.load_string(xml.c_str()));
+  std::vector<XmlWall> walls;
+  double total_length_m = 0.0;
+  for (pugi::xpath_node n : doc.select_nodes("//wall")) {
+    pugi::xml_node w = n.node();
+    walls.push_back({w.attribute("id").value(), w.attribute("xStart").as_double(), w.attribute("yStart").as_double(),
+                     w.attribute("xEnd").as_double(), w.attribute("yEnd").as_double(), w.attribute("thickness").as_double()});
+    total_length_m += std::hypot(walls.back().x1 - walls.back().x0, walls.back().y1 - walls.back().y0) / 100.0;
+  }
+  size_t pieces = doc.select_nodes("//doorOrWindow").size();
+  ImportResult r = rr::import_sweethome3d(xml);
+  const json& out = r.request["scene"]["walls"];
+  ASSERT_EQ(out.size(), walls.size());
+  double imported_length = 0.0;
+  size_t openings = 0;
+  for (const json& w : out) {
+    imported_length += std::hypot(w["end"][0].get<double>() - w["start"][0].get<double>(),
+                                  w["end"][1].get<double>() - w["start"][1].get<double>());
+    openings += w["openings"].size();
+  }
+  EXPECT_EQ(openings, pieces);
+  EXPECT_NEAR(imported_length, total_length_m, 1e-4);  // endpoints are rounded to the micrometre
+  // Each door or window is an opening of the wall whose centreline crosses its footprint (the
+  // nearest such wall), centred where its centre projects onto that wall.
+  for (pugi::xpath_node n : doc.select_nodes("//doorOrWindow")) {
+    pugi::xml_node d = n.node();
+    const double x = d.attribute("x").as_double(), y = d.attribute("y").as_double();
+    const XmlWall* best = nullptr;
+    double best_distance = 1e9, along = 0.0;
+    for (const XmlWall& w : walls) {
+      const double length = std::hypot(w.x1 - w.x0, w.y1 - w.y0);
+      const double ux = (w.x1 - w.x0) / length, uy = (w.y1 - w.y0) / length;
+      const double t = (x - w.x0) * ux + (y - w.y0) * uy, distance = std::abs((x - w.x0) * uy - (y - w.y0) * ux);
+      const double reach = d.attribute("depth").as_double() / 2.0 + w.thickness / 2.0;
+      if (t < 0 || t > length || distance > reach || distance >= best_distance) continue;
+      best = &w, best_distance = distance, along = t / 100.0;
+    }
+    ASSERT_NE(best, nullptr) << d.attribute("name").value() << " at " << x << ", " << y;
+    const json* wall = find_by_id(out, best->id);
+    ASSERT_NE(wall, nullptr) << best->id;
+    bool found = false;
+    for (const json& o : (*wall)["openings"]) {
+      const double centre = o["offset"].get<double>() + 0.5 * o["width"].get<double>();
+      found = found || (std::abs(centre - along) < 1e-3 &&
+                        std::abs(o["width"].get<double>() - d.attribute("width").as_double() / 100.0) < 1e-3);
+    }
+    EXPECT_TRUE(found) << d.attribute("name").value() << " is not an opening of " << best->id << " at " << along;
+  }
+}
+
+// Models multiply the polygons (Studio: 513 -> ~35,000), so only one home renders them here.
+TEST(ImportSh3d, ExampleHomeWithFurnitureModels) {
+  auto dir = rr::testing::shared_data_dir();
+  if (!dir) GTEST_SKIP() << "../shared/data is absent";
+  const auto home_dir = *dir / "floorplans/sweethome3d";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    if (!std::filesystem::exists(home_dir / name)) return std::nullopt;
+    return rr::testing::read_file(home_dir / name);
+  };
+  std::string xml = rr::testing::read_file(home_dir / "Studio.xml");
+  ImportResult boxes = rr::import_sweethome3d(xml);
+  ImportResult models = rr::import_sweethome3d(xml, options);
+  for (const std::string& w : models.warnings) EXPECT_EQ(w.find("not found"), std::string::npos) << w;
+  EXPECT_GT(models.request["scene"]["solids"].size(), 2 * boxes.request["scene"]["solids"].size());
+  EXPECT_EQ(models.request["scene"]["walls"], boxes.request["scene"]["walls"]);
+  EXPECT_GT(rr::testing::covered_share(models.request, "zbuffer"), 0.5);
+}
+
+class ExampleHome : public ::testing::TestWithParam<std::filesystem::path> {};
+
+TEST_P(ExampleHome, ImportsAndRendersWithEveryPipeline) {
+  ImportResult r = rr::import_sweethome3d(rr::testing::read_file(GetParam()));
+  EXPECT_GT(r.request["scene"]["walls"].size(), 10u);
+  for (const std::string& pipeline : rr::testing::pipeline_names()) {
+    // The observer stands inside the home: walls, floors and furniture fill most of the view.
+    EXPECT_GT(rr::testing::covered_share(r.request, pipeline), 0.5) << pipeline;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedData, ExampleHome,
+                         ::testing::ValuesIn(rr::testing::shared_files("floorplans/sweethome3d", ".xml")),
+                         [](const auto& param_info) { return rr::testing::test_name_of(param_info.param); });
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(ExampleHome);
+
+}  // namespace
