@@ -3,6 +3,7 @@
 // this table.
 #include "render/pipeline.hpp"
 
+#include "render/painter.hpp"
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
 #include "render/timer.hpp"
@@ -16,10 +17,14 @@
 namespace rr {
 
 namespace {
-constexpr std::array<PipelineInfo, 1> pipelines = {{
+constexpr std::array<PipelineInfo, 2> pipelines = {{
     {PipelineKind::zbuffer, "zbuffer",
      "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
      draw_zbuffer},
+    {PipelineKind::painter, "painter",
+     "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
+     "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
+     draw_painter},
 }};
 }  // namespace
 
