@@ -3,6 +3,7 @@
 // this table.
 #include "render/pipeline.hpp"
 
+#include "render/bsp.hpp"
 #include "render/painter.hpp"
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
@@ -17,7 +18,7 @@
 namespace rr {
 
 namespace {
-constexpr std::array<PipelineInfo, 2> pipelines = {{
+constexpr std::array<PipelineInfo, 3> pipelines = {{
     {PipelineKind::zbuffer, "zbuffer",
      "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
      draw_zbuffer},
@@ -25,6 +26,10 @@ constexpr std::array<PipelineInfo, 2> pipelines = {{
      "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
      "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
      draw_painter},
+    {PipelineKind::bsp, "bsp",
+     "A BSP tree of the static scene (built once, cached by scene id), walked back to front for the "
+     "camera with frustum and back-face culling; no depth buffer.",
+     draw_bsp},
 }};
 }  // namespace
 

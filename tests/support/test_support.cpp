@@ -1,5 +1,7 @@
 #include "support/test_support.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <fstream>
 #include <sstream>
@@ -56,6 +58,30 @@ std::string ids_as_ascii(const IdBuffer& ids) {
     art += '\n';
   }
   return art;
+}
+
+bool is_edge_pixel(const IdBuffer& ids, int x, int y) {
+  const uint32_t id = ids.at(x, y);
+  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+  for (int k = 0; k < 4; ++k) {
+    int nx = x + dx[k], ny = y + dy[k];
+    if (nx >= 0 && ny >= 0 && nx < ids.width && ny < ids.height && ids.at(nx, ny) != id) return true;
+  }
+  return false;
+}
+
+IdDiff compare_ids(const IdBuffer& truth, const IdBuffer& test, bool edges_of_both) {
+  EXPECT_EQ(truth.width, test.width);
+  EXPECT_EQ(truth.height, test.height);
+  IdDiff d;
+  for (int y = 0; y < truth.height; ++y) {
+    for (int x = 0; x < truth.width; ++x) {
+      if (truth.at(x, y) == test.at(x, y)) continue;
+      bool edge = is_edge_pixel(truth, x, y) || (edges_of_both && is_edge_pixel(test, x, y));
+      ++(edge ? d.edge : d.interior);
+    }
+  }
+  return d;
 }
 
 }  // namespace rr::testing

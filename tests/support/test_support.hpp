@@ -27,4 +27,18 @@ std::vector<std::filesystem::path> example_files();
 // ('0'..'9'), so small exact fixtures read like pictures.
 std::string ids_as_ascii(const IdBuffer& ids);
 
+// "Edge pixel": a pixel of `ids` with a 4-neighbour (inside the image) whose id differs, background
+// included. Polygon borders, intersection lines and silhouettes are edge pixels; there two exact
+// pipelines may legitimately disagree (a split's cut lands within a rounding of the true line).
+bool is_edge_pixel(const IdBuffer& ids, int x, int y);
+
+struct IdDiff {
+  size_t interior = 0;  // differing pixels that are not edge pixels of `truth`
+  size_t edge = 0;      // differing edge pixels
+};
+
+// Pixel-by-pixel comparison of two id buffers of one size. `edges_of_both`: also count as edge
+// pixels those on an id edge of `test` (split pieces snap to the sub-pixel grid on their own).
+IdDiff compare_ids(const IdBuffer& truth, const IdBuffer& test, bool edges_of_both = false);
+
 }  // namespace rr::testing

@@ -44,35 +44,9 @@ Rendered render(json request, const std::string& pipeline, const std::string& ke
   return {render_frame(r.scene, soup, r.camera, r.options)};
 }
 
-bool is_edge_pixel(const IdBuffer& ids, int x, int y) {
-  const uint32_t id = ids.at(x, y);
-  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-  for (int k = 0; k < 4; ++k) {
-    int nx = x + dx[k], ny = y + dy[k];
-    if (nx >= 0 && ny >= 0 && nx < ids.width && ny < ids.height && ids.at(nx, ny) != id) return true;
-  }
-  return false;
-}
-
-struct IdDiff {
-  size_t interior = 0;  // differing pixels that are not edge pixels of `truth`
-  size_t edge = 0;      // differing edge pixels
-};
-
-// `edges_of_both`: also count as edge pixels those on an id edge of `test` (see the random test).
-IdDiff compare_ids(const IdBuffer& truth, const IdBuffer& test, bool edges_of_both = false) {
-  EXPECT_EQ(truth.width, test.width);
-  EXPECT_EQ(truth.height, test.height);
-  IdDiff d;
-  for (int y = 0; y < truth.height; ++y) {
-    for (int x = 0; x < truth.width; ++x) {
-      if (truth.at(x, y) == test.at(x, y)) continue;
-      bool edge = is_edge_pixel(truth, x, y) || (edges_of_both && is_edge_pixel(test, x, y));
-      ++(edge ? d.edge : d.interior);
-    }
-  }
-  return d;
-}
+using testing::compare_ids;
+using testing::IdDiff;
+using testing::is_edge_pixel;
 
 // A mesh solid of one face per polygon, open (no back-face culling) unless `closed`.
 json mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
