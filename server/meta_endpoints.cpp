@@ -4,6 +4,7 @@
 // directory.
 #include "server/routes.hpp"
 
+#include "render/shading.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>
@@ -79,10 +80,13 @@ void handle_metrics(ServiceState& state, const Request&, Response& res, const Ro
   res.set_content(state.metrics.prometheus_text(snapshot), "text/plain; version=0.0.4; charset=utf-8");
 }
 
+// The pipeline table, and the shading modes this build knows (both tables grow as branches land).
 void handle_pipelines(ServiceState&, const Request&, Response& res, const RouteMatch&) {
   nlohmann::json list = nlohmann::json::array();
   for (const PipelineInfo& p : pipeline_table()) list.push_back({{"name", p.name}, {"summary", p.summary}});
-  send_json(res, {{"pipelines", list}});
+  nlohmann::json shading = nlohmann::json::array();
+  for (const ShadingInfo& s : shading_table()) shading.push_back(s.name);
+  send_json(res, {{"pipelines", list}, {"shading", shading}});
 }
 
 const std::regex schema_name("[a-z0-9_-]+");
