@@ -87,6 +87,12 @@ json expect_problem(const httplib::Result& res, int status) {
   return problem;
 }
 
+void expect_problem_with(const httplib::Result& res, int status, const std::string& header, const std::string& value) {
+  expect_problem(res, status);
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->get_header_value(header), value) << header;
+}
+
 void expect_healthy(const TestServer& server) {
   auto res = server.client().Get("/livez");
   ASSERT_TRUE(res) << httplib::to_string(res.error());

@@ -48,6 +48,8 @@ class TestServer {
 
 // Checks the problem+json shape (type, title, status, detail) and returns the body.
 nlohmann::json expect_problem(const httplib::Result& res, int status);
+// expect_problem, and the answer carries `header: value` (Allow with 405, Retry-After with 503).
+void expect_problem_with(const httplib::Result& res, int status, const std::string& header, const std::string& value);
 void expect_healthy(const TestServer& server);
 
 struct PngSize {

@@ -65,10 +65,7 @@ TEST(Lifecycle, SaturationIs503WithRetryAfterWhileLivezAnswers) {
   auto queued = post_async(server, small_request);
   ASSERT_TRUE(wait_for_metric(server, "roomrender_renders_queued", 1.0));
 
-  auto refused = server.client().Post("/v1/render", small_request, "application/json");
-  expect_problem(refused, 503);
-  ASSERT_TRUE(refused);
-  EXPECT_EQ(refused->get_header_value("Retry-After"), "1");
+  expect_problem_with(server.client().Post("/v1/render", small_request, "application/json"), 503, "Retry-After", "1");
   auto stored = server.client().Post("/v1/scenes", json::parse(small_request)["scene"].dump(), "application/json");
   expect_problem(stored, 503);  // storing parses and tessellates: it needs a slot too
 
@@ -101,10 +98,7 @@ TEST(Lifecycle, DeadlineIs503InTheQueueAnd504WhileDrawing) {
   TestServer server(config);
   auto running = post_async(server, small_request);
   ASSERT_TRUE(wait_for_metric(server, "roomrender_renders_in_flight", 1.0));
-  auto queued = server.client().Post("/v1/render", small_request, "application/json");
-  expect_problem(queued, 503);
-  ASSERT_TRUE(queued);
-  EXPECT_EQ(queued->get_header_value("Retry-After"), "1");
+  expect_problem_with(server.client().Post("/v1/render", small_request, "application/json"), 503, "Retry-After", "1");
   latch.release();
   expect_problem(running.get(), 504);
   EXPECT_EQ(server.metric("roomrender_renders_rejected_total", {"reason=\"expired\""}), 1.0);

@@ -95,14 +95,8 @@ TEST_F(ServerTest, UnknownRouteIs404) {
 }
 
 TEST_F(ServerTest, WrongMethodIs405WithAllow) {
-  auto res = client().Get("/v1/render");
-  expect_problem(res, 405);
-  ASSERT_TRUE(res);
-  EXPECT_EQ(res->get_header_value("Allow"), "POST");
-  auto post = client().Post("/healthz", "{}", "application/json");
-  expect_problem(post, 405);
-  ASSERT_TRUE(post);
-  EXPECT_EQ(post->get_header_value("Allow"), "GET, HEAD");
+  expect_problem_with(client().Get("/v1/render"), 405, "Allow", "POST");
+  expect_problem_with(client().Post("/healthz", "{}", "application/json"), 405, "Allow", "GET, HEAD");
 }
 
 // Requests refused from their headers are answered before the body is read, and the connection is
