@@ -5,6 +5,7 @@
 #include "server/routes.hpp"
 
 #include "render/shading.hpp"
+#include "server/cli.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>
@@ -12,10 +13,6 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
-
-#ifndef ROOMRENDER_VERSION
-#define ROOMRENDER_VERSION "0.0.0"
-#endif
 
 namespace rr::server {
 
@@ -76,7 +73,7 @@ void handle_readyz(ServiceState& state, const Request&, Response& res, const Rou
 void handle_metrics(ServiceState& state, const Request&, Response& res, const RouteMatch&) {
   no_store(res);
   MetricsSnapshot snapshot{state.gate.load(), state.bsp_cache.stats(), state.scenes.stats(), resident_bytes(),
-                           ROOMRENDER_VERSION};
+                           std::string(version())};
   res.set_content(state.metrics.prometheus_text(snapshot), "text/plain; version=0.0.4; charset=utf-8");
 }
 

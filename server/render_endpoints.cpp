@@ -7,6 +7,7 @@
 
 #include "render/timer.hpp"
 #include "server/http_util.hpp"
+#include "server/cli.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>
@@ -16,10 +17,6 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
-
-#ifndef ROOMRENDER_VERSION
-#define ROOMRENDER_VERSION "0.0.0"
-#endif
 
 namespace rr::server {
 
@@ -52,7 +49,7 @@ const json& member(const json& object, const char* key) {
 }
 
 std::string render_etag(const std::string& scene_hash, const json& view, const std::string& media_type) {
-  std::string key = std::string(ROOMRENDER_VERSION) + '\n' + media_type + '\n' + scene_hash + '\n' +
+  std::string key = std::string(version()) + '\n' + media_type + '\n' + scene_hash + '\n' +
                     member(view, "camera").dump() + '\n' + member(view, "options").dump();
   return "\"" + hash_hex(key) + "\"";
 }
