@@ -150,7 +150,7 @@ std::string serve_usage() {
   std::string text = "usage: roomrender serve [OPTIONS]\n\nEvery option may also come from the variable named "
                      "after it (--render-queue: ROOMRENDER_RENDER_QUEUE); flags win.\n\n";
   for (const Setting& s : settings) {
-    std::string flag = std::string(s.flag) + " N";
+    std::string flag = std::string(s.flag) + " VALUE";
     flag.resize(std::max<size_t>(flag.size() + 1, 26), ' ');
     text += "  " + flag + s.help + "\n";
   }
