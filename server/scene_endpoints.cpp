@@ -30,6 +30,10 @@ std::shared_ptr<const StoredScene> read_scene_body(ServiceState& state, const Re
 void store_and_answer(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
   request_context().scene_id = scene->static_id;
   SceneStore::PutResult result = state.scenes.put(scene);
+  if (result == SceneStore::PutResult::conflict) {
+    throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
+                    {{"", "content differs from the stored scene with this id"}});
+  }
   if (result == SceneStore::PutResult::too_large) {
     throw HttpError(413, "The stored form of this scene takes about " + std::to_string(scene->bytes) +
                              " bytes; the scene store holds at most " +

@@ -157,7 +157,7 @@ size_t SceneStore::load() {
 
 SceneStore::PutResult SceneStore::put(const std::shared_ptr<const StoredScene>& scene) {
   std::lock_guard lock(mutation_);
-  if (cache_.find(scene->id)) return PutResult::existed;
+  if (auto held = cache_.find(scene->id)) return held->text == scene->text ? PutResult::existed : PutResult::conflict;
   if (scene->bytes > config_.max_bytes) return PutResult::too_large;
   if (!config_.data_dir.empty()) write_file(*scene);
   cache_.put(scene->id, scene, scene->bytes);

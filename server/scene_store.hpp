@@ -49,7 +49,9 @@ struct SceneStoreConfig {
 
 class SceneStore {
  public:
-  enum class PutResult { created, existed, too_large };
+  // conflict: another content with the same id is stored (ids are 64-bit FNV-1a hashes, not a
+  // cryptographic commitment, so a crafted collision is possible; it is refused, never merged).
+  enum class PutResult { created, existed, too_large, conflict };
   using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
 
   SceneStore(SceneStoreConfig config, Log log);

@@ -8,6 +8,7 @@
 #include "server/http_util.hpp"
 #include "server/metrics.hpp"
 #include "server/render_gate.hpp"
+#include "server/scene_store.hpp"
 
 #include <gtest/gtest.h>
 
@@ -159,6 +160,22 @@ TEST(LruCacheEvictionListener, HearsEvictionsButNotErasesOrReplacements) {
   bool hit = false;
   cache.get_or_build("e", [] { return rr::SharedLruCache<int>::Built{std::make_shared<const int>(6), 10}; }, hit);
   EXPECT_EQ(evicted, (std::vector<std::string>{"a", "c"}));
+}
+
+// Two contents under one id (as a crafted FNV-1a collision would give) are refused, never merged.
+TEST(SceneStore, SameIdWithOtherContentIsAConflict) {
+  SceneStore store({}, [](const std::string&, nlohmann::ordered_json) {});
+  auto scene = [](const std::string& text) {
+    auto s = std::make_shared<StoredScene>();
+    s->id = "0123456789abcdef";
+    s->text = text;
+    s->bytes = 100;
+    return std::shared_ptr<const StoredScene>(s);
+  };
+  EXPECT_EQ(store.put(scene("{\"walls\":[]}")), SceneStore::PutResult::created);
+  EXPECT_EQ(store.put(scene("{\"walls\":[]}")), SceneStore::PutResult::existed);
+  EXPECT_EQ(store.put(scene("{\"solids\":[]}")), SceneStore::PutResult::conflict);
+  EXPECT_EQ(store.find("0123456789abcdef")->text, "{\"walls\":[]}");
 }
 
 std::vector<rr::PlacementWarning> warnings_for(const std::string& scene_json) {
