@@ -17,6 +17,7 @@
 #include <string>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 namespace rr {
 
@@ -44,6 +45,13 @@ class SharedLruCache {
       : budget_bytes_(budget_bytes), max_entries_(max_entries) {}
   SharedLruCache(const SharedLruCache&) = delete;
   SharedLruCache& operator=(const SharedLruCache&) = delete;
+
+  // Called with the key of each entry evicted to make room (not for erase() or replacement), after
+  // the cache's lock is released, so it may call back into the cache. The service's scene store
+  // uses it to delete an evicted scene's file. Set it before the cache is shared between threads.
+  void set_eviction_listener(std::function<void(const std::string& key)> listener) {
+    eviction_listener_ = std::move(listener);
+  }
 
   // The value for `key`, running `build` when it is absent (and no other caller is building it).
   // `hit` is set when the value was ready. A build that throws caches nothing; its exception
@@ -78,8 +86,11 @@ class SharedLruCache {
     }
     lock.lock();
     pending_.erase(key);
-    insert_locked(key, built.value, built.bytes);
+    std::vector<std::string> evicted;
+    insert_locked(key, built.value, built.bytes, evicted);
     promise.set_value(built.value);
+    lock.unlock();
+    notify_evicted(evicted);
     return built.value;
   }
 
@@ -94,8 +105,14 @@ class SharedLruCache {
   // Stores (or replaces) `key`; may evict others. Returns false when the value alone exceeds the
   // budget and was not kept.
   bool put(const std::string& key, Ptr value, size_t bytes) {
-    std::lock_guard lock(mutex_);
-    return insert_locked(key, std::move(value), bytes);
+    std::vector<std::string> evicted;
+    bool kept = false;
+    {
+      std::lock_guard lock(mutex_);
+      kept = insert_locked(key, std::move(value), bytes, evicted);
+    }
+    notify_evicted(evicted);
+    return kept;
   }
 
   bool erase(const std::string& key) {
@@ -136,10 +153,11 @@ class SharedLruCache {
     entries_.erase(it);
   }
 
-  bool insert_locked(const std::string& key, Ptr value, size_t bytes) {
+  bool insert_locked(const std::string& key, Ptr value, size_t bytes, std::vector<std::string>& evicted) {
     if (auto old = entries_.find(key); old != entries_.end()) remove_locked(old);
     if (bytes > budget_bytes_ || max_entries_ == 0) return false;
     while (!recency_.empty() && (stats_.bytes + bytes > budget_bytes_ || entries_.size() >= max_entries_)) {
+      if (eviction_listener_) evicted.push_back(recency_.back());
       remove_locked(entries_.find(recency_.back()));
       ++stats_.evictions;
     }
@@ -149,7 +167,12 @@ class SharedLruCache {
     return true;
   }
 
+  void notify_evicted(const std::vector<std::string>& keys) const {
+    for (const std::string& key : keys) eviction_listener_(key);
+  }
+
   mutable std::mutex mutex_;
+  std::function<void(const std::string&)> eviction_listener_;
   const size_t budget_bytes_;
   const size_t max_entries_;
   Map entries_;

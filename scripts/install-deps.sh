@@ -15,7 +15,8 @@ test_packages=(
   curl ca-certificates
 )
 
-case "${1:-all}" in
+mode="${1:-all}"
+case "$mode" in
   build) packages=("${build_packages[@]}") ;;
   all) packages=("${build_packages[@]}" "${test_packages[@]}") ;;
   *) echo "usage: $0 [build|all]" >&2; exit 2 ;;
@@ -25,6 +26,11 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# node and npm run the schema test (tests/schema). Any node >= 18 will do, also one installed from
+# elsewhere, so Debian's are asked for only when the commands are missing.
+if [ "$mode" = all ] && { ! command -v node >/dev/null || ! command -v npm >/dev/null; }; then
+  missing+=(nodejs npm)
+fi
 
 if [ ${#missing[@]} -gt 0 ]; then
   echo "install-deps: installing ${missing[*]}"
@@ -32,4 +38,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# ajv for the schema test, from its lockfile, once (node_modules is not committed).
+schema_dir="$(cd "$(dirname "$0")/.." && pwd)/tests/schema"
+if [ "$mode" = all ] && [ ! -f "$schema_dir/node_modules/ajv/package.json" ]; then
+  echo "install-deps: npm ci in tests/schema"
+  (cd "$schema_dir" && npm ci --no-audit --no-fund --loglevel=error)
 fi

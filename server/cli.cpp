@@ -39,8 +39,7 @@ constexpr const char* import_synopsis =
     "roomrender import FILE [--format sh3d|r2v|obj] [--scale S] [--width N] [--height N] [--furniture boxes|models]";
 constexpr const char* export_synopsis = "roomrender export REQUEST.json --obj FILE";
 constexpr const char* serve_synopsis =
-    "roomrender serve [--port 8080] [--bind 127.0.0.1] [--threads N] [--web-dir DIR]\n"
-    "                 [--examples-dir DIR] [--log-requests 1|0]";
+    "roomrender serve [--port 8080] [--bind 127.0.0.1] [OPTIONS]  (roomrender serve --help lists them)";
 
 struct ParsedArgs {
   std::vector<std::string> positional;
@@ -197,8 +196,8 @@ std::string usage_text() {
          "\n  roomrender help | --help\n  roomrender --version\n\n"
          "REQUEST.json may be '-' for stdin. render prints one JSON line of timings (ms) and counts;\n"
          "errors are one JSON line on stderr: {\"error\": ..., \"pointer\": ...}. Exit codes: 0 ok,\n"
-         "1 failed, 2 usage. serve also reads ROOMRENDER_PORT, ROOMRENDER_BIND, ROOMRENDER_THREADS,\n"
-         "ROOMRENDER_WEB_DIR, ROOMRENDER_EXAMPLES_DIR, ROOMRENDER_LOG_REQUESTS (flags win).\n";
+         "1 failed, 2 usage. serve also reads each option from a ROOMRENDER_* variable (--data-dir:\n"
+         "ROOMRENDER_DATA_DIR; flags win).\n";
 }
 
 int run_render(std::span<const std::string> argv) {
@@ -310,69 +309,6 @@ int run_export(std::span<const std::string> argv) {
     write_output(*flag(args, "--obj"), encode_obj(soup, comment));
     print_json_line(stdout, {{"polygons", soup.polygons.size()}, {"vertices", soup.positions.size()},
                              {"scene_id", id}, {"obj", *flag(args, "--obj")}});
-  });
-}
-
-ServerConfig serve_config_from(std::span<const std::string> argv,
-                               const std::function<std::optional<std::string>(const char*)>& getenv) {
-  ParsedArgs args = parse_args(argv, {"--port", "--bind", "--threads", "--web-dir", "--examples-dir",
-                                      "--log-requests"});
-  if (!args.positional.empty()) throw UsageError("unexpected argument " + args.positional[0]);
-  // Each setting: (value, where it came from), the flag first, else the variable; the source names
-  // the culprit in error messages.
-  using Setting = std::optional<std::pair<std::string, std::string>>;
-  auto setting = [&](const std::string& name, const char* variable) -> Setting {
-    if (auto value = flag(args, name)) return std::pair{*value, name};
-    if (auto value = getenv(variable)) return std::pair{*value, std::string(variable)};
-    return std::nullopt;
-  };
-  ServerConfig config = default_server_config();
-  if (auto s = setting("--port", "ROOMRENDER_PORT")) config.port = parse_int(s->first, s->second, 0, 65535);
-  if (auto s = setting("--bind", "ROOMRENDER_BIND")) config.bind = s->first;
-  if (auto s = setting("--threads", "ROOMRENDER_THREADS")) config.threads = parse_int(s->first, s->second, 0, 1024);
-  if (auto s = setting("--web-dir", "ROOMRENDER_WEB_DIR")) config.web_dir = s->first;
-  if (auto s = setting("--examples-dir", "ROOMRENDER_EXAMPLES_DIR")) config.examples_dir = s->first;
-  if (auto s = setting("--log-requests", "ROOMRENDER_LOG_REQUESTS")) {
-    config.log_requests = parse_int(s->first, s->second, 0, 1) == 1;
-  }
-  return config;
-}
-
-int run_serve(std::span<const std::string> argv) {
-  if (std::find(argv.begin(), argv.end(), "--help") != argv.end() ||
-      std::find(argv.begin(), argv.end(), "-h") != argv.end()) {
-    return std::printf("usage: %s\n", serve_synopsis), 0;
-  }
-  ServerConfig config;
-  try {
-    config = serve_config_from(argv, [](const char* name) -> std::optional<std::string> {
-      const char* value = std::getenv(name);
-      return value ? std::optional<std::string>(value) : std::nullopt;
-    });
-  } catch (const UsageError& e) {
-    return usage_failure(serve_synopsis, e.what());
-  }
-  return run_reporting_errors([&] {
-    // Block the stop signals before any thread starts, so every thread inherits the mask and
-    // sigwait below is the only place they arrive.
-    sigset_t stop_signals;
-    sigemptyset(&stop_signals);
-    sigaddset(&stop_signals, SIGINT);
-    sigaddset(&stop_signals, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
-    std::signal(SIGPIPE, SIG_IGN);  // a client that hangs up must not end the process
-    Service service(config);
-    service.start();
-    print_json_line(stdout, {{"event", "listening"}, {"port", service.port()}, {"bind", config.bind},
-                             {"url", "http://" + config.bind + ":" + std::to_string(service.port()) + "/"},
-                             {"threads", worker_threads(config)}, {"web_dir", config.web_dir.string()},
-                             {"examples_dir", config.examples_dir.string()},
-                             {"max_body_bytes", config.max_body_bytes}, {"log_requests", config.log_requests},
-                             {"version", version()}});
-    int signal_number = 0;
-    sigwait(&stop_signals, &signal_number);
-    service.stop();
-    print_json_line(stdout, {{"event", "stopped"}, {"signal", signal_number}});
   });
 }
 

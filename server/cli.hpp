@@ -22,7 +22,8 @@ std::string usage_text();  // every subcommand with its options, for `roomrender
 int run_render(std::span<const std::string> args);
 int run_export(std::span<const std::string> args);
 int run_import(std::span<const std::string> args);  // FILE -> request JSON on stdout
-int run_serve(std::span<const std::string> args);
+int run_serve(std::span<const std::string> args);  // server/serve_command.cpp
+std::string serve_usage();                           // every serve option with its default
 
 // A command line that cannot be obeyed; exit code 2.
 struct UsageError : std::runtime_error {
@@ -30,7 +31,7 @@ struct UsageError : std::runtime_error {
 };
 
 // The serve configuration: defaults, then ROOMRENDER_* variables read through `getenv`, then flags
-// (flags win). Throws UsageError naming the flag or variable that is wrong.
+// (flags win). Throws UsageError naming the flag or variable that is wrong. In serve_command.cpp.
 ServerConfig serve_config_from(std::span<const std::string> args,
                                const std::function<std::optional<std::string>(const char*)>& getenv);
 

@@ -1,25 +1,22 @@
-// The HTTP service (see http_server.hpp). A request passes screen_request first (route, method and
-// header checks, before any body byte is read), then its handler; handlers just throw, and the
-// exception and error handlers turn whatever went wrong into problem+json via server/problem.hpp.
-// One JSON log line per request goes to stderr when config.log_requests is set.
+// The HTTP service (see http_server.hpp). cpp-httplib 0.11.4 from Debian is a compiled library: its
+// CPPHTTPLIB_* macros change nothing here, so every limit is a runtime setter or our own code. A
+// request passes screen_request first (route, method, Accept and body framing, before any body byte
+// is read), then dispatch() calls its route's handler; handlers just throw, and answer_exception
+// turns whatever went wrong into problem+json. One log line and the metrics per request come from
+// the logger, which httplib calls after writing every response.
 #include "server/http_server.hpp"
 
-#include "render/pipeline.hpp"
+#include "server/http_util.hpp"
 #include "server/problem.hpp"
+#include "server/routes.hpp"
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 #include <sys/socket.h>
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <chrono>
-#include <cstdio>
-#include <fstream>
-#include <optional>
-#include <regex>
-#include <sstream>
 #include <stdexcept>
 
 #ifndef ROOMRENDER_SOURCE_DIR
@@ -34,28 +31,21 @@ using httplib::Response;
 using HandlerResponse = httplib::Server::HandlerResponse;
 using Clock = std::chrono::steady_clock;
 
-// A route as the screen sees it. "GET" routes also answer HEAD, as httplib dispatches them.
-struct Route {
-  std::string method;
-  std::string pattern;     // matched against the whole decoded path
-  bool json_body = false;  // takes a JSON request body: needs Content-Length and a JSON media type
-  httplib::Server::Handler handler;
-  std::regex regex;
-};
-
-// Set when screening starts, read by the logger. httplib handles a request on one worker thread
-// from screening to logging, so a thread_local needs no locking; requests httplib rejects before
-// screening (a broken request line) log no duration.
-thread_local std::optional<Clock::time_point> t_request_start;
+// Headers a handler may have set for a success that must not survive into an error answer (an
+// immutable Cache-Control on a 422 would pin the error in caches for a year).
+constexpr const char* success_headers[] = {"Server-Timing", "X-Scene-Id", "X-Cache", "ETag",
+                                           "X-Warning-Count", "Cache-Control", "Location", "Vary"};
 
 void send_problem(Response& res, const Problem& problem) {
+  for (const char* name : success_headers) res.headers.erase(name);
   res.status = problem.status;
+  for (const auto& [name, value] : problem.headers) res.set_header(name, value);
+  res.set_header("Cache-Control", "no-store");
   res.set_content(problem.body, problem_content_type);
 }
 
-void send_problem(Response& res, int status, std::string_view detail,
-                  const std::vector<FieldError>& errors = {}) {
-  send_problem(res, Problem{status, make_problem(status, "", detail, errors)});
+void send_problem(Response& res, int status, std::string_view detail, HeaderList headers = {}) {
+  send_problem(res, Problem{status, make_problem(status, "", detail), std::move(headers)});
 }
 
 // Ends the connection once `res` (already holding its body) is written. A request refused before
@@ -75,141 +65,62 @@ void close_after_response(Response& res) {
   });
 }
 
-std::optional<std::string> read_text_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
+// httplib parses Range itself and would cut our answers to the requested bytes (also with status
+// 200, and also problem bodies); and it adds REMOTE_ADDR and friends as headers *after* any the
+// client sent, so get_header_value would return the client's. The Request is a mutable object that
+// httplib hands to handlers as const, so clearing these here is well-defined.
+void sanitize_request(const Request& req) {
+  Request& mutable_req = const_cast<Request&>(req);
+  mutable_req.ranges.clear();
+  for (const char* name : {"REMOTE_ADDR", "REMOTE_PORT", "LOCAL_ADDR", "LOCAL_PORT"}) mutable_req.headers.erase(name);
+  mutable_req.set_header("REMOTE_ADDR", req.remote_addr);
+  mutable_req.set_header("REMOTE_PORT", std::to_string(req.remote_port));
+  mutable_req.set_header("LOCAL_ADDR", req.local_addr);
+  mutable_req.set_header("LOCAL_PORT", std::to_string(req.local_port));
 }
 
-std::string lowercase(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
-
-// "application/json; charset=utf-8" -> "application/json".
-std::string media_type(const std::string& content_type) {
-  std::string type = content_type.substr(0, content_type.find(';'));
-  auto first = type.find_first_not_of(" \t");
-  if (first == std::string::npos) return "";
-  return lowercase(type.substr(first, type.find_last_not_of(" \t") - first + 1));
-}
-
-// W3C Server-Timing with every stage timings_json reports, in its order, so this header and the
-// CLI's timings line always name the same stages.
-std::string server_timing(const RenderResult& result) {
-  auto report = nlohmann::ordered_json::parse(timings_json(result.timings, result.stats));
-  std::string header;
-  char buffer[96];
-  for (const auto& [name, ms] : report.at("timings_ms").items()) {
-    std::snprintf(buffer, sizeof buffer, "%s%s;dur=%.3f", header.empty() ? "" : ", ", name.c_str(),
-                  ms.get<double>());
-    header += buffer;
-  }
-  return header;
-}
-
-void handle_render(const Request& req, Response& res) {
-  EncodedRender out = render_request_text(req.body);  // InputError -> answer_exception
-  res.status = 200;
-  res.set_header("Server-Timing", server_timing(out.result));
-  res.set_header("X-Scene-Id", out.scene_id);
-  res.set_header("Cache-Control", "no-store");
-  res.set_header("Content-Type", "image/png");
-  res.body = std::move(out.png);
-}
-
-void handle_pipelines(const Request&, Response& res) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const PipelineInfo& p : pipeline_table()) list.push_back({{"name", p.name}, {"summary", p.summary}});
-  res.set_content(nlohmann::json{{"pipelines", list}}.dump(), "application/json");
-}
-
-void handle_health(const Request&, Response& res) {
-  res.set_header("Cache-Control", "no-store");
-  res.set_content(R"({"status":"ok"})", "application/json");
-}
-
-// Example names are [a-z0-9_]+ so a name can never leave the directory.
-const std::regex example_name("[a-z0-9_]+");
-
-httplib::Server::Handler make_examples_list_handler(std::filesystem::path dir) {
-  return [dir](const Request&, Response& res) {
-    std::vector<std::string> names;
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-      std::string stem = entry.path().stem().string();
-      if (entry.path().extension() == ".json" && std::regex_match(stem, example_name)) {
-        names.push_back(stem);
-      }
-    }
-    std::sort(names.begin(), names.end());
-    res.set_content(nlohmann::json{{"examples", names}}.dump(), "application/json");
-  };
-}
-
-httplib::Server::Handler make_example_handler(std::filesystem::path dir) {
-  return [dir](const Request& req, Response& res) {
-    std::string name = req.matches[1];  // the route's pattern already admits only [a-z0-9_]+
-    if (auto text = read_text_file(dir / (name + ".json"))) {
-      res.set_content(*text, "application/json");
-    } else {
-      send_problem(res, 404, "There is no example named '" + name + "'.");
-    }
-  };
-}
-
-httplib::Server::Handler make_index_handler(std::filesystem::path dir) {
-  return [dir](const Request&, Response& res) {
-    auto text = read_text_file(dir / "index.html");
-    if (!text) {
-      send_problem(res, 404, "The web client is not installed on this server.");
-      return;
-    }
-    // The page is self-contained: nothing may load from elsewhere.
-    res.set_header("Content-Security-Policy",
-                   "default-src 'self'; script-src 'self' 'unsafe-inline'; "
-                   "style-src 'self' 'unsafe-inline'; img-src 'self' blob: data:");
-    res.set_content(*text, "text/html; charset=utf-8");
-  };
-}
-
-std::vector<Route> make_routes(const ServerConfig& config) {
-  std::vector<Route> routes = {
-      {"POST", "/v1/render", true, handle_render, {}},
-      {"GET", "/v1/pipelines", false, handle_pipelines, {}},
-      {"GET", "/healthz", false, handle_health, {}},
-      {"GET", "/livez", false, handle_health, {}},
-      {"GET", "/", false, make_index_handler(config.web_dir), {}},
-      {"GET", "/examples/?", false, make_examples_list_handler(config.examples_dir), {}},
-      {"GET", "/examples/([a-z0-9_]+)\\.json", false, make_example_handler(config.examples_dir), {}},
-  };
-  for (Route& r : routes) r.regex = std::regex(r.pattern);
-  return routes;
-}
-
-// 404 for an unknown path, 405 (with Allow) for a known path and another method; else the route.
+// 404 for an unknown path, 405 (with Allow) for a known path and another method; else the route,
+// with its captures stored in the request context.
 const Route* screen_route(const std::vector<Route>& routes, const Request& req, Response& res) {
   std::string allow;
   for (const Route& r : routes) {
-    if (!std::regex_match(req.path, r.regex)) continue;
-    if (r.method == req.method || (r.method == "GET" && req.method == "HEAD")) return &r;
+    std::smatch groups;
+    if (!std::regex_match(req.path, groups, r.regex)) continue;
+    if (r.method == req.method || (r.method == "GET" && req.method == "HEAD")) {
+      RequestContext& context = request_context();
+      context.route = &r;
+      for (size_t i = 1; i < groups.size(); ++i) context.match.params.push_back(groups[i].str());
+      return &r;
+    }
     allow += (allow.empty() ? "" : ", ") + r.method + (r.method == "GET" ? ", HEAD" : "");
   }
   if (allow.empty()) {
     send_problem(res, 404, "There is no resource at this path.");
   } else {
-    res.set_header("Allow", allow);
-    send_problem(res, 405, req.method + " is not allowed here; use " + allow + ".");
+    send_problem(res, 405, req.method + " is not allowed here; use " + allow + ".", {{"Allow", allow}});
   }
   return nullptr;
 }
 
+bool screen_accept(const Route& route, const Request& req, Response& res) {
+  if (route.produces.empty()) return true;
+  auto chosen = negotiate(req.get_header_value("Accept"), route.produces);
+  if (!chosen) {
+    std::string offered;
+    for (const std::string& type : route.produces) offered += (offered.empty() ? "" : ", ") + type;
+    send_problem(res, 406, "This resource is available as " + offered + "; the Accept header rules that out.");
+    return false;
+  }
+  request_context().match.media_type = *chosen;
+  return true;
+}
+
 // Body framing we accept: only Content-Length (no Transfer-Encoding, whose chunked bodies httplib
-// reads without a size limit), no Content-Encoding (a small gzip body can inflate without bound),
-// at most max_body_bytes. Returns false after answering.
+// 0.11 reads without a size limit), no Content-Encoding (httplib inflates gzip and brotli bodies, a
+// decompression bomb), at most max_body_bytes, and none at all for routes that take no body.
+// Returns false after answering.
 bool screen_body_headers(const Route& route, const ServerConfig& config, const Request& req, Response& res) {
+  const bool takes_body = !route.consumes.empty();
   if (req.has_header("Transfer-Encoding")) {
     send_problem(res, 411, "Send the body with a Content-Length; Transfer-Encoding is not accepted.");
     return false;
@@ -230,29 +141,38 @@ bool screen_body_headers(const Route& route, const ServerConfig& config, const R
       send_problem(res, 400, "The Content-Length header is not a number.");
       return false;
     }
-    if (ec == std::errc::result_out_of_range || length > config.max_body_bytes) {
-      send_problem(res, 413, "The body exceeds the limit of " + std::to_string(config.max_body_bytes) + " bytes.");
+    uint64_t limit = takes_body ? config.max_body_bytes : 0;
+    if (ec == std::errc::result_out_of_range || length > limit) {
+      send_problem(res, 413, takes_body ? "The body exceeds the limit of " + std::to_string(limit) + " bytes."
+                                        : "This request takes no body.");
       return false;
     }
-  } else if (route.json_body) {
+  } else if (takes_body) {
     // Without either header httplib would read until the client closes the connection.
     send_problem(res, 411, "This request needs a Content-Length header.");
     return false;
   }
   std::string type = media_type(req.get_header_value("Content-Type"));
-  if (route.json_body && !type.empty() && type != "application/json") {
-    send_problem(res, 415, "Send the request as application/json.");
+  if (takes_body && !type.empty() &&
+      std::find(route.consumes.begin(), route.consumes.end(), type) == route.consumes.end()) {
+    send_problem(res, 415, "Send the request body as " + route.consumes.front() + ".");
     return false;
   }
   return true;
 }
 
 // Runs before httplib reads the body (and before it answers "100 Continue").
-HandlerResponse screen_request(const std::vector<Route>& routes, const ServerConfig& config,
-                               const Request& req, Response& res) {
-  t_request_start = Clock::now();
+HandlerResponse screen_request(const std::vector<Route>& routes, const ServerConfig& config, const Request& req,
+                               Response& res) {
+  RequestContext& context = request_context();
+  context = RequestContext{};
+  context.start = Clock::now();
+  context.active = true;
+  sanitize_request(req);
   const Route* route = screen_route(routes, req, res);
-  if (route && screen_body_headers(*route, config, req, res)) return HandlerResponse::Unhandled;
+  if (route && screen_accept(*route, req, res) && screen_body_headers(*route, config, req, res)) {
+    return HandlerResponse::Unhandled;
+  }
   // A GET or HEAD without body framing has nothing left on the socket; anything else may.
   bool body_may_follow = (req.method != "GET" && req.method != "HEAD") || req.has_header("Content-Length") ||
                          req.has_header("Transfer-Encoding");
@@ -260,72 +180,86 @@ HandlerResponse screen_request(const std::vector<Route>& routes, const ServerCon
   return HandlerResponse::Handled;
 }
 
-void write_log_line(const nlohmann::ordered_json& line) {
-  std::string text = line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-  std::fwrite(text.data(), 1, text.size(), stderr);  // one write per line keeps lines whole
-}
-
-void log_request(const Request& req, const Response& res) {
-  // httplib has set Content-Length by now, also for bodies written through a provider.
-  nlohmann::ordered_json line = {{"event", "request"}, {"method", req.method}, {"path", req.path},
-                                 {"status", res.status},
-                                 {"bytes", res.get_header_value<uint64_t>("Content-Length")},
-                                 {"duration_ms", nullptr}};
-  if (t_request_start) {
-    line["duration_ms"] = std::chrono::duration<double, std::milli>(Clock::now() - *t_request_start).count();
+void log_request(ServiceState& state, const Request& req, const Response& res) {
+  RequestContext& context = request_context();
+  // Requests httplib refused before screening (a broken request line) have no route or start.
+  const bool screened = context.active;
+  const std::string route = screened && context.route ? context.route->path_template : "unmatched";
+  double seconds = screened ? std::chrono::duration<double>(Clock::now() - context.start).count() : 0.0;
+  state.metrics.record_request(route, req.method, res.status, seconds);
+  if (state.config.log_requests) {
+    // httplib has set Content-Length by now, also for bodies written through a provider.
+    nlohmann::ordered_json line = {
+        {"event", "request"}, {"method", req.method}, {"route", route}, {"path", req.path},
+        {"status", res.status}, {"bytes", res.get_header_value<uint64_t>("Content-Length")},
+        {"duration_ms", screened ? nlohmann::ordered_json(seconds * 1000.0) : nlohmann::ordered_json(nullptr)},
+        {"remote", req.remote_addr}};  // the socket's peer, never a client-supplied header
+    if (!context.scene_id.empty()) line["scene_id"] = context.scene_id;
+    if (!context.pipeline.empty()) line["pipeline"] = context.pipeline;
+    if (!context.cache.empty()) line["cache"] = context.cache;
+    state.log("info", std::move(line));
   }
-  t_request_start.reset();
-  write_log_line(line);
+  context = RequestContext{};
 }
 
-void answer_exception(const Request& req, Response& res, std::exception_ptr error) {
+void answer_exception(ServiceState& state, const Request& req, Response& res, std::exception_ptr error) {
   std::string log_detail;
   Problem problem = problem_from_exception(error, log_detail);
-  if (!log_detail.empty()) {  // our fault, so always logged, with the text the client does not see
-    write_log_line({{"event", "internal_error"}, {"method", req.method}, {"path", req.path},
-                    {"detail", log_detail}});
+  if (!log_detail.empty()) {  // our fault: logged with the text the client does not see
+    state.log("error", {{"event", "internal_error"}, {"method", req.method}, {"path", req.path}, {"detail", log_detail}});
   }
-  res.headers.erase("Server-Timing");
-  res.headers.erase("X-Scene-Id");
   send_problem(res, problem);
 }
 
-// httplib's own error answers (unparsable request, URI too long, ...) come without a body; give
-// them a problem body too. Our answers always carry a Content-Type and are left alone.
+// httplib's own error answers (unparsable request, URI too long, bad Range, ...) come without a
+// body; give them a problem body too. Our answers always carry a Content-Type and are left alone.
 HandlerResponse fill_error_body(const Request&, Response& res) {
   if (res.has_header("Content-Type")) return HandlerResponse::Unhandled;
   send_problem(res, status_problem(res.status));
   return HandlerResponse::Handled;
 }
 
-void configure_limits(httplib::Server& server, const ServerConfig& config) {
+void configure_limits(httplib::Server& server, const ServerConfig& config, std::shared_ptr<int> listen_socket) {
   // Backstop only: screen_request rejects large bodies before httplib would read them.
   server.set_payload_max_length(config.max_body_bytes);
   server.set_read_timeout(config.read_timeout_s, 0);
   server.set_write_timeout(config.write_timeout_s, 0);
+  // httplib keeps a connection's thread while it waits for the next request: bounding the wait and
+  // the requests per connection keeps idle clients from pinning every thread for long.
   server.set_keep_alive_timeout(config.keep_alive_timeout_s);
   server.set_keep_alive_max_count(config.keep_alive_max_requests);
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
   // httplib's default sets SO_REUSEPORT, which lets a second server bind the same port and take
-  // half the connections; SO_REUSEADDR alone still allows a quick restart.
-  server.set_socket_options([](socket_t sock) {
+  // half the connections; SO_REUSEADDR alone still allows a quick restart. The socket is remembered
+  // so start() can raise the listen backlog after bind.
+  server.set_socket_options([listen_socket](socket_t sock) {
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    *listen_socket = sock;
   });
-  // A fixed pool: connections beyond it wait in httplib's queue (0.11 cannot refuse them there).
-  server.new_task_queue = [threads = worker_threads(config)] { return new httplib::ThreadPool(threads); };
+  // A fixed pool of connection threads; renders inside them are bounded by the gate.
+  server.new_task_queue = [threads = connection_threads(config)] { return new httplib::ThreadPool(threads); };
 }
 
-std::unique_ptr<httplib::Server> make_server(const ServerConfig& config) {
+std::unique_ptr<httplib::Server> make_server(ServiceState& state, std::shared_ptr<int> listen_socket) {
   auto server = std::make_unique<httplib::Server>();
-  configure_limits(*server, config);
-  auto routes = std::make_shared<const std::vector<Route>>(make_routes(config));
-  for (const Route& r : *routes) {
-    if (r.method == "GET") server->Get(r.pattern, r.handler);
-    if (r.method == "POST") server->Post(r.pattern, r.handler);
+  configure_limits(*server, state.config, listen_socket);
+  auto routes = std::make_shared<std::vector<Route>>();
+  for (std::vector<Route> list : {render_routes(), scene_routes(), meta_routes(state.config)}) {
+    routes->insert(routes->end(), list.begin(), list.end());
   }
-  auto screen = [routes, config](const Request& req, Response& res) {
-    return screen_request(*routes, config, req, res);
+  for (Route& r : *routes) r.regex = std::regex(r.pattern);
+  // httplib only dispatches: screening already chose the route.
+  auto dispatch = [&state](const Request& req, Response& res) {
+    const RequestContext& context = request_context();
+    context.route->handler(state, req, res, context.match);
+  };
+  server->Get(".*", dispatch);
+  server->Post(".*", dispatch);
+  server->Put(".*", dispatch);
+  server->Delete(".*", dispatch);
+  auto screen = [routes, &state](const Request& req, Response& res) {
+    return screen_request(*routes, state.config, req, res);
   };
   server->set_pre_routing_handler(screen);
   // curl sends "Expect: 100-continue" for larger bodies; answer a request we would reject at once
@@ -336,9 +270,11 @@ std::unique_ptr<httplib::Server> make_server(const ServerConfig& config) {
     if (!res.has_header("Content-Length")) res.set_header("Content-Length", std::to_string(res.content_length_));
     return res.status;
   });
-  server->set_exception_handler(answer_exception);
+  server->set_exception_handler([&state](const Request& req, Response& res, std::exception_ptr error) {
+    answer_exception(state, req, res, error);
+  });
   server->set_error_handler(httplib::Server::HandlerWithResponse(fill_error_body));
-  if (config.log_requests) server->set_logger(log_request);
+  server->set_logger([&state](const Request& req, const Response& res) { log_request(state, req, res); });
   return server;
 }
 
@@ -348,13 +284,48 @@ ServerConfig default_server_config() {
   ServerConfig config;
   config.web_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "clients" / "web";
   config.examples_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "examples";
+  config.schemas_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "schemas";
   return config;
 }
 
-size_t worker_threads(const ServerConfig& config) {
-  // Each open connection holds one worker for its keep-alive life, so browsers need a few.
+size_t render_workers(const ServerConfig& config) {
+  if (config.render_workers > 0) return size_t(config.render_workers);
+  return std::max<size_t>(1, std::thread::hardware_concurrency());
+}
+
+size_t render_queue_length(const ServerConfig& config) {
+  if (config.render_queue >= 0) return size_t(config.render_queue);
+  return 4 * render_workers(config);
+}
+
+size_t connection_threads(const ServerConfig& config) {
+  // Every admitted or queued render holds its connection's thread; the 8 beyond those answer
+  // health checks, metrics, 503s and idle keep-alive connections.
   if (config.threads > 0) return size_t(config.threads);
-  return std::max<size_t>(4, std::thread::hardware_concurrency());
+  return render_workers(config) + render_queue_length(config) + 8;
+}
+
+size_t worker_threads(const ServerConfig& config) { return connection_threads(config); }
+
+std::string config_json(const ServerConfig& c) {
+  const ParseLimits& l = c.limits;
+  nlohmann::ordered_json j = {
+      {"bind", c.bind}, {"port", c.port}, {"threads", connection_threads(c)},
+      {"render_workers", render_workers(c)}, {"render_queue", render_queue_length(c)},
+      {"render_timeout_ms", c.render_timeout_ms}, {"retry_after_s", c.retry_after_s},
+      {"drain_timeout_ms", c.drain_timeout_ms}, {"max_body_bytes", c.max_body_bytes},
+      {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels},
+      {"max_polygons", l.max_polygons}, {"max_cylinder_segments", l.max_cylinder_segments},
+      {"max_floor_cells", l.max_floor_cells}, {"max_abs_coordinate", l.max_abs_coordinate},
+      {"max_far_over_near", l.max_far_over_near},
+      {"bsp_cache_bytes", c.bsp_cache_bytes}, {"bsp_cache_entries", c.bsp_cache_entries},
+      {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
+      {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
+      {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},
+      {"read_timeout_s", c.read_timeout_s}, {"write_timeout_s", c.write_timeout_s},
+      {"keep_alive_timeout_s", c.keep_alive_timeout_s}, {"keep_alive_max_requests", c.keep_alive_max_requests},
+      {"listen_backlog", c.listen_backlog}, {"log_level", c.log_level}, {"log_requests", c.log_requests}};
+  return j.dump();
 }
 
 Service::Service(ServerConfig config) : config_(std::move(config)) {}
@@ -363,12 +334,20 @@ Service::~Service() { stop(); }
 
 void Service::start() {
   if (server_) throw std::logic_error("Service::start called twice");
-  server_ = make_server(config_);
+  state_ = std::make_unique<ServiceState>(config_);
+  size_t loaded = state_->scenes.load();
+  if (!config_.data_dir.empty()) state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
+  auto listen_socket = std::make_shared<int>(-1);
+  server_ = make_server(*state_, listen_socket);
   int bound = config_.port == 0 ? server_->bind_to_any_port(config_.bind)
               : server_->bind_to_port(config_.bind, config_.port) ? config_.port
                                                                   : -1;
   if (bound < 0) {
     throw std::runtime_error("cannot listen on " + config_.bind + ":" + std::to_string(config_.port));
+  }
+  // httplib listens with a backlog of 5; calling listen() again on a listening socket changes it.
+  if (*listen_socket >= 0 && ::listen(*listen_socket, config_.listen_backlog) != 0) {
+    throw std::runtime_error("cannot raise the listen backlog");
   }
   port_ = bound;
   thread_ = std::thread([this] {
@@ -383,10 +362,19 @@ void Service::start() {
   }
 }
 
-void Service::stop() {
-  if (!server_) return;
-  server_->stop();
-  if (thread_.joinable()) thread_.join();
+DrainReport Service::stop() {
+  DrainReport report;
+  if (stopped_ || !server_ || !thread_.joinable()) return report;
+  stopped_ = true;
+  auto begin = Clock::now();
+  state_->draining = true;
+  state_->gate.close();  // new renders get 503; queued and running ones go on
+  server_->stop();       // no new connections; open ones close after their current request
+  report.drained = state_->gate.wait_idle(begin + std::chrono::milliseconds(config_.drain_timeout_ms));
+  if (!report.drained) state_->gate.abort();  // cancelled renders answer 503
+  thread_.join();
+  report.seconds = std::chrono::duration<double>(Clock::now() - begin).count();
+  return report;
 }
 
 }  // namespace rr::server

@@ -1,12 +1,15 @@
 // The HTTP service: ServerConfig -> routes and limits on an httplib::Server -> listen on a thread.
-// Routes: POST /v1/render, GET /v1/pipelines, /healthz, /livez, /, /examples/, /examples/{name}.json.
-// Every error is an RFC 9457 problem+json body (server/problem.hpp); requests whose headers already
-// rule them out are answered before their body is read.
+// The route table (server/routes.hpp) lists every endpoint; docs/api.md and schemas/openapi.json
+// describe them. Every error is an RFC 9457 problem+json body (server/problem.hpp); requests whose
+// headers already rule them out are answered before their body is read.
 #pragma once
+
+#include "render/scene_json.hpp"
 
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -17,28 +20,62 @@ class Server;
 
 namespace rr::server {
 
+struct ServiceState;
+
+// Every setting of `roomrender serve` (flags and ROOMRENDER_* variables in server/serve_command.cpp,
+// table in docs/api.md). Sizes in bytes, times as named.
 struct ServerConfig {
   std::string bind = "127.0.0.1";
   int port = 8080;  // 0: any free port, reported by Service::port()
-  int threads = 0;  // worker threads (one per open connection); 0: hardware concurrency, at least 2
+  int threads = 0;  // connection threads; 0: render_workers + render_queue + 8 (see connection_threads)
+  int render_workers = 0;  // renders running at once; 0: the number of cores
+  int render_queue = -1;   // renders waiting for a slot; -1: 4 per render worker
+  int render_timeout_ms = 10'000;  // deadline per render, counted from arrival at the gate
+  int retry_after_s = 1;           // Retry-After sent with 503
+  int drain_timeout_ms = 10'000;   // on SIGTERM: how long in-flight renders may still run
   std::filesystem::path web_dir;       // holds index.html, served at GET /
   std::filesystem::path examples_dir;  // holds <name>.json, served under /examples/
+  std::filesystem::path schemas_dir;   // holds *.schema.json and openapi.json
+  std::filesystem::path data_dir;      // stored scenes persist here; empty: memory only
   size_t max_body_bytes = 8u << 20;    // larger bodies get 413 before they are read
-  int read_timeout_s = 10;
+  ParseLimits limits;                  // JSON depth, image size, polygons, ... (render/scene_json.hpp)
+  size_t bsp_cache_bytes = 256u << 20;
+  size_t bsp_cache_entries = 1024;
+  size_t scene_store_bytes = 256u << 20;
+  size_t scene_store_entries = 1000;
+  int read_timeout_s = 5;
   int write_timeout_s = 10;
-  int keep_alive_timeout_s = 5;
+  int keep_alive_timeout_s = 3;  // an idle connection holds a thread at most this long
   size_t keep_alive_max_requests = 100;
-  bool log_requests = true;  // one JSON line per request on stderr; tests turn it off
+  int listen_backlog = 1024;     // httplib 0.11 listens with 5; raised after bind
+  bool log_requests = true;      // one JSON line per request (level info)
+  std::string log_level = "info";  // info, warn, error or off
+  // Where log lines go (one JSON object per line, no newline); null: stderr. Tests capture them.
+  std::function<void(const std::string& line)> log_sink;
+  // Called on the render's thread once it holds a render slot, before any work. A seam for tests
+  // that must hold slots deterministically; null in the service.
+  std::function<void()> on_render_admitted;
 };
 
-// The defaults above, with web_dir and examples_dir pointing into the source tree.
+// The defaults above, with web_dir, examples_dir and schemas_dir pointing into the source tree.
 ServerConfig default_server_config();
 
-// The worker thread count config.threads stands for (resolving 0).
-size_t worker_threads(const ServerConfig& config);
+// What the 0 / -1 defaults resolve to.
+size_t render_workers(const ServerConfig& config);
+size_t render_queue_length(const ServerConfig& config);
+size_t connection_threads(const ServerConfig& config);
+size_t worker_threads(const ServerConfig& config);  // = connection_threads (older name)
 
-// One running server. start() binds and serves on a background thread until stop() (or
-// destruction). Not copyable; start() may be called once.
+// The effective configuration as one JSON object (printed once at start).
+std::string config_json(const ServerConfig& config);
+
+struct DrainReport {
+  bool drained = true;      // every in-flight render finished within drain_timeout_ms
+  double seconds = 0.0;     // from stop() to the last connection closed
+};
+
+// One running server. start() loads stored scenes, binds and serves on a background thread until
+// stop() (or destruction). Not copyable; start() may be called once.
 class Service {
  public:
   explicit Service(ServerConfig config);
@@ -51,15 +88,19 @@ class Service {
   void start();
   int port() const { return port_; }
   const ServerConfig& config() const { return config_; }
-  // Stops accepting, finishes the requests in flight and joins the thread. Idempotent.
-  void stop();
+  // Graceful stop: readiness fails, no new connections are accepted, renders in flight get up to
+  // drain_timeout_ms to finish (then they are cancelled and answer 503), and open connections
+  // close after their current request. Idempotent.
+  DrainReport stop();
 
  private:
   ServerConfig config_;
+  std::unique_ptr<ServiceState> state_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   std::atomic<bool> loop_exited_{false};
   int port_ = 0;
+  bool stopped_ = false;
 };
 
 }  // namespace rr::server

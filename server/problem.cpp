@@ -11,7 +11,9 @@ std::string_view status_title(int status) {
     case 400: return "Bad Request";
     case 404: return "Not Found";
     case 405: return "Method Not Allowed";
+    case 406: return "Not Acceptable";
     case 408: return "Request Timeout";
+    case 409: return "Conflict";
     case 411: return "Length Required";
     case 413: return "Content Too Large";
     case 414: return "URI Too Long";
@@ -22,6 +24,7 @@ std::string_view status_title(int status) {
     case 500: return "Internal Server Error";
     case 501: return "Not Implemented";
     case 503: return "Service Unavailable";
+    case 504: return "Gateway Timeout";
     default: return "Error";
   }
 }
@@ -36,7 +39,11 @@ std::string make_problem(int status, std::string_view title, std::string_view de
   };
   if (!errors.empty()) {
     nlohmann::json list = nlohmann::json::array();
-    for (const FieldError& e : errors) list.push_back({{"pointer", e.pointer}, {"detail", e.detail}});
+    for (const FieldError& e : errors) {
+      nlohmann::json entry = {{"pointer", e.pointer}, {"detail", e.detail}};
+      if (!e.parameter.empty()) entry["parameter"] = e.parameter;
+      list.push_back(std::move(entry));
+    }
     body["errors"] = std::move(list);
   }
   // `replace` keeps a stray invalid UTF-8 byte in a message from turning into a second error.
@@ -80,6 +87,8 @@ Problem problem_from_exception(std::exception_ptr error, std::string& log_detail
     std::rethrow_exception(error);
   } catch (const InputError& e) {
     return problem_from_input_error(e);
+  } catch (const HttpError& e) {
+    return {e.status(), make_problem(e.status(), "", e.what(), e.errors()), e.headers()};
   } catch (const std::exception& e) {
     log_detail = e.what();
   } catch (...) {

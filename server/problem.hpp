@@ -6,8 +6,10 @@
 #include "render/errors.hpp"
 
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace rr::server {
@@ -18,11 +20,31 @@ inline constexpr const char* problem_content_type = "application/problem+json";
 struct FieldError {
   std::string pointer;  // JSON Pointer (RFC 6901) into the request body; "" is the whole body
   std::string detail;
+  std::string parameter = {};  // the query parameter the value came from, when it came from one
 };
+
+using HeaderList = std::vector<std::pair<std::string, std::string>>;
 
 struct Problem {
   int status = 500;
   std::string body;  // problem+json text
+  HeaderList headers = {};  // e.g. Retry-After with 503, Allow with 405
+};
+
+// An HTTP-level refusal a handler throws (404 no such scene, 503 saturated, 504 deadline, ...): its
+// message is the problem's detail, so it must be written for the client.
+class HttpError : public std::runtime_error {
+ public:
+  HttpError(int status, const std::string& detail, std::vector<FieldError> errors = {}, HeaderList headers = {})
+      : std::runtime_error(detail), status_(status), errors_(std::move(errors)), headers_(std::move(headers)) {}
+  int status() const { return status_; }
+  const std::vector<FieldError>& errors() const { return errors_; }
+  const HeaderList& headers() const { return headers_; }
+
+ private:
+  int status_;
+  std::vector<FieldError> errors_;
+  HeaderList headers_;
 };
 
 // The HTTP reason phrase for a status ("Unprocessable Content" for 422), or "Error" when unknown.
@@ -47,7 +69,8 @@ Problem problem_from_input_error(const InputError& error);
 // (it can carry paths and internals that clients must not see).
 Problem internal_error_problem();
 
-// Any exception a handler let escape: InputError -> its problem; anything else -> the internal
+// Any exception a handler let escape: InputError -> its problem; HttpError -> its status, detail,
+// errors and headers; anything else -> the internal
 // error problem, with the exception's text put in `log_detail` for the server's own log (left empty
 // for InputError, which is the client's mistake, not ours).
 Problem problem_from_exception(std::exception_ptr error, std::string& log_detail);

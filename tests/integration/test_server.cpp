@@ -2,18 +2,8 @@
 // httplib::Client (and a raw socket where a well-behaved client cannot send the request). Checks
 // statuses, problem+json bodies with their JSON Pointers, headers, and that rejected requests leave
 // the server healthy.
-#include "server/http_server.hpp"
 #include "server/problem.hpp"
-#include "support/test_support.hpp"
-
-#include <gtest/gtest.h>
-#include <httplib.h>
-#include <nlohmann/json.hpp>
-
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
+#include "server_fixture.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -23,66 +13,23 @@
 namespace {
 
 using nlohmann::json;
+using namespace rr::testing;
 
 class ServerTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    rr::server::ServerConfig config = rr::server::default_server_config();
-    config.port = 0;
-    config.threads = 4;
-    config.log_requests = false;
-    service_ = std::make_unique<rr::server::Service>(config);
-    service_->start();
-  }
-  static void TearDownTestSuite() { service_.reset(); }
-
-  static httplib::Client client() {
-    httplib::Client cli("127.0.0.1", service_->port());
-    cli.set_connection_timeout(5);
-    cli.set_read_timeout(30);
-    return cli;
-  }
-
-  static void expect_healthy() {
-    auto res = client().Get("/healthz");
-    ASSERT_TRUE(res) << httplib::to_string(res.error());
-    EXPECT_EQ(res->status, 200);
-    EXPECT_EQ(json::parse(res->body), json({{"status", "ok"}}));
-  }
-
-  // Checks the problem+json shape and returns the body.
-  static json expect_problem(const httplib::Result& res, int status) {
-    EXPECT_TRUE(res) << httplib::to_string(res.error());
-    if (!res) return json();
-    EXPECT_EQ(res->status, status) << res->body;
-    EXPECT_EQ(res->get_header_value("Content-Type"), "application/problem+json");
-    json problem = json::parse(res->body, nullptr, false);
-    EXPECT_TRUE(problem.is_object()) << res->body;
-    if (!problem.is_object()) return json();
-    EXPECT_EQ(problem.value("status", 0), status);
-    EXPECT_TRUE(problem.contains("type") && problem.contains("title") && problem.contains("detail"));
-    return problem;
-  }
-
-  static inline std::unique_ptr<rr::server::Service> service_;
+  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
+  static void TearDownTestSuite() { server_.reset(); }
+  static httplib::Client client() { return server_->client(); }
+  static void expect_healthy() { rr::testing::expect_healthy(*server_); }
+  static inline std::unique_ptr<TestServer> server_;
 };
 
-struct PngSize {
-  uint32_t width = 0, height = 0;
-};
-
-// The PNG signature, then the IHDR chunk's big-endian width and height (PNG spec section 11.2.2).
-PngSize png_size(const std::string& png) {
-  static const std::string signature = "\x89PNG\r\n\x1a\n";
-  EXPECT_GE(png.size(), 24u);
-  if (png.size() < 24) return {};
-  EXPECT_EQ(png.substr(0, 8), signature);
-  EXPECT_EQ(png.substr(12, 4), "IHDR");
-  auto be32 = [&](size_t at) {
-    return uint32_t(uint8_t(png[at])) << 24 | uint32_t(uint8_t(png[at + 1])) << 16 |
-           uint32_t(uint8_t(png[at + 2])) << 8 | uint32_t(uint8_t(png[at + 3]));
-  };
-  return {be32(16), be32(20)};
+// Also the health endpoint's exact body, which deployments match on.
+TEST_F(ServerTest, HealthzSaysOk) {
+  auto res = client().Get("/healthz");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 200);
+  EXPECT_EQ(json::parse(res->body)["status"], "ok");
 }
 
 void expect_render_ok(const httplib::Result& res, int width, int height) {
@@ -99,33 +46,6 @@ void expect_render_ok(const httplib::Result& res, int width, int height) {
   EXPECT_EQ(res->get_header_value("X-Scene-Id").size(), 16u);
 }
 
-// Sends raw bytes and reads until the server closes the connection (or 10 s pass).
-std::string raw_exchange(int port, const std::string& request) {
-  int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(uint16_t(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  timeval timeout{10, 0};
-  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  std::string response;
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
-      ::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == ssize_t(request.size())) {
-    char buffer[4096];
-    for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) response.append(buffer, size_t(n));
-  }
-  ::close(fd);
-  return response;
-}
-
-const char* small_request = R"({
-  "scene": {"floor": {"cells": [4, 4]},
-            "solids": [{"type": "box", "center": [0, 0], "size": [1, 1, 1]}],
-            "lights": [{"type": "directional", "direction": [-0.3, -1, -0.2]}]},
-  "camera": {"position": [3, 2.5, 4], "target": [0, 0.5, 0]},
-  "options": {"width": 64, "height": 48}
-})";
-
 TEST_F(ServerTest, RendersInlineRequest) {
   expect_render_ok(client().Post("/v1/render", small_request, "application/json"), 64, 48);
 }
@@ -133,7 +53,7 @@ TEST_F(ServerTest, RendersInlineRequest) {
 TEST_F(ServerTest, AcceptsJsonWithParametersOrNoContentType) {
   expect_render_ok(client().Post("/v1/render", small_request, "application/json; charset=utf-8"), 64, 48);
   // httplib::Client always sends a Content-Type, so the request without one goes over a raw socket.
-  std::string response = raw_exchange(service_->port(), "POST /v1/render HTTP/1.1\r\nHost: test\r\n"
+  std::string response = raw_exchange(server_->port(), "POST /v1/render HTTP/1.1\r\nHost: test\r\n"
                                       "Connection: close\r\nContent-Length: " +
                                       std::to_string(std::strlen(small_request)) + "\r\n\r\n" + small_request);
   EXPECT_EQ(response.rfind("HTTP/1.1 200", 0), 0u) << response.substr(0, 300);
@@ -175,14 +95,8 @@ TEST_F(ServerTest, UnknownRouteIs404) {
 }
 
 TEST_F(ServerTest, WrongMethodIs405WithAllow) {
-  auto res = client().Get("/v1/render");
-  expect_problem(res, 405);
-  ASSERT_TRUE(res);
-  EXPECT_EQ(res->get_header_value("Allow"), "POST");
-  auto post = client().Post("/healthz", "{}", "application/json");
-  expect_problem(post, 405);
-  ASSERT_TRUE(post);
-  EXPECT_EQ(post->get_header_value("Allow"), "GET, HEAD");
+  expect_problem_with(client().Get("/v1/render"), 405, "Allow", "POST");
+  expect_problem_with(client().Post("/healthz", "{}", "application/json"), 405, "Allow", "GET, HEAD");
 }
 
 // Requests refused from their headers are answered before the body is read, and the connection is
@@ -202,12 +116,12 @@ void expect_refused(const std::string& response, int status) {
 }
 
 TEST_F(ServerTest, ChunkedBodyIs411) {
-  expect_refused(refused_exchange(service_->port(), "Transfer-Encoding: chunked\r\n", "2\r\n{}\r\n0\r\n\r\n"), 411);
+  expect_refused(refused_exchange(server_->port(), "Transfer-Encoding: chunked\r\n", "2\r\n{}\r\n0\r\n\r\n"), 411);
   expect_healthy();
 }
 
 TEST_F(ServerTest, ContentEncodingIs415) {
-  expect_refused(refused_exchange(service_->port(), "Content-Encoding: gzip\r\nContent-Length: 2\r\n", "{}"), 415);
+  expect_refused(refused_exchange(server_->port(), "Content-Encoding: gzip\r\nContent-Length: 2\r\n", "{}"), 415);
   expect_healthy();
 }
 
@@ -218,18 +132,18 @@ TEST_F(ServerTest, NonJsonContentTypeIs415) {
 // A declared body over 8 MiB is refused from its headers: the answer comes although the body is
 // never sent.
 TEST_F(ServerTest, DeclaredBodyOverLimitIs413BeforeReading) {
-  expect_refused(refused_exchange(service_->port(), "Content-Length: 9437184\r\n", "{\"scene\":"), 413);
+  expect_refused(refused_exchange(server_->port(), "Content-Length: 9437184\r\n", "{\"scene\":"), 413);
   expect_healthy();
 }
 
 TEST_F(ServerTest, PostWithoutLengthIs411) {
-  expect_refused(refused_exchange(service_->port(), "", "{}"), 411);
+  expect_refused(refused_exchange(server_->port(), "", "{}"), 411);
   expect_healthy();
 }
 
 TEST_F(ServerTest, ConflictingLengthsAre400) {
-  expect_refused(refused_exchange(service_->port(), "Content-Length: 2\r\nContent-Length: 3\r\n", "{}"), 400);
-  expect_refused(refused_exchange(service_->port(), "Content-Length: 2x\r\n", "{}"), 400);
+  expect_refused(refused_exchange(server_->port(), "Content-Length: 2\r\nContent-Length: 3\r\n", "{}"), 400);
+  expect_refused(refused_exchange(server_->port(), "Content-Length: 2x\r\n", "{}"), 400);
   expect_healthy();
 }
 
@@ -280,8 +194,8 @@ TEST_F(ServerTest, ServesTheWebPage) {
 }
 
 TEST_F(ServerTest, SecondServiceCannotTakeTheSamePort) {
-  rr::server::ServerConfig config = service_->config();
-  config.port = service_->port();
+  rr::server::ServerConfig config = server_->service().config();
+  config.port = server_->port();
   rr::server::Service second(config);
   EXPECT_THROW(second.start(), std::runtime_error);
   expect_healthy();

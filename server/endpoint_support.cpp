@@ -1,0 +1,107 @@
+// What every endpoint file shares (declared in routes.hpp): the service state, the per-request
+// context, JSON answers, conditional requests, body parsing and render admission.
+#include "server/routes.hpp"
+
+#include "server/http_util.hpp"
+#include "server/problem.hpp"
+
+#include <httplib.h>
+
+#include <cstdio>
+
+namespace rr::server {
+
+namespace {
+
+int level_rank(const std::string& level) {
+  if (level == "info") return 1;
+  if (level == "warn") return 2;
+  if (level == "error") return 3;
+  return 4;  // off
+}
+
+}  // namespace
+
+ServiceState::ServiceState(const ServerConfig& c)
+    : config(c),
+      gate(render_workers(c), render_queue_length(c)),
+      bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
+      scenes({c.scene_store_entries, c.scene_store_bytes, c.data_dir, c.limits},
+             [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }) {}
+
+void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {
+  if (level_rank(level) < level_rank(config.log_level)) return;
+  nlohmann::ordered_json line = {{"level", level}};
+  line.update(fields);
+  std::string text = line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (config.log_sink) {
+    config.log_sink(text);
+  } else {
+    text += '\n';
+    std::fwrite(text.data(), 1, text.size(), stderr);  // one write per line keeps lines whole
+  }
+}
+
+RequestContext& request_context() {
+  thread_local RequestContext context;
+  return context;
+}
+
+void send_json(httplib::Response& res, const nlohmann::json& body, int status) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+bool answer_not_modified(const httplib::Request& req, httplib::Response& res, const std::string& etag) {
+  res.set_header("ETag", etag);
+  if (!req.has_header("If-None-Match") || !if_none_match_matches(req.get_header_value("If-None-Match"), etag)) {
+    return false;
+  }
+  res.status = 304;
+  return true;
+}
+
+nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req) {
+  return parse_json_text(req.body, state.config.limits);
+}
+
+void require_admission(ServiceState& state, RenderGate::Admission admission) {
+  using Admission = RenderGate::Admission;
+  if (admission == Admission::admitted) return;
+  HeaderList retry = {{"Retry-After", std::to_string(state.config.retry_after_s)}};
+  switch (admission) {
+    case Admission::saturated:
+      state.metrics.record_rejection("saturated");
+      throw HttpError(503, "Every render slot is busy and the queue is full; retry shortly.", {}, retry);
+    case Admission::expired:
+      state.metrics.record_rejection("expired");
+      throw HttpError(503, "The render waited in the queue past its deadline of " +
+                               std::to_string(state.config.render_timeout_ms) + " ms; retry shortly.", {}, retry);
+    default:
+      state.metrics.record_rejection("draining");
+      throw HttpError(503, "The server is shutting down and takes no new renders.", {}, retry);
+  }
+}
+
+void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, Stopwatch&)>& work) {
+  CancelToken token;
+  token.deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(state.config.render_timeout_ms);
+  GateSlot slot(state.gate, token);
+  require_admission(state, slot.admission());
+  if (state.config.on_render_admitted) state.config.on_render_admitted();
+  Stopwatch total;
+  try {
+    work(token, total);
+  } catch (const RenderCancelled&) {
+    if (token.cancelled.load()) {
+      state.metrics.record_rejection("draining");
+      throw HttpError(503, "The server is shutting down and stopped this render; retry later.", {},
+                      {{"Retry-After", std::to_string(state.config.retry_after_s)}});
+    }
+    state.metrics.record_rejection("deadline");
+    throw HttpError(504, "The render did not finish within the deadline of " +
+                             std::to_string(state.config.render_timeout_ms) + " ms.");
+  }
+}
+
+}  // namespace rr::server

@@ -1,0 +1,169 @@
+// Metrics (see metrics.hpp). Histograms use fixed buckets from 0.5 ms to 10 s, wide enough for a
+// health check and a 4096x4096 render alike; exposition follows the Prometheus text format: HELP and
+// TYPE lines, cumulative buckets ending in le="+Inf", then _sum and _count.
+#include "server/metrics.hpp"
+
+#include <httplib.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <fstream>
+
+namespace rr::server {
+
+namespace {
+
+const std::vector<double> duration_buckets = {0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05,
+                                              0.1,    0.25,  0.5,    1.0,   2.5,  5.0,  10.0};
+
+// Label values are our own constants or numbers, but escape them anyway as the format requires.
+std::string escape_label(std::string_view value) {
+  std::string out;
+  for (char c : value) {
+    if (c == '\\' || c == '"') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+std::string number(double value) {
+  char buffer[32];
+  auto result = std::to_chars(buffer, buffer + sizeof buffer, value);  // shortest round-trip form
+  return std::string(buffer, result.ptr);
+}
+
+void header(std::string& out, const char* name, const char* type, const char* help) {
+  out += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+}
+
+void sample(std::string& out, const std::string& name, const std::string& labels, double value) {
+  out += name + (labels.empty() ? "" : "{" + labels + "}") + " " + number(value) + "\n";
+}
+
+void histogram_samples(std::string& out, const std::string& name, const std::string& labels, const Histogram& h) {
+  uint64_t cumulative = 0;
+  std::string prefix = labels.empty() ? "" : labels + ",";
+  for (size_t i = 0; i < h.bounds.size(); ++i) {
+    cumulative += h.counts[i];
+    sample(out, name + "_bucket", prefix + "le=\"" + number(h.bounds[i]) + "\"", double(cumulative));
+  }
+  sample(out, name + "_bucket", prefix + "le=\"+Inf\"", double(h.count));
+  sample(out, name + "_sum", labels, h.sum);
+  sample(out, name + "_count", labels, double(h.count));
+}
+
+std::string label(const char* name, std::string_view value) {
+  return std::string(name) + "=\"" + escape_label(value) + "\"";
+}
+
+void cache_samples(std::string& out, const char* cache, const CacheStats& s) {
+  const std::string l = label("cache", cache);
+  sample(out, "roomrender_cache_hits_total", l, double(s.hits));
+  sample(out, "roomrender_cache_misses_total", l, double(s.misses));
+  sample(out, "roomrender_cache_evictions_total", l, double(s.evictions));
+  sample(out, "roomrender_cache_bytes", l, double(s.bytes));
+  sample(out, "roomrender_cache_budget_bytes", l, double(s.budget_bytes));
+  sample(out, "roomrender_cache_entries", l, double(s.entries));
+}
+
+void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
+  header(out, "roomrender_renders_in_flight", "gauge", "Renders (and scene parses) running now.");
+  sample(out, "roomrender_renders_in_flight", "", double(snap.gate.running));
+  header(out, "roomrender_renders_queued", "gauge", "Renders waiting for a slot.");
+  sample(out, "roomrender_renders_queued", "", double(snap.gate.queued));
+  header(out, "roomrender_render_slots", "gauge", "Render concurrency (slots) and queue length.");
+  sample(out, "roomrender_render_slots", label("kind", "concurrency"), double(snap.gate.concurrency));
+  sample(out, "roomrender_render_slots", label("kind", "queue"), double(snap.gate.queue_limit));
+  header(out, "roomrender_cache_hits_total", "counter", "Cache lookups that found their value.");
+  header(out, "roomrender_cache_misses_total", "counter", "Cache lookups that did not.");
+  header(out, "roomrender_cache_evictions_total", "counter", "Entries evicted to stay within budget.");
+  header(out, "roomrender_cache_bytes", "gauge", "Bytes held (approximate).");
+  header(out, "roomrender_cache_budget_bytes", "gauge", "Byte budget.");
+  header(out, "roomrender_cache_entries", "gauge", "Entries held.");
+  cache_samples(out, "bsp", snap.bsp_cache);
+  cache_samples(out, "scenes", snap.scene_store);
+  header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
+  sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);
+  header(out, "roomrender_build_info", "gauge", "Build information; the value is always 1.");
+  sample(out, "roomrender_build_info", label("version", snap.version) + "," + label("httplib", CPPHTTPLIB_VERSION), 1.0);
+}
+
+}  // namespace
+
+Histogram::Histogram(std::vector<double> upper_bounds)
+    : bounds(std::move(upper_bounds)), counts(bounds.size(), 0) {}
+
+void Histogram::observe(double value) {
+  for (size_t i = 0; i < bounds.size(); ++i) {
+    if (value <= bounds[i]) {
+      ++counts[i];
+      break;
+    }
+  }
+  ++count;
+  sum += value;
+}
+
+void Metrics::record_request(std::string_view route, std::string_view method, int status, double seconds) {
+  std::lock_guard lock(mutex_);
+  ++requests_[{std::string(route), std::string(method), status}];
+  request_seconds_.try_emplace(std::string(route), duration_buckets).first->second.observe(seconds);
+}
+
+void Metrics::record_render(std::string_view pipeline, const std::vector<std::pair<std::string, double>>& stage_ms) {
+  std::lock_guard lock(mutex_);
+  for (const auto& [stage, ms] : stage_ms) {
+    if (ms <= 0.0) continue;
+    stage_seconds_.try_emplace({std::string(pipeline), stage}, duration_buckets).first->second.observe(ms / 1000.0);
+  }
+}
+
+void Metrics::record_rejection(std::string_view reason) {
+  std::lock_guard lock(mutex_);
+  ++rejections_[std::string(reason)];
+}
+
+std::string Metrics::prometheus_text(const MetricsSnapshot& snapshot) const {
+  std::string out;
+  {
+    std::lock_guard lock(mutex_);
+    header(out, "roomrender_http_requests_total", "counter", "HTTP requests answered, by route template, method and status.");
+    for (const auto& [key, count] : requests_) {
+      const auto& [route, method, status] = key;
+      sample(out, "roomrender_http_requests_total",
+             label("route", route) + "," + label("method", method) + "," + label("status", std::to_string(status)),
+             double(count));
+    }
+    header(out, "roomrender_http_request_duration_seconds", "histogram",
+           "Time from reading the request head to writing the response, by route template.");
+    for (const auto& [route, h] : request_seconds_) {
+      histogram_samples(out, "roomrender_http_request_duration_seconds", label("route", route), h);
+    }
+    header(out, "roomrender_render_stage_duration_seconds", "histogram", "Render stage durations by pipeline and stage.");
+    for (const auto& [key, h] : stage_seconds_) {
+      histogram_samples(out, "roomrender_render_stage_duration_seconds",
+                        label("pipeline", key.first) + "," + label("stage", key.second), h);
+    }
+    header(out, "roomrender_renders_rejected_total", "counter",
+           "Renders refused or stopped: saturated (queue full), expired (deadline while queued), "
+           "deadline (while rendering), draining.");
+    for (const auto& [reason, count] : rejections_) {
+      sample(out, "roomrender_renders_rejected_total", label("reason", reason), double(count));
+    }
+  }
+  snapshot_samples(out, snapshot);
+  return out;
+}
+
+double resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  double pages_total = 0.0, pages_resident = 0.0;
+  if (!(statm >> pages_total >> pages_resident)) return 0.0;
+  return pages_resident * double(::sysconf(_SC_PAGESIZE));
+}
+
+}  // namespace rr::server

@@ -1,0 +1,330 @@
+// Render endpoints: POST /v1/render (a whole request), POST /v1/scenes/{id}/render ({camera,
+// options} for a stored scene) and GET /v1/scenes/{id}/render.png (camera and options as query
+// parameters). All three end in draw_and_answer, so a stored scene and the same scene sent inline
+// produce the same bytes. The ETag hashes the renderer version, the scene document, the camera and
+// options as sent, and the response media type; a matching If-None-Match answers 304 before drawing.
+#include "server/routes.hpp"
+
+#include "render/timer.hpp"
+#include "server/http_util.hpp"
+#include "server/cli.hpp"
+#include "server/problem.hpp"
+
+#include <httplib.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <optional>
+
+namespace rr::server {
+
+namespace {
+
+using httplib::Request;
+using httplib::Response;
+using nlohmann::json;
+
+const std::vector<std::string> render_types = {"image/png", "application/json"};
+
+// A render about to be drawn: the scene (stored or parsed from the request) and the view.
+struct FramePlan {
+  const Scene& scene;
+  const PolygonSoup& soup;
+  const std::string& static_id;
+  const std::vector<PlacementWarning>& warnings;
+  const RenderRequest& view;  // camera and options (its scene is unused)
+  std::string etag;
+  double parse_ms = 0.0;
+  double tessellate_ms = 0.0;
+};
+
+// The member of a request object, or {} when absent: absent and empty render alike.
+const json& member(const json& object, const char* key) {
+  static const json empty = json::object();
+  if (!object.is_object()) return empty;
+  auto it = object.find(key);
+  return it == object.end() ? empty : *it;
+}
+
+std::string render_etag(const std::string& scene_hash, const json& view, const std::string& media_type) {
+  std::string key = std::string(version()) + '\n' + media_type + '\n' + scene_hash + '\n' +
+                    member(view, "camera").dump() + '\n' + member(view, "options").dump();
+  return "\"" + hash_hex(key) + "\"";
+}
+
+// Stage names and times in the order timings_json reports them, for Server-Timing and metrics.
+std::vector<std::pair<std::string, double>> stage_list(const RenderResult& result) {
+  auto report = nlohmann::ordered_json::parse(timings_json(result.timings, result.stats));
+  std::vector<std::pair<std::string, double>> stages;
+  for (const auto& [name, ms] : report.at("timings_ms").items()) stages.emplace_back(name, ms.get<double>());
+  return stages;
+}
+
+// W3C Server-Timing with every stage, so this header and the CLI's timings name the same stages.
+std::string server_timing(const std::vector<std::pair<std::string, double>>& stages) {
+  std::string header;
+  char buffer[96];
+  for (const auto& [name, ms] : stages) {
+    std::snprintf(buffer, sizeof buffer, "%s%s;dur=%.3f", header.empty() ? "" : ", ", name.c_str(), ms);
+    header += buffer;
+  }
+  return header;
+}
+
+json warnings_json(const std::vector<PlacementWarning>& warnings) {
+  json list = json::array();
+  for (const PlacementWarning& w : warnings) list.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
+  return list;
+}
+
+void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match, const FramePlan& plan,
+                     const CancelToken& token, Stopwatch& total) {
+  check_cancel(&token);
+  RenderContext context{&state.bsp_cache, &token, plan.static_id};
+  RenderResult result = render_frame(plan.scene, plan.soup, plan.view.camera, plan.view.options, context);
+  Stopwatch clock;
+  check_cancel(&token);
+  std::string png = encode_png(result.frame.image);
+  result.timings.parse_ms = plan.parse_ms;
+  result.timings.tessellate_ms = plan.tessellate_ms;
+  result.timings.encode_ms = clock.lap_ms();
+  result.timings.total_ms = total.elapsed_ms();
+
+  const char* pipeline = pipeline_info(plan.view.options.pipeline).name;
+  auto stages = stage_list(result);
+  state.metrics.record_render(pipeline, stages);
+  RequestContext& log = request_context();
+  log.pipeline = pipeline;
+  log.cache = result.stats.bsp_cache;
+
+  res.set_header("Server-Timing", server_timing(stages));
+  if (!result.stats.bsp_cache.empty()) res.set_header("X-Cache", result.stats.bsp_cache);
+  res.set_header("X-Warning-Count", std::to_string(plan.warnings.size()));
+  if (match.media_type == "application/json") {
+    auto body = nlohmann::ordered_json::parse(timings_json(result.timings, result.stats));
+    body["scene_id"] = plan.static_id;
+    body["pipeline"] = pipeline;
+    body["width"] = result.frame.image.width;
+    body["height"] = result.frame.image.height;
+    body["cache"] = result.stats.bsp_cache.empty() ? "none" : result.stats.bsp_cache;
+    body["etag"] = plan.etag;
+    body["warnings"] = warnings_json(plan.warnings);
+    body["png_base64"] = base64_encode(png);
+    res.set_content(body.dump(), "application/json");
+  } else {
+    res.body = std::move(png);
+    res.set_header("Content-Type", "image/png");
+  }
+  res.status = 200;
+}
+
+void handle_render(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
+  res.set_header("Cache-Control", "no-store");
+  res.set_header("Vary", "Accept");
+  with_render_slot(state, [&](const CancelToken& token, Stopwatch& total) {
+    Stopwatch clock;
+    json body = parse_body(state, req);
+    RenderRequest request = request_from_json(body, state.config.limits);
+    double parse_ms = clock.lap_ms();
+    std::string static_id = scene_id(request.scene.geometry);
+    request_context().scene_id = static_id;
+    res.set_header("X-Scene-Id", static_id);
+    std::string etag = render_etag(hash_hex(member(body, "scene").dump()), body, match.media_type);
+    if (answer_not_modified(req, res, etag)) return;
+    check_cancel(&token);
+    clock.lap_ms();
+    PolygonSoup soup = tessellate(request.scene.geometry);
+    std::vector<PlacementWarning> warnings = placement_warnings(request.scene, soup);
+    FramePlan plan{request.scene, soup, static_id, warnings, request, etag, parse_ms, clock.lap_ms()};
+    draw_and_answer(state, res, match, plan, token, total);
+  });
+}
+
+std::shared_ptr<const StoredScene> require_scene(ServiceState& state, const RouteMatch& match) {
+  auto scene = state.scenes.find(match.params.at(0));
+  if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
+  request_context().scene_id = scene->static_id;
+  return scene;
+}
+
+// The camera and options of a stored-scene render (which must not carry a scene of its own),
+// validated; sets the ETag and answers 304 when it matches (then returns nullopt).
+std::optional<std::pair<RenderRequest, std::string>> read_view(const ServiceState& state, const Request& req,
+                                                               Response& res, const RouteMatch& match,
+                                                               const StoredScene& scene, const json& view) {
+  if (view.is_object() && view.contains("scene")) {
+    throw InputError(InputError::Kind::invalid, "/scene",
+                     "a stored scene is rendered with only camera and options; the scene is not allowed here");
+  }
+  RenderRequest request = request_from_json(view, state.config.limits);
+  res.set_header("X-Scene-Id", scene.static_id);
+  std::string etag = render_etag(scene.id, view, match.media_type);
+  if (answer_not_modified(req, res, etag)) return std::nullopt;
+  return std::pair{std::move(request), etag};
+}
+
+void draw_stored(ServiceState& state, Response& res, const RouteMatch& match, const StoredScene& scene,
+                 const std::pair<RenderRequest, std::string>& view, double parse_ms, const CancelToken& token,
+                 Stopwatch& total) {
+  FramePlan plan{scene.scene, scene.soup, scene.static_id, scene.warnings, view.first, view.second, parse_ms, 0.0};
+  draw_and_answer(state, res, match, plan, token, total);
+}
+
+void handle_stored_render(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
+  res.set_header("Cache-Control", "no-store");
+  res.set_header("Vary", "Accept");
+  auto scene = require_scene(state, match);
+  with_render_slot(state, [&](const CancelToken& token, Stopwatch& total) {
+    Stopwatch clock;
+    auto view = read_view(state, req, res, match, *scene, parse_body(state, req));
+    if (view) draw_stored(state, res, match, *scene, *view, clock.lap_ms(), token, total);
+  });
+}
+
+// --- query parameters of GET /v1/scenes/{id}/render.png ------------------------------------------
+
+enum class ParamKind { number, integer, boolean, text, vec3 };
+
+struct QueryParam {
+  const char* name;
+  const char* pointer;  // where the value goes in {camera, options}
+  ParamKind kind;
+};
+
+// Documented in docs/api.md and schemas/openapi.json; each maps to one request member.
+constexpr QueryParam query_params[] = {
+    {"position", "/camera/position", ParamKind::vec3},
+    {"target", "/camera/target", ParamKind::vec3},
+    {"up", "/camera/up", ParamKind::vec3},
+    {"fov_y", "/camera/fov_y", ParamKind::number},
+    {"near", "/camera/near", ParamKind::number},
+    {"far", "/camera/far", ParamKind::number},
+    {"width", "/options/width", ParamKind::integer},
+    {"height", "/options/height", ParamKind::integer},
+    {"pipeline", "/options/pipeline", ParamKind::text},
+    {"shading", "/options/shading", ParamKind::text},
+    {"shadows", "/options/shadows", ParamKind::boolean},
+    {"painter_key", "/options/painter/key", ParamKind::text},
+    {"bsp_w1", "/options/bsp/w1", ParamKind::number},
+    {"bsp_w2", "/options/bsp/w2", ParamKind::number},
+    {"bsp_w3", "/options/bsp/w3", ParamKind::number},
+    {"bsp_epsilon", "/options/bsp/epsilon", ParamKind::number},
+    {"bsp_max_candidates", "/options/bsp/max_candidates", ParamKind::integer},
+    {"shadow_size", "/options/shadow/size", ParamKind::integer},
+    {"shadow_pcf", "/options/shadow/pcf", ParamKind::integer},
+    {"shadow_bias", "/options/shadow/bias", ParamKind::number},
+    {"shadow_slope_bias", "/options/shadow/slope_bias", ParamKind::number},
+};
+
+[[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {
+  throw HttpError(400, "Query parameter '" + std::string(p.name) + "' " + detail + ".",
+                  {{p.pointer, detail, p.name}});
+}
+
+// A finite decimal number, all of `text` (no "nan", "inf", hex or leading '+'), as JSON: "50" is
+// the integer 50 and "2.5" the double 2.5, as a JSON body would carry them, so a query and the
+// equivalent POST body hash to the same ETag. Whether a non-integer suits an integer member is the
+// validator's call (it answers 422 at the field).
+std::optional<json> parse_number(std::string_view text) {
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  long long integer = 0;
+  if (auto [end, ec] = std::from_chars(first, last, integer); !text.empty() && ec == std::errc() && end == last) {
+    return json(integer);
+  }
+  double value = 0.0;
+  auto [end, ec] = std::from_chars(first, last, value);
+  if (text.empty() || ec != std::errc() || end != last || !std::isfinite(value)) return std::nullopt;
+  return json(value);
+}
+
+json parse_param(const QueryParam& p, const std::string& text) {
+  switch (p.kind) {
+    case ParamKind::text: return text;
+    case ParamKind::boolean:
+      if (text == "true" || text == "false") return text == "true";
+      bad_parameter(p, "must be true or false");
+    case ParamKind::integer:
+    case ParamKind::number:
+      if (auto number = parse_number(text)) return *number;
+      bad_parameter(p, p.kind == ParamKind::integer ? "must be an integer" : "must be a finite number");
+    case ParamKind::vec3: {
+      json vec = json::array();
+      size_t start = 0;
+      for (int i = 0; i < 3; ++i) {
+        size_t comma = i < 2 ? text.find(',', start) : text.size();
+        auto number = comma == std::string::npos ? std::nullopt
+                                                 : parse_number(std::string_view(text).substr(start, comma - start));
+        if (!number || (i == 2 && text.find(',', start) != std::string::npos)) {
+          bad_parameter(p, "must be three finite numbers separated by commas (x,y,z)");
+        }
+        vec.push_back(*number);
+        start = comma + 1;
+      }
+      return vec;
+    }
+  }
+  bad_parameter(p, "is not understood");
+}
+
+json view_from_query(const Request& req) {
+  json view = json::object();
+  for (const auto& [name, value] : req.params) {
+    const QueryParam* param = nullptr;
+    for (const QueryParam& p : query_params) {
+      if (name == p.name) param = &p;
+    }
+    if (!param) {
+      throw HttpError(400, "Unknown query parameter '" + name + "'.", {{"", "unknown query parameter", name}});
+    }
+    if (req.get_param_value_count(name) > 1) bad_parameter(*param, "is given more than once");
+    view[json::json_pointer(param->pointer)] = parse_param(*param, value);
+  }
+  return view;
+}
+
+// An InputError about the view built from the query, told in terms of the parameter.
+[[noreturn]] void rethrow_for_query(const InputError& e) {
+  for (const QueryParam& p : query_params) {
+    std::string_view pointer = e.pointer();
+    if (pointer == p.pointer || (pointer.starts_with(p.pointer) && pointer[std::strlen(p.pointer)] == '/')) {
+      throw HttpError(status_for(e.kind()), "Query parameter '" + std::string(p.name) + "': " + e.what(),
+                      {{e.pointer(), e.what(), p.name}});
+    }
+  }
+  throw e;
+}
+
+void handle_render_png(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
+  auto scene = require_scene(state, match);
+  // Content-addressed scene + every parameter in the URL: the answer at this URL never changes
+  // (until the renderer's version does, which changes the ETag).
+  res.set_header("Cache-Control", "public, max-age=31536000, immutable");
+  std::optional<std::pair<RenderRequest, std::string>> view;
+  try {  // the query is short (httplib bounds the request line), so this runs before admission
+    view = read_view(state, req, res, match, *scene, view_from_query(req));
+  } catch (const InputError& e) {
+    rethrow_for_query(e);
+  }
+  if (!view) return;  // 304
+  with_render_slot(state, [&](const CancelToken& token, Stopwatch& total) {
+    draw_stored(state, res, match, *scene, *view, 0.0, token, total);
+  });
+}
+
+}  // namespace
+
+std::vector<Route> render_routes() {
+  const std::vector<std::string> json_body = {"application/json"};
+  return {
+      {"POST", "/v1/render", "/v1/render", json_body, render_types, handle_render},
+      {"POST", "/v1/scenes/{id}/render", "/v1/scenes/([0-9a-f]{16})/render", json_body, render_types,
+       handle_stored_render},
+      {"GET", "/v1/scenes/{id}/render.png", "/v1/scenes/([0-9a-f]{16})/render\\.png", {}, {"image/png"},
+       handle_render_png},
+  };
+}
+
+}  // namespace rr::server

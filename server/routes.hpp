@@ -1,0 +1,93 @@
+// The service's route table and the state its handlers share. A route names its method, its path
+// template (the label in logs and metrics), the body media types it consumes and the response
+// types it produces; screening (http_server.cpp) uses those to answer 404/405/406/411/413/415
+// before a body is read, so handlers only see requests they can serve. Adding an endpoint (e.g.
+// POST /v1/import/{format}) is one row in a *_routes() list and one handler.
+#pragma once
+
+#include "render/pipeline.hpp"
+#include "render/timer.hpp"
+#include "server/http_server.hpp"
+#include "server/metrics.hpp"
+#include "server/render_gate.hpp"
+#include "server/scene_store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace httplib {
+struct Request;
+struct Response;
+}  // namespace httplib
+
+namespace rr::server {
+
+// Everything shared by handlers for the life of a Service.
+struct ServiceState {
+  explicit ServiceState(const ServerConfig& config);
+  void log(const std::string& level, nlohmann::ordered_json fields) const;  // one JSON line
+
+  const ServerConfig config;
+  RenderGate gate;
+  BspCache bsp_cache;
+  SceneStore scenes;
+  Metrics metrics;
+  std::atomic<bool> draining{false};
+};
+
+struct RouteMatch {
+  std::vector<std::string> params;  // the pattern's capture groups, in order
+  std::string media_type;           // the negotiated response type ("" when the route has none)
+};
+
+using RouteHandler = std::function<void(ServiceState&, const httplib::Request&, httplib::Response&, const RouteMatch&)>;
+
+struct Route {
+  std::string method;         // "GET" routes also answer HEAD
+  std::string path_template;  // "/v1/scenes/{id}": logs, metrics, Allow lookups
+  std::string pattern;        // regex for the whole decoded path; groups become RouteMatch::params
+  std::vector<std::string> consumes;  // body media types accepted; empty: the route takes no body
+  std::vector<std::string> produces;  // response types offered, preferred first; empty: not negotiated
+  RouteHandler handler;
+  std::regex regex = {};
+};
+
+// Per request, on the thread that handles it from screening to the log line (httplib runs one
+// request on one thread). Handlers add what the log line reports.
+struct RequestContext {
+  bool active = false;  // set by screening; a request httplib refused earlier has no context
+  std::chrono::steady_clock::time_point start;
+  const Route* route = nullptr;
+  RouteMatch match;
+  std::string scene_id;
+  std::string pipeline;
+  std::string cache;
+};
+RequestContext& request_context();
+
+std::vector<Route> render_routes();                         // render_endpoints.cpp
+std::vector<Route> scene_routes();                          // scene_endpoints.cpp
+std::vector<Route> meta_routes(const ServerConfig& config); // meta_endpoints.cpp
+
+// Helpers shared by the endpoint files.
+void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
+// Answers 304 (and returns true) when If-None-Match matches `etag`; sets ETag either way.
+bool answer_not_modified(const httplib::Request& req, httplib::Response& res, const std::string& etag);
+// The request body as JSON, parsed with the configured depth bound (InputError -> 400).
+nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
+// Throws HttpError 503 (+ Retry-After) unless `admission` is admitted.
+void require_admission(ServiceState& state, RenderGate::Admission admission);
+// Runs `work` holding a render slot, with the configured deadline (counted from arrival, so queueing
+// spends it) in the token and a stopwatch started on admission. Refusals and cancellations become
+// HttpErrors: 503 (saturated, deadline passed in the queue, draining) or 504 (deadline passed while
+// drawing).
+void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, Stopwatch&)>& work);
+
+}  // namespace rr::server

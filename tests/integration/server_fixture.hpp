@@ -1,0 +1,71 @@
+// Shared by the integration tests of the HTTP service: a real Service on a free loopback port
+// (in-process), httplib clients, raw-socket exchanges for requests a well-behaved client cannot
+// send, problem+json checks, PNG header reading, and a log sink that keeps the service's lines.
+#pragma once
+
+#include "server/http_server.hpp"
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace rr::testing {
+
+// A config for tests: any free port, 8 connection threads, quiet logs.
+rr::server::ServerConfig test_server_config();
+
+// Collects the service's log lines (set it as config.log_sink via sink()).
+class LogCapture {
+ public:
+  std::function<void(const std::string&)> sink();
+  std::vector<nlohmann::json> lines() const;
+
+ private:
+  std::shared_ptr<std::mutex> mutex_ = std::make_shared<std::mutex>();
+  std::shared_ptr<std::vector<std::string>> lines_ = std::make_shared<std::vector<std::string>>();
+};
+
+// A started Service and clients for it.
+class TestServer {
+ public:
+  explicit TestServer(rr::server::ServerConfig config = test_server_config());
+  int port() const { return service_->port(); }
+  rr::server::Service& service() { return *service_; }
+  httplib::Client client(int read_timeout_s = 30) const;
+  // The metric's value, summed over series whose labels contain every given `label="value"` pair.
+  double metric(const std::string& name, const std::vector<std::string>& labels = {}) const;
+  void stop() { service_->stop(); }
+
+ private:
+  std::unique_ptr<rr::server::Service> service_;
+};
+
+// Checks the problem+json shape (type, title, status, detail) and returns the body.
+nlohmann::json expect_problem(const httplib::Result& res, int status);
+// expect_problem, and the answer carries `header: value` (Allow with 405, Retry-After with 503).
+void expect_problem_with(const httplib::Result& res, int status, const std::string& header, const std::string& value);
+void expect_healthy(const TestServer& server);
+
+struct PngSize {
+  uint32_t width = 0, height = 0;
+};
+// The PNG signature, then the IHDR chunk's big-endian width and height (PNG spec section 11.2.2).
+PngSize png_size(const std::string& png);
+
+// Sends raw bytes and reads until the server closes the connection (or 10 s pass).
+std::string raw_exchange(int port, const std::string& request);
+// A connected loopback TCP socket (or -1).
+int connect_loopback(int port);
+
+// A small, quick request: a floor and a box, 64x48.
+extern const char* const small_request;
+
+std::string base64_decode(const std::string& text);
+
+}  // namespace rr::testing

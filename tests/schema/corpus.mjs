@@ -1,0 +1,169 @@
+// The corpus of requests the schema test sends: a compact base request touching every element type,
+// and named mutations of it. Each case says what both judges must say:
+//   valid     the schema accepts and the server renders (200);
+//   invalid   the schema rejects and the server refuses (400, 413 or 422);
+//   semantic  the schema accepts but the server refuses with 422: rules a JSON Schema cannot state
+//             (geometry and relations between fields; scene.schema.json's description lists them);
+//   limit     the schema accepts but the server refuses with 413: bounds on work that combine
+//             fields (floor cells nx * nz, polygons after tessellation), documented in docs/api.md.
+// Every example request in examples/ is added as a valid case by run.mjs.
+
+export const base = {
+  scene: {
+    version: 1,
+    background: "#202830",
+    ambient: { color: [1, 1, 1], intensity: 0.25 },
+    floor: { origin: [-3, -3], cells: [6, 6], cell_size: 1, colors: ["#d9d4c7", "#8c8579"], material: { specular: 0.1 } },
+    walls: [
+      {
+        id: "north", start: [-3, -3], end: [3, -3], thickness: 0.15, height: 2.5,
+        openings: [
+          { type: "door", offset: 0.5, width: 0.9, height: 2.0, leaf: true },
+          { type: "window", offset: 2.5, width: 1.2, height: 1.0, sill: 1.0, opacity: 0.4 },
+        ],
+      },
+      { start: [3, -3], end: [3, 3], color: [0.9, 0.9, 0.85] },
+    ],
+    solids: [
+      { type: "box", id: "table", center: [0, 0], size: [1.2, 0.75, 0.8], rotation_y: 15 },
+      { type: "cylinder", center: [1.5, 1], radius: 0.3, height: 1.0, segments: 12, smooth: false, caps: true },
+      { type: "pyramid", center: [-1.5, 1], size: [0.6, 0.8, 0.6] },
+      { type: "prism", points: [[-2, -2], [-1.5, -2], [-1.5, -1.5]], height: 0.5 },
+      {
+        type: "mesh", vertices: [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
+        faces: [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], position: [-0.5, 1, 1.5], scale: 0.4, closed: true,
+      },
+    ],
+    lights: [
+      { type: "directional", direction: [-0.3, -1, -0.2], intensity: 0.8 },
+      { type: "point", position: [0, 2.2, 0], attenuation: [1, 0.1, 0.02] },
+    ],
+  },
+  camera: { position: [4, 3, 5], target: [0, 0.5, 0], up: [0, 1, 0], fov_y: 60, near: 0.1, far: 100 },
+  options: { width: 48, height: 36, pipeline: "zbuffer", shading: "flat", shadows: false },
+};
+
+// Sets `value` at a JSON Pointer-like path ("scene/walls/0/height"); undefined deletes the member.
+function set(object, path, value) {
+  const keys = path.split("/");
+  let node = object;
+  for (const key of keys.slice(0, -1)) node = node[key];
+  const last = keys[keys.length - 1];
+  if (value === undefined) delete node[last];
+  else node[last] = value;
+}
+
+const cases = [];
+function add(kind, name, ...edits) {
+  const request = structuredClone(base);
+  for (const [path, value] of edits) set(request, path, value);
+  cases.push({ kind, name, request });
+}
+const valid = (name, ...edits) => add("valid", name, ...edits);
+const invalid = (name, ...edits) => add("invalid", name, ...edits);
+const semantic = (name, ...edits) => add("semantic", name, ...edits);
+const limit = (name, ...edits) => add("limit", name, ...edits);
+
+valid("base");
+cases.push({ kind: "valid", name: "empty request", request: {} });
+valid("no options", ["options", undefined]);
+valid("integer written as 48.0", ["options/width", 48.0]);
+valid("width at its limit", ["options/width", 4096], ["options/height", 1]);
+valid("fov_y just inside", ["camera/fov_y", 169.5]);
+valid("hex and array colours", ["scene/background", [0, 0, 0]], ["scene/walls/1/color", "#ABCDEF"]);
+valid("open doorway", ["scene/walls/0/openings/0/leaf", false]);
+valid("cylinder with 3 segments", ["scene/solids/1/segments", 3]);
+valid("mesh with per-axis scale", ["scene/solids/4/scale", [0.5, 1, 2]]);
+valid("no floor", ["scene/floor", undefined]);
+valid("shadows with tuning", ["options/shadows", true], ["options/shadow", { size: 256, pcf: 3, bias: 0.5 }]);
+valid("painter key", ["options/painter", { key: "newell" }]);
+for (const pipeline of ["zbuffer", "painter", "bsp"]) valid(`pipeline ${pipeline}`, ["options/pipeline", pipeline]);
+for (const shading of ["flat", "gouraud", "phong"]) valid(`shading ${shading}`, ["options/shading", shading]);
+valid("bsp weights", ["options/bsp", { w1: 2, w2: 8, w3: 0, epsilon: 0.001, max_candidates: 8 }]);
+valid("material on a solid", ["scene/solids/0/material", { specular: 0.5, specular_color: "#ffffff", shininess: 64 }]);
+
+invalid("unknown top-level key", ["extra", 1]);
+invalid("unknown camera key", ["camera/zoom", 2]);
+invalid("unknown option", ["options/antialias", true]);
+invalid("unknown scene key", ["scene/sky", "#000000"]);
+invalid("unknown wall key", ["scene/walls/0/colour", "#ffffff"]);
+invalid("unknown solid key", ["scene/solids/0/radius", 1]);
+invalid("door with a sill", ["scene/walls/0/openings/0/sill", 0.5]);
+invalid("prism with a centre", ["scene/solids/3/center", [0, 0]]);
+invalid("width 0", ["options/width", 0]);
+invalid("width 4097", ["options/width", 4097]);
+invalid("width not an integer", ["options/width", 16.5]);
+invalid("width as a string", ["options/width", "640"]);
+invalid("negative height", ["options/height", -1]);
+invalid("fov_y 1", ["camera/fov_y", 1]);
+invalid("fov_y 170", ["camera/fov_y", 170]);
+invalid("fov_y a string", ["camera/fov_y", "60"]);
+invalid("near 0", ["camera/near", 0]);
+invalid("far 0", ["camera/far", 0]);
+invalid("unknown pipeline", ["options/pipeline", "raytrace"]);
+invalid("unknown shading", ["options/shading", "toon"]);
+invalid("unknown painter key", ["options/painter", { key: "median" }]);
+invalid("pcf 2", ["options/shadow", { pcf: 2 }]);
+invalid("shadow map too small", ["options/shadow", { size: 32 }]);
+invalid("shadow map too large", ["options/shadow", { size: 8192 }]);
+invalid("bsp epsilon too large", ["options/bsp", { epsilon: 0.1 }]);
+invalid("bsp max_candidates 0", ["options/bsp", { max_candidates: 0 }]);
+invalid("shadows as a string", ["options/shadows", "yes"]);
+invalid("short hex colour", ["scene/background", "#12345"]);
+invalid("named colour", ["scene/background", "red"]);
+invalid("colour component above 1", ["scene/background", [1, 2, 0]]);
+invalid("colour with 2 components", ["scene/background", [0.5, 0.5]]);
+invalid("vec3 with 2 items", ["camera/position", [1, 2]]);
+invalid("vec3 with a string", ["camera/position", [1, "2", 3]]);
+invalid("floor without cells", ["scene/floor/cells", undefined]);
+invalid("floor with 0 cells", ["scene/floor/cells", [0, 1]]);
+invalid("floor cell size 0", ["scene/floor/cell_size", 0]);
+invalid("floor with one colour", ["scene/floor/colors", ["#ffffff"]]);
+invalid("wall without start", ["scene/walls/0/start", undefined]);
+invalid("wall thickness 0", ["scene/walls/0/thickness", 0]);
+invalid("negative wall height", ["scene/walls/1/height", -1]);
+invalid("unknown opening type", ["scene/walls/0/openings/0/type", "arch"]);
+invalid("negative opening offset", ["scene/walls/0/openings/0/offset", -1]);
+invalid("window opacity 1.5", ["scene/walls/0/openings/1/opacity", 1.5]);
+invalid("unknown solid type", ["scene/solids/0/type", "sphere"]);
+invalid("box without size", ["scene/solids/0/size", undefined]);
+invalid("box with zero height", ["scene/solids/0/size", [1, 0, 1]]);
+invalid("cylinder with 2 segments", ["scene/solids/1/segments", 2]);
+invalid("cylinder with 1025 segments", ["scene/solids/1/segments", 1025]);
+invalid("prism with 2 points", ["scene/solids/3/points", [[0, 0], [1, 0]]]);
+invalid("mesh without faces", ["scene/solids/4/faces", undefined]);
+invalid("mesh face of 2 vertices", ["scene/solids/4/faces/0", [0, 1]]);
+invalid("negative mesh index", ["scene/solids/4/faces/0", [0, -1, 2]]);
+invalid("repeated mesh index", ["scene/solids/4/faces/0", [0, 2, 2]]);
+invalid("point light attenuation all zero", ["scene/lights/1/attenuation", [0, 0, 0]]);
+invalid("unknown light type", ["scene/lights/0/type", "spot"]);
+invalid("point light without position", ["scene/lights/1/position", undefined]);
+invalid("negative intensity", ["scene/lights/0/intensity", -1]);
+invalid("zero light direction", ["scene/lights/0/direction", [0, 0, 0]]);
+invalid("zero up vector", ["camera/up", [0, 0, 0]]);
+invalid("scene version 2", ["scene/version", 2]);
+invalid("scene is an array", ["scene", []]);
+invalid("camera is a string", ["camera", "abc"]);
+invalid("options is null", ["options", null]);
+invalid("negative ambient", ["scene/ambient/intensity", -0.1]);
+invalid("specular above 1", ["scene/solids/0/material", { specular: 1.5 }]);
+
+semantic("wall start equals end", ["scene/walls/1/end", [3, -3]]);
+semantic("opening past the wall's end", ["scene/walls/0/openings/1/offset", 5.5]);
+semantic("overlapping openings", ["scene/walls/0/openings/1/offset", 1.0]);
+semantic("window above its wall", ["scene/walls/0/openings/1/sill", 2.0]);
+semantic("mesh index out of range", ["scene/solids/4/faces/0", [0, 2, 9]]);
+semantic("self-intersecting prism", ["scene/solids/3/points", [[0, 0], [1, 1], [1, 0], [0, 1]]]);
+semantic("far not beyond near", ["camera/near", 5], ["camera/far", 4]);
+semantic("far / near above 1e7", ["camera/near", 0.00001], ["camera/far", 1000]);
+semantic("camera target at its position", ["camera/target", [4, 3, 5]]);
+semantic("up parallel to the view", ["camera/position", [0, 5, 0]], ["camera/target", [0, 0, 0]]);
+semantic("coordinate beyond 1e6 m", ["scene/solids/0/center", [2000000, 0]]);
+semantic("non-planar mesh face", ["scene/solids/4/vertices/3", [0, 0, 1]],
+         ["scene/solids/4/faces", [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 1, 2, 3]]]);
+
+limit("floor with more than 1e6 cells", ["scene/floor/cells", [2000, 2000]]);
+limit("more than 2e6 polygons after tessellation",
+      ["scene/solids", Array.from({ length: 2000 }, (_, i) => ({ type: "cylinder", center: [i, 0], radius: 0.4, height: 1, segments: 1024 }))]);
+
+export { cases };
