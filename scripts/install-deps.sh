@@ -12,7 +12,7 @@ build_packages=(
   zlib1g-dev
 )
 test_packages=(
-  curl ca-certificates
+  curl ca-certificates python3 nginx-light
 )
 
 case "${1:-all}" in
