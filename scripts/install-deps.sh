@@ -12,7 +12,7 @@ build_packages=(
   zlib1g-dev libpugixml-dev libzip-dev
 )
 test_packages=(
-  curl ca-certificates
+  curl ca-certificates python3 nginx-light
 )
 
 mode="${1:-all}"
