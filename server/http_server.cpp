@@ -141,7 +141,7 @@ bool screen_body_headers(const Route& route, const ServerConfig& config, const R
       send_problem(res, 400, "The Content-Length header is not a number.");
       return false;
     }
-    uint64_t limit = takes_body ? config.max_body_bytes : 0;
+    uint64_t limit = takes_body ? (route.max_body_bytes ? route.max_body_bytes : config.max_body_bytes) : 0;
     if (ec == std::errc::result_out_of_range || length > limit) {
       send_problem(res, 413, takes_body ? "The body exceeds the limit of " + std::to_string(limit) + " bytes."
                                         : "This request takes no body.");
@@ -221,7 +221,7 @@ HandlerResponse fill_error_body(const Request&, Response& res) {
 
 void configure_limits(httplib::Server& server, const ServerConfig& config, std::shared_ptr<int> listen_socket) {
   // Backstop only: screen_request rejects large bodies before httplib would read them.
-  server.set_payload_max_length(config.max_body_bytes);
+  server.set_payload_max_length(std::max(config.max_body_bytes, config.max_import_bytes));
   server.set_read_timeout(config.read_timeout_s, 0);
   server.set_write_timeout(config.write_timeout_s, 0);
   // httplib keeps a connection's thread while it waits for the next request: bounding the wait and
@@ -245,7 +245,7 @@ std::unique_ptr<httplib::Server> make_server(ServiceState& state, std::shared_pt
   auto server = std::make_unique<httplib::Server>();
   configure_limits(*server, state.config, listen_socket);
   auto routes = std::make_shared<std::vector<Route>>();
-  for (std::vector<Route> list : {render_routes(), scene_routes(), meta_routes(state.config)}) {
+  for (std::vector<Route> list : {render_routes(), scene_routes(), import_routes(state.config), meta_routes(state.config)}) {
     routes->insert(routes->end(), list.begin(), list.end());
   }
   for (Route& r : *routes) r.regex = std::regex(r.pattern);
@@ -313,7 +313,7 @@ std::string config_json(const ServerConfig& c) {
       {"bind", c.bind}, {"port", c.port}, {"threads", connection_threads(c)},
       {"render_workers", render_workers(c)}, {"render_queue", render_queue_length(c)},
       {"render_timeout_ms", c.render_timeout_ms}, {"retry_after_s", c.retry_after_s},
-      {"drain_timeout_ms", c.drain_timeout_ms}, {"max_body_bytes", c.max_body_bytes},
+      {"drain_timeout_ms", c.drain_timeout_ms}, {"max_body_bytes", c.max_body_bytes}, {"max_import_bytes", c.max_import_bytes},
       {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels},
       {"max_polygons", l.max_polygons}, {"max_cylinder_segments", l.max_cylinder_segments},
       {"max_floor_cells", l.max_floor_cells}, {"max_abs_coordinate", l.max_abs_coordinate},

@@ -38,6 +38,7 @@ struct ServerConfig {
   std::filesystem::path schemas_dir;   // holds *.schema.json and openapi.json
   std::filesystem::path data_dir;      // stored scenes persist here; empty: memory only
   size_t max_body_bytes = 8u << 20;    // larger bodies get 413 before they are read
+  size_t max_import_bytes = 64u << 20; // POST /v1/import/{format}: files of other tools (an OBJ interior)
   ParseLimits limits;                  // JSON depth, image size, polygons, ... (render/scene_json.hpp)
   size_t bsp_cache_bytes = 256u << 20;
   size_t bsp_cache_entries = 1024;

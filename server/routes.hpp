@@ -57,6 +57,7 @@ struct Route {
   std::vector<std::string> produces;  // response types offered, preferred first; empty: not negotiated
   RouteHandler handler;
   std::regex regex = {};
+  size_t max_body_bytes = 0;  // 0: ServerConfig::max_body_bytes
 };
 
 // Per request, on the thread that handles it from screening to the log line (httplib runs one
@@ -74,6 +75,7 @@ RequestContext& request_context();
 
 std::vector<Route> render_routes();                         // render_endpoints.cpp
 std::vector<Route> scene_routes();                          // scene_endpoints.cpp
+std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
 std::vector<Route> meta_routes(const ServerConfig& config); // meta_endpoints.cpp
 
 // Helpers shared by the endpoint files.

@@ -60,6 +60,8 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.drain_timeout_ms = int(parse_integer(v, s, 0, int_max)); }},
   {"--max-body-bytes", "largest request body (default 8388608)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.max_body_bytes = size_t(parse_integer(v, s, 1, big)); }},
+  {"--max-import-bytes", "largest file POSTed to /v1/import/{format} (default 67108864)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.max_import_bytes = size_t(parse_integer(v, s, 1, big)); }},
   {"--max-json-depth", "deepest JSON nesting (default 64)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.limits.max_depth = size_t(parse_integer(v, s, 4, 10000)); }},
   {"--max-image-side", "largest width or height in pixels (default 4096)",

@@ -1,0 +1,92 @@
+// POST /v1/import/{format}: a file made by another tool (a Sweet Home 3D Home.xml or .sh3d, an R2V
+// floor plan, a Wavefront OBJ model) -> the complete render request it describes (render/import.hpp),
+// ready for POST /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes) and the
+// answer names it and carries the default camera and options. Query: scale (metres per file unit;
+// the format's default otherwise), width and height (the request's image size), store.
+// Files of other tools are larger than requests: the route has its own body limit
+// (--max-import-bytes, 64 MiB), and importing holds a render slot like a render does.
+#include "render/import.hpp"
+#include "server/problem.hpp"
+#include "server/routes.hpp"
+
+#include <httplib.h>
+
+#include <charconv>
+#include <cmath>
+
+namespace rr::server {
+
+namespace {
+
+using httplib::Request;
+using httplib::Response;
+using nlohmann::json;
+
+double number_param(const Request& req, const std::string& name, double fallback, double lo, double hi) {
+  if (!req.has_param(name.c_str())) return fallback;
+  const std::string text = req.get_param_value(name.c_str());
+  double value = 0.0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value) || value < lo || value > hi) {
+    throw HttpError(400, "The query parameter " + name + " must be a number in [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "].",
+                    {{"", "not a number in range: \"" + text + "\"", name}});
+  }
+  return value;
+}
+
+void handle_import(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
+  const ImportFormatInfo* format = find_import_format(match.params.at(0));
+  if (!format) throw HttpError(404, "There is no importer " + match.params[0] + ".");
+  ImportOptions options;
+  options.scale = number_param(req, "scale", 0.0, 1e-6, 1e6);
+  options.width = int(number_param(req, "width", options.width, 1, state.config.limits.max_image_side));
+  options.height = int(number_param(req, "height", options.height, 1, state.config.limits.max_image_side));
+  const bool store = number_param(req, "store", 0, 0, 1) == 1.0;
+
+  ImportResult imported;
+  std::shared_ptr<const StoredScene> scene;
+  with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
+    imported = import_file_text(req.body, format->format, options);  // no companion files over HTTP
+    if (store) scene = prepare_scene(imported.request.at("scene"), state.config.limits);
+  });
+  json warnings = json::array();
+  for (const std::string& w : imported.warnings) warnings.push_back(w);
+  res.set_header("X-Warning-Count", std::to_string(imported.warnings.size()));
+  if (!store) {
+    send_json(res, imported.request);
+    return;
+  }
+  request_context().scene_id = scene->static_id;
+  SceneStore::PutResult result = state.scenes.put(scene);
+  if (result == SceneStore::PutResult::too_large) {
+    throw HttpError(413, "The imported scene takes about " + std::to_string(scene->bytes) +
+                             " bytes stored; the scene store holds at most " +
+                             std::to_string(state.scenes.config().max_bytes) + ".");
+  }
+  if (result == SceneStore::PutResult::conflict) {
+    throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).");
+  }
+  const std::string location = "/v1/scenes/" + scene->id;
+  res.set_header("Location", location);
+  res.set_header("X-Scene-Id", scene->static_id);
+  send_json(res,
+            {{"id", scene->id}, {"location", location}, {"scene_id", scene->static_id},
+             {"created", result == SceneStore::PutResult::created}, {"camera", imported.request.at("camera")},
+             {"options", imported.request.at("options")}, {"warnings", warnings}},
+            result == SceneStore::PutResult::created ? 201 : 200);
+}
+
+}  // namespace
+
+std::vector<Route> import_routes(const ServerConfig& config) {
+  // What clients send files as; the format comes from the path, not the media type.
+  const std::vector<std::string> files = {"application/octet-stream", "application/xml", "text/xml",
+                                          "application/zip", "application/vnd.sweethome3d", "text/plain",
+                                          "model/obj"};
+  Route route{"POST", "/v1/import/{format}", "/v1/import/([a-z0-9]+)", files, {"application/json"}, handle_import};
+  route.max_body_bytes = config.max_import_bytes;
+  return {route};
+}
+
+}  // namespace rr::server
