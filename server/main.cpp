@@ -18,6 +18,7 @@ constexpr Command commands[] = {
     {"render", rr::server::run_render},
     {"export", rr::server::run_export},
     {"serve", rr::server::run_serve},
+    {"bench-render", rr::server::run_bench_render},
 };
 
 int dispatch(const std::vector<std::string>& args) {

@@ -1,0 +1,74 @@
+// bench-render's frame loop and report (see bench_render.hpp).
+#include "server/bench_render.hpp"
+
+#include "render/scene_json.hpp"
+#include "render/timer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rr::server {
+
+BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, const BenchRun& run) {
+  BenchReport report;
+  // The cache lives for this run only; with run.bsp_cache the warm-up frames fill it as the first
+  // request for a scene fills the service's.
+  BspCache bsp_cache(size_t{1} << 30);
+  RenderContext context;
+  if (run.bsp_cache) context.bsp_cache = &bsp_cache;
+  context.scene_id = scene_id(request.scene.geometry);
+  for (int i = 0; i < run.warmup; ++i) {
+    render_frame(request.scene, soup, request.camera, request.options, context);
+  }
+  for (int i = 0; i < run.frames; ++i) {
+    Stopwatch clock;
+    RenderResult result = render_frame(request.scene, soup, request.camera, request.options, context);
+    report.frame_ms.push_back(clock.elapsed_ms());
+    report.stages.push_back(result.timings);
+    if (i + 1 == run.frames) report.last = std::move(result);
+  }
+  return report;
+}
+
+double median_of(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchRun& run) {
+  auto ms = [](double v) { return std::round(v * 1000.0) / 1000.0; };  // microsecond resolution
+  auto stage_median = [&](double StageTimings::*field) {
+    std::vector<double> values;
+    for (const StageTimings& t : report.stages) values.push_back(t.*field);
+    return ms(median_of(values));
+  };
+  nlohmann::ordered_json j;
+  j["frames"] = run.frames;
+  j["warmup"] = run.warmup;
+  j["bsp_cache"] = run.bsp_cache;
+  j["frame_ms_min"] = ms(*std::min_element(report.frame_ms.begin(), report.frame_ms.end()));
+  j["frame_ms_median"] = ms(median_of(report.frame_ms));
+  j["frame_ms_max"] = ms(*std::max_element(report.frame_ms.begin(), report.frame_ms.end()));
+  j["stage_ms_median"] = {{"shadow", stage_median(&StageTimings::shadow_ms)},
+                          {"build", stage_median(&StageTimings::build_ms)},
+                          {"sort", stage_median(&StageTimings::sort_ms)},
+                          {"traverse", stage_median(&StageTimings::traverse_ms)},
+                          {"raster", stage_median(&StageTimings::raster_ms)},
+                          {"shade", stage_median(&StageTimings::shade_ms)},
+                          {"total", stage_median(&StageTimings::total_ms)}};
+  // The last frame's counts, in the service's own format (timings_json is the one writer of it).
+  auto last = nlohmann::ordered_json::parse(timings_json(report.last.timings, report.last.stats));
+  for (const char* key : {"counts", "shadow", "painter", "bsp"}) {
+    if (last.contains(key)) j[key] = last[key];
+  }
+  return j;
+}
+
+size_t fan_triangle_count(const PolygonSoup& soup) {
+  size_t triangles = 0;
+  for (const Polygon& p : soup.polygons) triangles += p.vertex_count - 2;
+  return triangles;
+}
+
+}  // namespace rr::server
