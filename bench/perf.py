@@ -12,6 +12,7 @@ import argparse
 import json
 import os
 import platform
+import statistics
 import subprocess
 import sys
 import time
@@ -77,6 +78,23 @@ def id_agreement(path_a, path_b):
     return same / n
 
 
+def combine_rounds(runs):
+    """One result from the same measurement repeated in interleaved rounds: the median of the round
+    medians (so a burst of load from other work on the machine moves it less), min of the minima,
+    max of the maxima; the rest (counts, names) from the last round."""
+    good = [r for r in runs if r is not None]
+    if not good:
+        return None
+    out = dict(good[-1])
+    out["rounds"] = [r["frame_ms_median"] for r in good]
+    out["frame_ms_median"] = statistics.median(out["rounds"])
+    out["frame_ms_min"] = min(r["frame_ms_min"] for r in good)
+    out["frame_ms_max"] = max(r["frame_ms_max"] for r in good)
+    if "stage_ms_median" in out:
+        out["stage_ms_median"] = {k: statistics.median([r["stage_ms_median"][k] for r in good]) for k in out["stage_ms_median"]}
+    return out
+
+
 def our_modes(listing):
     """(pipeline, shading, shadows, peer mode) for every mode the build can be asked for."""
     modes = [(p, s, False, "lambert") for p in listing["pipelines"] for s in listing["shadings"]]
@@ -85,33 +103,42 @@ def our_modes(listing):
     return modes
 
 
-def measure_scene(bench, scene, camera, modes, log):
-    """Peer and ours for every mode on one scene and camera at 1280x720, interleaved per peer mode."""
+def measure_scene(bench, scene, camera, modes, rounds, log):
+    """Peer and ours for every mode on one scene and camera at 1280x720: `rounds` interleaved rounds
+    of (peer, then ours in every mode the peer mode stands for), combined by combine_rounds."""
     size, frames = "1280x720", frames_for(scene["triangles"])
     tag = "%s-%s" % (scene["name"], camera["name"])
     entry = {"scene": scene["name"], "camera": camera["name"], "kind": scene["kind"],
              "triangles": scene["triangles"], "polygons": scene["polygons"], "size": size,
-             "frames": frames, "peer": {}, "ours": []}
+             "frames": frames, "rounds": rounds, "peer": {}, "ours": []}
     for peer_mode in ("lambert", "phong_shadow"):
-        peer_ids = os.path.join(bench.out_dir, tag + "-peer.ids") if peer_mode == "lambert" else None
-        log("peer %s %s" % (tag, peer_mode))
-        result, error = bench.peer(scene, camera, size, peer_mode, frames, peer_ids)
-        entry["peer"][peer_mode] = result or {"error": error}
-        for pipeline, shading, shadows, mode in modes:
-            if mode != peer_mode:
-                continue
-            ids = None
-            if (pipeline, shading, shadows) == ("zbuffer", "flat", False):
-                ids = os.path.join(bench.out_dir, tag + "-ours.ids")
-            log("ours %s %s %s shadows=%s" % (tag, pipeline, shading, shadows))
-            result, error = bench.ours(scene, camera, size, pipeline, shading, shadows, frames, ids)
+        mine = [m for m in modes if m[3] == peer_mode]
+        peer_runs, our_runs, errors = [], {m: [] for m in mine}, {}
+        for round_index in range(rounds):
+            last = round_index + 1 == rounds  # id buffers are written once, in the last round
+            peer_ids = os.path.join(bench.out_dir, tag + "-peer.ids") if peer_mode == "lambert" and last else None
+            log("peer %s %s round %d" % (tag, peer_mode, round_index + 1))
+            result, errors["peer"] = bench.peer(scene, camera, size, peer_mode, frames, peer_ids)
+            peer_runs.append(result)
+            for m in mine:
+                pipeline, shading, shadows, _ = m
+                ids = None
+                if last and (pipeline, shading, shadows) == ("zbuffer", "flat", False):
+                    ids = os.path.join(bench.out_dir, tag + "-ours.ids")
+                log("ours %s %s %s shadows=%s round %d" % (tag, pipeline, shading, shadows, round_index + 1))
+                result, errors[m] = bench.ours(scene, camera, size, pipeline, shading, shadows, frames, ids)
+                our_runs[m].append(result)
+                if ids and result and peer_ids and peer_runs[-1]:
+                    entry["id_agreement"] = id_agreement(ids, peer_ids)
+        entry["peer"][peer_mode] = combine_rounds(peer_runs) or {"error": errors["peer"]}
+        for m in mine:
+            pipeline, shading, shadows, _ = m
             run = {"pipeline": pipeline, "shading": shading, "shadows": shadows, "peer_mode": peer_mode}
-            run.update(result or {"error": error})
+            result = combine_rounds(our_runs[m])
+            run.update(result or {"error": errors[m]})
             if shadows and result and result.get("shadow") != "rendered":
                 run["note"] = "the shadow pass did not run on this build"
             entry["ours"].append(run)
-            if ids and result and peer_ids and "error" not in entry["peer"]["lambert"]:
-                entry["id_agreement"] = id_agreement(ids, peer_ids)
     return entry
 
 
@@ -147,6 +174,7 @@ def main():
     ap.add_argument("--timeout", type=int, default=900, help="seconds per run")
     ap.add_argument("--pipelines", default="", help="comma-separated subset of the build's pipelines")
     ap.add_argument("--skip-pixels", action="store_true")
+    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds of peer and ours per scene")
     args = ap.parse_args()
     log = lambda message: print("perf: " + message, file=sys.stderr, flush=True)
 
@@ -160,7 +188,7 @@ def main():
     results = {"machine": machine_info(args.roomrender), "listing": listing, "scenes": [], "pixels": []}
     for scene in manifest["scenes"]:
         for camera in scene["cameras"]:
-            results["scenes"].append(measure_scene(bench, scene, camera, modes, log))
+            results["scenes"].append(measure_scene(bench, scene, camera, modes, args.rounds, log))
     if not args.skip_pixels:
         by_name = {s["name"]: s for s in manifest["scenes"]}
         for name, camera_name in (("apartment", "eye_level"), ("soup_100000", "default")):

@@ -32,7 +32,8 @@ BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, 
 // bench/peer/osmesa_bench.cpp, uses the same definition).
 double median_of(std::vector<double> values);
 
-// {"frames", "warmup", "frame_ms_min", "frame_ms_median", "frame_ms_max", "stage_ms_median": {...},
+// {"frames", "warmup", "frame_ms_min", "frame_ms_median", "frame_ms_max", "stage_ms_median": {every
+//  StageTimings stage of render_frame, "other" (total less the stages, per frame), "total"},
 //  "counts", "shadow" (and "painter" / "bsp" when present): the last frame's counts}.
 nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchRun& run);
 

@@ -188,6 +188,12 @@ void main() {
   color = vec4(vec3(0.7) * (0.2 + lit * diffuse) + vec3(0.3) * lit * specular, 1.0);
 })";
 
+// The light's depth pass transforms positions only: a real renderer's shadow pass is this lean.
+constexpr const char* depth_vertex_shader = R"(#version 330 core
+layout(location = 0) in vec3 p_world;
+uniform mat4 clip_from_world;
+void main() { gl_Position = clip_from_world * vec4(p_world, 1.0); })";
+
 constexpr const char* depth_fragment = R"(#version 330 core
 void main() {}
 )";
@@ -212,9 +218,9 @@ GLuint compile(GLenum type, const char* source) {
   return shader;
 }
 
-GLuint link(const char* fragment_source) {
+GLuint link(const char* fragment_source, const char* vertex_source = vertex_shader) {
   GLuint program = glCreateProgram();
-  glAttachShader(program, compile(GL_VERTEX_SHADER, vertex_shader));
+  glAttachShader(program, compile(GL_VERTEX_SHADER, vertex_source));
   glAttachShader(program, compile(GL_FRAGMENT_SHADER, fragment_source));
   glLinkProgram(program);
   GLint ok = 0;
@@ -366,10 +372,9 @@ int run(const Options& o) {
   if (shadowed) {
     glUniform1i(glGetUniformLocation(color_program, "shadow_map"), 0);
     shadow = make_shadow_target(o.shadow_size);
-    depth_program = link(depth_fragment);
+    depth_program = link(depth_fragment, depth_vertex_shader);
     glUseProgram(depth_program);
     set_mat4(depth_program, "clip_from_world", light_clip);
-    set_mat4(depth_program, "light_clip_from_world", light_clip);
   }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);  // ties keep the first drawn, as roomrender's z-buffer

@@ -89,9 +89,10 @@ TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
   // Each frame's stage total is measured inside the frame's wall clock, so its median cannot exceed
   // the frame median (1 µs: both are rounded to microseconds); stages sum to at most the total.
   const json& st = j["stage_ms_median"];
-  for (const char* stage : {"shadow", "build", "sort", "traverse", "raster", "shade", "total"}) {
+  // "other" is a difference of clock readings rounded to 1 µs, hence the tolerance.
+  for (const char* stage : {"shadow", "build", "sort", "traverse", "raster", "shade", "other", "total"}) {
     ASSERT_TRUE(st[stage].is_number()) << stage << " in " << j;
-    EXPECT_GE(st[stage].get<double>(), 0.0) << stage;
+    EXPECT_GE(st[stage].get<double>(), -0.001) << stage;
   }
   EXPECT_LE(st["total"].get<double>(), mid + 0.001);
   EXPECT_GT(st["raster"].get<double>(), 0.0);
