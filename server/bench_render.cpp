@@ -1,7 +1,7 @@
 // bench-render's frame loop and report (see bench_render.hpp).
 #include "server/bench_render.hpp"
 
-#include "render/scene_json.hpp"
+#include "render/scene_json.hpp"  // scene_id
 #include "render/timer.hpp"
 
 #include <algorithm>
@@ -15,8 +15,12 @@ BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, 
   // request for a scene fills the service's.
   BspCache bsp_cache(size_t{1} << 30);
   RenderContext context;
-  if (run.bsp_cache) context.bsp_cache = &bsp_cache;
-  context.scene_id = scene_id(request.scene.geometry);
+  if (run.bsp_cache) {
+    // The cache key. Hashing the canonical JSON takes seconds for a 10^6-polygon scene, so it is
+    // computed only when a cache needs it (the pipelines compute it themselves if they must).
+    context.bsp_cache = &bsp_cache;
+    context.scene_id = scene_id(request.scene.geometry);
+  }
   for (int i = 0; i < run.warmup; ++i) {
     render_frame(request.scene, soup, request.camera, request.options, context);
   }

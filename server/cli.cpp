@@ -462,7 +462,6 @@ int run_bench_render(std::span<const std::string> argv) {
     if (auto out = flag(args, "--out")) write_output(*out, encode_png(report.last.frame.image));
     if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(report.last.frame.ids));
     nlohmann::ordered_json line = {{"source", "request"}, {"input", input},
-                                   {"scene_id", scene_id(request.scene.geometry)},
                                    {"pipeline", pipeline_info(request.options.pipeline).name},
                                    {"shading", shading_name(request.options.shading)},
                                    {"shadows", request.options.shadows},
