@@ -181,6 +181,8 @@ def write_report(results, doc_path):
         L += ["| %s | %s | %s | %s%s | %.2f× |" % (e["scene"], e["camera"], r["pipeline"], r["shading"],
                                                   " + shadows" if r["shadows"] else "", q) for e, r, q in bp]
     L += ["", "## Where our time goes: per-stage medians (ms)", "",
+          "Profiles (perf) of these frames, and what would close the gaps: "
+          "[performance-profile.md](performance-profile.md).", "",
           "Stages are `render_frame`'s StageTimings (wall clock of each stage); setup is tessellation, once per run.",
           "Unstaged is what `render_frame` spends outside every stage (allocating and clearing the colour, id and "
           "depth buffers): each frame's total less its stages, then the median.",

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian packages roomrender builds and tests with. Idempotent: asks apt only for what
-# is missing, so a second run is instant and needs no network.
+# is missing, so a second run is instant and needs no network. Extra package names given as arguments
+# are installed the same way (bench/install-bench-deps.sh passes the benchmark's).
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
   libcpp-httplib-dev nlohmann-json3-dev libglm-dev libstb-dev googletest libgtest-dev
   curl ca-certificates
+  "$@"
 )
 
 missing=()
