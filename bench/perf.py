@@ -142,14 +142,18 @@ def measure_scene(bench, scene, camera, modes, rounds, log):
     return entry
 
 
-def measure_pixels(bench, scene, camera, log):
-    """Frame time against pixel count: zbuffer flat and the peer's depth + Lambert at each size."""
+def measure_pixels(bench, scene, camera, rounds, log):
+    """Frame time against pixel count: zbuffer flat and the peer's depth + Lambert at each size, in
+    interleaved rounds like measure_scene."""
     points = []
     for size in SIZES:
         frames = frames_for(scene["triangles"])
-        log("pixels %s-%s %s" % (scene["name"], camera["name"], size))
-        ours, _ = bench.ours(scene, camera, size, "zbuffer", "flat", False, frames)
-        peer, _ = bench.peer(scene, camera, size, "lambert", frames)
+        ours, peer = [], []
+        for round_index in range(rounds):
+            log("pixels %s-%s %s round %d" % (scene["name"], camera["name"], size, round_index + 1))
+            ours.append(bench.ours(scene, camera, size, "zbuffer", "flat", False, frames)[0])
+            peer.append(bench.peer(scene, camera, size, "lambert", frames)[0])
+        ours, peer = combine_rounds(ours), combine_rounds(peer)
         w, h = (int(x) for x in size.split("x"))
         points.append({"size": size, "pixels": w * h,
                        "ours_ms": ours and ours["frame_ms_median"], "peer_ms": peer and peer["frame_ms_median"]})
@@ -159,7 +163,9 @@ def measure_pixels(bench, scene, camera, log):
 def machine_info(roomrender):
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "status", "--porcelain"], capture_output=True, text=True).stdout.strip()
+    # Dirty means tracked sources differ from the commit; this script's own outputs do not count.
+    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".", ":!bench/results",
+                            ":!docs/performance.md", ":!docs/performance"], capture_output=True, text=True).stdout.strip()
     return {"cpu": cpu, "cores": os.cpu_count(), "kernel": platform.release(), "commit": commit + ("+dirty" if dirty else ""),
             "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "loadavg_start": open("/proc/loadavg").read().split()[:3]}
 
@@ -195,7 +201,7 @@ def main():
             if name in by_name:
                 scene = by_name[name]
                 camera = next(c for c in scene["cameras"] if c["name"] == camera_name)
-                results["pixels"].append(measure_pixels(bench, scene, camera, log))
+                results["pixels"].append(measure_pixels(bench, scene, camera, args.rounds, log))
     results["machine"]["loadavg_end"] = open("/proc/loadavg").read().split()[:3]
     results["machine"]["peer_renderer"] = next(
         (s["peer"]["lambert"].get("renderer") for s in results["scenes"] if "renderer" in s["peer"]["lambert"]), None)

@@ -5,7 +5,9 @@ import os
 
 EXPECTED_PIPELINES = ["zbuffer", "painter", "bsp"]
 EXPECTED_SHADINGS = ["flat", "gouraud", "phong"]
-COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"]
+PEER_COLOURS = {"llvmpipe Lambert": "#1f77b4", "llvmpipe Phong+shadow": "#d62728"}
+OUR_COLOURS = ["#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"]
+PEER_NAMES = {"lambert": "llvmpipe Lambert", "phong_shadow": "llvmpipe Phong+shadow"}
 
 
 def fmt(ms):
@@ -64,7 +66,7 @@ def bsp_painter_rows(results):
 
 def svg_plot(path, title, x_label, series, y_label="median frame time (ms)"):
     """A log-log line plot. series: [(name, [(x, y), ...])]; points with y None are skipped."""
-    w, h, left, right, top, bottom = 720, 440, 70, 180, 40, 50
+    w, h, left, right, top, bottom = 760, 440, 70, 220, 40, 50
     pts = [(x, y) for _, s in series for x, y in s if y]
     if not pts:
         return False
@@ -92,8 +94,11 @@ def svg_plot(path, title, x_label, series, y_label="median frame time (ms)"):
     out.append('<text x="%d" y="%d" text-anchor="middle">%s</text>' % ((left + w - right) / 2, h - 10, x_label))
     out.append('<text transform="translate(16 %d) rotate(-90)" text-anchor="middle">%s</text>'
                % ((top + h - bottom) / 2, y_label))
+    ours = 0  # the same series has the same colour in every plot: peers fixed, ours in order
     for i, (name, s) in enumerate(series):
-        colour, good = COLOURS[i % len(COLOURS)], [(x, y) for x, y in s if y]
+        colour = PEER_COLOURS.get(name) or OUR_COLOURS[ours % len(OUR_COLOURS)]
+        ours += name not in PEER_COLOURS
+        good = [(x, y) for x, y in s if y]
         if not good:
             continue
         out.append('<polyline fill="none" stroke="%s" stroke-width="2" points="%s"/>'
@@ -114,7 +119,7 @@ def triangle_series(results):
     series = {}
     for e in soups:
         for mode in ("lambert", "phong_shadow"):
-            series.setdefault("llvmpipe " + mode, []).append((e["triangles"], e["peer"][mode].get("frame_ms_median")))
+            series.setdefault(PEER_NAMES[mode], []).append((e["triangles"], e["peer"][mode].get("frame_ms_median")))
         for r in e["ours"]:
             name = "%s %s%s" % (r["pipeline"], r["shading"], " +shadows" if r["shadows"] else "")
             series.setdefault(name, []).append((e["triangles"], r.get("frame_ms_median")))
@@ -204,7 +209,7 @@ def write_report(results, doc_path):
               "is the cost per triangle.", ""]
     for p in results.get("pixels", []):
         name = "pixels_%s_%s.svg" % (p["scene"], p["camera"])
-        series = [("llvmpipe lambert", [(q["pixels"], q["peer_ms"]) for q in p["points"]]),
+        series = [(PEER_NAMES["lambert"], [(q["pixels"], q["peer_ms"]) for q in p["points"]]),
                   ("zbuffer flat", [(q["pixels"], q["ours_ms"]) for q in p["points"]])]
         title = "Frame time against pixel count (%s, %s, %s triangles)" % (p["scene"], p["camera"], f"{p['triangles']:,}")
         if svg_plot(os.path.join(svg_dir, name), title, "pixels", series):
