@@ -4,6 +4,8 @@
 #   scripts/install-deps.sh          everything the README's commands need (build + all tests)
 #   scripts/install-deps.sh build    only what compiling and the C++ tests need (the Dockerfile's
 #                                    build stage uses this, so the image never carries test tools)
+#   scripts/install-deps.sh [build|all] PACKAGE...   also installs the extra packages given
+#                                    (bench/install-bench-deps.sh passes the benchmark's)
 set -euo pipefail
 
 build_packages=(
@@ -15,12 +17,11 @@ test_packages=(
   curl ca-certificates python3 nginx-light
 )
 
-mode="${1:-all}"
-case "$mode" in
-  build) packages=("${build_packages[@]}") ;;
-  all) packages=("${build_packages[@]}" "${test_packages[@]}") ;;
-  *) echo "usage: $0 [build|all]" >&2; exit 2 ;;
+mode=all
+case "${1:-}" in
+  build | all) mode="$1"; shift ;;
 esac
+if [ "$mode" = build ]; then packages=("${build_packages[@]}" "$@"); else packages=("${build_packages[@]}" "${test_packages[@]}" "$@"); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -7,6 +7,9 @@
 #include "render/pipeline.hpp"
 #include "render/scene_json.hpp"
 #include "server/import_files.hpp"
+#include "render/shading.hpp"
+#include "render/timer.hpp"
+#include "server/bench_render.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +43,12 @@ constexpr const char* import_synopsis =
 constexpr const char* export_synopsis = "roomrender export REQUEST.json --obj FILE";
 constexpr const char* serve_synopsis =
     "roomrender serve [--port 8080] [--bind 127.0.0.1] [OPTIONS]  (roomrender serve --help lists them)";
+constexpr const char* bench_synopsis =
+    "roomrender bench-render (--request FILE | --obj FILE) [--eye x,y,z] [--target x,y,z] [--up x,y,z]\n"
+    "                 [--fovy DEG] [--near N] [--far F] [--size WxH] [--light-dir x,y,z] [--pipeline NAME]\n"
+    "                 [--shading NAME] [--shadows true|false] [--bsp-cache on|off] [--frames K] [--warmup N]\n"
+    "                 [--out FILE.png] [--ids FILE]\n"
+    "  roomrender bench-render --list";
 
 struct ParsedArgs {
   std::vector<std::string> positional;
@@ -193,6 +202,7 @@ std::string_view version() { return ROOMRENDER_VERSION; }
 std::string usage_text() {
   return std::string("roomrender ") + ROOMRENDER_VERSION + ": a CPU room renderer served over HTTP\n\nusage:\n  " +
          render_synopsis + "\n  " + import_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis +
+         "\n  " + bench_synopsis +
          "\n  roomrender help | --help\n  roomrender --version\n\n"
          "REQUEST.json may be '-' for stdin. render prints one JSON line of timings (ms) and counts;\n"
          "errors are one JSON line on stderr: {\"error\": ..., \"pointer\": ...}. Exit codes: 0 ok,\n"
@@ -309,6 +319,153 @@ int run_export(std::span<const std::string> argv) {
     write_output(*flag(args, "--obj"), encode_obj(soup, comment));
     print_json_line(stdout, {{"polygons", soup.polygons.size()}, {"vertices", soup.positions.size()},
                              {"scene_id", id}, {"obj", *flag(args, "--obj")}});
+  });
+}
+
+}  // namespace rr::server
+
+namespace rr::server {
+namespace {
+
+// "x,y,z" -> a JSON array of three numbers.
+nlohmann::json parse_vec3_flag(const std::string& text, const std::string& what) {
+  nlohmann::json xyz = nlohmann::json::array();
+  size_t at = 0;
+  for (int k = 0; k < 3; ++k) {
+    size_t end = k < 2 ? text.find(',', at) : text.size();
+    double v = 0.0;
+    auto [ptr, ec] = std::from_chars(text.data() + at, text.data() + std::min(end, text.size()), v);
+    if (end == std::string::npos || ec != std::errc() || ptr != text.data() + end) {
+      throw UsageError(what + " must be x,y,z, not '" + text + "'");
+    }
+    xyz.push_back(v);
+    at = end + 1;
+  }
+  return xyz;
+}
+
+double parse_double_flag(const std::string& text, const std::string& what) {
+  double v = 0.0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
+    throw UsageError(what + " must be a number, not '" + text + "'");
+  }
+  return v;
+}
+
+bool parse_switch_flag(const std::string& text, const std::string& what, const char* on, const char* off) {
+  if (text == on) return true;
+  if (text == off) return false;
+  throw UsageError(what + " must be " + on + " or " + off + ", not '" + text + "'");
+}
+
+// bench-render's camera, light and option flags as a patch of the request: {"camera": {...},
+// "options": {...}} and, for --light-dir, "lights". Checked here only for syntax (a usage error);
+// the request validator checks the values and names a bad one by its JSON Pointer.
+nlohmann::json bench_overrides(const ParsedArgs& args) {
+  nlohmann::json camera = nlohmann::json::object(), options = nlohmann::json::object();
+  for (auto [name, key] : {std::pair{"--eye", "position"}, {"--target", "target"}, {"--up", "up"}}) {
+    if (auto v = flag(args, name)) camera[key] = parse_vec3_flag(*v, name);
+  }
+  for (auto [name, key] : {std::pair{"--fovy", "fov_y"}, {"--near", "near"}, {"--far", "far"}}) {
+    if (auto v = flag(args, name)) camera[key] = parse_double_flag(*v, name);
+  }
+  if (auto size = flag(args, "--size")) {
+    auto x = size->find('x');
+    if (x == std::string::npos) throw UsageError("--size must be WxH, not '" + *size + "'");
+    options["width"] = parse_any_int(size->substr(0, x), "--size width");
+    options["height"] = parse_any_int(size->substr(x + 1), "--size height");
+  }
+  for (const char* name : {"--pipeline", "--shading"}) {
+    if (auto v = flag(args, name)) options[name + 2] = *v;
+  }
+  if (auto v = flag(args, "--shadows")) options["shadows"] = parse_switch_flag(*v, "--shadows", "true", "false");
+  nlohmann::json patch = {{"camera", camera}, {"options", options}};
+  if (auto v = flag(args, "--light-dir")) {
+    // The flag points toward the light (the OpenGL peer's convention); the format's direction is
+    // the one the light travels.
+    nlohmann::json toward = parse_vec3_flag(*v, "--light-dir");
+    nlohmann::json travels = {-toward[0].get<double>(), -toward[1].get<double>(), -toward[2].get<double>()};
+    patch["lights"] = nlohmann::json::array({{{"type", "directional"}, {"direction", travels}}});
+  }
+  return patch;
+}
+
+// Writes the patch into the request; --light-dir replaces the scene's lights by one white
+// directional light. A request that is not an object (or whose members are not) is left as it is
+// for the validator to report.
+nlohmann::json apply_bench_overrides(nlohmann::json request, const nlohmann::json& patch) {
+  if (!request.is_object()) return request;
+  for (const char* key : {"camera", "options", "scene"}) {
+    if (request[key].is_null()) request[key] = nlohmann::json::object();
+    if (!request[key].is_object()) return request;
+  }
+  request["camera"].update(patch["camera"]);
+  request["options"].update(patch["options"]);
+  if (patch.contains("lights")) request["scene"]["lights"] = patch["lights"];
+  return request;
+}
+
+const char* shading_name(ShadingMode mode) {
+  for (const ShadingInfo& s : shading_table()) {
+    if (s.mode == mode) return s.name;
+  }
+  return "unknown";
+}
+
+// What bench-render can be asked for on this build: the benchmark script iterates these.
+void print_bench_modes() {
+  nlohmann::ordered_json pipelines = nlohmann::ordered_json::array(), shadings = nlohmann::ordered_json::array();
+  for (const PipelineInfo& p : pipeline_table()) pipelines.push_back(p.name);
+  for (const ShadingInfo& s : shading_table()) shadings.push_back(s.name);
+  print_json_line(stdout, {{"pipelines", pipelines}, {"shadings", shadings}});
+}
+
+}  // namespace
+
+int run_bench_render(std::span<const std::string> argv) {
+  if (std::find(argv.begin(), argv.end(), "--list") != argv.end()) return print_bench_modes(), 0;
+  ParsedArgs args;
+  BenchRun run;
+  nlohmann::json overrides;
+  try {
+    args = parse_args(argv, {"--request", "--obj", "--eye", "--target", "--up", "--fovy", "--near", "--far",
+                             "--size", "--light-dir", "--pipeline", "--shading", "--shadows", "--bsp-cache",
+                             "--frames", "--warmup", "--out", "--ids"});
+    if (args.help) return std::printf("usage: %s\n", bench_synopsis), 0;
+    if (!args.positional.empty()) throw UsageError("unexpected argument " + args.positional[0]);
+    if (flag(args, "--request").has_value() == flag(args, "--obj").has_value()) {
+      throw UsageError("give exactly one of --request FILE and --obj FILE");
+    }
+    if (auto v = flag(args, "--frames")) run.frames = parse_int(*v, "--frames", 1, 100000);
+    if (auto v = flag(args, "--warmup")) run.warmup = parse_int(*v, "--warmup", 0, 100000);
+    if (auto v = flag(args, "--bsp-cache")) run.bsp_cache = parse_switch_flag(*v, "--bsp-cache", "on", "off");
+    overrides = bench_overrides(args);
+  } catch (const UsageError& e) {
+    return usage_failure(bench_synopsis, e.what());
+  }
+  return run_reporting_errors([&] {
+    // --obj goes through the OBJ importer (groups become mesh solids in file order), so polygon id k
+    // is the k-th `f` line when groups do not interleave and no face needed repair (docs/import.md).
+    const bool from_obj = flag(args, "--obj").has_value();
+    std::string input = from_obj ? *flag(args, "--obj") : *flag(args, "--request");
+    std::string text = from_obj ? imported_request_text(args, ImportFormat::obj, input) : read_input(input);
+    RenderRequest request = request_from_json(apply_bench_overrides(parse_json_text(text), overrides));
+    Stopwatch setup;
+    PolygonSoup soup = tessellate(request.scene.geometry);
+    const double setup_ms = setup.elapsed_ms();
+    BenchReport report = bench_frames(request, soup, run);
+    if (auto out = flag(args, "--out")) write_output(*out, encode_png(report.last.frame.image));
+    if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(report.last.frame.ids));
+    nlohmann::ordered_json line = {{"source", from_obj ? "obj" : "request"}, {"input", input},
+                                   {"pipeline", pipeline_info(request.options.pipeline).name},
+                                   {"shading", shading_name(request.options.shading)},
+                                   {"shadows", request.options.shadows},
+                                   {"width", request.options.width}, {"height", request.options.height},
+                                   {"polygons", soup.polygons.size()}, {"triangles", fan_triangle_count(soup)},
+                                   {"setup_ms", std::round(setup_ms * 1000.0) / 1000.0}};
+    line.update(bench_report_json(report, run));
+    print_json_line(stdout, line);
   });
 }
 

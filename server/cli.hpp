@@ -24,6 +24,11 @@ int run_export(std::span<const std::string> args);
 int run_import(std::span<const std::string> args);  // FILE -> request JSON on stdout
 int run_serve(std::span<const std::string> args);  // server/serve_command.cpp
 std::string serve_usage();                           // every serve option with its default
+// bench-render: one scene rendered K timed frames from the command line's camera (OpenGL
+// conventions, as bench/peer/osmesa_bench.cpp takes them); prints one JSON line of setup time,
+// frame_ms_min/median/max and per-stage medians, parsing excluded; --list prints the pipelines and
+// shadings this build has.
+int run_bench_render(std::span<const std::string> args);
 
 // A command line that cannot be obeyed; exit code 2.
 struct UsageError : std::runtime_error {

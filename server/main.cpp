@@ -19,6 +19,7 @@ constexpr Command commands[] = {
     {"export", rr::server::run_export},
     {"import", rr::server::run_import},
     {"serve", rr::server::run_serve},
+    {"bench-render", rr::server::run_bench_render},
 };
 
 int dispatch(const std::vector<std::string>& args) {
