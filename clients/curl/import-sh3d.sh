@@ -7,7 +7,7 @@ set -euo pipefail
 home="${1:?usage: import-sh3d.sh HOME.xml|HOME.sh3d REQUEST_OUT.json PNG_OUT}"
 request="${2:?usage: import-sh3d.sh HOME.xml|HOME.sh3d REQUEST_OUT.json PNG_OUT}"
 png="${3:?usage: import-sh3d.sh HOME.xml|HOME.sh3d REQUEST_OUT.json PNG_OUT}"
-curl_rr -X POST -H 'Content-Type: application/octet-stream' --data-binary @"$home" \
-  -o "$request" "$ROOMRENDER_URL/v1/import/sh3d?width=640&height=480"
-curl_rr -X POST -H 'Content-Type: application/json' --data-binary @"$request" -o "$png" "$ROOMRENDER_URL/v1/render"
+fetch_to "$request" -X POST -H 'Content-Type: application/octet-stream' --data-binary @"$home" \
+  "$ROOMRENDER_URL/v1/import/sh3d?width=640&height=480"
+fetch_to "$png" -X POST -H 'Content-Type: application/json' --data-binary @"$request" "$ROOMRENDER_URL/v1/render"
 echo "wrote $request and $png"

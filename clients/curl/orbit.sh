@@ -20,8 +20,9 @@ request = json.load(open(sys.argv[1]))
 json.dump(request["scene"], open(sys.argv[2], "w"))
 camera = {"position": [0, 1.6, 5], "target": [0, 1, 0], **request.get("camera", {})}
 print(*camera["position"], *camera["target"])' "$request" "$out_dir/scene.json")
-location="$(curl_rr -X POST -H 'Content-Type: application/json' --data-binary @"$out_dir/scene.json" \
-  -D - -o /dev/null "$ROOMRENDER_URL/v1/scenes" | tr -d '\r' | sed -n 's/^[Ll]ocation: //p')"
+fetch_to "$out_dir/receipt.json" -X POST -H 'Content-Type: application/json' --data-binary @"$out_dir/scene.json" \
+  -D "$out_dir/receipt.headers" "$ROOMRENDER_URL/v1/scenes"
+location="$(tr -d '\r' < "$out_dir/receipt.headers" | sed -n 's/^[Ll]ocation: //p')"
 
 awk -v n="$frames" -v px="$px" -v pz="$pz" -v tx="$tx" -v tz="$tz" 'BEGIN {
   r = sqrt((px - tx) ^ 2 + (pz - tz) ^ 2); a0 = atan2(px - tx, pz - tz); pi = atan2(0, -1)
@@ -31,8 +32,7 @@ awk -v n="$frames" -v px="$px" -v pz="$pz" -v tx="$tx" -v tz="$tz" 'BEGIN {
   while read -r x z; do
     i=$((i + 1))
     file="$(printf '%s/frame_%04d.png' "$out_dir" "$i")"
-    curl_rr -o "$file" \
-      "$ROOMRENDER_URL$location/render.png?position=$x,$py,$z&target=$tx,$ty,$tz&width=$width&height=$height"
+    fetch_to "$file" "$ROOMRENDER_URL$location/render.png?position=$x,$py,$z&target=$tx,$ty,$tz&width=$width&height=$height"
     filled=$((30 * i / frames))
     printf '\r[%s%s] %d/%d %s' "$(printf '%*s' "$filled" '' | tr ' ' '#')" \
       "$(printf '%*s' $((30 - filled)) '' | tr ' ' '.')" "$i" "$frames" "$(basename "$file")" >&2

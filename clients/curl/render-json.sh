@@ -7,10 +7,12 @@ set -euo pipefail
 . "$(dirname "$0")/common.sh"
 request="${1:?usage: render-json.sh REQUEST.json OUT.png}"
 out="${2:?usage: render-json.sh REQUEST.json OUT.png}"
-curl_rr -X POST -H 'Content-Type: application/json' -H 'Accept: application/json' \
-  --data-binary @"$request" "$ROOMRENDER_URL/v1/render" |
-  python3 -c '
+answer="$(mktemp)"
+trap 'rm -f "$answer"' EXIT
+fetch_to "$answer" -X POST -H 'Content-Type: application/json' -H 'Accept: application/json' \
+  --data-binary @"$request" "$ROOMRENDER_URL/v1/render"
+python3 -c '
 import base64, json, sys
-answer = json.load(sys.stdin)
-open(sys.argv[1], "wb").write(base64.b64decode(answer.pop("png_base64")))
-print(json.dumps(answer, indent=2))' "$out"
+answer = json.load(open(sys.argv[1]))
+open(sys.argv[2], "wb").write(base64.b64decode(answer.pop("png_base64")))
+print(json.dumps(answer, indent=2))' "$answer" "$out"

@@ -6,6 +6,9 @@ set -euo pipefail
 . "$(dirname "$0")/common.sh"
 request="${1:?usage: render.sh REQUEST.json OUT.png}"
 out="${2:?usage: render.sh REQUEST.json OUT.png}"
-curl_rr -X POST -H 'Content-Type: application/json' --data-binary @"$request" \
-  -D - -o "$out" "$ROOMRENDER_URL/v1/render" | grep -i -E '^(server-timing|x-scene-id|x-cache):'
+headers="$(mktemp)"
+trap 'rm -f "$headers"' EXIT
+fetch_to "$out" -X POST -H 'Content-Type: application/json' --data-binary @"$request" -D "$headers" \
+  "$ROOMRENDER_URL/v1/render"
+grep -i -E '^(server-timing|x-scene-id|x-cache):' "$headers"
 echo "wrote $out"

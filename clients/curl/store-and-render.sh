@@ -14,15 +14,16 @@ mkdir -p "$out_dir"
 # The scene member of the request is the scene document (python3 extracts it).
 python3 -c 'import json, sys; json.dump(json.load(open(sys.argv[1]))["scene"], sys.stdout)' "$request" \
   > "$out_dir/scene.json"
-location="$(curl_rr -X POST -H 'Content-Type: application/json' --data-binary @"$out_dir/scene.json" \
-  -D - -o "$out_dir/receipt.json" "$ROOMRENDER_URL/v1/scenes" | tr -d '\r' | sed -n 's/^[Ll]ocation: //p')"
+fetch_to "$out_dir/receipt.json" -X POST -H 'Content-Type: application/json' --data-binary @"$out_dir/scene.json" \
+  -D "$out_dir/receipt.headers" "$ROOMRENDER_URL/v1/scenes"
+location="$(tr -d '\r' < "$out_dir/receipt.headers" | sed -n 's/^[Ll]ocation: //p')"
 echo "stored at $location"
 
-curl_rr -X POST -H 'Content-Type: application/json' \
+fetch_to "$out_dir/view_post.png" -X POST -H 'Content-Type: application/json' \
   --data '{"camera": {"position": [5.3, 1.6, 4], "target": [1.4, 1, 0.8]}, "options": {"width": 320, "height": 240}}' \
-  -o "$out_dir/view_post.png" "$ROOMRENDER_URL$location/render"
-curl_rr -o "$out_dir/view_get.png" \
+  "$ROOMRENDER_URL$location/render"
+fetch_to "$out_dir/view_get.png" \
   "$ROOMRENDER_URL$location/render.png?position=5.3,1.6,4&target=1.4,1,0.8&width=320&height=240"
-curl_rr -o "$out_dir/view_top.png" \
+fetch_to "$out_dir/view_top.png" \
   "$ROOMRENDER_URL$location/render.png?position=3,12,2.3&target=3,0,2.25&width=320&height=240&pipeline=zbuffer"
 echo "wrote $out_dir/view_post.png $out_dir/view_get.png $out_dir/view_top.png"

@@ -50,6 +50,19 @@ class ServerTest(unittest.TestCase):
         self.addCleanup(d.cleanup)
         return d.name
 
+    def write_json(self, value, name="request.json"):
+        path = os.path.join(self.tmpdir(), name)
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(value, f)
+        return path
+
+    def read_png(self, path, size):
+        """The PNG file's bytes, after checking it is a PNG of `size` (width, height)."""
+        with open(path, "rb") as f:
+            png = f.read()
+        self.assertEqual(rc.png_size(png), size, path)
+        return png
+
 
 class InlineRender(ServerTest):
     def test_render_returns_the_png_and_its_timings(self):
@@ -162,18 +175,13 @@ class CameraPath(ServerTest):
                                         progress=rc.ProgressBar(progress))
         self.assertEqual([os.path.basename(p) for p in paths],
                          ["frame_0001.png", "frame_0002.png", "frame_0003.png", "frame_0004.png"])
-        frames = []
-        for p in paths:
-            with open(p, "rb") as f:
-                frames.append(f.read())
-            self.assertEqual(rc.png_size(frames[-1]), (96, 72))
+        frames = [self.read_png(p, (96, 72)) for p in paths]
         self.assertEqual(len(set(frames)), 4, "every frame shows a different view")
         self.assertEqual(frames[0], self.client.render(request, json_answer=False).png)  # frame 1 is the start
         self.assertIn("4/4 frame_0004.png", progress.getvalue())
         inline = self.client.render_path(request, rc.orbit_cameras(request["camera"], 4), self.tmpdir(), use_store=False)
         for p, frame in zip(inline, frames):
-            with open(p, "rb") as f:
-                self.assertEqual(f.read(), frame, "stored and inline paths draw the same frames")
+            self.assertEqual(self.read_png(p, (96, 72)), frame, "stored and inline paths draw the same frames")
 
 
 class Import(ServerTest):
@@ -209,13 +217,10 @@ class CommandLine(ServerTest):
         report = json.loads(done.stdout)
         self.assertEqual((report["width"], report["height"]), (120, 90))
         self.assertGreater(report["timings_ms"]["total"], 0)
-        with open(out, "rb") as f:
-            self.assertEqual(rc.png_size(f.read()), (120, 90))
+        self.read_png(out, (120, 90))
 
     def test_errors_print_pointer_and_detail_and_exit_1(self):
-        bad = os.path.join(self.tmpdir(), "bad.json")
-        with open(bad, "w") as f:
-            json.dump({"options": {"width": 0}}, f)
+        bad = self.write_json({"options": {"width": 0}})
         done = self.run_cli("render", bad, "-o", os.path.join(self.tmpdir(), "x.png"), check=False)
         self.assertEqual(done.returncode, 1)
         self.assertTrue(done.stderr.startswith("/options/width: "), done.stderr)
@@ -237,10 +242,10 @@ class CommandLine(ServerTest):
 
 
 class CurlScripts:
-    def run_script(self, name, *args):
+    def run_script(self, name, *args, expect_status=0):
         env = {**os.environ, "ROOMRENDER_URL": self.server.url}
         done = subprocess.run([os.path.join(CURL, name), *args], capture_output=True, text=True, env=env, timeout=120)
-        self.assertEqual(done.returncode, 0, f"{name}: {done.stdout}\n{done.stderr}")
+        self.assertEqual(done.returncode, expect_status, f"{name}: {done.stdout}\n{done.stderr}")
         return done
 
 
@@ -249,17 +254,14 @@ class CurlExamples(CurlScripts, ServerTest):
         out = os.path.join(self.tmpdir(), "studio.png")
         done = self.run_script("render.sh", os.path.join(REPO, "examples", "studio.json"), out)
         self.assertIn("server-timing:", done.stdout.lower())
-        with open(out, "rb") as f:
-            self.assertEqual(rc.png_size(f.read()), (640, 480))
+        self.read_png(out, (640, 480))
 
     def test_render_error_stops_with_the_problem(self):
-        bad = os.path.join(self.tmpdir(), "bad.json")
-        with open(bad, "w") as f:
-            json.dump({"camera": {"fov_y": 500}}, f)
-        env = {**os.environ, "ROOMRENDER_URL": self.server.url}
-        done = subprocess.run([os.path.join(CURL, "render.sh"), bad, os.path.join(self.tmpdir(), "x.png")],
-                              capture_output=True, text=True, env=env, timeout=60)
-        self.assertNotEqual(done.returncode, 0)
+        out = os.path.join(self.tmpdir(), "x.png")
+        done = self.run_script("render.sh", self.write_json({"camera": {"fov_y": 500}}), out, expect_status=22)
+        problem = next(json.loads(line) for line in done.stderr.splitlines() if line.startswith("{"))
+        self.assertEqual(problem["errors"][0]["pointer"], "/camera/fov_y")
+        self.assertFalse(os.path.exists(out), "no PNG file is left behind")
 
 
 class CurlStoredScenes(CurlScripts, ServerTest):
@@ -269,17 +271,13 @@ class CurlStoredScenes(CurlScripts, ServerTest):
         out = os.path.join(self.tmpdir(), "a.png")
         done = self.run_script("render-json.sh", os.path.join(REPO, "examples", "tetrahedron.json"), out)
         self.assertGreater(json.loads(done.stdout)["counts"]["polygons"], 0)
-        with open(out, "rb") as f:
-            self.assertEqual(rc.png_size(f.read()), (640, 480))
+        self.read_png(out, (640, 480))
 
     def test_store_and_render(self):
         out = self.tmpdir()
         self.run_script("store-and-render.sh", os.path.join(REPO, "examples", "studio.json"), out)
-        views = {}
-        for name in ("view_post", "view_get", "view_top"):
-            with open(os.path.join(out, name + ".png"), "rb") as f:
-                views[name] = f.read()
-            self.assertEqual(rc.png_size(views[name]), (320, 240))
+        views = {name: self.read_png(os.path.join(out, name + ".png"), (320, 240))
+                 for name in ("view_post", "view_get", "view_top")}
         self.assertEqual(views["view_post"], views["view_get"], "POST and GET of the same view agree")
         self.assertNotEqual(views["view_top"], views["view_get"])
 
@@ -289,11 +287,7 @@ class CurlStoredScenes(CurlScripts, ServerTest):
         names = sorted(n for n in os.listdir(out) if n.endswith(".png"))
         self.assertEqual(names, ["frame_0001.png", "frame_0002.png", "frame_0003.png", "frame_0004.png"])
         self.assertIn("4/4", done.stderr)
-        frames = []
-        for n in names:
-            with open(os.path.join(out, n), "rb") as f:
-                frames.append(f.read())
-            self.assertEqual(rc.png_size(frames[-1]), (80, 60))
+        frames = [self.read_png(os.path.join(out, n), (80, 60)) for n in names]
         self.assertEqual(len(set(frames)), 4)
         # The shell's path agrees with the Python client's: frame 3 of 4 is half a turn.
         request = small(load_example("studio"), 80, 60)
@@ -310,8 +304,7 @@ class CurlImport(CurlScripts, ServerTest):
         self.run_script("import-sh3d.sh", HOME_XML, request, png)
         with open(request, encoding="utf-8") as f:
             self.assertEqual(len(json.load(f)["scene"]["walls"]), 5)
-        with open(png, "rb") as f:
-            self.assertEqual(rc.png_size(f.read()), (640, 480))
+        self.read_png(png, (640, 480))
 
 
 if __name__ == "__main__":
