@@ -14,7 +14,7 @@ build_packages=(
   zlib1g-dev libpugixml-dev libzip-dev
 )
 test_packages=(
-  curl ca-certificates python3 nginx-light
+  curl ca-certificates python3 nginx-light chromium fonts-dejavu-core
 )
 
 mode=all
@@ -27,7 +27,8 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-# node and npm run the schema test (tests/schema). Any node >= 18 will do, also one installed from
+# node and npm run the schema test (tests/schema), build the web page and drive Chromium in the
+# browser tests. Any node >= 18 will do, also one installed from
 # elsewhere, so Debian's are asked for only when the commands are missing.
 if [ "$mode" = all ] && { ! command -v node >/dev/null || ! command -v npm >/dev/null; }; then
   missing+=(nodejs npm)
@@ -47,3 +48,6 @@ if [ "$mode" = all ] && [ ! -f "$schema_dir/node_modules/ajv/package.json" ]; th
   echo "install-deps: npm ci in tests/schema"
   (cd "$schema_dir" && npm ci --no-audit --no-fund --loglevel=error)
 fi
+
+# The web client's npm packages (esbuild, CodeMirror, playwright-core), from its lockfile, once.
+if [ "$mode" = all ]; then "$(dirname "$0")/../clients/web/npm-ci-if-needed.sh"; fi

@@ -1,0 +1,145 @@
+// The page's view of the roomrender HTTP API (docs/api.md). In: request objects; out: plain results
+// ({imageBlob, timings, counts, warnings, sceneId, cache}) or a thrown ApiError holding the server's
+// problem+json. Endpoints newer than the first server (OpenAPI document, JSON render answers,
+// schemas, importers) are detected at run time, so the page works against either.
+export class ApiError extends Error {
+  constructor(status, problem) {
+    super(problem.detail || problem.title || `HTTP ${status}`);
+    this.status = status;
+    this.problem = problem;
+    // Field errors with JSON Pointers into the request; a problem without them is about the whole body.
+    this.errors = Array.isArray(problem.errors) && problem.errors.length
+      ? problem.errors.map((e) => ({ pointer: e.pointer ?? "", detail: e.detail ?? "", parameter: e.parameter }))
+      : [{ pointer: null, detail: this.message }];
+  }
+}
+
+async function problemOf(res) {
+  const type = res.headers.get("Content-Type") || "";
+  if (type.includes("json")) {
+    try {
+      return await res.json();
+    } catch {
+      // fall through: a broken body still has a status
+    }
+  }
+  return { status: res.status, title: res.statusText, detail: `The server answered HTTP ${res.status}.` };
+}
+
+async function ok(res) {
+  if (!res.ok) throw new ApiError(res.status, await problemOf(res));
+  return res;
+}
+
+// "parse;dur=0.12, tessellate;dur=1.5" -> {parse: 0.12, tessellate: 1.5}, in header order.
+export function parseServerTiming(header) {
+  const out = {};
+  for (const entry of (header || "").split(",")) {
+    const [name, ...params] = entry.trim().split(";").map((s) => s.trim());
+    if (!name) continue;
+    const dur = params.find((p) => p.startsWith("dur="));
+    out[name] = dur ? Number(dur.slice(4)) : NaN;
+  }
+  return out;
+}
+
+function base64ToBlob(base64, type) {
+  const bytes = Uint8Array.from(atob(base64), (c) => c.charCodeAt(0));
+  return new Blob([bytes], { type });
+}
+
+export class Api {
+  constructor(base = "") {
+    this.base = base;
+    this.paths = null;  // OpenAPI paths once known; null: the server has no OpenAPI document
+  }
+
+  url(path) {
+    return this.base + path;
+  }
+
+  async getJson(path, init) {
+    return (await ok(await fetch(this.url(path), init))).json();
+  }
+
+  // Learns which endpoints exist. A server without /openapi.json is the first one: render only.
+  async detect() {
+    try {
+      const res = await fetch(this.url("/openapi.json"));
+      this.paths = res.ok ? (await res.json()).paths || {} : null;
+    } catch {
+      this.paths = null;
+    }
+    return this;
+  }
+
+  has(path, method = "post") {
+    return Boolean(this.paths && this.paths[path] && this.paths[path][method]);
+  }
+
+  pipelines() {
+    return this.getJson("/v1/pipelines");
+  }
+
+  async examples() {
+    return (await this.getJson("/examples/")).examples || [];
+  }
+
+  async exampleText(name) {
+    return (await ok(await fetch(this.url(`/examples/${encodeURIComponent(name)}.json`)))).text();
+  }
+
+  // The request schema and the schemas it references, or null when the server does not publish them.
+  async requestSchemas() {
+    const get = async (name) => {
+      const res = await fetch(this.url(`/v1/schemas/${name}.json`));
+      return res.ok ? res.json() : null;
+    };
+    const [request, scene] = await Promise.all([get("request.schema"), get("scene.schema")]);
+    return request && scene ? [request, scene] : null;
+  }
+
+  // POST /v1/render. Asks for JSON (timings, counts, warnings with the image) but takes the PNG answer
+  // of a server that does not offer JSON, reading the same facts from its headers.
+  async render(body, { signal } = {}) {
+    const res = await ok(await fetch(this.url("/v1/render"), {
+      method: "POST",
+      headers: { "Content-Type": "application/json", Accept: "application/json, image/png;q=0.5" },
+      body: typeof body === "string" ? body : JSON.stringify(body),
+      signal,
+    }));
+    const type = res.headers.get("Content-Type") || "";
+    if (type.startsWith("application/json")) {
+      const answer = await res.json();
+      return {
+        imageBlob: base64ToBlob(answer.png_base64, "image/png"),
+        timings: answer.timings_ms || {},
+        counts: answer.counts || {},
+        warnings: answer.warnings || [],
+        sceneId: answer.scene_id,
+        cache: answer.cache,
+        pipeline: answer.pipeline,
+      };
+    }
+    return {
+      imageBlob: await res.blob(),
+      timings: parseServerTiming(res.headers.get("Server-Timing")),
+      counts: {},
+      warnings: [],
+      warningCount: Number(res.headers.get("X-Warning-Count") || 0),
+      sceneId: res.headers.get("X-Scene-Id") || "",
+      cache: res.headers.get("X-Cache") || "",
+    };
+  }
+
+  // POST /v1/import/{format}: a file of another tool -> a complete render request (as text).
+  async importFile(format, file, { signal } = {}) {
+    const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}`), {
+      method: "POST",
+      headers: { "Content-Type": "application/octet-stream", Accept: "application/json" },
+      body: file,
+      signal,
+    }));
+    return { text: await res.text(), warningCount: Number(res.headers.get("X-Warning-Count") || 0) };
+  }
+}

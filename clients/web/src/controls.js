@@ -1,0 +1,93 @@
+// The toolbar's selectors (pipeline, shading, shadows, size, compare) and the examples list. They
+// mirror the request's options: reading the request sets them, and changing one calls
+// setOptions([{pointer, value}]), which edits the request. Pipelines and shading modes come from
+// GET /v1/pipelines, so a pipeline added to the server's table appears here by itself.
+const $ = (id) => document.getElementById(id);
+
+const sizes = [[320, 240], [640, 480], [800, 600], [1024, 768], [1280, 720], [1920, 1080]];
+const fallbackShading = ["flat", "gouraud", "phong"];
+const importFormats = { xml: "sh3d", sh3d: "sh3d", obj: "obj", txt: "r2v", json: "json" };
+
+function fillSelect(select, entries, value) {
+  select.replaceChildren(...entries.map(([v, label, title]) => {
+    const option = new Option(label, v);
+    if (title) option.title = title;
+    return option;
+  }));
+  if (value !== undefined) select.value = value;
+}
+
+export class Controls {
+  constructor({ setOptions, onCompareChange }) {
+    const setOption = (pointer, value) => setOptions([{ pointer, value }]);
+    this.pipelines = [];
+    this.timer = 0;
+    $("pipeline").addEventListener("change", (e) => setOption("/options/pipeline", e.target.value));
+    $("shading").addEventListener("change", (e) => setOption("/options/shading", e.target.value));
+    $("shadows").addEventListener("change", (e) => setOption("/options/shadows", e.target.checked));
+    $("size").addEventListener("change", (e) => {
+      const [w, h] = e.target.value.split("x").map(Number);
+      setOptions([{ pointer: "/options/width", value: w }, { pointer: "/options/height", value: h }]);
+    });
+    $("compare").addEventListener("change", onCompareChange);
+    $("pipeline-b").addEventListener("change", () => { if ($("compare").checked) onCompareChange(); });
+    this.onCompareChange = onCompareChange;
+  }
+
+  setPipelines({ pipelines, shading }) {
+    this.pipelines = pipelines.map((p) => p.name);
+    const entries = pipelines.map((p) => [p.name, p.name, p.summary]);
+    fillSelect($("pipeline"), entries, "zbuffer");
+    // The ground truth, when the server has one, is the natural thing to compare against.
+    const b = this.pipelines.includes("reference") ? "reference" : this.pipelines.includes("zbuffer") ? "zbuffer" : this.pipelines[0];
+    fillSelect($("pipeline-b"), entries, b);
+    const modes = Array.isArray(shading) && shading.length ? shading : fallbackShading;
+    fillSelect($("shading"), modes.map((m) => [m, m]), "flat");
+  }
+
+  setExamples(names, selected) {
+    fillSelect($("example"), names.map((n) => [n, n.replace(/_/g, " ")]), selected);
+  }
+
+  setImportSupported(supported) {
+    $("open-file").disabled = false;
+    $("file").accept = supported ? ".json,.xml,.sh3d,.obj,.txt" : ".json";
+    $("open-file").title = supported
+      ? "Open a request (.json) or import a Sweet Home 3D home (.xml, .sh3d), an OBJ model or an R2V plan (.txt)"
+      : "Open a request (.json). Importing other formats needs POST /v1/import/{format}, which this server lacks.";
+  }
+
+  importFormat(fileName) {
+    const ext = (/\.([^.]+)$/.exec(fileName) || [])[1]?.toLowerCase();
+    return importFormats[ext] || "sh3d";
+  }
+
+  // Sets the selectors from a parsed request (defaults as in docs/scene-format.md).
+  readFrom(request) {
+    if (!request || typeof request !== "object") return;
+    const o = request.options && typeof request.options === "object" ? request.options : {};
+    const pipeline = o.pipeline || "zbuffer";
+    if (this.pipelines.includes(pipeline)) $("pipeline").value = pipeline;
+    if ([...$("shading").options].some((opt) => opt.value === (o.shading || "flat"))) $("shading").value = o.shading || "flat";
+    $("shadows").checked = o.shadows === true;
+    const key = `${o.width ?? 640}x${o.height ?? 480}`;
+    const entries = sizes.map(([w, h]) => [`${w}x${h}`, `${w} × ${h}`]);
+    if (!entries.some(([v]) => v === key)) entries.push([key, key.replace("x", " × ")]);
+    fillSelect($("size"), entries, key);
+  }
+
+  // Typing changes the request many times a second; the selectors follow when it pauses.
+  readFromSoon(parse) {
+    clearTimeout(this.timer);
+    this.timer = setTimeout(() => this.readFrom(parse()), 150);
+  }
+
+  comparePipeline() {
+    return $("compare").checked ? $("pipeline-b").value : null;
+  }
+
+  toggleCompare() {
+    $("compare").checked = !$("compare").checked;
+    this.onCompareChange();
+  }
+}
