@@ -177,17 +177,28 @@ TEST_F(ApiTest, CachesAreExportedWithTheirBudgets) {
 }
 
 TEST_F(ApiTest, MetricsCountRequestsByRouteTemplateAndStatus) {
+  // A request is counted after its answer is written (httplib's logger hook), so a client asking
+  // /metrics on another connection may come first: wait (up to 1 s) for a count to reach `want`.
+  auto eventually = [&](const std::string& name, const std::vector<std::string>& labels, double want) {
+    double value = server_->metric(name, labels);
+    for (int attempt = 0; attempt < 100 && value < want; ++attempt) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      value = server_->metric(name, labels);
+    }
+    return value;
+  };
   double before = server_->metric("roomrender_http_requests_total",
                                   {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""});
   auto bad = post_json("/v1/render", R"({"camera": {"fov_y": 500}})");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 422);
   ASSERT_TRUE(post_json("/v1/render", small_request));
-  EXPECT_EQ(server_->metric("roomrender_http_requests_total",
-                            {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""}), before + 1.0);
+  EXPECT_EQ(eventually("roomrender_http_requests_total",
+                       {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""}, before + 1.0),
+            before + 1.0);
   client().Get("/no/such/page");
-  EXPECT_GE(server_->metric("roomrender_http_requests_total", {"route=\"unmatched\"", "status=\"404\""}), 1.0);
-  EXPECT_GE(server_->metric("roomrender_http_request_duration_seconds_count", {"route=\"/v1/render\""}), 2.0);
+  EXPECT_GE(eventually("roomrender_http_requests_total", {"route=\"unmatched\"", "status=\"404\""}, 1.0), 1.0);
+  EXPECT_GE(eventually("roomrender_http_request_duration_seconds_count", {"route=\"/v1/render\""}, 2.0), 2.0);
   EXPECT_GE(server_->metric("roomrender_render_stage_duration_seconds_count",
                             {"pipeline=\"zbuffer\"", "stage=\"raster\""}), 1.0);
   EXPECT_EQ(server_->metric("roomrender_renders_in_flight"), 0.0);
