@@ -7,34 +7,25 @@
 #include "render/draw.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <span>
 
 namespace rr {
 
-namespace {
+using shadow_detail::cube_face_of;
+using shadow_detail::cube_faces;
+using shadow_detail::CubeFace;
 
-// Axes of one cube face: the light looks along `forward` with `up` at the top of the map.
-struct CubeFace {
-  Vec3 forward, up, right;  // right = cross(forward, up)
-};
-const std::array<CubeFace, 6> cube_faces = {{
-    {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
-    {{-1, 0, 0}, {0, 1, 0}, {0, 0, -1}},
-    {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
-    {{0, -1, 0}, {0, 0, 1}, {-1, 0, 0}},
-    {{0, 0, 1}, {0, 1, 0}, {-1, 0, 0}},
-    {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}},
-}};
-
-// The face whose frustum holds direction d (ties go to the first face listed).
-int cube_face_of(Vec3 d) {
-  const Vec3 a = glm::abs(d);
-  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
-  if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
-  return d.z >= 0.0 ? 4 : 5;
+TexelStore::TexelStore(int side)
+    : pages_per_row_((size_t(side) + page_side - 1) / page_side), pages_(pages_per_row_ * pages_per_row_, 0) {
+  pool_.reserve(pages_.size() * page_texels);  // address space only, until pages are written
 }
+
+namespace {
 
 // glm matrices are column-major: m[column][row].
 void set_row(Mat4& m, int row, Vec3 xyz, double w) {
@@ -254,33 +245,73 @@ void draw_casters(ShadowMaps& out, ShadowLight& sl, int face, const Mat4& clip,
                   std::span<const uint32_t> casters, const PolygonSoup& soup, const CancelToken* cancel,
                   ClipBuffers& buf) {
   const int side = out.side;
-  float* texels = nullptr;
+  TexelStore* texels = nullptr;
+  // Casters are clipped to the map's exact frustum, not the guard band: a polygon next to a point
+  // light spans several faces, and the fan of a polygon clipped far outside the map scans bounding
+  // boxes of the whole map for every triangle.
+  const Mat4 exact = exact_frustum(clip);
   for (size_t k = 0; k < casters.size(); ++k) {
     if ((k & 4095) == 4095) check_cancel(cancel);
-    if (!clip_points(clip, soup.points(soup.polygons[casters[k]]), buf)) continue;
+    if (!clip_points(exact, soup.points(soup.polygons[casters[k]]), buf)) continue;
     if (!texels) {
       ShadowMap map;
       map.view.clip_from_world = clip;
       map.view.width = map.view.height = side;
-      map.nearness.assign(size_t(side) * size_t(side), 0.0f);
+      map.nearness = TexelStore(side);
       out.maps.push_back(std::move(map));
       sl.map[size_t(face)] = int32_t(out.maps.size() - 1);
-      texels = out.maps.back().nearness.data();
+      texels = &out.maps.back().nearness;
     }
     const ViewTransform& view = out.maps[size_t(sl.map[size_t(face)])].view;
     buf.screen.resize(buf.out.size());
     for (size_t i = 0; i < buf.out.size(); ++i) {
       const ClipVertex& v = buf.out[i];
-      const Vec2 s = screen_from_clip(view, v.p_clip);
+      const Vec4 p_clip(v.p_clip.x / clip_guard_band, v.p_clip.y / clip_guard_band, v.p_clip.z, v.p_clip.w);
+      const Vec2 s = screen_from_clip(view, p_clip);
       // An orthographic map has w = 1: the rasterizer's "1/w" then interpolates any affine value
       // exactly, here the nearness itself.
       const double value = sl.directional ? sl.far_depth - glm::dot(v.p_world, sl.forward) : 1.0 / v.p_clip.w;
       buf.screen[i] = {s.x, s.y, value};
     }
     rasterize_convex(buf.screen, {0, 0, side, side}, [&](const Fragment& f, size_t) {
-      float& t = texels[size_t(f.y) * size_t(side) + size_t(f.x)];
+      float& t = texels->write(f.x, f.y);
       t = std::max(t, float(f.inv_w));
     });
+  }
+}
+
+// The nearness range of every shadow_block^2 block, read once after the casters are drawn from
+// the written pages only (a page never written is all 0). Texels past the map's side hold 0,
+// which can only widen a block's range: the summary stays conservative.
+void summarize_blocks(ShadowMap& map) {
+  static_assert(TexelStore::page_side % shadow_block == 0 && shadow_block % 8 == 0, "blocks are whole tiles in a page");
+  constexpr size_t blocks_per_page = TexelStore::page_side / shadow_block, tiles_per_block = shadow_block / 8;
+  const size_t pages = map.nearness.pages_per_row(), n = pages * blocks_per_page;
+  map.blocks_per_row = int(n);
+  map.block_min.assign(n * n, 0.0f);
+  map.block_max.assign(n * n, 0.0f);
+  for (size_t row = 0; row < pages; ++row) {
+    for (size_t column = 0; column < pages; ++column) {
+      const float* page = map.nearness.page(row, column);
+      if (!page) continue;
+      for (size_t by = 0; by < blocks_per_page; ++by) {
+        for (size_t bx = 0; bx < blocks_per_page; ++bx) {
+          // Nearness is never negative, and non-negative floats order like their bit patterns:
+          // the integer reduction vectorizes where a float min/max (NaN rules) would not.
+          uint32_t lo = UINT32_MAX, hi = 0;
+          for (size_t ty = by * tiles_per_block; ty < (by + 1) * tiles_per_block; ++ty) {
+            for (size_t tx = bx * tiles_per_block; tx < (bx + 1) * tiles_per_block; ++tx) {
+              uint32_t bits[64];
+              std::memcpy(bits, page + (ty * 4 + tx) * 64, sizeof(bits));
+              for (uint32_t b : bits) lo = std::min(lo, b), hi = std::max(hi, b);
+            }
+          }
+          const size_t block = (row * blocks_per_page + by) * n + column * blocks_per_page + bx;
+          map.block_min[block] = std::bit_cast<float>(lo);
+          map.block_max[block] = std::bit_cast<float>(hi);
+        }
+      }
+    }
   }
 }
 
@@ -326,6 +357,9 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
       }
     }
     if (std::none_of(sl.map.begin(), sl.map.end(), [](int32_t m) { return m >= 0; })) continue;
+    for (int32_t m : sl.map) {
+      if (m >= 0) summarize_blocks(out.maps[size_t(m)]);
+    }
     out.slot_of_light[sl.light] = int32_t(out.lights.size());
     out.lights.push_back(sl);
   }
@@ -358,51 +392,6 @@ ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& l
     r.gradient[f] = {glm::dot(n, cube_faces[f].right) / k * per_texel, -glm::dot(n, cube_faces[f].up) / k * per_texel};
   }
   return r;
-}
-
-namespace {
-
-// Percentage-closer filter: taps on the pcf x pcf texels around (u, v). `texel` is one texel's width
-// in nearness units at the receiver, the unit of both biases.
-float filter_taps(const ShadowMaps& maps, const ShadowMap& map, double u, double v, double nearness,
-                  glm::dvec2 g, double texel) {
-  const double g_max = shadow_max_slope * texel;
-  g = glm::clamp(g, glm::dvec2(-g_max), glm::dvec2(g_max));
-  const double slope = std::max(std::abs(g.x), std::abs(g.y)) / texel;
-  const double base = nearness + (maps.bias + maps.slope_bias * slope) * texel;
-  const int side = maps.side, radius = maps.pcf / 2;
-  const int cu = int(std::floor(u)), cv = int(std::floor(v));
-  const float* texels = map.nearness.data();
-  int lit = 0;
-  for (int dv = -radius; dv <= radius; ++dv) {
-    const int tv = std::clamp(cv + dv, 0, side - 1);
-    const double row = base + g.y * (tv + 0.5 - v);
-    for (int du = -radius; du <= radius; ++du) {
-      const int tu = std::clamp(cu + du, 0, side - 1);
-      lit += double(texels[size_t(tv) * size_t(side) + size_t(tu)]) <= row + g.x * (tu + 0.5 - u);
-    }
-  }
-  return float(lit) / float(maps.pcf * maps.pcf);
-}
-
-}  // namespace
-
-float shadow_visibility(const ShadowMaps& maps, const ShadowLight& light, const ShadowReceiver& receiver,
-                        Vec3 coords) {
-  if (light.directional) {
-    if (light.map[0] < 0) return 1.0f;
-    return filter_taps(maps, maps.maps[size_t(light.map[0])], coords.x, coords.y, coords.z,
-                       receiver.gradient[0], std::max(light.texel_u, light.texel_v));
-  }
-  const int face = cube_face_of(coords);
-  const CubeFace& f = cube_faces[size_t(face)];
-  const double w = glm::dot(coords, f.forward);
-  if (light.map[size_t(face)] < 0 || !(w > 0.0)) return 1.0f;
-  const double half = 0.5 * maps.side;
-  const double u = (glm::dot(coords, f.right) / w + 1.0) * half, v = (1.0 - glm::dot(coords, f.up) / w) * half;
-  // A texel is 2w/side metres wide there; d(1/w) = dw / w^2.
-  return filter_taps(maps, maps.maps[size_t(light.map[size_t(face)])], u, v, 1.0 / w,
-                     receiver.gradient[size_t(face)], 2.0 / (w * maps.side));
 }
 
 float shadow_visibility_at(const ShadowMaps& maps, size_t light_index, Vec3 p_world, Vec3 normal, double offset) {
