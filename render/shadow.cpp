@@ -332,6 +332,8 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
     LightPlan plan;
     plan.light.light = uint32_t(i);
     const Light& light = scene.lights[i];
+    // A light that adds nothing needs no map (its shadow could not be seen).
+    if (!(light.intensity > 0.0f) || light.color == Color(0.0f)) continue;
     const bool casts = light.type == LightType::directional ? plan_directional(light, rec, soup, cancel, plan)
                                                             : plan_point(light, rec, soup, cancel, plan);
     if (!casts) continue;

@@ -227,6 +227,10 @@ TEST(Shadow, PassIsSkippedWhenNothingNeedsIt) {
     json floor_only = request;
     floor_only["scene"]["solids"] = json::array();
     expect_skipped(floor_only, true);
+    // A light of intensity 0 adds nothing, so its shadow could not show.
+    json dark = request;
+    dark["scene"]["lights"][0]["intensity"] = 0;
+    expect_skipped(dark, true);
     // Shadows off: nothing runs.
     json off = request;
     off["options"]["shadows"] = false;
