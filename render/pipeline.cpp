@@ -7,6 +7,7 @@
 #include "render/painter.hpp"
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
+#include "render/shadow.hpp"
 #include "render/timer.hpp"
 #include "render/zbuffer.hpp"
 
@@ -60,6 +61,17 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   ViewTransform view = make_view(camera, options.width, options.height);
   FrameInput input{scene, soup, view, options, context};
   check_cancel(context.cancel);
+  // The shadow pass runs once, before any pipeline draws; with no light or shadows off it does not
+  // run at all (shadow_ms stays 0).
+  ShadowMaps shadow_maps;
+  if (options.shadows && !scene.lights.empty()) {
+    Stopwatch shadow_clock;
+    shadow_maps = build_shadow_maps(scene, soup, view, options, context.cancel);
+    result.timings.shadow_ms = shadow_clock.elapsed_ms();
+    if (!shadow_maps.empty()) input.shadows = &shadow_maps;
+  }
+  result.stats.shadow_skipped = input.shadows == nullptr;
+  input.lights_evaluated = &result.stats.lights_evaluated;
   pipeline_info(options.pipeline).draw(input, result.frame, result.stats, result.timings);
   result.timings.total_ms = clock.elapsed_ms();
   return result;

@@ -73,6 +73,7 @@ struct FrameInput {
   const RenderOptions& options;
   const RenderContext& context;
   const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
+  size_t* lights_evaluated = nullptr;   // SurfaceShader adds its light evaluations here
 };
 
 using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats,

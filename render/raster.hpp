@@ -83,8 +83,21 @@ void rasterize_triangle(const RasterVertex& a, const RasterVertex& b, const Rast
   const double inv_w[3] = {v[order[0]]->inv_w, v[order[1]]->inv_w, v[order[2]]->inv_w};
   Fragment f;
   for (int y = py0; y <= py1; ++y) {
-    int64_t e0 = e_row[0], e1 = e_row[1], e2 = e_row[2];
-    for (int x = px0; x <= px1; ++x) {
+    // The covered pixels of a row are one span (the triangle is convex): find its ends from the
+    // exact edge functions rather than test every pixel of the bounding box, which for a long thin
+    // triangle is mostly empty. The test below still decides each pixel.
+    int64_t first = 0, last = px1 - px0;
+    for (int k = 0; k < 3; ++k) {
+      if (step_x[k] > 0) {
+        first = std::max(first, -detail::floor_div(e_row[k], step_x[k]));
+      } else if (step_x[k] < 0) {
+        last = std::min(last, e_row[k] < 0 ? int64_t{-1} : e_row[k] / -step_x[k]);
+      } else if (e_row[k] < 0) {
+        last = -1;
+      }
+    }
+    int64_t e0 = e_row[0] + first * step_x[0], e1 = e_row[1] + first * step_x[1], e2 = e_row[2] + first * step_x[2];
+    for (int x = px0 + int(first); x <= px0 + int(std::max(last, first - 1)); ++x) {
       if ((e0 | e1 | e2) >= 0) {
         // Undo the top-left bias (it only decides ties) before weighting.
         double l0 = double(e0 + bias[0]) * inv_area * inv_w[0];

@@ -563,7 +563,7 @@ json vec(Vec2 v) { return json::array({num(v.x), num(v.y)}); }
 json vec(Vec3 v) { return json::array({num(v.x), num(v.y), num(v.z)}); }
 json rgb(Color c) { return json::array({num(c.r), num(c.g), num(c.b)}); }
 json material(const MaterialParams& m) {
-  return {{"shininess", num(m.shininess)}, {"specular", num(m.specular)}};
+  return {{"shininess", num(m.shininess)}, {"specular", num(m.specular)}, {"specular_color", rgb(m.specular_color)}};
 }
 
 json canonical_floor(const Floor& f) {

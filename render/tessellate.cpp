@@ -26,8 +26,9 @@ uint32_t SoupBuilder::add_object(std::string pointer, bool closed, bool smooth) 
 }
 
 uint32_t SoupBuilder::add_material(const Material& m) {
-  const std::array<float, 6> key{m.color.r, m.color.g, m.color.b, m.opacity, m.params.specular,
-                                 m.params.shininess};
+  const std::array<float, 9> key{m.color.r, m.color.g, m.color.b, m.opacity, m.params.specular,
+                                 m.params.shininess, m.params.specular_color.r, m.params.specular_color.g,
+                                 m.params.specular_color.b};
   auto [it, inserted] = material_index_.try_emplace(key, uint32_t(soup_.materials.size()));
   if (inserted) soup_.materials.push_back(m);
   return it->second;

@@ -29,7 +29,7 @@ class SoupBuilder {
 
  private:
   PolygonSoup soup_;
-  std::map<std::array<float, 6>, uint32_t> material_index_;
+  std::map<std::array<float, 9>, uint32_t> material_index_;
   std::vector<Vec3> points_;  // scratch, reused so emitting allocates nothing per polygon
   std::vector<glm::vec3> shading_;
 };

@@ -1,0 +1,259 @@
+// Shadow maps against exact shadows: a box on a floor under a directional light and under a point
+// light (its shadow crosses cube faces), ray cast per pixel; self-shadowing (acne) at a grazing
+// light; the gap at a box's base (peter-panning); when the pass is skipped; the memory bound.
+// The floor is one grey #808080 cell, ambient 0.2, flat shading and pcf 1, so a floor pixel is
+// either lit or at the ambient value and the threshold between them classifies it.
+#include "render/shadow.hpp"
+#include "support/render_helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <vector>
+
+namespace rr {
+namespace {
+
+using nlohmann::json;
+using testing::render_json;
+using testing::SceneRender;
+
+constexpr double kAmbientLevel = 128.0 * 0.2;  // a shadowed floor pixel
+
+json box_on_floor(json light, double floor_size = 12.0) {
+  return {{"scene",
+           {{"ambient", {{"intensity", 0.2}}},
+            {"floor",
+             {{"origin", {-floor_size / 2, -floor_size / 2}}, {"cells", {1, 1}}, {"cell_size", floor_size},
+              {"colors", {"#808080", "#808080"}}}},
+            {"solids", {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1.5, 1}}, {"color", "#3060c0"}}}},
+            {"lights", {std::move(light)}}}},
+          {"camera", {{"position", {-1, 4.5, 4}}, {"target", {0.8, 0, 0.3}}}},
+          {"options", {{"width", 640}, {"height", 480}, {"shadows", true}}}};
+}
+
+struct ShadowComparison {
+  size_t floor_pixels = 0, exact_area = 0, rendered_area = 0, mismatched = 0;
+  double worst_distance = 0.0;  // of a mismatched pixel from the exact shadow's boundary, pixels
+  Vec2 exact_centroid{0.0}, rendered_centroid{0.0};
+};
+
+// Classifies every floor pixel of `r` (lit vs shadowed, threshold halfway between `lit` and the
+// ambient level) and compares with `exact(p)` at the pixel's ray-cast floor point.
+template <class Exact, class LitLevel>
+ShadowComparison compare_shadow(const SceneRender& r, Exact&& exact, LitLevel&& lit) {
+  const int w = r.view.width, h = r.view.height;
+  std::vector<int> truth(size_t(w * h), -1), drawn(size_t(w * h), -1);  // -1: not the floor
+  ShadowComparison c;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (r.result.frame.ids.at(x, y) != 0) continue;  // polygon 0 is the floor cell
+      auto p = testing::pixel_on_plane(r.view, x, y, {0, 1, 0}, 0.0);
+      if (!p) continue;
+      const double level = lit(x, y, *p);
+      if (level - kAmbientLevel < 16.0) continue;  // too dim to tell lit from shadowed
+      const size_t i = size_t(y * w + x);
+      truth[i] = exact(*p) ? 1 : 0;
+      drawn[i] = testing::channel(r.result.frame.image, x, y) < 0.5 * (level + kAmbientLevel) ? 1 : 0;
+      ++c.floor_pixels;
+      c.exact_area += size_t(truth[i]);
+      c.rendered_area += size_t(drawn[i]);
+      c.exact_centroid += double(truth[i]) * Vec2(x, y);
+      c.rendered_centroid += double(drawn[i]) * Vec2(x, y);
+    }
+  }
+  c.exact_centroid /= double(std::max<size_t>(1, c.exact_area));
+  c.rendered_centroid /= double(std::max<size_t>(1, c.rendered_area));
+  // Exact boundary: floor pixels with a 4-neighbour floor pixel of the other class, or with a
+  // neighbour on the box (its outline, where the shadow starts at the base: sampling the map there
+  // is as coarse as at any other shadow edge).
+  std::vector<Vec2> boundary;
+  for (int y = 1; y + 1 < h; ++y) {
+    for (int x = 1; x + 1 < w; ++x) {
+      const int t = truth[size_t(y * w + x)];
+      if (t < 0) continue;
+      for (int n : {-1, 1, -w, w}) {
+        const int o = truth[size_t(y * w + x + n)];
+        const uint32_t id = r.result.frame.ids.ids[size_t(y * w + x + n)];
+        if ((o >= 0 && o != t) || (id != 0 && id != background_id)) {
+          boundary.push_back({x, y});
+          break;
+        }
+      }
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y * w + x);
+      if (truth[i] < 0 || truth[i] == drawn[i]) continue;
+      ++c.mismatched;
+      double nearest = 1e9;
+      for (const Vec2& b : boundary) nearest = std::min(nearest, glm::length(b - Vec2(x, y)));
+      c.worst_distance = std::max(c.worst_distance, nearest);
+    }
+  }
+  return c;
+}
+
+void expect_matches_exact(const ShadowComparison& c, double max_distance_px) {
+  ASSERT_GT(c.exact_area, 5000u);
+  std::cout << "shadow area " << c.exact_area << " exact, " << c.rendered_area << " rendered; " << c.mismatched
+            << " pixels differ, at most " << c.worst_distance << " px from the exact boundary\n";
+  // Area within 1 %, centroid within half a pixel, and every misclassified pixel on the boundary
+  // (the exact shadow's edge, or the box's outline).
+  EXPECT_NEAR(double(c.rendered_area), double(c.exact_area), 0.01 * double(c.exact_area));
+  EXPECT_LE(glm::length(c.rendered_centroid - c.exact_centroid), 0.5);
+  EXPECT_LE(c.worst_distance, max_distance_px) << c.mismatched << " mismatched pixels";
+}
+
+const Vec3 kBoxLo{-0.5, 0.0, -0.5}, kBoxHi{0.5, 1.5, 0.5};
+
+TEST(Shadow, DirectionalShadowOfABoxMatchesTheRayCastShadow) {
+  const Vec3 travel = glm::normalize(Vec3(1.0, -0.8, 0.5));
+  auto r = render_json(box_on_floor({{"type", "directional"}, {"direction", {1.0, -0.8, 0.5}}}));
+  ASSERT_FALSE(r.result.stats.shadow_skipped);
+  const double lit = 128.0 * (0.2 + -travel.y);
+  auto c = compare_shadow(
+      r, [&](Vec3 p) { return testing::ray_hits_box(p, -travel, kBoxLo, kBoxHi); },
+      [&](int, int, Vec3) { return lit; });
+  // pcf 1 at 2048^2: a texel is ~5 mm here, a pixel ~10 mm, so only pixels the exact boundary
+  // passes through (or touches) may differ.
+  expect_matches_exact(c, 1.0);
+}
+
+TEST(Shadow, PointLightShadowAcrossCubeFacesMatchesTheRayCastShadow) {
+  // From the light at (-1.5, 3, -1) the shadow starts in the -Y face and ends in the +X face.
+  const Vec3 light{-1.5, 3.0, -1.0};
+  json request = box_on_floor({{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 1.5}});
+  auto r = render_json(request);
+  ASSERT_FALSE(r.result.stats.shadow_skipped);
+  request["options"]["shadows"] = false;
+  auto unshadowed = render_json(request);
+  auto c = compare_shadow(
+      r, [&](Vec3 p) { return testing::ray_hits_box(p, light - p, kBoxLo, kBoxHi); },
+      [&](int x, int y, Vec3) { return double(testing::channel(unshadowed.result.frame.image, x, y)); });
+  expect_matches_exact(c, 1.0);
+}
+
+// A floor lit at `elevation_deg` above the horizon, with a box hidden under it: the box is a
+// receiver the camera's frustum holds, so the floor becomes a caster and meets its own depth.
+SceneRender grazing_floor(double elevation_deg, double azimuth_deg, int pcf, double extra_bias) {
+  const double e = radians(elevation_deg), a = radians(azimuth_deg);
+  json request = box_on_floor({{"type", "directional"},
+                               {"direction", {std::cos(e) * std::cos(a), -std::sin(e), std::cos(e) * std::sin(a)}}},
+                              30.0);
+  request["scene"]["solids"][0] = {{"type", "box"}, {"center", {0, 0}}, {"base", -3}, {"size", {1, 1, 1}}};
+  request["options"]["shadow"] = {{"pcf", pcf}, {"bias", extra_bias}, {"slope_bias", extra_bias}};
+  return render_json(request);
+}
+
+double acne_share(const SceneRender& r, double elevation_deg) {
+  const double lit = 128.0 * (0.2 + std::sin(radians(elevation_deg)));
+  size_t floor = 0, dark = 0;
+  for (int y = 0; y < r.view.height; ++y) {
+    for (int x = 0; x < r.view.width; ++x) {
+      if (r.result.frame.ids.at(x, y) != 0) continue;
+      ++floor;
+      dark += testing::channel(r.result.frame.image, x, y) < 0.5 * (lit + kAmbientLevel);
+    }
+  }
+  EXPECT_GT(floor, 100000u);
+  return double(dark) / double(floor);
+}
+
+TEST(Shadow, FloorAtAGrazingLightDoesNotShadowItself) {
+  for (double azimuth : {0.0, 33.0}) {
+    for (int pcf : {1, 3, 5}) {
+      SCOPED_TRACE("azimuth " + std::to_string(azimuth) + ", pcf " + std::to_string(pcf));
+      auto r = grazing_floor(10.0, azimuth, pcf, 0.0);
+      ASSERT_FALSE(r.result.stats.shadow_skipped);
+      EXPECT_LT(acne_share(r, 10.0), 0.001);
+    }
+  }
+  // Control: without the constant and slope biases the same floor does show acne, so the floor
+  // really is in the map and the biases are what keep it clean.
+  auto r = grazing_floor(10.0, 33.0, 1, -shadow_default_bias);
+  EXPECT_GT(acne_share(r, 10.0), 0.05);
+}
+
+TEST(Shadow, BoxOnTheFloorCastsFromItsBaseWithoutAGap) {
+  // Light at 45 degrees along +X onto a 1 m cube: the shadow covers x in (0.5, 1.5) at z = 0. The
+  // first shadowed floor point beyond the base may be at most 1.5 texels from it (sampled every
+  // 0.1 mm up to 0.9 m, short of the shadow's far end).
+  json request = box_on_floor({{"type", "directional"}, {"direction", {1, -1, 0}}});
+  request["scene"]["solids"][0]["size"] = {1, 1, 1};
+  RenderRequest req = request_from_json(request);
+  PolygonSoup soup = tessellate(req.scene.geometry);
+  ViewTransform view = make_view(req.camera, req.options.width, req.options.height);
+  ShadowMaps maps = build_shadow_maps(req.scene, soup, view, req.options);
+  ASSERT_EQ(maps.lights.size(), 1u);
+  const double texel = std::max(maps.lights[0].texel_u, maps.lights[0].texel_v);
+  double gap = -1.0;
+  for (double s = 1e-5; s < 0.9; s += 1e-4) {
+    for (double z : {-0.3, 0.0, 0.3}) {
+      const float vis = shadow_visibility_at(maps, 0, {0.5 + s, 0.0, z}, {0, 1, 0}, 0.0);
+      if (vis > 0.0f) gap = std::max(gap, s);
+    }
+  }
+  EXPECT_LE(gap, 1.5 * texel) << "texel " << texel << " m";
+  // The lookup itself is not trivially dark: past the shadow's end the floor is lit.
+  EXPECT_EQ(shadow_visibility_at(maps, 0, {1.6, 0.0, 0.0}, {0, 1, 0}, 0.0), 1.0f);
+}
+
+bool same_image(const Image& a, const Image& b) { return a.rgb == b.rgb; }
+
+TEST(Shadow, PassIsSkippedWhenNothingNeedsIt) {
+  auto expect_skipped = [](json request, bool pass_ran) {
+    auto on = render_json(request);
+    request["options"]["shadows"] = false;
+    auto off = render_json(request);
+    EXPECT_TRUE(on.result.stats.shadow_skipped);
+    if (!pass_ran) {
+      EXPECT_EQ(on.result.timings.shadow_ms, 0.0);
+    }
+    EXPECT_NE(timings_json(on.result.timings, on.result.stats).find("\"shadow\":\"skipped\""), std::string::npos);
+    EXPECT_TRUE(same_image(on.result.frame.image, off.result.frame.image));
+  };
+  json request = box_on_floor({{"type", "directional"}, {"direction", {0.5, -1.0, 0.25}}});
+  for (const char* mode : {"flat", "gouraud", "phong"}) {
+    SCOPED_TRACE(mode);
+    request["options"]["shading"] = mode;
+    // No lights: nothing runs at all.
+    json no_lights = request;
+    no_lights["scene"]["lights"] = json::array();
+    expect_skipped(no_lights, false);
+    // A lone floor under a light: nothing can cast onto it (the analysis runs, no map is drawn).
+    json floor_only = request;
+    floor_only["scene"]["solids"] = json::array();
+    expect_skipped(floor_only, true);
+    // A light of intensity 0 adds nothing, so its shadow could not show.
+    json dark = request;
+    dark["scene"]["lights"][0]["intensity"] = 0;
+    expect_skipped(dark, true);
+    // Shadows off: nothing runs.
+    json off = request;
+    off["options"]["shadows"] = false;
+    auto r = render_json(off);
+    EXPECT_TRUE(r.result.stats.shadow_skipped);
+    EXPECT_EQ(r.result.timings.shadow_ms, 0.0);
+    // Control: the box does cast, and changes the image.
+    auto cast = render_json(request);
+    EXPECT_FALSE(cast.result.stats.shadow_skipped);
+    EXPECT_FALSE(same_image(cast.result.frame.image, r.result.frame.image));
+  }
+}
+
+TEST(Shadow, ManyLightsShareABoundedTexelBudget) {
+  json request = box_on_floor({{"type", "point"}, {"position", {-2, 3, -2}}});
+  for (double x : {2.0, -2.0, 2.0}) request["scene"]["lights"].push_back({{"type", "point"}, {"position", {x, 3, x > 0 ? 2 : -1}}});
+  RenderRequest req = request_from_json(request);
+  PolygonSoup soup = tessellate(req.scene.geometry);
+  ShadowMaps maps = build_shadow_maps(req.scene, soup, make_view(req.camera, 640, 480), req.options);
+  ASSERT_EQ(maps.lights.size(), 4u);
+  EXPECT_LT(maps.side, 2048);
+  EXPECT_LE(maps.maps.size() * size_t(maps.side) * size_t(maps.side), shadow_max_texels);
+}
+
+}  // namespace
+}  // namespace rr
