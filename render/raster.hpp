@@ -33,6 +33,13 @@ constexpr int subpixel_bits = 8;
 constexpr int64_t subpixel_one = int64_t{1} << subpixel_bits;
 
 namespace detail {
+// std::llround (half away from zero) without the libm call: v - trunc(v) is exact for |v| < 2^52,
+// far beyond the guard band's coordinates in 1/256 pixel.
+inline int64_t snap_round(double v) {
+  const int64_t t = int64_t(v);
+  const double d = v - double(t);
+  return d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t;
+}
 inline int64_t floor_div(int64_t a, int64_t b) {  // b > 0
   return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
@@ -48,8 +55,8 @@ void rasterize_triangle(const RasterVertex& a, const RasterVertex& b, const Rast
   const RasterVertex* v[3] = {&a, &b, &c};
   int64_t X[3], Y[3];
   for (int i = 0; i < 3; ++i) {
-    X[i] = std::llround(v[i]->x * double(subpixel_one));
-    Y[i] = std::llround(v[i]->y * double(subpixel_one));
+    X[i] = detail::snap_round(v[i]->x * double(subpixel_one));
+    Y[i] = detail::snap_round(v[i]->y * double(subpixel_one));
   }
   int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
   if (area == 0) return;  // degenerate after snapping: covers no pixel centre

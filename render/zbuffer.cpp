@@ -35,7 +35,10 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   }
   timings.shade_ms += clock.lap_ms();
 
-  std::vector<float> depth(size_t(frame.image.width) * size_t(frame.image.height), 0.0f);
+  // The depth buffer is reused by this thread's next frame (not shared: renders run concurrently),
+  // so a frame does not pay a fresh mmap and its page faults; it is cleared, not reallocated.
+  thread_local std::vector<float> depth;
+  depth.assign(size_t(frame.image.width) * size_t(frame.image.height), 0.0f);
   FrameTarget target{frame.image, frame.ids, &depth, {0, 0, frame.image.width, frame.image.height}};
   DrawScratch scratch;
   auto draw = [&](uint32_t i, DepthMode mode) {
