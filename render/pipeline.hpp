@@ -64,6 +64,7 @@ struct RenderContext {
   BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
   const CancelToken* cancel = nullptr;   // null: never cancelled
   std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
+  unsigned threads = 1;                  // threads drawing one frame's tiles (the output does not depend on it)
 };
 
 struct FrameInput {
