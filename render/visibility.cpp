@@ -240,9 +240,12 @@ void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const 
                      unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {
   Stopwatch clock;
   const int width = frame.image.width, height = frame.image.height;
-  // Reused by this thread's next frame: no fresh pages (and page faults) per frame.
-  thread_local std::vector<float> depth;
-  thread_local std::vector<uint32_t> visible;
+  // Reused by this thread's next frame: no fresh pages (and page faults) per frame. References,
+  // because inside the workers' lambdas the names would mean the workers' own thread_locals.
+  thread_local std::vector<float> frame_depth;
+  thread_local std::vector<uint32_t> frame_visible;
+  std::vector<float>& depth = frame_depth;
+  std::vector<uint32_t>& visible = frame_visible;
   depth.resize(size_t(width) * size_t(height));
   visible.resize(depth.size());
   const Buffers b{width, depth.data(), visible.data()};
