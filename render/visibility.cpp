@@ -98,19 +98,12 @@ struct ShadeWorker {
 void write_color(uint8_t* px, Color c) { px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b); }
 
 // Shades the visible pixels of triangle `t` (their frame indices in pixels[begin, end)).
-void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared,
-                    const BinnedTriangle& t, const uint32_t* pixels, size_t count, ShadeWorker& w, Frame& frame) {
+void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const BinnedTriangle& t, const uint32_t* pixels, size_t count, ShadeWorker& w, Frame& frame) {
   const uint32_t index = vis.polygons[t.slot];
   const Polygon& poly = input.soup.polygons[index];
   uint32_t* ids = frame.ids.ids.data();
   uint8_t* rgb = frame.image.rgb.data();
   for (size_t p = 0; p < count; ++p) ids[pixels[p]] = poly.id;
-  if (prepared.constant_per_polygon()) {
-    const Color c = prepared.polygon_color(index);
-    const uint8_t bytes[3] = {to_byte(c.r), to_byte(c.g), to_byte(c.b)};
-    for (size_t p = 0; p < count; ++p) std::copy_n(bytes, 3, rgb + size_t(pixels[p]) * 3);
-    return;
-  }
   if (w.bound != t.slot) {
     [[maybe_unused]] const bool projected = project_polygon(input.view, input.soup, poly, w.scratch);
     assert(projected && "pass 1 drew this polygon from the same projection");
@@ -129,9 +122,39 @@ void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const S
   }
 }
 
+// Pass 2 for one tile when every polygon has one colour: a table lookup per pixel, no sorting.
+void fill_tile_constant(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared,
+                        size_t tile, const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
+  const std::vector<uint32_t>& bin = vis.bins[tile];
+  w.start.resize(bin.size());  // bin position -> the triangle's polygon slot
+  for (size_t j = 0; j < bin.size(); ++j) w.start[j] = vis.triangles[bin[j]].slot;
+  uint32_t* ids = frame.ids.ids.data();
+  uint8_t* rgb = frame.image.rgb.data();
+  uint32_t last_slot = no_triangle, id = background_id;
+  uint8_t bytes[3] = {0, 0, 0};
+  for (int y = r.y0; y < r.y1; ++y) {
+    const size_t row = size_t(y) * size_t(b.width);
+    for (size_t i = row + size_t(r.x0); i < row + size_t(r.x1); ++i) {
+      const uint32_t v = b.visible[i];
+      if (v == no_triangle) continue;
+      const uint32_t slot = w.start[v];
+      if (slot != last_slot) {  // neighbouring pixels mostly show the same polygon
+        const uint32_t index = vis.polygons[slot];
+        const Color c = prepared.polygon_color(index);
+        bytes[0] = to_byte(c.r), bytes[1] = to_byte(c.g), bytes[2] = to_byte(c.b);
+        id = input.soup.polygons[index].id;
+        last_slot = slot;
+      }
+      ids[i] = id;
+      uint8_t* px = rgb + i * 3;
+      px[0] = bytes[0], px[1] = bytes[1], px[2] = bytes[2];
+    }
+  }
+}
+
 // Pass 2 for one tile: its visible pixels grouped by triangle (a counting sort by bin position, so
 // in draw order), each group shaded with its polygon bound once.
-void shade_tile(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared, size_t tile,
+void shade_tile(const FrameInput& input, const VisibilityInput& vis, size_t tile,
                 const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
   const std::vector<uint32_t>& bin = vis.bins[tile];
   w.start.assign(bin.size() + 1, 0);
@@ -153,7 +176,7 @@ void shade_tile(const FrameInput& input, const VisibilityInput& vis, const Surfa
   }
   for (size_t j = 0; j < bin.size(); ++j) {
     if (w.start[j] == w.start[j + 1]) continue;
-    shade_triangle(input, vis, prepared, vis.triangles[bin[j]], &w.pixels[w.start[j]], w.start[j + 1] - w.start[j], w, frame);
+    shade_triangle(input, vis, vis.triangles[bin[j]], &w.pixels[w.start[j]], w.start[j + 1] - w.start[j], w, frame);
   }
 }
 
@@ -261,7 +284,11 @@ void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const 
   for (ShadeWorker& w : workers) w.shader = std::make_unique<SurfaceShader>(shader, &w.lights);
   parallel_for(threads, tiles, [&](size_t tile, unsigned worker) {
     const PixelRect r = tile_rect(vis, tile, width, height);
-    shade_tile(input, vis, shader, tile, r, b, workers[worker], frame);
+    if (shader.constant_per_polygon()) {
+      fill_tile_constant(input, vis, shader, tile, r, b, workers[worker], frame);
+    } else {
+      shade_tile(input, vis, tile, r, b, workers[worker], frame);
+    }
     if (!vis.translucent.empty()) blend_tile(input, vis, r, depth, workers[worker], frame);
   });
   for (size_t w = 0; w < threads; ++w) {
