@@ -9,6 +9,7 @@ compared with the peer's depth + Lambert; every pipeline with Phong + shadows (w
 Phong) with the peer's Phong + 2048^2 shadow map. Modes the build lacks are listed, never faked.
 """
 import argparse
+import glob
 import json
 import os
 import platform
@@ -19,6 +20,7 @@ import time
 
 import perf_report
 
+PRIORITY_MAX_TRIANGLES = 20_000
 SIZES = ["320x180", "640x360", "1280x720", "1920x1080", "2560x1440"]
 
 
@@ -51,12 +53,15 @@ class Bench:
         self.out_dir = os.path.join(os.path.dirname(args.manifest), "out")
         os.makedirs(self.out_dir, exist_ok=True)
 
-    def ours(self, scene, camera, size, pipeline, shading, shadows, frames, ids=None):
-        cmd = [self.args.roomrender, "bench-render", "--request", scene["request"],
+    def ours(self, scene, camera, size, pipeline, shading, shadows, frames, ids=None, threads=None):
+        source = ["--obj", scene["obj"]] if scene.get("obj_input") else ["--request", scene["request"]]
+        cmd = [self.args.roomrender, "bench-render", *source,
                *camera_flags(camera, scene["light_dir"], size), "--pipeline", pipeline, "--shading", shading,
                "--shadows", "true" if shadows else "false", "--frames", str(frames)]
         if ids:
             cmd += ["--ids", ids]
+        if threads:
+            cmd += ["--threads", str(threads)]
         return run_json(cmd, self.args.timeout)
 
     def peer(self, scene, camera, size, mode, frames, ids=None):
@@ -112,7 +117,9 @@ def measure_scene(bench, scene, camera, modes, rounds, log):
              "triangles": scene["triangles"], "polygons": scene["polygons"], "size": size,
              "frames": frames, "rounds": rounds, "peer": {}, "ours": []}
     for peer_mode in ("lambert", "phong_shadow"):
-        mine = [m for m in modes if m[3] == peer_mode]
+        # Painter and BSP redo their sort or tree every frame (bench-render runs without the cache), which
+        # takes minutes on the big meshes: they are measured on scenes up to PRIORITY_MAX_TRIANGLES.
+        mine = [m for m in modes if m[3] == peer_mode and (m[0] == "zbuffer" or scene["triangles"] <= PRIORITY_MAX_TRIANGLES)]
         peer_runs, our_runs, errors = [], {m: [] for m in mine}, {}
         for round_index in range(rounds):
             last = round_index + 1 == rounds  # id buffers are written once, in the last round
@@ -160,6 +167,60 @@ def measure_pixels(bench, scene, camera, rounds, log):
     return {"scene": scene["name"], "camera": camera["name"], "triangles": scene["triangles"], "points": points}
 
 
+def shared_scenes(bench, args, log):
+    """The conference room (its OBJ, read by both renderers) and the Sweet Home 3D homes (imported with
+    `roomrender import`, exported to OBJ for the peer), from ../shared; ([], note) when it is absent."""
+    root = args.shared
+    if not root or not os.path.isdir(root):
+        return [], "skipped: the third-party data directory %s is absent" % (root or "(none given)")
+    work = os.path.join(os.path.dirname(args.manifest), "shared")
+    os.makedirs(work, exist_ok=True)
+    scenes = []
+    conference = os.path.join(root, "meshes", "conference", "conference.obj")
+    if os.path.exists(conference):
+        # Units are centimetres; the camera stands in a corner looking along the table.
+        scenes.append({"name": "conference", "kind": "room", "obj": conference, "obj_input": True,
+                       "light_dir": [0.3, 1.0, 0.2],
+                       "cameras": [{"name": "corner", "eye": [1400, 400, 300], "target": [-400, 100, -500],
+                                    "up": [0, 1, 0], "fovy": 60.0, "near": 1.0, "far": 5000.0}]})
+    for xml in sorted(glob.glob(os.path.join(root, "floorplans", "sweethome3d", "*.xml")))[:args.homes]:
+        name = "sh3d_" + os.path.splitext(os.path.basename(xml))[0]
+        request, obj = os.path.join(work, name + ".json"), os.path.join(work, name + ".obj")
+        log("import %s" % xml)
+        with open(request, "w") as f:
+            if subprocess.run([args.roomrender, "import", xml], stdout=f, stderr=subprocess.DEVNULL).returncode:
+                log("import of %s failed; skipped" % xml)
+                continue
+        subprocess.run([args.roomrender, "export", request, "--obj", obj], check=True, capture_output=True)
+        cam = json.load(open(request)).get("camera", {})
+        scenes.append({"name": name, "kind": "room", "request": request, "obj": obj, "light_dir": [0.4, 1.0, 0.3],
+                       "cameras": [{"name": "observer", "eye": cam.get("position", [0, 1.6, 0]),
+                                    "target": cam.get("target", [1, 1.6, 0]), "up": [0, 1, 0],
+                                    "fovy": float(cam.get("fov_y", 60.0)), "near": float(cam.get("near", 0.1)),
+                                    "far": float(cam.get("far", 100.0))}]})
+    for s in scenes:  # polygon and triangle counts from one small frame of ours
+        probe, _ = bench.ours(s, s["cameras"][0], "64x36", "zbuffer", "flat", False, 1)
+        s["polygons"], s["triangles"] = (probe["polygons"], probe["triangles"]) if probe else (0, 0)
+    return scenes, None
+
+
+def measure_threads(bench, scene, camera, modes, rounds, log):
+    """Our zbuffer at 1 and 2 threads, interleaved rounds; the peer is not involved."""
+    rows = []
+    for pipeline, shading, shadows, _ in modes:
+        if pipeline != "zbuffer" or (shading, shadows) not in (("flat", False), ("phong", True)):
+            continue
+        runs = {1: [], 2: []}
+        for round_index in range(rounds):
+            for threads in (1, 2):
+                log("threads %s %s %s=%d round %d" % (scene["name"], camera["name"], shading, threads, round_index + 1))
+                runs[threads].append(bench.ours(scene, camera, "1280x720", pipeline, shading, shadows,
+                                                frames_for(scene["triangles"]), threads=threads)[0])
+        rows.append({"scene": scene["name"], "camera": camera["name"], "shading": shading, "shadows": shadows,
+                     "ms": {str(t): (combine_rounds(r) or {}).get("frame_ms_median") for t, r in runs.items()}})
+    return rows
+
+
 def machine_info(roomrender):
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
@@ -181,6 +242,8 @@ def main():
     ap.add_argument("--pipelines", default="", help="comma-separated subset of the build's pipelines")
     ap.add_argument("--skip-pixels", action="store_true")
     ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds of peer and ours per scene")
+    ap.add_argument("--shared", default="", help="third-party data (../shared/data): conference room, Sweet Home 3D")
+    ap.add_argument("--homes", type=int, default=9, help="how many Sweet Home 3D homes to measure")
     args = ap.parse_args()
     log = lambda message: print("perf: " + message, file=sys.stderr, flush=True)
 
@@ -192,7 +255,8 @@ def main():
     bench = Bench(args)
     modes = our_modes(listing)
     results = {"machine": machine_info(args.roomrender), "listing": listing, "scenes": [], "pixels": []}
-    for scene in manifest["scenes"]:
+    extra, results["shared_note"] = shared_scenes(bench, args, log)
+    for scene in manifest["scenes"] + extra:
         for camera in scene["cameras"]:
             results["scenes"].append(measure_scene(bench, scene, camera, modes, args.rounds, log))
     if not args.skip_pixels:
@@ -202,6 +266,13 @@ def main():
                 scene = by_name[name]
                 camera = next(c for c in scene["cameras"] if c["name"] == camera_name)
                 results["pixels"].append(measure_pixels(bench, scene, camera, args.rounds, log))
+    by_name = {s["name"]: s for s in manifest["scenes"]}
+    results["threads"] = []
+    for name, camera_name in (("apartment", "eye_level"), ("apartment", "birds_eye")):
+        if name in by_name:
+            scene = by_name[name]
+            camera = next(c for c in scene["cameras"] if c["name"] == camera_name)
+            results["threads"] += measure_threads(bench, scene, camera, modes, args.rounds, log)
     results["machine"]["loadavg_end"] = open("/proc/loadavg").read().split()[:3]
     results["machine"]["peer_renderer"] = next(
         (s["peer"]["lambert"].get("renderer") for s in results["scenes"] if "renderer" in s["peer"]["lambert"]), None)

@@ -60,17 +60,22 @@ size_t draw_projected(FrameTarget& t, const DrawScratch& scratch, uint32_t id, f
                       DepthMode mode, ShadeFn&& shade) {
   size_t covered = 0;
   const size_t width = size_t(t.image.width);
+  // Raw pointers in locals: the colour writes go through uint8_t*, which may alias anything, so
+  // through the vectors the compiler would reload every pointer for every fragment.
+  float* const depth = t.depth ? t.depth->data() : nullptr;
+  uint32_t* const ids = t.ids.ids.data();
+  uint8_t* const rgb = t.image.rgb.data();
   rasterize_convex(scratch.screen, t.rect, [&](const Fragment& f, size_t k) {
     ++covered;
-    size_t i = size_t(f.y) * width + size_t(f.x);
+    const size_t i = size_t(f.y) * width + size_t(f.x);
     if (mode != DepthMode::none) {
-      float z = float(f.inv_w);
-      if (z <= (*t.depth)[i]) return;
-      if (mode == DepthMode::test_and_write) (*t.depth)[i] = z;
+      const float z = float(f.inv_w);
+      if (z <= depth[i]) return;
+      if (mode == DepthMode::test_and_write) depth[i] = z;
     }
-    t.ids.ids[i] = id;
-    Color c = shade(f, k);
-    uint8_t* px = t.image.rgb.data() + i * 3;
+    ids[i] = id;
+    const Color c = shade(f, k);
+    uint8_t* px = rgb + i * 3;
     if (alpha >= 1.0f) {
       px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b);
     } else {

@@ -21,12 +21,6 @@ Image::Image(int w, int h, Color fill) : width(w), height(h), rgb(size_t(w) * si
   for (size_t i = 0; i < rgb.size(); i += 3) std::memcpy(&rgb[i], c, 3);
 }
 
-uint8_t to_byte(float v) {
-  if (!(v > 0.0f)) return 0;  // also maps NaN to black rather than to undefined behaviour
-  if (v >= 1.0f) return 255;
-  return uint8_t(v * 255.0f + 0.5f);
-}
-
 namespace {
 void append_bytes(void* context, void* data, int size) {
   static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));

@@ -38,8 +38,13 @@ struct IdBuffer {
   uint32_t at(int x, int y) const { return ids[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-// One display value in [0, 1] -> 8 bits, rounded to nearest.
-uint8_t to_byte(float v);
+// One display value in [0, 1] -> 8 bits, rounded to nearest. Inline: the rasterizers call it per
+// written channel.
+inline uint8_t to_byte(float v) {
+  if (!(v > 0.0f)) return 0;  // also maps NaN to black rather than to undefined behaviour
+  if (v >= 1.0f) return 255;
+  return uint8_t(v * 255.0f + 0.5f);
+}
 
 std::string encode_png(const Image& image);
 // Throws std::runtime_error when the bytes are not a PNG stb_image can read.

@@ -69,6 +69,7 @@ struct RenderContext {
   const CancelToken* cancel = nullptr;   // null: never cancelled
   std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
   bool shadow_mask = false;              // fill Frame::shadow_mask (error measures); off: no cost
+  unsigned threads = 1;                  // threads drawing one frame's tiles (the output does not depend on it)
 };
 
 struct FrameInput {

@@ -82,6 +82,7 @@ Color shade_point(const Scene& scene, const Material& material, Vec3 p, Vec3 n, 
 SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
     : input_(input),
       soup_(soup),
+      lights_evaluated_(input.lights_evaluated),
       maps_(input.shadows && !input.shadows->empty() ? input.shadows : nullptr),
       mode_(input.options.shading),
       slots_(maps_ ? maps_->lights.size() : 0),
@@ -89,8 +90,19 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
       slot_sums_(slots_),
       mask_(input.shadow_mask) {}
 
+SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evaluated)
+    : input_(prepared.input_),
+      soup_(prepared.soup_),
+      prepared_(&prepared),
+      lights_evaluated_(lights_evaluated),
+      maps_(prepared.maps_),
+      mode_(prepared.mode_),
+      slots_(prepared.slots_),
+      slot_sums_(slots_),
+      mask_(prepared.mask_) {}
+
 SurfaceShader::~SurfaceShader() {
-  if (input_.lights_evaluated) *input_.lights_evaluated += evaluated_ + evaluated_per_pixel_;
+  if (lights_evaluated_) *lights_evaluated_ += evaluated_ + evaluated_per_pixel_;
 }
 
 void SurfaceShader::collect_reaching(const Polygon& source) {
@@ -123,6 +135,7 @@ void SurfaceShader::add_terms(const Material& material, Vec3 p, Vec3 n, Color* o
 }
 
 void SurfaceShader::prepare(uint32_t index) {
+  assert(prepared_ == this && "a binding copy shares its terms and prepares nothing");
   if (mode_ == ShadingMode::phong) return;  // everything happens per pixel
   const Polygon& poly = soup_.polygons[index];
   const bool fragment_soup = &soup_ != &input_.soup;

@@ -52,6 +52,10 @@ class SurfaceShader {
   // BSP fragments) that keep their source's id, material, object, flags and plane.
   SurfaceShader(const FrameInput& input, const PolygonSoup& soup);
   ~SurfaceShader();
+  // A copy for another thread drawing the same frame: shares `prepared`'s per-polygon terms (read
+  // only; prepare() is never called on the copy) and binds and shades on its own. Its light
+  // evaluations are added to *lights_evaluated when it is destroyed.
+  SurfaceShader(const SurfaceShader& prepared, size_t* lights_evaluated);
   SurfaceShader(const SurfaceShader&) = delete;
   SurfaceShader& operator=(const SurfaceShader&) = delete;
 
@@ -61,6 +65,10 @@ class SurfaceShader {
     if (mask_) [[unlikely]] write_mask(f, k);
     return constant_ ? current_ : shade_pixel(f, k);
   }
+  // True when every polygon has one colour (flat shading, no shadow map, no shadow mask asked for):
+  // then polygon_color(index) is the colour of a prepared polygon, and drawing it needs no bind().
+  bool constant_per_polygon() const { return mode_ == ShadingMode::flat && slots_ == 0 && !mask_; }
+  Color polygon_color(uint32_t index) const { return prepared_->terms_[prepared_->term_begin_[index]]; }
 
  private:
   // A light that reaches the bound polygon, in floats for the per-pixel loop.
@@ -91,6 +99,8 @@ class SurfaceShader {
 
   const FrameInput& input_;
   const PolygonSoup& soup_;
+  const SurfaceShader* prepared_ = this;  // holds term_begin_ and terms_
+  size_t* lights_evaluated_;
   const ShadowMaps* maps_;
   ShadingMode mode_;
   size_t slots_;                       // lights with shadow maps

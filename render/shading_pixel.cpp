@@ -53,7 +53,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   }
   switch (mode_) {
     case ShadingMode::flat: {
-      const Color* terms = &terms_[term_begin_[index]];
+      const Color* terms = &prepared_->terms_[prepared_->term_begin_[index]];
       bound_terms_.resize(1 + shadowed);
       bound_terms_[0] = current_ = terms[0];
       for (size_t s = 0; s < shadowed; ++s) bound_terms_[1 + s] = terms[1 + size_t(shadowed_[s].slot)];
@@ -83,7 +83,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
 // changes the colour of a point.
 void SurfaceShader::bind_gouraud(uint32_t index, const DrawScratch& scratch) {
   const Polygon& poly = soup_.polygons[index];
-  const Color* terms = &terms_[term_begin_[index]];
+  const Color* terms = &prepared_->terms_[prepared_->term_begin_[index]];
   const size_t width = 1 + slots_, out_width = 1 + shadowed_.size();
   const auto points = soup_.points(poly);
   const auto& clipped = scratch.clipped;

@@ -1,11 +1,14 @@
 // The zbuffer pipeline (see zbuffer.hpp). Depth is 1/w, i.e. 1 / view depth, stored as float:
 // larger is nearer, and its relative precision is uniform in view depth, unlike the hyperbolic
-// OpenGL z (1 mm at 10 m differs by 1e-5 relative, far above float's 6e-8).
+// OpenGL z (1 mm at 10 m differs by 1e-5 relative, far above float's 6e-8). Drawing goes through
+// the tiled visibility buffer (visibility.hpp): opaque polygons are resolved first and each visible
+// pixel is shaded once; translucent ones are blended over them back to front.
 #include "render/zbuffer.hpp"
 
 #include "render/draw.hpp"
 #include "render/shading.hpp"
 #include "render/timer.hpp"
+#include "render/visibility.hpp"
 
 #include <algorithm>
 
@@ -35,26 +38,16 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   }
   timings.shade_ms += clock.lap_ms();
 
-  std::vector<float> depth(size_t(frame.image.width) * size_t(frame.image.height), 0.0f);
-  FrameTarget target{frame.image, frame.ids, &depth, {0, 0, frame.image.width, frame.image.height}};
-  DrawScratch scratch;
-  auto draw = [&](uint32_t i, DepthMode mode) {
-    const Polygon& poly = soup.polygons[i];
-    if (!project_polygon(input.view, soup, poly, scratch)) return;
-    ++stats.polygons_drawn;
-    stats.triangles += scratch.screen.size() - 2;
-    shader.bind(i, scratch);
-    float alpha = mode == DepthMode::test_only ? soup.materials[poly.material].opacity : 1.0f;
-    stats.fragments += draw_projected(target, scratch, poly.id, alpha, mode,
-                                      [&](const Fragment& f, size_t k) { return shader.fragment(f, k); });
-  };
-  for (uint32_t i : opaque) draw(i, DepthMode::test_and_write);
   std::vector<std::pair<double, uint32_t>> order;
   for (uint32_t i : translucent) order.push_back({mean_view_depth(input.view, soup, soup.polygons[i]), i});
   std::sort(order.begin(), order.end(), std::greater<>());  // far to near; ties: higher index first
-  for (const auto& [d, i] : order) draw(i, DepthMode::test_only);
+  for (size_t n = 0; n < order.size(); ++n) translucent[n] = order[n].second;
+  // Kept by this thread for its next frame, so the bins' memory is not allocated again.
+  thread_local VisibilityInput vis;
+  bin_polygons(input, opaque, translucent, vis, stats);
   stats.polygons_culled = soup.polygons.size() - stats.polygons_drawn;  // back-facing or off-view
   timings.raster_ms += clock.lap_ms();
+  draw_visibility(input, vis, shader, input.context.threads, frame, stats, timings);
 }
 
 }  // namespace rr

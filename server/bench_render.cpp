@@ -15,6 +15,7 @@ BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, 
   // request for a scene fills the service's.
   BspCache bsp_cache(size_t{1} << 30);
   RenderContext context;
+  context.threads = run.threads;
   if (run.bsp_cache) {
     // The cache key. Hashing the canonical JSON takes seconds for a 10^6-polygon scene, so it is
     // computed only when a cache needs it (the pipelines compute it themselves if they must).
@@ -57,6 +58,7 @@ nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchR
   j["frames"] = run.frames;
   j["warmup"] = run.warmup;
   j["bsp_cache"] = run.bsp_cache;
+  j["threads"] = run.threads;
   j["frame_ms_min"] = ms(*std::min_element(report.frame_ms.begin(), report.frame_ms.end()));
   j["frame_ms_median"] = ms(median_of(report.frame_ms));
   j["frame_ms_max"] = ms(*std::max_element(report.frame_ms.begin(), report.frame_ms.end()));

@@ -18,6 +18,7 @@ struct BenchRun {
   // false: no BSP cache, so every frame builds its tree (frame time includes "build"); true: a
   // cache as the service keeps, filled by the warm-up frames, so timed frames measure a cache hit.
   bool bsp_cache = false;
+  unsigned threads = 1;  // RenderContext::threads
 };
 
 struct BenchReport {

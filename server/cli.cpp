@@ -26,6 +26,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <thread>
 #include <sstream>
 #include <vector>
 
@@ -47,7 +48,7 @@ constexpr const char* serve_synopsis =
 constexpr const char* bench_synopsis =
     "roomrender bench-render (--request FILE | --obj FILE) [--eye x,y,z] [--target x,y,z] [--up x,y,z]\n"
     "                 [--fovy DEG] [--near N] [--far F] [--size WxH] [--light-dir x,y,z] [--pipeline NAME]\n"
-    "                 [--shading NAME] [--shadows true|false] [--bsp-cache on|off] [--frames K] [--warmup N]\n"
+    "                 [--shading NAME] [--shadows true|false] [--bsp-cache on|off] [--frames K] [--warmup N] [--threads N]\n"
     "                 [--out FILE.png] [--ids FILE]\n"
     "  roomrender bench-render --list";
 constexpr const char* compare_synopsis = "roomrender compare REFERENCE.ids TEST.ids | roomrender compare REFERENCE.png TEST.png";
@@ -232,7 +233,9 @@ int run_render(std::span<const std::string> argv) {
   return run_reporting_errors([&] {
     std::string text = flag(args, "--obj") ? imported_request_text(args, ImportFormat::obj, *flag(args, "--obj"))
                                            : read_input(args.positional[0]);
-    EncodedRender out = render_request_text(apply_overrides(text, args));
+    RenderContext context;
+    context.threads = std::max(1u, std::thread::hardware_concurrency());
+    EncodedRender out = render_request_text(apply_overrides(text, args), context);
     write_output(*flag(args, "--output"), out.png);
     if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(out.result.frame.ids));
     nlohmann::ordered_json line = nlohmann::ordered_json::parse(timings_json(out.result.timings, out.result.stats));
@@ -472,7 +475,7 @@ int run_bench_render(std::span<const std::string> argv) {
   try {
     args = parse_args(argv, {"--request", "--obj", "--eye", "--target", "--up", "--fovy", "--near", "--far",
                              "--size", "--light-dir", "--pipeline", "--shading", "--shadows", "--bsp-cache",
-                             "--frames", "--warmup", "--out", "--ids"});
+                             "--frames", "--warmup", "--out", "--ids", "--threads"});
     if (args.help) return std::printf("usage: %s\n", bench_synopsis), 0;
     if (!args.positional.empty()) throw UsageError("unexpected argument " + args.positional[0]);
     if (flag(args, "--request").has_value() == flag(args, "--obj").has_value()) {
@@ -480,6 +483,8 @@ int run_bench_render(std::span<const std::string> argv) {
     }
     if (auto v = flag(args, "--frames")) run.frames = parse_int(*v, "--frames", 1, 100000);
     if (auto v = flag(args, "--warmup")) run.warmup = parse_int(*v, "--warmup", 0, 100000);
+    run.threads = std::max(1u, std::thread::hardware_concurrency());
+    if (auto v = flag(args, "--threads")) run.threads = unsigned(parse_int(*v, "--threads", 1, 64));
     if (auto v = flag(args, "--bsp-cache")) run.bsp_cache = parse_switch_flag(*v, "--bsp-cache", "on", "off");
     overrides = bench_overrides(args);
   } catch (const UsageError& e) {

@@ -293,6 +293,11 @@ size_t render_workers(const ServerConfig& config) {
   return std::max<size_t>(1, std::thread::hardware_concurrency());
 }
 
+unsigned render_threads(const ServerConfig& config) {
+  if (config.render_threads > 0) return unsigned(config.render_threads);
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
 size_t render_queue_length(const ServerConfig& config) {
   if (config.render_queue >= 0) return size_t(config.render_queue);
   return 4 * render_workers(config);
@@ -311,7 +316,8 @@ std::string config_json(const ServerConfig& c) {
   const ParseLimits& l = c.limits;
   nlohmann::ordered_json j = {
       {"bind", c.bind}, {"port", c.port}, {"threads", connection_threads(c)},
-      {"render_workers", render_workers(c)}, {"render_queue", render_queue_length(c)},
+      {"render_workers", render_workers(c)}, {"render_threads", render_threads(c)},
+      {"render_queue", render_queue_length(c)},
       {"render_timeout_ms", c.render_timeout_ms}, {"retry_after_s", c.retry_after_s},
       {"drain_timeout_ms", c.drain_timeout_ms}, {"max_body_bytes", c.max_body_bytes}, {"max_import_bytes", c.max_import_bytes},
       {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels},

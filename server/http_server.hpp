@@ -29,6 +29,7 @@ struct ServerConfig {
   int port = 8080;  // 0: any free port, reported by Service::port()
   int threads = 0;  // connection threads; 0: render_workers + render_queue + 8 (see connection_threads)
   int render_workers = 0;  // renders running at once; 0: the number of cores
+  int render_threads = 0;  // threads drawing one render's tiles; 0: the number of cores
   int render_queue = -1;   // renders waiting for a slot; -1: 4 per render worker
   int render_timeout_ms = 10'000;  // deadline per render, counted from arrival at the gate
   int retry_after_s = 1;           // Retry-After sent with 503
@@ -63,6 +64,7 @@ ServerConfig default_server_config();
 
 // What the 0 / -1 defaults resolve to.
 size_t render_workers(const ServerConfig& config);
+unsigned render_threads(const ServerConfig& config);
 size_t render_queue_length(const ServerConfig& config);
 size_t connection_threads(const ServerConfig& config);
 size_t worker_threads(const ServerConfig& config);  // = connection_threads (older name)

@@ -83,6 +83,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
                      const CancelToken& token, Stopwatch& total) {
   check_cancel(&token);
   RenderContext context{&state.bsp_cache, &token, plan.static_id};
+  context.threads = render_threads(state.config);  // the server's setting, never the request's
   RenderResult result = render_frame(plan.scene, plan.soup, plan.view.camera, plan.view.options, context);
   Stopwatch clock;
   check_cancel(&token);

@@ -50,6 +50,8 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.threads = int(parse_integer(v, s, 0, 1024)); }},
   {"--render-workers", "renders running at once; 0: one per core (default 0)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.render_workers = int(parse_integer(v, s, 0, 256)); }},
+  {"--render-threads", "threads drawing one render's screen tiles; 0: one per core (default 0)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.render_threads = int(parse_integer(v, s, 0, 64)); }},
   {"--render-queue", "renders waiting for a slot before 503; -1: 4 per worker (default -1)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.render_queue = int(parse_integer(v, s, -1, 4096)); }},
   {"--render-timeout-ms", "deadline per render from arrival, then 503/504 (default 10000)",
