@@ -8,6 +8,7 @@
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
 #include "render/shadow.hpp"
+#include "render/shadow_cache.hpp"
 #include "render/timer.hpp"
 #include "render/zbuffer.hpp"
 
@@ -61,14 +62,14 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   ViewTransform view = make_view(camera, options.width, options.height);
   FrameInput input{scene, soup, view, options, context};
   check_cancel(context.cancel);
-  // The shadow pass runs once, before any pipeline draws; with no light or shadows off it does not
-  // run at all (shadow_ms stays 0).
-  ShadowMaps shadow_maps;
+  // The shadow pass runs at most once, before any pipeline draws, and not at all when the shadow
+  // cache holds this frame's maps; with no light or shadows off it does not run (shadow_ms stays 0).
+  std::shared_ptr<const ShadowMaps> shadow_maps;
   if (options.shadows && !scene.lights.empty()) {
     Stopwatch shadow_clock;
-    shadow_maps = build_shadow_maps(scene, soup, view, options, context.cancel);
+    shadow_maps = obtain_shadow_maps(scene, soup, view, options, context, result.stats);
     result.timings.shadow_ms = shadow_clock.elapsed_ms();
-    if (!shadow_maps.empty()) input.shadows = &shadow_maps;
+    if (!shadow_maps->empty()) input.shadows = shadow_maps.get();
   }
   result.stats.shadow_skipped = input.shadows == nullptr;
   input.lights_evaluated = &result.stats.lights_evaluated;
@@ -109,15 +110,18 @@ std::string timings_json(const StageTimings& t, const RenderStats& s) {
                      {"encode", ms(t.encode_ms)}, {"total", ms(t.total_ms)}};
   j["counts"] = {{"polygons", s.polygons},     {"polygons_culled", s.polygons_culled},
                  {"polygons_drawn", s.polygons_drawn}, {"triangles", s.triangles},
-                 {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated}};
+                 {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated},
+                 {"shadow_passes", s.shadow_passes}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
+  j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits) {
     j["painter"] = {{"pairs_tested", s.painter_pairs_tested}, {"splits", s.painter_splits}};
   }
   if (!s.bsp_cache.empty()) {
     j["bsp"] = {{"cache", s.bsp_cache},        {"nodes", s.bsp_nodes},
                 {"depth", s.bsp_depth},        {"input_polygons", s.bsp_input_polygons},
-                {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits}};
+                {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits},
+                {"subtrees_occluded", s.bsp_subtrees_occluded}, {"screen_full", s.bsp_screen_full}};
   }
   return j.dump();
 }

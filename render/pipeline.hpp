@@ -37,7 +37,9 @@ struct RenderStats {
   size_t triangles = 0;        // rasterized after clipping
   size_t fragments = 0;        // pixels that passed coverage (before the depth test)
   size_t lights_evaluated = 0; // light-polygon (flat) or light-vertex/pixel evaluations
-  bool shadow_skipped = true;  // no shadow pass ran (no light, shadows off, or nothing to cast)
+  bool shadow_skipped = true;  // no shadow lookups (no light, shadows off, or nothing to cast)
+  std::string shadow_cache = "none";  // "hit", "miss" (the pass ran), "none" (no maps wanted)
+  size_t shadow_passes = 0;    // shadow passes run by this frame: 1 on a miss, 0 on a hit
   // Painter.
   size_t painter_pairs_tested = 0;  // pairs that needed Newell's extra tests
   size_t painter_splits = 0;
@@ -48,6 +50,8 @@ struct RenderStats {
   size_t bsp_input_polygons = 0;
   size_t bsp_fragments = 0;  // polygons stored in the tree after splitting
   size_t bsp_splits = 0;
+  size_t bsp_subtrees_occluded = 0;  // front-to-back walk: subtrees skipped as already covered
+  bool bsp_screen_full = false;      // front-to-back walk stopped early: every pixel was written
 };
 
 struct Frame {
@@ -58,12 +62,14 @@ struct Frame {
 struct BspTree;  // bsp.hpp: a tree of one static scene for one set of BSP options
 using BspCache = SharedLruCache<BspTree>;  // keyed by scene id + BSP options, shared across requests
 struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
+using ShadowCache = SharedLruCache<ShadowMaps>;  // keyed by scene id + lights + map options (+ view)
 
 // What outlives one render and is shared across requests (all optional).
 struct RenderContext {
   BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
   const CancelToken* cancel = nullptr;   // null: never cancelled
   std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
+  ShadowCache* shadow_cache = nullptr;   // null: every frame with shadows runs its own shadow pass
 };
 
 struct FrameInput {
