@@ -121,7 +121,8 @@ std::string timings_json(const StageTimings& t, const RenderStats& s) {
     j["bsp"] = {{"cache", s.bsp_cache},        {"nodes", s.bsp_nodes},
                 {"depth", s.bsp_depth},        {"input_polygons", s.bsp_input_polygons},
                 {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits},
-                {"subtrees_occluded", s.bsp_subtrees_occluded}, {"screen_full", s.bsp_screen_full}};
+                {"subtrees_occluded", s.bsp_subtrees_occluded}, {"polygons_occluded", s.bsp_polygons_occluded},
+                {"screen_full", s.bsp_screen_full}};
   }
   return j.dump();
 }

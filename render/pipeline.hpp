@@ -51,6 +51,7 @@ struct RenderStats {
   size_t bsp_fragments = 0;  // polygons stored in the tree after splitting
   size_t bsp_splits = 0;
   size_t bsp_subtrees_occluded = 0;  // front-to-back walk: subtrees skipped as already covered
+  size_t bsp_polygons_occluded = 0;  // front-to-back walk: projected polygons skipped as covered
   bool bsp_screen_full = false;      // front-to-back walk stopped early: every pixel was written
 };
 
