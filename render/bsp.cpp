@@ -179,23 +179,6 @@ std::string bsp_cache_key(const std::string& scene_id, const BspOptions& o) {
   return scene_id + buffer;
 }
 
-FrustumSides::FrustumSides(const ViewTransform& view) {
-  // Gribb-Hartmann: row 3 +- rows 0 and 1 of clip_from_world. The side planes meet at the eye, so
-  // together they also reject what lies behind it.
-  const Mat4& m = view.clip_from_world;
-  auto row = [&](int r) { return Vec4(m[0][r], m[1][r], m[2][r], m[3][r]); };
-  planes[0] = row(3) + row(0), planes[1] = row(3) - row(0), planes[2] = row(3) + row(1), planes[3] = row(3) - row(1);
-}
-
-bool FrustumSides::outside(Vec3 lo, Vec3 hi) const {
-  for (const Vec4& s : planes) {
-    // The box corner farthest along the plane's normal; if even it is outside, the box is.
-    Vec3 p(s.x >= 0 ? hi.x : lo.x, s.y >= 0 ? hi.y : lo.y, s.z >= 0 ? hi.z : lo.z);
-    if (s.x * p.x + s.y * p.y + s.z * p.z + s.w < 0.0) return true;
-  }
-  return false;
-}
-
 size_t subtree_polygons(const BspTree& tree, int32_t root) {
   size_t count = 0;
   std::vector<int32_t> stack{root};
@@ -212,7 +195,7 @@ size_t subtree_polygons(const BspTree& tree, int32_t root) {
 
 std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform& view, size_t& culled) {
   std::vector<uint32_t> order;
-  const FrustumSides frustum(view);
+  const Frustum frustum(view);
   auto enter = [&](int32_t index, const BspNode& node) {
     if (!frustum.outside(node.lo, node.hi)) return true;
     culled += subtree_polygons(tree, index);  // what the skip saves

@@ -15,6 +15,7 @@
 #include "lru_cache.hpp"
 #include "pipeline.hpp"
 #include "draw.hpp"  // is_back_facing
+#include "frustum.hpp"
 #include "polygon_ops.hpp"
 
 #include <string>
@@ -52,13 +53,6 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
 
 // The cache key of a scene's tree: its scene id and every option that shapes the tree.
 std::string bsp_cache_key(const std::string& scene_id, const BspOptions& options);
-
-// The four side planes of the view frustum in world space (positive inside).
-struct FrustumSides {
-  Vec4 planes[4];
-  explicit FrustumSides(const ViewTransform& view);
-  bool outside(Vec3 lo, Vec3 hi) const;  // the box lies wholly outside one of the planes
-};
 
 // Polygons held by the subtree rooted at node `root` (what skipping it saves).
 size_t subtree_polygons(const BspTree& tree, int32_t root);

@@ -227,7 +227,7 @@ class FrontToBack {
   const ViewTransform& view_;
   Frame& frame_;
   RenderStats& stats_;
-  const FrustumSides frustum_;
+  const Frustum frustum_;
   Coverage coverage_;
   SurfaceShader shader_;
   DrawScratch scratch_;

@@ -4,6 +4,7 @@
 #include "render/pipeline.hpp"
 
 #include "render/bsp.hpp"
+#include "render/frustum.hpp"
 #include "render/painter.hpp"
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
@@ -72,6 +73,15 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
     if (!shadow_maps->empty()) input.shadows = shadow_maps.get();
   }
   result.stats.shadow_skipped = input.shadows == nullptr;
+  // Whole objects outside the frustum are skipped before any per-polygon work (timed as traverse).
+  ObjectsInView objects;
+  if (options.pipeline != PipelineKind::bsp) {
+    Stopwatch cull_clock;
+    objects = objects_in_view(soup, view);
+    input.objects_in_view = &objects.visible;
+    result.stats.objects_culled = objects.culled;
+    result.timings.traverse_ms += cull_clock.elapsed_ms();
+  }
   input.lights_evaluated = &result.stats.lights_evaluated;
   pipeline_info(options.pipeline).draw(input, result.frame, result.stats, result.timings);
   result.timings.total_ms = clock.elapsed_ms();
@@ -111,7 +121,7 @@ std::string timings_json(const StageTimings& t, const RenderStats& s) {
   j["counts"] = {{"polygons", s.polygons},     {"polygons_culled", s.polygons_culled},
                  {"polygons_drawn", s.polygons_drawn}, {"triangles", s.triangles},
                  {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated},
-                 {"shadow_passes", s.shadow_passes}};
+                 {"shadow_passes", s.shadow_passes}, {"objects_culled", s.objects_culled}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits) {

@@ -38,6 +38,7 @@ struct RenderStats {
   size_t fragments = 0;        // pixels that passed coverage (before the depth test)
   size_t lights_evaluated = 0; // light-polygon (flat) or light-vertex/pixel evaluations
   bool shadow_skipped = true;  // no shadow lookups (no light, shadows off, or nothing to cast)
+  size_t objects_culled = 0;   // solids (and walls, floor) wholly outside the view frustum
   std::string shadow_cache = "none";  // "hit", "miss" (the pass ran), "none" (no maps wanted)
   size_t shadow_passes = 0;    // shadow passes run by this frame: 1 on a miss, 0 on a hit
   // Painter.
@@ -74,12 +75,18 @@ struct RenderContext {
 };
 
 struct FrameInput {
+  // Whether polygon `p` may be visible as far as its whole object goes (see objects_in_view).
+  bool object_may_show(const Polygon& p) const { return !objects_in_view || (*objects_in_view)[p.object]; }
+
   const Scene& scene;
   const PolygonSoup& soup;
   const ViewTransform& view;
   const RenderOptions& options;
   const RenderContext& context;
   const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
+  // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
+  // not computed (the bsp pipeline culls subtrees of its tree instead).
+  const std::vector<uint8_t>* objects_in_view = nullptr;
   size_t* lights_evaluated = nullptr;   // SurfaceShader adds its light evaluations here
 };
 
