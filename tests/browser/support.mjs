@@ -109,7 +109,8 @@ export async function runScenario(name, { binary, outDir, precheck }, body) {
     browser = await chromium.launch({ executablePath: chromiumPath(), args: ["--no-sandbox"] });
     const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });
     page = await context.newPage();
-    page.setDefaultTimeout(15000);
+    // Generous: under a loaded 2-core CI machine a render plus page work took ~11 s (json_answers).
+    page.setDefaultTimeout(40000);
     page.on("console", (m) => consoleLines.push(`${m.type()}: ${m.text()}`));
     page.on("pageerror", (e) => consoleLines.push(`pageerror: ${e.message}`));
     await body({ page, server, browser, context });
