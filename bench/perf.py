@@ -58,6 +58,10 @@ class Bench:
         cmd = [self.args.roomrender, "bench-render", *source,
                *camera_flags(camera, scene["light_dir"], size), "--pipeline", pipeline, "--shading", shading,
                "--shadows", "true" if shadows else "false", "--frames", str(frames)]
+        # The peer redraws its shadow map every frame; so do we here, for a like-for-like ratio (the
+        # service's shadow cache would otherwise serve every timed frame from the warm-up's maps).
+        if shadows:
+            cmd += ["--shadow-cache", "off"]
         if ids:
             cmd += ["--ids", ids]
         if threads:

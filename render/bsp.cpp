@@ -182,64 +182,32 @@ std::string bsp_cache_key(const std::string& scene_id, const BspOptions& o) {
   return scene_id + buffer;
 }
 
+size_t subtree_polygons(const BspTree& tree, int32_t root) {
+  size_t count = 0;
+  std::vector<int32_t> stack{root};
+  while (!stack.empty()) {
+    const BspNode& s = tree.nodes[size_t(stack.back())];
+    stack.pop_back();
+    count += s.count;
+    for (int32_t c : {s.front, s.back}) {
+      if (c >= 0) stack.push_back(c);
+    }
+  }
+  return count;
+}
+
 std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform& view, size_t& culled) {
   std::vector<uint32_t> order;
-  if (tree.nodes.empty()) return order;
-  // The four side planes of the view frustum in world space (Gribb-Hartmann: row 3 +- rows 0 and 1
-  // of clip_from_world); they meet at the eye, so together they also reject what lies behind it.
-  const Mat4& m = view.clip_from_world;
-  auto row = [&](int r) { return Vec4(m[0][r], m[1][r], m[2][r], m[3][r]); };
-  const Vec4 sides[4] = {row(3) + row(0), row(3) - row(0), row(3) + row(1), row(3) - row(1)};
-  auto outside = [&](const BspNode& n) {
-    for (const Vec4& s : sides) {
-      // The box corner farthest along the plane's normal; if even it is outside, the box is.
-      Vec3 p(s.x >= 0 ? n.hi.x : n.lo.x, s.y >= 0 ? n.hi.y : n.lo.y, s.z >= 0 ? n.hi.z : n.lo.z);
-      if (s.x * p.x + s.y * p.y + s.z * p.z + s.w < 0.0) return true;
-    }
+  const Frustum frustum(view);
+  auto enter = [&](int32_t index, const BspNode& node) {
+    if (!frustum.outside(node.lo, node.hi)) return true;
+    culled += subtree_polygons(tree, index);  // what the skip saves
     return false;
   };
-  struct Step {
-    int32_t node;
-    bool emit;  // false: visit the subtree; true: emit the node's own polygons
-  };
-  std::vector<Step> stack{{0, false}};
-  while (!stack.empty()) {
-    Step step = stack.back();
-    stack.pop_back();
-    const BspNode& node = tree.nodes[size_t(step.node)];
-    if (step.emit) {
-      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-        uint32_t index = tree.node_polygons[k];
-        if (is_back_facing(tree.fragments.polygons[index], view.eye)) {
-          ++culled;
-        } else {
-          order.push_back(index);
-        }
-      }
-      continue;
-    }
-    if (outside(node)) {
-      // Count what the skip saves: every polygon of the subtree.
-      std::vector<int32_t> skipped{step.node};
-      while (!skipped.empty()) {
-        const BspNode& s = tree.nodes[size_t(skipped.back())];
-        skipped.pop_back();
-        culled += s.count;
-        for (int32_t c : {s.front, s.back}) {
-          if (c >= 0) skipped.push_back(c);
-        }
-      }
-      continue;
-    }
-    // Far side first: the eye in front of the plane sees the back subtree behind the node's
-    // polygons, and those behind the front subtree. On the plane, either order is right.
-    const bool eye_in_front = node.plane.distance(view.eye) >= 0.0;
-    const int32_t far = eye_in_front ? node.back : node.front;
-    const int32_t near = eye_in_front ? node.front : node.back;
-    if (near >= 0) stack.push_back({near, false});
-    stack.push_back({step.node, true});
-    if (far >= 0) stack.push_back({far, false});
-  }
+  walk_bsp(tree, view.eye, WalkOrder::back_to_front, enter, [&](uint32_t index) {
+    order.push_back(index);
+    return true;
+  }, culled);
   return order;
 }
 
@@ -267,6 +235,10 @@ void draw_bsp(const FrameInput& input, Frame& frame, RenderStats& stats, StageTi
   stats.bsp_fragments = tree->fragments.polygons.size();
   stats.bsp_splits = tree->splits;
 
+  if (input.options.bsp.traversal == BspTraversal::front_to_back) {
+    draw_bsp_front_to_back(*tree, input, frame, stats, timings);
+    return;
+  }
   size_t culled = 0;
   std::vector<uint32_t> order = bsp_back_to_front(*tree, input.view, culled);
   timings.traverse_ms += clock.lap_ms();

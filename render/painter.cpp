@@ -89,7 +89,8 @@ PainterOrder painter_order(const FrameInput& input, PainterKey key) {
   SortItem item;
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
     if ((i & 4095) == 4095) check_cancel(input.context.cancel);
-    if (is_back_facing(soup.polygons[i], input.view.eye) || !builder.build(soup, i, false, item)) {
+    const Polygon& poly = soup.polygons[i];
+    if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly) || !builder.build(soup, i, false, item)) {
       ++order.culled;
       continue;
     }

@@ -4,11 +4,13 @@
 #include "render/pipeline.hpp"
 
 #include "render/bsp.hpp"
+#include "render/frustum.hpp"
 #include "render/painter.hpp"
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
 #include "render/reference.hpp"
 #include "render/shadow.hpp"
+#include "render/shadow_cache.hpp"
 #include "render/timer.hpp"
 #include "render/zbuffer.hpp"
 
@@ -69,16 +71,25 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   if (context.shadow_mask) input.shadow_mask = result.frame.shadow_mask.data();
   const PipelineInfo& pipeline = pipeline_info(options.pipeline);
   check_cancel(context.cancel);
-  // The shadow pass runs once, before any pipeline draws; with no light or shadows off it does not
-  // run at all (shadow_ms stays 0).
-  ShadowMaps shadow_maps;
+  // The shadow pass runs at most once, before any pipeline draws, and not at all when the shadow
+  // cache holds this frame's maps; with no light or shadows off it does not run (shadow_ms stays 0).
+  std::shared_ptr<const ShadowMaps> shadow_maps;
   if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps) {
     Stopwatch shadow_clock;
-    shadow_maps = build_shadow_maps(scene, soup, view, options, context.cancel);
+    shadow_maps = obtain_shadow_maps(scene, soup, view, options, context, result.stats);
     result.timings.shadow_ms = shadow_clock.elapsed_ms();
-    if (!shadow_maps.empty()) input.shadows = &shadow_maps;
+    if (!shadow_maps->empty()) input.shadows = shadow_maps.get();
   }
   result.stats.shadow_skipped = input.shadows == nullptr;
+  // Whole objects outside the frustum are skipped before any per-polygon work (timed as traverse).
+  ObjectsInView objects;
+  if (options.pipeline == PipelineKind::zbuffer || options.pipeline == PipelineKind::painter) {
+    Stopwatch cull_clock;
+    objects = objects_in_view(soup, view);
+    input.objects_in_view = &objects.visible;
+    result.stats.objects_culled = objects.culled;
+    result.timings.traverse_ms += cull_clock.elapsed_ms();
+  }
   input.lights_evaluated = &result.stats.lights_evaluated;
   pipeline.draw(input, result.frame, result.stats, result.timings);
   result.timings.total_ms = clock.elapsed_ms();
@@ -117,15 +128,19 @@ std::string timings_json(const StageTimings& t, const RenderStats& s) {
                      {"encode", ms(t.encode_ms)}, {"total", ms(t.total_ms)}};
   j["counts"] = {{"polygons", s.polygons},     {"polygons_culled", s.polygons_culled},
                  {"polygons_drawn", s.polygons_drawn}, {"triangles", s.triangles},
-                 {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated}};
+                 {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated},
+                 {"shadow_passes", s.shadow_passes}, {"objects_culled", s.objects_culled}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
+  j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits) {
     j["painter"] = {{"pairs_tested", s.painter_pairs_tested}, {"splits", s.painter_splits}};
   }
   if (!s.bsp_cache.empty()) {
     j["bsp"] = {{"cache", s.bsp_cache},        {"nodes", s.bsp_nodes},
                 {"depth", s.bsp_depth},        {"input_polygons", s.bsp_input_polygons},
-                {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits}};
+                {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits},
+                {"subtrees_occluded", s.bsp_subtrees_occluded}, {"polygons_occluded", s.bsp_polygons_occluded},
+                {"screen_full", s.bsp_screen_full}};
   }
   return j.dump();
 }

@@ -134,6 +134,14 @@ enum class PainterKey { mean, min, max, newell };
 // PNG encoder (png.hpp): fast (parallel zlib strips), small (stb_image_write, the reference), none.
 enum class PngCompression { fast, small, none };  // one row each in png.cpp's table
 
+// BSP walk (bsp.hpp): front to back with a coverage buffer that skips hidden subtrees (default), or
+// the classic back-to-front walk. Both give the same image; the option exists to compare them.
+enum class BspTraversal { front_to_back, back_to_front };
+
+// What a directional shadow map is fitted to (docs/lighting.md): the receivers the camera sees
+// (sharpest; reused only for the same view) or every receiver of the scene (reused by every camera).
+enum class ShadowFit { view, scene };
+
 struct BspOptions {
   // Splitter score w1*|front - back| + w2*splits + w3*coplanar (lower is better).
   double w1 = 1.0;
@@ -142,6 +150,7 @@ struct BspOptions {
   // Classification band as a fraction of the scene's bounding-box diagonal (docs/scene-format.md).
   double epsilon = 1e-7;
   int max_candidates = 32;  // splitter candidates scored per node when the node holds more polygons
+  BspTraversal traversal = BspTraversal::front_to_back;  // not part of the tree's cache key
 };
 
 struct ShadowOptions {
@@ -149,6 +158,7 @@ struct ShadowOptions {
   int pcf = 1;               // percentage-closer filter kernel: 1 (hard), 3 or 5
   double bias = 0.0;         // extra constant depth bias in texels of depth, added to the default
   double slope_bias = 0.0;   // extra slope-scaled bias, added to the default
+  ShadowFit fit = ShadowFit::view;
 };
 
 struct RenderOptions {

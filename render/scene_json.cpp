@@ -451,20 +451,31 @@ std::string table_names(const Table& table) {
   return names;
 }
 
+// One of `names` (index = enumerator), or an error at the member naming them all.
+template <class Enum, size_t N>
+Enum read_choice(ObjectReader& r, const char* key, Enum fallback, const std::array<std::string_view, N>& names) {
+  const json* value = r.find(key);
+  if (!value) return fallback;
+  for (size_t i = 0; i < N; ++i) {
+    if (value->is_string() && value->get_ref<const std::string&>() == names[i]) return Enum(i);
+  }
+  std::string list;
+  for (std::string_view name : names) list += (list.empty() ? "" : ", ") + std::string(name);
+  throw_invalid(r.at(key), "must be one of: " + list);
+}
+
 constexpr std::array<std::string_view, 4> painter_keys = {"mean", "min", "max", "newell"};
 
 PainterKey read_painter(const json& value, const std::string& pointer) {
   ObjectReader r(value, pointer, {"key"});
-  const json* key = r.find("key");
-  if (!key) return PainterKey::mean;
-  for (size_t i = 0; i < painter_keys.size(); ++i) {
-    if (key->is_string() && key->get_ref<const std::string&>() == painter_keys[i]) return PainterKey(i);
-  }
-  throw_invalid(r.at("key"), "must be one of: mean, min, max, newell");
+  return read_choice(r, "key", PainterKey::mean, painter_keys);
 }
 
+constexpr std::array<std::string_view, 2> bsp_traversals = {"front_to_back", "back_to_front"};
+constexpr std::array<std::string_view, 2> shadow_fits = {"view", "scene"};
+
 BspOptions read_bsp(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"w1", "w2", "w3", "epsilon", "max_candidates"});
+  ObjectReader r(value, pointer, {"w1", "w2", "w3", "epsilon", "max_candidates", "traversal"});
   BspOptions o;
   const NumberRange weight{-1e6, 1e6};
   o.w1 = r.number("w1", o.w1, weight);
@@ -472,11 +483,12 @@ BspOptions read_bsp(const json& value, const std::string& pointer) {
   o.w3 = r.number("w3", o.w3, weight);
   o.epsilon = r.number("epsilon", o.epsilon, NumberRange{0.0, 1e-2});
   o.max_candidates = int(r.integer("max_candidates", o.max_candidates, NumberRange{1.0, 4096.0}));
+  o.traversal = read_choice(r, "traversal", o.traversal, bsp_traversals);
   return o;
 }
 
 ShadowOptions read_shadow(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"size", "pcf", "bias", "slope_bias"});
+  ObjectReader r(value, pointer, {"size", "pcf", "bias", "slope_bias", "fit"});
   ShadowOptions o;
   NumberRange size{64.0, 4096.0};
   size.kind_above = Kind::too_large;
@@ -485,6 +497,7 @@ ShadowOptions read_shadow(const json& value, const std::string& pointer) {
   if (o.pcf % 2 == 0) throw_invalid(r.at("pcf"), "must be 1, 3 or 5");
   o.bias = r.number("bias", o.bias, NumberRange{-100.0, 100.0});
   o.slope_bias = r.number("slope_bias", o.slope_bias, NumberRange{-100.0, 100.0});
+  o.fit = read_choice(r, "fit", o.fit, shadow_fits);
   return o;
 }
 

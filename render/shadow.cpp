@@ -81,6 +81,27 @@ Receivers collect_receivers(const PolygonSoup& soup, const ViewTransform& view, 
   return out;
 }
 
+// Every receiver any camera could see, for maps that serve all cameras: each polygon whole, a closed
+// object's polygon on its front side, an open surface on both sides. Whatever a camera's
+// collect_receivers keeps is part of one of these (a clipped piece, on one of its sides), so a map
+// fitted to them covers every view, and their casters include every view's casters.
+Receivers collect_scene_receivers(const PolygonSoup& soup, const CancelToken* cancel) {
+  Receivers out;
+  for (size_t i = 0; i < soup.polygons.size(); ++i) {
+    if ((i & 4095) == 4095) check_cancel(cancel);
+    const Polygon& p = soup.polygons[i];
+    const bool open_surface = !(p.flags & polygon_closed);
+    for (double side : {1.0, -1.0}) {
+      if (side < 0.0 && !open_surface) break;
+      for (const Vec3& v : soup.points(p)) out.points.push_back(v);
+      out.begin.push_back(uint32_t(out.points.size()));
+      out.normal.push_back(side * p.normal);
+      out.offset.push_back(side * p.offset);
+    }
+  }
+  return out;
+}
+
 struct Box {
   Vec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
   void add(Vec3 p) { lo = glm::min(lo, p), hi = glm::max(hi, p); }
@@ -325,7 +346,8 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
   out.slope_bias = shadow_default_slope_bias + options.shadow.slope_bias;
   out.slot_of_light.assign(scene.lights.size(), -1);
   if (scene.lights.empty()) return out;
-  const Receivers rec = collect_receivers(soup, view, cancel);
+  const Receivers rec = options.shadow.fit == ShadowFit::scene ? collect_scene_receivers(soup, cancel)
+                                                              : collect_receivers(soup, view, cancel);
   std::vector<LightPlan> plans;
   size_t map_count = 0;
   for (size_t i = 0; i < scene.lights.size(); ++i) {
@@ -360,12 +382,23 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
     }
     if (std::none_of(sl.map.begin(), sl.map.end(), [](int32_t m) { return m >= 0; })) continue;
     for (int32_t m : sl.map) {
-      if (m >= 0) summarize_blocks(out.maps[size_t(m)]);
+      if (m < 0) continue;
+      summarize_blocks(out.maps[size_t(m)]);
+      out.maps[size_t(m)].nearness.shrink();
     }
     out.slot_of_light[sl.light] = int32_t(out.lights.size());
     out.lights.push_back(sl);
   }
   return out;
+}
+
+size_t ShadowMaps::bytes() const {
+  size_t total = sizeof(ShadowMaps) + slot_of_light.capacity() * sizeof(int32_t) +
+                 lights.capacity() * sizeof(ShadowLight) + maps.capacity() * sizeof(ShadowMap);
+  for (const ShadowMap& m : maps) {
+    total += m.nearness.bytes() + (m.block_min.capacity() + m.block_max.capacity()) * sizeof(float);
+  }
+  return total;
 }
 
 // --- lookups ---------------------------------------------------------------------------------------

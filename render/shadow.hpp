@@ -60,6 +60,10 @@ class TexelStore {
     return pool_[size_t(page - 1) * page_texels + offset(u, v)];
   }
   size_t pages_per_row() const { return pages_per_row_; }
+  // Gives back the capacity reserved for pages never written (once drawing is over), so a map kept
+  // in the shadow cache holds, and is charged for, its written pages only.
+  void shrink() { pool_.shrink_to_fit(); }
+  size_t bytes() const { return pages_.capacity() * sizeof(uint32_t) + pool_.capacity() * sizeof(float); }
   // The 16 tiles of 64 texels of page (row, column), tile (ty, tx) at [(ty * 4 + tx) * 64];
   // null when the page was never written.
   const float* page(size_t row, size_t column) const {
@@ -111,6 +115,7 @@ struct ShadowMaps {
   std::vector<ShadowLight> lights;     // the lights that have at least one map
   std::vector<ShadowMap> maps;
   bool empty() const { return lights.empty(); }
+  size_t bytes() const;  // what the maps cost against the shadow cache's budget
 };
 
 // The side of a polygon the shader lights: its front, or for an open surface (not part of a closed
@@ -128,7 +133,9 @@ inline bool light_reaches(const Light& light, Vec3 lit_normal, double lit_offset
 }
 
 // The shadow pass. Returns empty maps (nothing to look up) when no light can cast a shadow onto a
-// receiver the camera sees. Checks `cancel` every few thousand polygons.
+// receiver the camera sees. Checks `cancel` every few thousand polygons. With options.shadow.fit
+// == scene the receivers are every polygon of the scene, on each side a camera could see lit, and
+// `view` is not read: the maps serve every camera (the shadow cache relies on it).
 ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const ViewTransform& view,
                              const RenderOptions& options, const CancelToken* cancel = nullptr);
 

@@ -32,7 +32,7 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   std::vector<uint32_t> opaque, translucent;
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
     const Polygon& poly = soup.polygons[i];
-    if (is_back_facing(poly, input.view.eye)) continue;
+    if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly)) continue;
     shader.prepare(i);
     (poly.flags & polygon_translucent ? translucent : opaque).push_back(i);
   }

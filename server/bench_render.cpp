@@ -14,12 +14,14 @@ BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, 
   // The cache lives for this run only; with run.bsp_cache the warm-up frames fill it as the first
   // request for a scene fills the service's.
   BspCache bsp_cache(size_t{1} << 30);
+  ShadowCache shadow_cache(size_t{1} << 30);
   RenderContext context;
   context.threads = run.threads;
-  if (run.bsp_cache) {
+  if (run.bsp_cache) context.bsp_cache = &bsp_cache;
+  if (run.shadow_cache && request.options.shadows) context.shadow_cache = &shadow_cache;
+  if (context.bsp_cache || context.shadow_cache) {
     // The cache key. Hashing the canonical JSON takes seconds for a 10^6-polygon scene, so it is
-    // computed only when a cache needs it (the pipelines compute it themselves if they must).
-    context.bsp_cache = &bsp_cache;
+    // computed only when a cache needs it, and once, not per frame.
     context.scene_id = scene_id(request.scene.geometry);
   }
   for (int i = 0; i < run.warmup; ++i) {
@@ -59,6 +61,7 @@ nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchR
   j["warmup"] = run.warmup;
   j["bsp_cache"] = run.bsp_cache;
   j["threads"] = run.threads;
+  j["shadow_cache"] = run.shadow_cache;
   j["frame_ms_min"] = ms(*std::min_element(report.frame_ms.begin(), report.frame_ms.end()));
   j["frame_ms_median"] = ms(median_of(report.frame_ms));
   j["frame_ms_max"] = ms(*std::max_element(report.frame_ms.begin(), report.frame_ms.end()));

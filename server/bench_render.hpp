@@ -19,6 +19,10 @@ struct BenchRun {
   // cache as the service keeps, filled by the warm-up frames, so timed frames measure a cache hit.
   bool bsp_cache = false;
   unsigned threads = 1;  // RenderContext::threads
+  // true: a shadow cache as the service keeps, so the first frame (a warm-up one) runs the shadow
+  // pass and the timed frames reuse its maps (shadow ~0 ms); false: every frame runs the pass, as a
+  // renderer without a cache (the llvmpipe peer) does.
+  bool shadow_cache = true;
 };
 
 struct BenchReport {

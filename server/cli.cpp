@@ -48,8 +48,8 @@ constexpr const char* serve_synopsis =
 constexpr const char* bench_synopsis =
     "roomrender bench-render (--request FILE | --obj FILE) [--eye x,y,z] [--target x,y,z] [--up x,y,z]\n"
     "                 [--fovy DEG] [--near N] [--far F] [--size WxH] [--light-dir x,y,z] [--pipeline NAME]\n"
-    "                 [--shading NAME] [--shadows true|false] [--bsp-cache on|off] [--frames K] [--warmup N] [--threads N]\n"
-    "                 [--out FILE.png] [--ids FILE]\n"
+    "                 [--shading NAME] [--shadows true|false] [--bsp-cache on|off] [--shadow-cache on|off]\n"
+    "                 [--frames K] [--warmup N] [--threads N] [--out FILE.png] [--ids FILE]\n"
     "  roomrender bench-render --list";
 constexpr const char* compare_synopsis = "roomrender compare REFERENCE.ids TEST.ids | roomrender compare REFERENCE.png TEST.png";
 
@@ -475,7 +475,7 @@ int run_bench_render(std::span<const std::string> argv) {
   try {
     args = parse_args(argv, {"--request", "--obj", "--eye", "--target", "--up", "--fovy", "--near", "--far",
                              "--size", "--light-dir", "--pipeline", "--shading", "--shadows", "--bsp-cache",
-                             "--frames", "--warmup", "--out", "--ids", "--threads"});
+                             "--shadow-cache", "--frames", "--warmup", "--out", "--ids", "--threads"});
     if (args.help) return std::printf("usage: %s\n", bench_synopsis), 0;
     if (!args.positional.empty()) throw UsageError("unexpected argument " + args.positional[0]);
     if (flag(args, "--request").has_value() == flag(args, "--obj").has_value()) {
@@ -486,6 +486,9 @@ int run_bench_render(std::span<const std::string> argv) {
     run.threads = std::max(1u, std::thread::hardware_concurrency());
     if (auto v = flag(args, "--threads")) run.threads = unsigned(parse_int(*v, "--threads", 1, 64));
     if (auto v = flag(args, "--bsp-cache")) run.bsp_cache = parse_switch_flag(*v, "--bsp-cache", "on", "off");
+    if (auto v = flag(args, "--shadow-cache")) {
+      run.shadow_cache = parse_switch_flag(*v, "--shadow-cache", "on", "off");
+    }
     overrides = bench_overrides(args);
   } catch (const UsageError& e) {
     return usage_failure(bench_synopsis, e.what());

@@ -26,6 +26,7 @@ ServiceState::ServiceState(const ServerConfig& c)
     : config(c),
       gate(render_workers(c), render_queue_length(c)),
       bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
+      shadow_cache(c.shadow_cache_bytes),
       scenes({c.scene_store_entries, c.scene_store_bytes, c.data_dir, c.limits},
              [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }) {}
 

@@ -33,8 +33,9 @@ using Clock = std::chrono::steady_clock;
 
 // Headers a handler may have set for a success that must not survive into an error answer (an
 // immutable Cache-Control on a 422 would pin the error in caches for a year).
-constexpr const char* success_headers[] = {"Server-Timing", "X-Scene-Id", "X-Cache", "ETag",
-                                           "X-Warning-Count", "Cache-Control", "Location", "Vary"};
+constexpr const char* success_headers[] = {"Server-Timing", "X-Scene-Id",      "X-Cache",       "X-Shadow-Cache",
+                                           "ETag",          "X-Warning-Count", "Cache-Control", "Location",
+                                           "Vary"};
 
 void send_problem(Response& res, const Problem& problem) {
   for (const char* name : success_headers) res.headers.erase(name);
@@ -325,6 +326,7 @@ std::string config_json(const ServerConfig& c) {
       {"max_floor_cells", l.max_floor_cells}, {"max_abs_coordinate", l.max_abs_coordinate},
       {"max_far_over_near", l.max_far_over_near},
       {"bsp_cache_bytes", c.bsp_cache_bytes}, {"bsp_cache_entries", c.bsp_cache_entries},
+      {"shadow_cache_bytes", c.shadow_cache_bytes},
       {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
       {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
       {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},

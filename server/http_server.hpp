@@ -43,6 +43,7 @@ struct ServerConfig {
   ParseLimits limits;                  // JSON depth, image size, polygons, ... (render/scene_json.hpp)
   size_t bsp_cache_bytes = 256u << 20;
   size_t bsp_cache_entries = 1024;
+  size_t shadow_cache_bytes = 256u << 20;  // shadow maps of static scenes (render/shadow_cache.hpp)
   size_t scene_store_bytes = 256u << 20;
   size_t scene_store_entries = 1000;
   int read_timeout_s = 5;

@@ -85,6 +85,7 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   header(out, "roomrender_cache_budget_bytes", "gauge", "Byte budget.");
   header(out, "roomrender_cache_entries", "gauge", "Entries held.");
   cache_samples(out, "bsp", snap.bsp_cache);
+  cache_samples(out, "shadow", snap.shadow_cache);
   cache_samples(out, "scenes", snap.scene_store);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);

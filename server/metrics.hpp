@@ -30,6 +30,7 @@ struct Histogram {
 struct MetricsSnapshot {
   GateLoad gate;
   CacheStats bsp_cache;
+  CacheStats shadow_cache;
   CacheStats scene_store;
   double resident_bytes = 0.0;  // this process's RSS, from /proc/self/statm
   std::string version;

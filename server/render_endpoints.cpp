@@ -82,7 +82,7 @@ json warnings_json(const std::vector<PlacementWarning>& warnings) {
 void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match, const FramePlan& plan,
                      const CancelToken& token, Stopwatch& total) {
   check_cancel(&token);
-  RenderContext context{&state.bsp_cache, &token, plan.static_id};
+  RenderContext context{&state.bsp_cache, &token, plan.static_id, &state.shadow_cache};
   context.threads = render_threads(state.config);  // the server's setting, never the request's
   RenderResult result = render_frame(plan.scene, plan.soup, plan.view.camera, plan.view.options, context);
   Stopwatch clock;
@@ -102,6 +102,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
 
   res.set_header("Server-Timing", server_timing(stages));
   if (!result.stats.bsp_cache.empty()) res.set_header("X-Cache", result.stats.bsp_cache);
+  res.set_header("X-Shadow-Cache", result.stats.shadow_cache);
   res.set_header("X-Warning-Count", std::to_string(plan.warnings.size()));
   if (match.media_type == "application/json") {
     auto body = nlohmann::ordered_json::parse(timings_json(result.timings, result.stats));
@@ -213,10 +214,12 @@ constexpr QueryParam query_params[] = {
     {"bsp_w3", "/options/bsp/w3", ParamKind::number},
     {"bsp_epsilon", "/options/bsp/epsilon", ParamKind::number},
     {"bsp_max_candidates", "/options/bsp/max_candidates", ParamKind::integer},
+    {"bsp_traversal", "/options/bsp/traversal", ParamKind::text},
     {"shadow_size", "/options/shadow/size", ParamKind::integer},
     {"shadow_pcf", "/options/shadow/pcf", ParamKind::integer},
     {"shadow_bias", "/options/shadow/bias", ParamKind::number},
     {"shadow_slope_bias", "/options/shadow/slope_bias", ParamKind::number},
+    {"shadow_fit", "/options/shadow/fit", ParamKind::text},
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {

@@ -37,6 +37,7 @@ struct ServiceState {
   const ServerConfig config;
   RenderGate gate;
   BspCache bsp_cache;
+  ShadowCache shadow_cache;
   SceneStore scenes;
   Metrics metrics;
   std::atomic<bool> draining{false};

@@ -76,6 +76,8 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.bsp_cache_bytes = size_t(parse_integer(v, s, 0, big)); }},
   {"--bsp-cache-entries", "most BSP trees cached (default 1024)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.bsp_cache_entries = size_t(parse_integer(v, s, 0, big)); }},
+  {"--shadow-cache-bytes", "shadow map cache budget (default 268435456; 0 keeps none)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.shadow_cache_bytes = size_t(parse_integer(v, s, 0, big)); }},
   {"--scene-store-bytes", "stored scenes budget (default 268435456)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.scene_store_bytes = size_t(parse_integer(v, s, 0, big)); }},
   {"--scene-store-entries", "most stored scenes (default 1000)",

@@ -169,10 +169,38 @@ TEST_F(ApiTest, XCacheMissThenHitForTheBspPipeline) {
   EXPECT_GE(server_->metric("roomrender_cache_hits_total", {"cache=\"bsp\""}), 1.0);
 }
 
+// Shadow maps fitted to the whole scene serve every camera: the second view reuses the first's maps
+// (no shadow pass), and the outcome is a header, a JSON member and a /metrics series like the BSP's.
+TEST_F(ApiTest, XShadowCacheMissThenHitForASceneFittedMap) {
+  json request = json::parse(small_request);
+  request["options"]["shadows"] = true;
+  request["options"]["shadow"] = {{"fit", "scene"}, {"size", 256}};
+  request["scene"]["solids"][0]["center"] = {1.5, 1.5};  // on the floor, casting onto it; no other test uses it
+  auto first = post_json("/v1/render", request.dump());
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 200) << first->body;
+  EXPECT_EQ(first->get_header_value("X-Shadow-Cache"), "miss");
+  request["camera"]["position"] = {-3, 2, 4};
+  auto second = post_json("/v1/render", request.dump(), "application/json");
+  ASSERT_TRUE(second);
+  ASSERT_EQ(second->status, 200) << second->body;
+  EXPECT_EQ(second->get_header_value("X-Shadow-Cache"), "hit");
+  json body = json::parse(second->body);
+  EXPECT_EQ(body["shadow_cache"], "hit");
+  EXPECT_EQ(body["counts"]["shadow_passes"], 0);
+  EXPECT_EQ(body["shadow"], "rendered") << "the reused maps are looked up";
+  EXPECT_GE(server_->metric("roomrender_cache_hits_total", {"cache=\"shadow\""}), 1.0);
+  request["options"]["shadows"] = false;
+  auto none = post_json("/v1/render", request.dump());
+  ASSERT_TRUE(none);
+  EXPECT_EQ(none->get_header_value("X-Shadow-Cache"), "none");
+}
+
 TEST_F(ApiTest, CachesAreExportedWithTheirBudgets) {
   rr::server::ServerConfig config = server_->service().config();
   EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"bsp\""}), double(config.bsp_cache_bytes));
   EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"scenes\""}), double(config.scene_store_bytes));
+  EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"shadow\""}), double(config.shadow_cache_bytes));
   EXPECT_GE(server_->metric("roomrender_cache_bytes", {"cache=\"bsp\""}), 0.0);
 }
 
