@@ -63,7 +63,10 @@ def aggregate(runs):
         # PSNR of identical images is infinite; the mean then uses the finite ones only, marked "+".
         q["psnr_db"] = mean([v for v in p["psnr_db"] if v is not None and math.isfinite(v)])
         out.append(q)
-    return sorted(out, key=lambda q: q["ms"])
+    out.sort(key=lambda q: q["ms"])
+    for i, q in enumerate(out):
+        q["number"] = i + 1  # the point's label in the plots and its row in the table
+    return out
 
 
 def pareto(points, key):
@@ -79,7 +82,7 @@ def pareto(points, key):
 def svg_scatter(path, title, points, key, y_label, reference_ms=None):
     """Run time (x, log) against an error (y, linear from 0); the Pareto front drawn as a step line and
     its points ringed; each point labelled with its config. reference_ms: the reference's own time."""
-    w, h, left, right, top, bottom = 900, 520, 80, 190, 40, 50
+    w, h, left, right, top, bottom = 980, 560, 80, 270, 40, 50
     pts = [p for p in points if p[key] is not None and p["ms"]]
     if not pts:
         return False
@@ -120,19 +123,26 @@ def svg_scatter(path, title, points, key, y_label, reference_ms=None):
                    % (sx(reference_ms), top, sx(reference_ms), h - bottom))
         out.append('<text x="%.1f" y="%d" font-size="10">reference %.3g ms</text>'
                    % (sx(reference_ms) + 3, top + 12, reference_ms))
-    for p in pts:
+    placed = []  # label boxes so far: a label that would overlap one moves up a line
+    for p in sorted(pts, key=lambda p: (p["ms"], -p[key])):
         x, y = sx(p["ms"]), sy(p[key])
         if p in front:
             out.append('<circle cx="%.1f" cy="%.1f" r="7" fill="none" stroke="#f0a000" stroke-width="2"/>' % (x, y))
         out.append('<circle cx="%.1f" cy="%.1f" r="3.5" fill="%s"/>' % (x, y, COLOURS[p["family"]]))
-        out.append('<text x="%.1f" y="%.1f" font-size="9" fill="#333" transform="rotate(-20 %.1f %.1f)">%s</text>'
-                   % (x + 5, y - 4, x + 5, y - 4, _xml(p["config"])))
+        lx_, ly_ = x + 5, y - 5
+        while any(abs(lx_ - a) < 14 and abs(ly_ - b) < 10 for a, b in placed):
+            ly_ -= 10
+        placed.append((lx_, ly_))
+        out.append('<text x="%.1f" y="%.1f" font-size="9" fill="#333">%d</text>' % (lx_, ly_, p["number"]))
     legend = [(f, c) for f, c in COLOURS.items() if f != "reference" and any(p["family"] == f for p in pts)]
     legend.append(("Pareto front", "#f0a000"))
     for i, (name, colour) in enumerate(legend):
-        y = top + 14 + 18 * i
+        y = top + 14 + 16 * i
         out.append('<circle cx="%d" cy="%d" r="4" fill="%s"/>' % (w - right + 18, y - 4, colour))
         out.append('<text x="%d" y="%d">%s</text>' % (w - right + 28, y, name if name != "shading" else "zbuffer shading/shadows"))
+    for i, p in enumerate(sorted(points, key=lambda p: p["number"])):
+        out.append('<text x="%d" y="%d" font-size="9">%d %s</text>'
+                   % (w - right + 12, top + 30 + 16 * len(legend) + 11 * i, p["number"], _xml(p["config"])))
     out.append("</svg>")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
@@ -190,12 +200,12 @@ def class_section(results, cls, title, svg_dir, doc_dir):
     L = ["### %s" % title, "", "Scenes (%d): %s." % (len(scenes), ", ".join("`%s`" % s["name"] for s in scenes)), ""]
     vis_front = {p["config"] for p in pareto(points, "visibility_non_edge")}
     rmse_front = {p["config"] for p in pareto(points, "rmse")}
-    L += ["| config | frame ms | BSP build ms | visibility error, all | visibility error, non-edge | RMSE | PSNR dB | "
-          "shadow disagreement | Pareto (vis / shading) | scenes |", "|---|---:|---:|---:|---:|---:|---:|---:|---|---:|"]
+    L += ["| # | config | frame ms | BSP build ms | visibility error, all | visibility error, non-edge | RMSE | PSNR dB | "
+          "shadow disagreement | Pareto (vis / shading) | scenes |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---:|"]
     for p in points:
         marks = ("V" if p["config"] in vis_front else "") + ("S" if p["config"] in rmse_front else "")
-        L.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %d |" % (
-            p["config"], num(p["ms"]), num(p["build_ms"], "%.1f"), pct(p["visibility_all"]),
+        L.append("| %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d |" % (
+            p["number"], p["config"], num(p["ms"]), num(p["build_ms"], "%.1f"), pct(p["visibility_all"]),
             pct(p["visibility_non_edge"]), num(p["rmse"]), num(p["psnr_db"], "%.1f"),
             pct(p["shadow_disagreement"]), marks or "", p["scenes"]))
     L.append("")
@@ -234,7 +244,7 @@ def header(results, commit):
          "in `bench/results/accuracy.json` and `.csv`. Do not edit this section by hand.", "",
          "- run: %s, commit `%s`; %d×%d pixels" % (results["date"], commit, results["width"], results["height"]),
          "- machine: %s, `nproc` %s; load average at the start %s, at the end %s (shared by several engineers: "
-         "absolute times drift, compare within one run)" % (a["cpu"], a["nproc"], a["loadavg"], b["loadavg"]),
+         "absolute times drift, compare within one run)" % (a["cpu"], a["nproc"], " ".join(a["loadavg"].split()[:3]), " ".join(b["loadavg"].split()[:3])),
          "- run time: wall clock of `render_frame` (parsing, import and tessellation excluded), the median of up to "
          "%d frames after one warm-up frame (3 frames when a frame takes over 250 ms, 1 over 1 s). The BSP tree is "
          "built on the warm-up frame (**BSP build ms**, a cache miss) and the timed frames reuse it from the cache, "
