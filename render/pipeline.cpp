@@ -7,6 +7,7 @@
 #include "render/painter.hpp"
 #include "render/scene_json.hpp"
 #include "render/png.hpp"
+#include "render/reference.hpp"
 #include "render/shadow.hpp"
 #include "render/timer.hpp"
 #include "render/zbuffer.hpp"
@@ -19,7 +20,7 @@
 namespace rr {
 
 namespace {
-constexpr std::array<PipelineInfo, 3> pipelines = {{
+constexpr std::array<PipelineInfo, 4> pipelines = {{
     {PipelineKind::zbuffer, "zbuffer",
      "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
      draw_zbuffer},
@@ -31,6 +32,10 @@ constexpr std::array<PipelineInfo, 3> pipelines = {{
      "A BSP tree of the static scene (built once, cached by scene id), walked back to front for the "
      "camera with frustum and back-face culling; no depth buffer.",
      draw_bsp},
+    {PipelineKind::reference, "reference",
+     "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
+     "with exact shadow rays; the ground truth the others are measured against (slow).",
+     draw_reference, false},
 }};
 }  // namespace
 
@@ -57,14 +62,17 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   RenderResult result;
   result.frame.image = Image(options.width, options.height, scene.background);
   result.frame.ids = IdBuffer(options.width, options.height);
+  if (context.shadow_mask) result.frame.shadow_mask.assign(result.frame.ids.ids.size(), 0);
   result.stats.polygons = soup.polygons.size();
   ViewTransform view = make_view(camera, options.width, options.height);
   FrameInput input{scene, soup, view, options, context};
+  if (context.shadow_mask) input.shadow_mask = result.frame.shadow_mask.data();
+  const PipelineInfo& pipeline = pipeline_info(options.pipeline);
   check_cancel(context.cancel);
   // The shadow pass runs once, before any pipeline draws; with no light or shadows off it does not
   // run at all (shadow_ms stays 0).
   ShadowMaps shadow_maps;
-  if (options.shadows && !scene.lights.empty()) {
+  if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps) {
     Stopwatch shadow_clock;
     shadow_maps = build_shadow_maps(scene, soup, view, options, context.cancel);
     result.timings.shadow_ms = shadow_clock.elapsed_ms();
@@ -72,7 +80,7 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   }
   result.stats.shadow_skipped = input.shadows == nullptr;
   input.lights_evaluated = &result.stats.lights_evaluated;
-  pipeline_info(options.pipeline).draw(input, result.frame, result.stats, result.timings);
+  pipeline.draw(input, result.frame, result.stats, result.timings);
   result.timings.total_ms = clock.elapsed_ms();
   return result;
 }

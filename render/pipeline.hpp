@@ -53,6 +53,10 @@ struct RenderStats {
 struct Frame {
   Image image;   // RGB8
   IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
+  // Only when RenderContext::shadow_mask asked for it (else empty): per pixel, bit l is set when
+  // scene light l (l < 8) reaches the visible surface there: the light is on its lit side and,
+  // with shadows on, the shadow lookup (visibility >= 0.5) or shadow ray finds it unblocked.
+  std::vector<uint8_t> shadow_mask = {};
 };
 
 struct BspTree;  // bsp.hpp: a tree of one static scene for one set of BSP options
@@ -64,6 +68,7 @@ struct RenderContext {
   BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
   const CancelToken* cancel = nullptr;   // null: never cancelled
   std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
+  bool shadow_mask = false;              // fill Frame::shadow_mask (error measures); off: no cost
 };
 
 struct FrameInput {
@@ -74,6 +79,7 @@ struct FrameInput {
   const RenderContext& context;
   const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
   size_t* lights_evaluated = nullptr;   // SurfaceShader adds its light evaluations here
+  uint8_t* shadow_mask = nullptr;       // Frame::shadow_mask's pixels when requested, else null
 };
 
 using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats,
@@ -84,6 +90,7 @@ struct PipelineInfo {
   const char* name;
   const char* summary;
   PipelineFn draw;
+  bool shadow_maps = true;  // render_frame runs the shadow-map pass for it (when shadows are on)
 };
 
 std::span<const PipelineInfo> pipeline_table();

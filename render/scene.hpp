@@ -124,7 +124,7 @@ struct Camera {
   double far = 100.0;
 };
 
-enum class PipelineKind { zbuffer, painter, bsp };  // one row each in pipeline.cpp's table
+enum class PipelineKind { zbuffer, painter, bsp, reference };  // one row each in pipeline.cpp's table
 enum class ShadingMode { flat, gouraud, phong };    // one row each in shading.cpp's table
 
 // Painter's sort key: mean / min (nearest vertex) / max view depth, or newell (mean order refined by

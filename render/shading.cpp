@@ -86,7 +86,8 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
       mode_(input.options.shading),
       slots_(maps_ ? maps_->lights.size() : 0),
       term_begin_(mode_ == ShadingMode::phong ? 0 : soup.polygons.size(), 0),
-      slot_sums_(slots_) {}
+      slot_sums_(slots_),
+      mask_(input.shadow_mask) {}
 
 SurfaceShader::~SurfaceShader() {
   if (input_.lights_evaluated) *input_.lights_evaluated += evaluated_ + evaluated_per_pixel_;

@@ -57,7 +57,10 @@ class SurfaceShader {
 
   void prepare(uint32_t index);
   void bind(uint32_t index, const DrawScratch& scratch);
-  Color fragment(const Fragment& f, size_t k) const { return constant_ ? current_ : shade_pixel(f, k); }
+  Color fragment(const Fragment& f, size_t k) const {
+    if (mask_) [[unlikely]] write_mask(f, k);
+    return constant_ ? current_ : shade_pixel(f, k);
+  }
 
  private:
   // A light that reaches the bound polygon, in floats for the per-pixel loop.
@@ -78,6 +81,7 @@ class SurfaceShader {
   };
 
   Color shade_pixel(const Fragment& f, size_t k) const;
+  void write_mask(const Fragment& f, size_t k) const;
   float visibility(size_t s, const Fragment& f, size_t k) const;
   Color shade_phong(const Fragment& f, size_t k) const;
   void collect_reaching(const Polygon& source);
@@ -108,6 +112,10 @@ class SurfaceShader {
   std::vector<glm::vec3> eye_to_p_, normal_;  // Phong: per clipped vertex
   size_t evaluated_ = 0;
   mutable size_t evaluated_per_pixel_ = 0;
+  // Frame::shadow_mask (null when not requested): the bound polygon's lights l < 8 that reach it,
+  // as (bit, index into shadowed_ or -1).
+  uint8_t* mask_ = nullptr;
+  std::vector<std::pair<uint8_t, int32_t>> mask_lights_;
 };
 
 }  // namespace rr

@@ -21,6 +21,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   sign_ = lit_side(poly, eye);
   active_.clear();
   shadowed_.clear();
+  mask_lights_.clear();
   const auto& lights = input_.scene.lights;
   for (uint32_t l = 0; l < lights.size(); ++l) {
     const Light& light = lights[l];
@@ -32,6 +33,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
       shadowed_.push_back({&sl, make_shadow_receiver(*maps_, sl, poly.normal, poly.offset), slot});
       a.shadow = int32_t(shadowed_.size() - 1);
     }
+    if (mask_ && l < 8) mask_lights_.push_back({uint8_t(1u << l), a.shadow});
     if (mode_ != ShadingMode::phong) continue;
     const glm::vec3 radiance = light.color * light.intensity;
     a.point = light.type == LightType::point;
@@ -107,6 +109,15 @@ float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {
   const size_t n = shadowed_.size();
   const Vec3 coords = f.b[0] * coords_[s] + f.b[1] * coords_[(k + 1) * n + s] + f.b[2] * coords_[(k + 2) * n + s];
   return shadow_visibility(*maps_, *shadowed_[s].light, shadowed_[s].receiver, coords);
+}
+
+// A light counts as reaching the pixel when at least half of its PCF taps see it.
+void SurfaceShader::write_mask(const Fragment& f, size_t k) const {
+  uint8_t bits = 0;
+  for (const auto& [bit, shadow] : mask_lights_) {
+    if (shadow < 0 || visibility(size_t(shadow), f, k) >= 0.5f) bits = uint8_t(bits | bit);
+  }
+  mask_[size_t(f.y) * size_t(input_.view.width) + size_t(f.x)] = bits;
 }
 
 Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {

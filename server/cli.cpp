@@ -3,6 +3,7 @@
 // request's "options" before validation, so they are checked exactly like values in the file.
 #include "server/cli.hpp"
 
+#include "render/error_metrics.hpp"
 #include "render/errors.hpp"
 #include "render/pipeline.hpp"
 #include "render/scene_json.hpp"
@@ -49,6 +50,7 @@ constexpr const char* bench_synopsis =
     "                 [--shading NAME] [--shadows true|false] [--bsp-cache on|off] [--frames K] [--warmup N]\n"
     "                 [--out FILE.png] [--ids FILE]\n"
     "  roomrender bench-render --list";
+constexpr const char* compare_synopsis = "roomrender compare REFERENCE.ids TEST.ids | roomrender compare REFERENCE.png TEST.png";
 
 struct ParsedArgs {
   std::vector<std::string> positional;
@@ -202,7 +204,7 @@ std::string_view version() { return ROOMRENDER_VERSION; }
 std::string usage_text() {
   return std::string("roomrender ") + ROOMRENDER_VERSION + ": a CPU room renderer served over HTTP\n\nusage:\n  " +
          render_synopsis + "\n  " + import_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis +
-         "\n  " + bench_synopsis +
+         "\n  " + bench_synopsis + "\n  " + compare_synopsis +
          "\n  roomrender help | --help\n  roomrender --version\n\n"
          "REQUEST.json may be '-' for stdin. render prints one JSON line of timings (ms) and counts;\n"
          "errors are one JSON line on stderr: {\"error\": ..., \"pointer\": ...}. Exit codes: 0 ok,\n"
@@ -238,6 +240,45 @@ int run_render(std::span<const std::string> argv) {
     line["width"] = out.result.frame.image.width;
     line["height"] = out.result.frame.image.height;
     print_json_line(stdout, line);
+  });
+}
+
+// Both files are id buffers or both PNGs (told apart by the PNG signature); the first is the
+// reference. Prints error_measures_json: visibility for id buffers, shading for PNGs.
+int run_compare(std::span<const std::string> argv) {
+  ParsedArgs args;
+  try {
+    args = parse_args(argv, {});
+    if (args.help) return std::printf("usage: %s\n", compare_synopsis), 0;
+    if (args.positional.size() != 2) throw UsageError("expected two files: the reference, then the one to measure");
+  } catch (const UsageError& e) {
+    return usage_failure(compare_synopsis, e.what());
+  }
+  return run_reporting_errors([&] {
+    const std::string a = read_input(args.positional[0]), b = read_input(args.positional[1]);
+    auto is_png = [](const std::string& bytes) { return bytes.starts_with("\x89PNG\r\n\x1a\n"); };
+    if (is_png(a) != is_png(b)) {
+      throw std::runtime_error(args.positional[is_png(a) ? 0 : 1] + " is a PNG but " + args.positional[is_png(a) ? 1 : 0] +
+                               " is not: compare two id buffers or two PNGs");
+    }
+    auto decode = [&](const std::string& bytes, size_t k, auto&& fn) {
+      try {
+        return fn(bytes);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(args.positional[k] + ": " + e.what());
+      }
+    };
+    ErrorMeasures m;
+    if (is_png(a)) {
+      const Image ra = decode(a, 0, decode_png), rb = decode(b, 1, decode_png);
+      m.width = ra.width, m.height = ra.height;
+      m.shading = shading_error(ra, rb);
+    } else {
+      const IdBuffer ra = decode(a, 0, decode_id_buffer), rb = decode(b, 1, decode_id_buffer);
+      m.width = ra.width, m.height = ra.height;
+      m.visibility = visibility_error(ra, rb);
+    }
+    print_json_line(stdout, nlohmann::ordered_json::parse(error_measures_json(m)));
   });
 }
 

@@ -20,6 +20,9 @@ std::string_view version();
 std::string usage_text();  // every subcommand with its options, for `roomrender help`
 
 int run_render(std::span<const std::string> args);
+// compare REFERENCE TEST: two id buffers (visibility error) or two PNGs (RMSE, PSNR) -> one JSON
+// line of error measures (render/error_metrics.hpp); sizes must match.
+int run_compare(std::span<const std::string> args);
 int run_export(std::span<const std::string> args);
 int run_import(std::span<const std::string> args);  // FILE -> request JSON on stdout
 int run_serve(std::span<const std::string> args);  // server/serve_command.cpp

@@ -20,6 +20,7 @@ constexpr Command commands[] = {
     {"import", rr::server::run_import},
     {"serve", rr::server::run_serve},
     {"bench-render", rr::server::run_bench_render},
+    {"compare", rr::server::run_compare},
 };
 
 int dispatch(const std::vector<std::string>& args) {

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdlib>
 #include <cstring>
@@ -286,3 +287,56 @@ TEST(Cli, ServeConfigReadsVariablesButFlagsWin) {
 }
 
 }  // namespace
+
+// compare: the reference render against the zbuffer render of the same request, as files. The
+// box is seen whole with no polygon crossing another, so the two differ only on id edges (the
+// non-edge visibility error is exactly 0); a file compared with itself has zero error and an
+// infinite PSNR (null in JSON).
+TEST(Cli, CompareIdsAndPngsPrintsErrorMeasures) {
+  fs::path dir = scratch_dir();
+  write_request(dir, mesh_request());
+  ASSERT_EQ(run_roomrender("render request.json -o z.png --ids z.ids", dir).exit_code, 0);
+  ASSERT_EQ(run_roomrender("render request.json -o r.png --ids r.ids --pipeline reference", dir).exit_code, 0);
+  RunResult ids = run_roomrender("compare r.ids z.ids", dir);
+  ASSERT_EQ(ids.exit_code, 0) << ids.err;
+  ASSERT_EQ(std::count(ids.out.begin(), ids.out.end(), '\n'), 1) << ids.out;
+  json v = json::parse(ids.out);
+  EXPECT_EQ(v["width"], 40);
+  EXPECT_EQ(v["visibility"]["pixels"], 40 * 30);
+  EXPECT_EQ(v["visibility"]["non_edge_differing"], 0) << v;
+  EXPECT_GT(v["visibility"]["non_edge_pixels"].get<int>(), 0) << v;
+  EXPECT_FALSE(v.contains("shading"));
+  RunResult png = run_roomrender("compare r.png z.png", dir);
+  ASSERT_EQ(png.exit_code, 0) << png.err;
+  json s = json::parse(png.out);
+  EXPECT_GT(s["shading"]["rmse"].get<double>(), 0.0) << s;  // flat against per-pixel lighting
+  EXPECT_NEAR(s["shading"]["psnr_db"].get<double>(), 20.0 * std::log10(255.0 / s["shading"]["rmse"].get<double>()), 1e-9);
+  json same = json::parse(run_roomrender("compare z.png z.png", dir).out);
+  EXPECT_EQ(same["shading"]["rmse"], 0.0);
+  EXPECT_TRUE(same["shading"]["psnr_db"].is_null()) << same;
+}
+
+TEST(Cli, CompareRejectsMismatchedSizesKindsAndUnreadableFiles) {
+  fs::path dir = scratch_dir();
+  write_request(dir, mesh_request());
+  ASSERT_EQ(run_roomrender("render request.json -o a.png --ids a.ids", dir).exit_code, 0);
+  ASSERT_EQ(run_roomrender("render request.json -o b.png --ids b.ids --width 20", dir).exit_code, 0);
+  rr::testing::write_file(dir / "bad.ids", "not an id buffer");
+  struct Case {
+    std::string args, message;
+    int exit_code;
+  };
+  for (const Case& c : {Case{"compare a.ids b.ids", "sizes differ: 40x30 and 20x30", 1},
+                        Case{"compare a.png b.png", "sizes differ: 40x30 and 20x30", 1},
+                        Case{"compare a.png a.ids", "a.png is a PNG but a.ids is not", 1},
+                        Case{"compare a.ids missing.ids", "cannot read missing.ids", 1},
+                        Case{"compare a.ids bad.ids", "bad.ids", 1},
+                        Case{"compare a.ids", "expected two files", 2}}) {
+    SCOPED_TRACE(c.args);
+    RunResult run = run_roomrender(c.args, dir);
+    EXPECT_EQ(run.exit_code, c.exit_code);
+    EXPECT_TRUE(run.out.empty()) << run.out;
+    json err = json::parse(run.err);
+    EXPECT_NE(err["error"].get<std::string>().find(c.message), std::string::npos) << err;
+  }
+}

@@ -77,7 +77,7 @@ valid("mesh with per-axis scale", ["scene/solids/4/scale", [0.5, 1, 2]]);
 valid("no floor", ["scene/floor", undefined]);
 valid("shadows with tuning", ["options/shadows", true], ["options/shadow", { size: 256, pcf: 3, bias: 0.5 }]);
 valid("painter key", ["options/painter", { key: "newell" }]);
-for (const pipeline of ["zbuffer", "painter", "bsp"]) valid(`pipeline ${pipeline}`, ["options/pipeline", pipeline]);
+for (const pipeline of ["zbuffer", "painter", "bsp", "reference"]) valid(`pipeline ${pipeline}`, ["options/pipeline", pipeline]);
 for (const shading of ["flat", "gouraud", "phong"]) valid(`shading ${shading}`, ["options/shading", shading]);
 valid("bsp weights", ["options/bsp", { w1: 2, w2: 8, w3: 0, epsilon: 0.001, max_candidates: 8 }]);
 valid("material on a solid", ["scene/solids/0/material", { specular: 0.5, specular_color: "#ffffff", shininess: 64 }]);

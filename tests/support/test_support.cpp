@@ -60,16 +60,6 @@ std::string ids_as_ascii(const IdBuffer& ids) {
   return art;
 }
 
-bool is_edge_pixel(const IdBuffer& ids, int x, int y) {
-  const uint32_t id = ids.at(x, y);
-  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-  for (int k = 0; k < 4; ++k) {
-    int nx = x + dx[k], ny = y + dy[k];
-    if (nx >= 0 && ny >= 0 && nx < ids.width && ny < ids.height && ids.at(nx, ny) != id) return true;
-  }
-  return false;
-}
-
 IdDiff compare_ids(const IdBuffer& truth, const IdBuffer& test, bool edges_of_both) {
   EXPECT_EQ(truth.width, test.width);
   EXPECT_EQ(truth.height, test.height);

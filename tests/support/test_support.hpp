@@ -2,6 +2,7 @@
 // third-party data in ../shared (tests that need it skip when it is absent, as in a fresh clone).
 #pragma once
 
+#include "render/error_metrics.hpp"
 #include "render/image.hpp"
 
 #include <filesystem>
@@ -27,10 +28,10 @@ std::vector<std::filesystem::path> example_files();
 // ('0'..'9'), so small exact fixtures read like pictures.
 std::string ids_as_ascii(const IdBuffer& ids);
 
-// "Edge pixel": a pixel of `ids` with a 4-neighbour (inside the image) whose id differs, background
-// included. Polygon borders, intersection lines and silhouettes are edge pixels; there two exact
-// pipelines may legitimately disagree (a split's cut lands within a rounding of the true line).
-bool is_edge_pixel(const IdBuffer& ids, int x, int y);
+// "Edge pixel" (render/error_metrics.hpp): a pixel of `ids` with a 4-neighbour whose id differs;
+// there two exact pipelines may legitimately disagree (a split's cut lands within a rounding of
+// the true line).
+using rr::is_edge_pixel;
 
 struct IdDiff {
   size_t interior = 0;  // differing pixels that are not edge pixels of `truth`

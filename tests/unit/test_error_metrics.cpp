@@ -1,0 +1,96 @@
+// Error measures on hand-made tiny buffers: edge pixels of an ASCII-art id buffer, visibility
+// error over all and non-edge pixels, RMSE/PSNR by the stated formula, shadow-mask differences,
+// size checks and the JSON shape `roomrender compare` prints.
+#include "render/error_metrics.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rr {
+namespace {
+
+// Rows of digits ('.' = background) -> an id buffer.
+IdBuffer ids_from(const std::vector<std::string>& rows) {
+  IdBuffer ids(int(rows[0].size()), int(rows.size()));
+  for (int y = 0; y < ids.height; ++y) {
+    for (int x = 0; x < ids.width; ++x) {
+      const char c = rows[size_t(y)][size_t(x)];
+      ids.ids[size_t(y * ids.width + x)] = c == '.' ? background_id : uint32_t(c - '0');
+    }
+  }
+  return ids;
+}
+
+TEST(ErrorMetrics, EdgePixelsAreThoseWithAFourNeighbourOfAnotherId) {
+  const IdBuffer ids = ids_from({"1111", "1122", "1122", "...."});
+  const char* expected[] = {"0011", "0111", "1111", "1111"};  // diagonal neighbours do not count
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 4; ++x) EXPECT_EQ(is_edge_pixel(ids, x, y), expected[y][x] == '1') << x << "," << y;
+  }
+}
+
+TEST(ErrorMetrics, VisibilityErrorCountsAllAndNonEdgePixels) {
+  const IdBuffer truth = ids_from({"11111", "11111", "11122", "11122"});
+  const IdBuffer test = ids_from({"11311", "11111", "11112", "11122"});
+  // Differences at (2,0), an interior pixel of id 1, and (3,2), an edge pixel of the truth.
+  const VisibilityError e = visibility_error(truth, test);
+  EXPECT_EQ(e.pixels, 20u);
+  EXPECT_EQ(e.differing, 2u);
+  // Edge pixels of the truth: (3,1), (4,1) above the 2s, (2,2), (2,3) left of them, and (3,2),
+  // (4,2), (3,3) inside the 2s; (4,3) is surrounded by 2s.
+  EXPECT_EQ(e.non_edge_pixels, 20u - 7u);
+  EXPECT_EQ(e.non_edge_differing, 1u);
+  EXPECT_DOUBLE_EQ(e.share(), 0.1);
+  EXPECT_DOUBLE_EQ(e.non_edge_share(), 1.0 / 13.0);
+  EXPECT_EQ(visibility_error(truth, truth).differing, 0u);
+  EXPECT_THROW(visibility_error(truth, ids_from({"1"})), std::invalid_argument);
+}
+
+TEST(ErrorMetrics, RmseAndPsnrFollowTheStatedFormula) {
+  Image a(2, 1, Color(0.0f)), b(2, 1, Color(0.0f));
+  b.rgb[4] = 3;  // one channel of six off by 3: RMSE = sqrt(9 / 6)
+  const ShadingError e = shading_error(a, b);
+  EXPECT_DOUBLE_EQ(e.rmse, std::sqrt(1.5));
+  EXPECT_DOUBLE_EQ(e.psnr_db, 20.0 * std::log10(255.0 / std::sqrt(1.5)));
+  b.rgb.assign(6, 255);  // every channel off by 255: RMSE 255, PSNR 0 dB
+  EXPECT_DOUBLE_EQ(shading_error(a, b).rmse, 255.0);
+  EXPECT_DOUBLE_EQ(shading_error(a, b).psnr_db, 0.0);
+  EXPECT_TRUE(std::isinf(shading_error(a, a).psnr_db));
+  EXPECT_THROW(shading_error(a, Image(1, 2, Color(0.0f))), std::invalid_argument);
+}
+
+TEST(ErrorMetrics, ShadowErrorComparesWholeMaskBytes) {
+  const std::vector<uint8_t> truth = {0, 1, 3, 2}, test = {0, 1, 1, 2};  // light 1 differs at one pixel
+  const ShadowError e = shadow_error(truth, test);
+  EXPECT_EQ(e.pixels, 4u);
+  EXPECT_EQ(e.differing, 1u);
+  EXPECT_DOUBLE_EQ(e.share(), 0.25);
+  EXPECT_THROW(shadow_error(truth, std::vector<uint8_t>{0}), std::invalid_argument);
+}
+
+TEST(ErrorMetrics, CompareFramesAndJson) {
+  Frame truth, test;
+  truth.image = Image(2, 2, Color(0.5f));
+  test.image = truth.image;
+  truth.ids = ids_from({"11", "12"});
+  test.ids = ids_from({"11", "11"});
+  ErrorMeasures m = compare_frames(truth, test);
+  EXPECT_FALSE(m.shadow.has_value());  // neither frame carries a mask
+  nlohmann::json j = nlohmann::json::parse(error_measures_json(m));
+  EXPECT_EQ(j["width"], 2);
+  EXPECT_EQ(j["visibility"]["differing"], 1);
+  EXPECT_DOUBLE_EQ(j["visibility"]["error"].get<double>(), 0.25);
+  EXPECT_EQ(j["shading"]["rmse"], 0.0);
+  EXPECT_TRUE(j["shading"]["psnr_db"].is_null());  // infinite
+  EXPECT_FALSE(j.contains("shadow"));
+  truth.shadow_mask = {1, 1, 1, 0};
+  test.shadow_mask = {1, 1, 1, 1};
+  j = nlohmann::json::parse(error_measures_json(compare_frames(truth, test)));
+  EXPECT_DOUBLE_EQ(j["shadow"]["error"].get<double>(), 0.25);
+}
+
+}  // namespace
+}  // namespace rr
