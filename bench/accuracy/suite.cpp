@@ -121,6 +121,7 @@ void add_floorplans(const SuiteOptions& options, std::vector<BenchScene>& out) {
   }
   if (!fs::is_directory(r2v_dir)) std::fprintf(stderr, "skipped: no %s\n", r2v_dir.c_str());
   std::vector<fs::path> plans = sorted_files(r2v_dir, ".txt");
+  std::erase_if(plans, [](const fs::path& p) { return p.filename().string().rfind("r2v_", 0) != 0; });  // LICENSE-MIT.txt
   if (plans.size() > size_t(options.r2v_plans)) plans.resize(size_t(options.r2v_plans));
   for (const fs::path& path : plans) {
     const std::string name = "r2v_" + path.stem().string().substr(4, 2);
