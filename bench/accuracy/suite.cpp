@@ -72,7 +72,8 @@ void add_examples(const SuiteOptions& options, std::vector<BenchScene>& out) {
 // examples/four_cylinders.json again and is left out.
 void add_generated(const SuiteOptions& options, std::vector<BenchScene>& out) {
   if (options.gen_manifest.empty()) return;
-  for (const json& entry : read_json(options.gen_manifest)["scenes"]) {
+  const json manifest = read_json(options.gen_manifest);  // named: a range-for would not keep a temporary alive
+  for (const json& entry : manifest["scenes"]) {
     const std::string kind = entry["kind"], base = entry["name"];
     if (base == "cylinders") continue;
     json request = read_json(entry["request"].get<std::string>());

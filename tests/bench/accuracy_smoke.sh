@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
-# Smoke test of the accuracy benchmark (bench/accuracy.sh), so it does not rot: bench_accuracy on one
-# tiny scene (examples/tri_intersecting.json at 96x72, one frame, ../shared absent), then the report
-# script. Checks every configuration ran and was measured, the known answers on this scene (zbuffer,
+# Smoke test of the accuracy benchmark (bench/accuracy.sh), so it does not rot: bench_accuracy on two
+# tiny scenes (examples/tri_intersecting.json and bench_gen_scenes' 1000-triangle soup at 96x72, one
+# frame, ../shared absent), then the report script. Checks every configuration ran and was measured, the known answers on this scene (zbuffer,
 # BSP and painter-newell exact away from edges; painter-mean wrong: no order of whole triangles is
 # right for two triangles that pierce each other), and that the CSV, the doc section and plots exist.
-#   tests/bench/accuracy_smoke.sh BENCH_ACCURACY_EXE SOURCE_DIR
+#   tests/bench/accuracy_smoke.sh BENCH_ACCURACY_EXE BENCH_GEN_SCENES_EXE SOURCE_DIR
 set -euo pipefail
-exe=$1 src=$2
+exe=$1 gen=$2 src=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$exe" --out "$work/a.json" --only tri_intersecting --size 96x72 --frames 1 --shared "$work/no-shared" 2>"$work/log"
+"$gen" --dir "$work/scenes" --out "$work/scenes/manifest.json" --soups 1000 >/dev/null
+"$exe" --out "$work/a.json" --only tri_intersecting,gen_soup --size 96x72 --frames 1 --shared "$work/no-shared" \
+  --gen-manifest "$work/scenes/manifest.json" 2>"$work/log"
 grep -q "skipped: no $work/no-shared" "$work/log" || { cat "$work/log"; echo "no skip message for absent ../shared"; exit 1; }
 python3 "$src/bench/accuracy_report.py" "$work/a.json" --csv "$work/a.csv" --doc "$work/accuracy.md" \
   --svg-dir "$work/svg" --commit smoke
@@ -17,8 +19,10 @@ python3 - "$work" <<'PY'
 import csv, json, math, os, sys
 work = sys.argv[1]
 doc = json.load(open(os.path.join(work, "a.json")))
-runs = {r["config"]: r for r in doc["runs"] if r["group"] != "reference"}
-assert [s["name"] for s in doc["scenes"]] == ["tri_intersecting"], doc["scenes"]
+runs = {r["config"]: r for r in doc["runs"] if r["group"] != "reference" and r["scene"] == "tri_intersecting"}
+assert [s["name"] for s in doc["scenes"]] == ["tri_intersecting", "gen_soup_1000"], doc["scenes"]
+soup = [r for r in doc["runs"] if r["scene"] == "gen_soup_1000"]
+assert len(soup) == len(runs) + 2 and all(r["status"] == "ok" for r in soup), soup  # + 2 reference rows
 for name in ["zbuffer", "painter-mean", "painter-min", "painter-max", "painter-newell", "bsp w=1/4/-1 eps=1e-07",
              "gouraud", "phong", "phong shadows 2048 pcf1", "phong shadows 512 pcf1", "phong shadows 2048 pcf5"]:
     r = runs[name]
