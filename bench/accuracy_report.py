@@ -60,7 +60,7 @@ def aggregate(runs):
              "ms": geo(p["ms"]), "build_ms": geo([b for b in p["build"] if b > 0])}
         for k in ERROR_KEYS:
             q[k] = mean(p[k])
-        # PSNR of identical images is infinite; the mean then uses the finite ones only, marked "+".
+        # PSNR of identical images is infinite (null in the JSON): the mean is over the finite ones.
         q["psnr_db"] = mean([v for v in p["psnr_db"] if v is not None and math.isfinite(v)])
         out.append(q)
     out.sort(key=lambda q: q["ms"])
@@ -219,8 +219,8 @@ def class_section(results, cls, title, svg_dir, doc_dir):
     return L
 
 
-def pivot(results, configs, key, fmt):
-    """Scenes (rows) by configs (columns) of one error measure."""
+def pivot(results, configs, cell):
+    """Scenes (rows) by configs (columns); cell(errors) formats one run's measure."""
     by = {(r["scene"], r["config"]): r for r in results["runs"]}
     L = ["| scene | class | " + " | ".join(configs) + " |", "|---|---|" + "---:|" * len(configs)]
     for s in results["scenes"]:
@@ -232,9 +232,16 @@ def pivot(results, configs, key, fmt):
             elif "errors" not in r:
                 cells.append(r["status"])
             else:
-                cells.append(fmt(r["errors"].get(key)))
+                cells.append(cell(r["errors"]))
         L.append("| %s | %s | %s |" % (s["name"], s["class"], " | ".join(cells)))
     return L + [""]
+
+
+def psnr_cell(errors):
+    """The JSON has no infinity: identical images carry RMSE 0 and a null PSNR."""
+    if errors.get("psnr_db") is not None:
+        return "%.1f" % errors["psnr_db"]
+    return "inf" if errors.get("rmse") == 0 else "—"
 
 
 def header(results, commit):
@@ -256,7 +263,8 @@ def header(results, commit):
          "pixels off the reference's id edges; RMSE/PSNR of the 8-bit RGB image; shadow disagreement = share of "
          "pixels whose lit state differs. Per class, a point is one configuration: the geometric mean of its frame "
          "times and the mean of its errors over the class's scenes; the Pareto front (no other point is both "
-         "faster and more accurate) is ringed and joined by the dashed line.", ""]
+         "faster and more accurate) is ringed and joined by the dashed line. A class's mean PSNR leaves out scenes "
+         "where the images are identical (infinite PSNR); its RMSE does not.", ""]
     L += ["| scene | class | source | polygons | lights | camera | fewer options |", "|---|---|---|---:|---:|---|---|"]
     for s in results["scenes"]:
         lights = "%d%s" % (s["lights"], " (added)" if s["light_added"] else "")
@@ -272,11 +280,11 @@ def quoted(results):
     shade = ["zbuffer", "gouraud", "phong", "flat shadows 2048 pcf1", "gouraud shadows 2048 pcf1", "phong shadows 2048 pcf1"]
     L = ["### Every scene: visibility error over non-edge pixels", "",
          "`zbuffer` is flat shading without shadows; the BSP column is the default weights and band.", ""]
-    L += pivot(results, vis, "visibility_non_edge", pct)
+    L += pivot(results, vis, lambda e: pct(e["visibility_non_edge"]))
     L += ["### Every scene: shading PSNR (dB) against the reference with the same lights", "",
           "Columns without shadows compare with the reference without shadows; with shadows (2048² map), with "
           "exact shadow rays. `inf`: identical images.", ""]
-    L += pivot(results, shade, "psnr_db", lambda v: "—" if v is None else ("%.1f" % v if math.isfinite(v) else "inf"))
+    L += pivot(results, shade, psnr_cell)
     return L
 
 
