@@ -152,6 +152,9 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
   compact.polygons.reserve(tree.node_polygons.size());
   for (uint32_t& index : tree.node_polygons) index = append_polygon(compact, frags, frags.polygons[index]);
   tree.fragments = std::move(compact);
+  // Splits leave T-junctions between a polygon's fragments; close them so the seams rasterize
+  // without cracks (docs/accuracy.md, "Specks").
+  close_t_junctions(tree.fragments, tree.epsilon);
 
   // Bounds bottom-up: children always have larger indices than their parent.
   for (size_t i = tree.nodes.size(); i-- > 0;) {

@@ -1,6 +1,8 @@
 // Classification and splitting of convex polygons (see polygon_ops.hpp).
 #include "render/polygon_ops.hpp"
 
+#include <algorithm>
+
 namespace rr {
 
 PlaneSide classify_polygon(std::span<const Vec3> points, const Plane& plane, double epsilon) {
@@ -94,6 +96,93 @@ SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const
   r.front = append_part(out, source, front);
   r.back = append_part(out, source, back);
   return r;
+}
+
+namespace {
+
+struct EdgePoint {
+  double t;  // along the edge, 0 at its start
+  uint32_t vertex;
+};
+
+// Vertices of one source polygon's fragments, sorted by x, so that an edge looks only at those
+// within its x range (a floor split into thousands of fragments would otherwise cost m^2).
+struct GroupVertices {
+  std::vector<std::pair<double, uint32_t>> by_x;  // (x, vertex index)
+};
+
+// Vertices of the group strictly inside the edge a -> b (within epsilon of it), in order along it.
+void points_on_edge(const PolygonSoup& soup, const GroupVertices& group, Vec3 a, Vec3 b, double epsilon,
+                    std::vector<EdgePoint>& out) {
+  out.clear();
+  const Vec3 d = b - a;
+  const double length2 = glm::dot(d, d);
+  if (!(length2 > 0.0)) return;
+  const double x0 = std::min(a.x, b.x) - epsilon, x1 = std::max(a.x, b.x) + epsilon;
+  auto it = std::lower_bound(group.by_x.begin(), group.by_x.end(), std::pair{x0, uint32_t{0}});
+  for (; it != group.by_x.end() && it->first <= x1; ++it) {
+    const Vec3 p = soup.positions[it->second];
+    if (p == a || p == b) continue;
+    const double t = glm::dot(p - a, d) / length2;
+    if (!(t > 0.0 && t < 1.0) || glm::length(p - (a + t * d)) > epsilon) continue;
+    out.push_back({t, it->second});
+  }
+  std::sort(out.begin(), out.end(), [](const EdgePoint& x, const EdgePoint& y) { return x.t < y.t; });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [&](const EdgePoint& x, const EdgePoint& y) { return soup.positions[x.vertex] == soup.positions[y.vertex]; }),
+            out.end());
+}
+
+}  // namespace
+
+void close_t_junctions(PolygonSoup& fragments, double epsilon) {
+  // Fragments grouped by source id; only groups of two or more can have T-junctions.
+  std::vector<std::pair<uint32_t, uint32_t>> by_id;  // (id, polygon index)
+  by_id.reserve(fragments.polygons.size());
+  for (uint32_t i = 0; i < fragments.polygons.size(); ++i) by_id.push_back({fragments.polygons[i].id, i});
+  std::sort(by_id.begin(), by_id.end());
+  std::vector<int32_t> group_of(fragments.polygons.size(), -1);
+  std::vector<GroupVertices> groups;
+  for (size_t k = 0; k < by_id.size();) {
+    size_t end = k;
+    while (end < by_id.size() && by_id[end].first == by_id[k].first) ++end;
+    if (end - k >= 2) {
+      GroupVertices g;
+      for (size_t j = k; j < end; ++j) {
+        const Polygon& f = fragments.polygons[by_id[j].second];
+        group_of[by_id[j].second] = int32_t(groups.size());
+        for (uint32_t v = f.first_vertex; v < f.first_vertex + f.vertex_count; ++v) g.by_x.push_back({fragments.positions[v].x, v});
+      }
+      std::sort(g.by_x.begin(), g.by_x.end());
+      groups.push_back(std::move(g));
+    }
+    k = end;
+  }
+  if (groups.empty()) return;
+  PolygonSoup out = make_fragment_soup(fragments);
+  out.positions.reserve(fragments.positions.size());
+  out.normals.reserve(fragments.normals.size());
+  std::vector<EdgePoint> on_edge;
+  for (uint32_t i = 0; i < fragments.polygons.size(); ++i) {
+    Polygon poly = fragments.polygons[i];
+    const uint32_t first = poly.first_vertex, n = poly.vertex_count;
+    poly.first_vertex = uint32_t(out.positions.size());
+    for (uint32_t j = 0; j < n; ++j) {
+      out.positions.push_back(fragments.positions[first + j]);
+      out.normals.push_back(fragments.normals[first + j]);
+      if (group_of[i] < 0) continue;
+      const Vec3 a = fragments.positions[first + j], b = fragments.positions[first + (j + 1) % n];
+      // A vertex of this very fragment is never strictly inside one of its own (convex) edges.
+      points_on_edge(fragments, groups[size_t(group_of[i])], a, b, std::max(epsilon, 1e-12 * glm::length(b - a)), on_edge);
+      for (const EdgePoint& e : on_edge) {
+        out.positions.push_back(fragments.positions[e.vertex]);
+        out.normals.push_back(fragments.normals[e.vertex]);
+      }
+    }
+    poly.vertex_count = uint32_t(out.positions.size()) - poly.first_vertex;
+    out.polygons.push_back(poly);
+  }
+  fragments = std::move(out);
 }
 
 }  // namespace rr

@@ -44,4 +44,12 @@ struct SplitResult {
 SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const Plane& plane,
                           double epsilon, PolygonSoup& out);
 
+// Closes the T-junctions between fragments of one source polygon (same id): a fragment split again
+// gets a vertex on the seam that its sibling across the seam lacks, and the rasterizer would snap
+// the two sides of the seam differently, leaving pixel-wide cracks. Every vertex of a sibling that
+// lies on an edge's interior (within `epsilon` of it) is inserted into that edge, copied bit for
+// bit, so both sides of every seam have the same vertices. Polygons stay in order and convex (the
+// inserted vertices are on their edges); a polygon with no sibling is untouched.
+void close_t_junctions(PolygonSoup& fragments, double epsilon);
+
 }  // namespace rr
