@@ -1,0 +1,27 @@
+// The error measures of one frame against the reference's (errors.hpp), from render/error_metrics.
+#include "bench/accuracy/errors.hpp"
+
+#include "render/error_metrics.hpp"
+
+#include <cmath>
+
+namespace rr::bench {
+
+nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame) {
+  const ErrorMeasures m = compare_frames(reference, frame);
+  nlohmann::ordered_json j = {{"visibility_all", nullptr}, {"visibility_non_edge", nullptr}, {"rmse", nullptr},
+                              {"psnr_db", nullptr},        {"shadow_disagreement", nullptr}};
+  if (m.visibility) {
+    j["visibility_all"] = m.visibility->share();
+    j["visibility_non_edge"] = m.visibility->non_edge_share();
+  }
+  if (m.shading) {
+    j["rmse"] = m.shading->rmse;
+    // JSON has no infinity: identical images (RMSE 0) get a null PSNR, which the report prints "inf".
+    if (std::isfinite(m.shading->psnr_db)) j["psnr_db"] = m.shading->psnr_db;
+  }
+  if (m.shadow) j["shadow_disagreement"] = m.shadow->share();
+  return j;
+}
+
+}  // namespace rr::bench

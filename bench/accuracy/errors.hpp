@@ -1,0 +1,14 @@
+// The accuracy benchmark's error measures of one frame against the reference pipeline's frame of the
+// same scene, camera and options, as one JSON object. A thin adapter over render/error_metrics.hpp
+// (the measures themselves live there; nothing is computed here).
+#pragma once
+
+#include "render/pipeline.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace rr::bench {
+
+nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame);
+
+}  // namespace rr::bench

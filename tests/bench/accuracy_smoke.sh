@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Smoke test of the accuracy benchmark (bench/accuracy.sh), so it does not rot: bench_accuracy on two
+# tiny scenes (examples/tri_intersecting.json and bench_gen_scenes' 1000-triangle soup at 96x72, one
+# frame, ../shared absent), then the report script. Checks every configuration ran and was measured, the known answers on this scene (zbuffer,
+# BSP and painter-newell exact away from edges; painter-mean wrong: no order of whole triangles is
+# right for two triangles that pierce each other), and that the CSV, the doc section and plots exist.
+#   tests/bench/accuracy_smoke.sh BENCH_ACCURACY_EXE BENCH_GEN_SCENES_EXE SOURCE_DIR
+set -euo pipefail
+exe=$1 gen=$2 src=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$gen" --dir "$work/scenes" --out "$work/scenes/manifest.json" --soups 1000 >/dev/null
+"$exe" --out "$work/a.json" --only tri_intersecting,gen_soup --size 96x72 --frames 1 --shared "$work/no-shared" \
+  --gen-manifest "$work/scenes/manifest.json" 2>"$work/log"
+grep -q "skipped: no $work/no-shared" "$work/log" || { cat "$work/log"; echo "no skip message for absent ../shared"; exit 1; }
+python3 "$src/bench/accuracy_report.py" "$work/a.json" --csv "$work/a.csv" --doc "$work/accuracy.md" \
+  --svg-dir "$work/svg" --commit smoke
+python3 - "$work" <<'PY'
+import csv, json, math, os, sys
+work = sys.argv[1]
+doc = json.load(open(os.path.join(work, "a.json")))
+runs = {r["config"]: r for r in doc["runs"] if r["group"] != "reference" and r["scene"] == "tri_intersecting"}
+assert [s["name"] for s in doc["scenes"]] == ["tri_intersecting", "gen_soup_1000"], doc["scenes"]
+soup = [r for r in doc["runs"] if r["scene"] == "gen_soup_1000"]
+assert len(soup) == len(runs) + 2 and all(r["status"] == "ok" for r in soup), soup  # + 2 reference rows
+for name in ["zbuffer", "painter-mean", "painter-min", "painter-max", "painter-newell", "bsp w=1/4/-1 eps=1e-07",
+             "gouraud", "phong", "phong shadows 2048 pcf1", "phong shadows 512 pcf1", "phong shadows 2048 pcf5"]:
+    r = runs[name]
+    assert r["status"] == "ok" and r["frames"] == 1 and r["frame_ms"] > 0, r
+    e = r["errors"]
+    for k in ["visibility_all", "visibility_non_edge", "shadow_disagreement"]:
+        assert e[k] is None or 0.0 <= e[k] <= 1.0, (name, k, e)
+    assert e["rmse"] >= 0, (name, e)
+for exact in ["zbuffer", "painter-newell", "bsp w=1/4/-1 eps=1e-07"]:
+    assert runs[exact]["errors"]["visibility_non_edge"] == 0.0, (exact, runs[exact]["errors"])
+assert runs["painter-mean"]["errors"]["visibility_non_edge"] > 0.01, runs["painter-mean"]["errors"]
+assert runs["bsp w=1/4/-1 eps=1e-07"]["build_ms"] > 0, "the BSP build is reported apart from the frame"
+rows = list(csv.DictReader(open(os.path.join(work, "a.csv"))))
+assert len(rows) == len(doc["runs"]), (len(rows), len(doc["runs"]))
+md = open(os.path.join(work, "accuracy.md")).read()
+assert "## Run time against error" in md and "tri_intersecting" in md
+for svg in ["classic_visibility.svg", "classic_shading.svg"]:
+    assert open(os.path.join(work, "svg", svg)).read().startswith("<svg"), svg
+print("accuracy smoke: %d runs checked" % len(doc["runs"]))
+PY
