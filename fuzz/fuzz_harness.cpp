@@ -53,7 +53,7 @@ void shrink_for_fuzzing(RenderRequest& request, const Variant& variant) {
   o.png_compression = variant.png;
 }
 
-Outcome run_request_bytes(std::string_view bytes) {
+Outcome run_request_bytes(std::string_view bytes, const Variant& variant) {
   Outcome out;
   RenderRequest request;
   try {
@@ -62,7 +62,7 @@ Outcome run_request_bytes(std::string_view bytes) {
     out.error_pointer = e.pointer();
     return out;
   }
-  shrink_for_fuzzing(request, variant_of(bytes));
+  shrink_for_fuzzing(request, variant);
   PolygonSoup soup = tessellate(request.scene.geometry);
   RenderContext context;
   context.scene_id = scene_id(request.scene.geometry);

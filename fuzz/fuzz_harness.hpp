@@ -40,8 +40,13 @@ struct Outcome {
   std::string png;           // the encoded image when rendered
 };
 
-// Runs the whole path. Throws nothing but what the renderer would let escape (a bug: libFuzzer
-// reports it as a crash, the regression test as a failure).
-Outcome run_request_bytes(std::string_view bytes);
+// Runs the whole path with the given variant. Throws nothing but what the renderer would let escape
+// (a bug: libFuzzer reports it as a crash, the regression test as a failure).
+Outcome run_request_bytes(std::string_view bytes, const Variant& variant);
+
+// What the fuzz target runs: the variant chosen by the input's hash.
+inline Outcome run_request_bytes(std::string_view bytes) {
+  return run_request_bytes(bytes, variant_of(bytes));
+}
 
 }  // namespace rr::fuzz

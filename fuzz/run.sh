@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer target with clang (ASan + UBSan) in build-fuzz/ and fuzzes it for SECONDS
 # (default 300), one process at low priority. The corpus persists in build-fuzz/corpus (seeded from
-# examples/*.json and fuzz/regressions/); crashing, leaking or slow inputs land in build-fuzz/artifacts/.
+# examples/*.json, fuzz/seeds/ and fuzz/regressions/); crashing, leaking or slow inputs land in
+# build-fuzz/artifacts/.
 # Usage: fuzz/run.sh [SECONDS] [extra libFuzzer flags...]   (docs/fuzzing.md)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -15,6 +16,7 @@ nice -n 10 cmake --build "$build" -j"${JOBS:-2}" --target fuzz_render_request
 
 mkdir -p "$build/corpus" "$build/artifacts"
 cp -n "$root"/examples/*.json "$build/corpus/"
+cp -n "$root"/fuzz/seeds/* "$build/corpus/"
 if compgen -G "$root/fuzz/regressions/*" >/dev/null; then cp -n "$root"/fuzz/regressions/* "$build/corpus/"; fi
 
 # -timeout: one input is a <= 32x32 render and should take milliseconds; 10 s is a hang.
