@@ -1,0 +1,75 @@
+// The fuzz path (fuzz_harness.hpp): the same stages as render_request_text, with the request shrunk
+// to a tiny render and its variant picked from the input's hash. No state survives between calls.
+#include "fuzz/fuzz_harness.hpp"
+
+#include "render/errors.hpp"
+#include "render/pipeline.hpp"
+#include "render/png.hpp"
+#include "render/tessellate.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rr::fuzz {
+
+ParseLimits fuzz_limits() {
+  ParseLimits limits;
+  limits.max_polygons = 4000;           // BSP/Newell splitting is superlinear: keep each run short
+  limits.max_cylinder_segments = 256;
+  limits.max_floor_cells = 4096;
+  return limits;
+}
+
+Variant variant_of(std::string_view bytes) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  Variant v;
+  v.pipeline = PipelineKind(h % 3);
+  h /= 3;
+  v.shading = ShadingMode(h % 3);
+  h /= 3;
+  v.painter_key = PainterKey(h % 4);
+  h /= 4;
+  v.shadows = (h % 2) == 1;
+  h /= 2;
+  v.png = PngCompression(h % 3);
+  return v;
+}
+
+void shrink_for_fuzzing(RenderRequest& request, const Variant& variant) {
+  RenderOptions& o = request.options;
+  // Keep the aspect ratio (the projection depends on it) while capping the longer side.
+  int longer = std::max(o.width, o.height);
+  if (longer > max_fuzz_side) {
+    double scale = double(max_fuzz_side) / double(longer);
+    o.width = std::max(1, int(std::lround(o.width * scale)));
+    o.height = std::max(1, int(std::lround(o.height * scale)));
+  }
+  o.pipeline = variant.pipeline;
+  o.shading = variant.shading;
+  o.painter_key = variant.painter_key;
+  o.shadows = variant.shadows;
+  o.shadow.size = 64;  // the schema's minimum
+  o.png_compression = variant.png;
+}
+
+Outcome run_request_bytes(std::string_view bytes, const Variant& variant) {
+  Outcome out;
+  RenderRequest request;
+  try {
+    request = parse_request(bytes, fuzz_limits());
+  } catch (const InputError& e) {
+    out.error_pointer = e.pointer();
+    return out;
+  }
+  shrink_for_fuzzing(request, variant);
+  PolygonSoup soup = tessellate(request.scene.geometry);
+  RenderContext context;
+  context.scene_id = scene_id(request.scene.geometry);
+  RenderResult result = render_frame(request.scene, soup, request.camera, request.options, context);
+  out.png = encode_png(result.frame.image, request.options.png_compression, 1);
+  out.rendered = true;
+  return out;
+}
+
+}  // namespace rr::fuzz
