@@ -129,6 +129,7 @@ void draw_painter(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   stats.polygons_culled = order.culled;
   stats.painter_pairs_tested = order.pairs_tested;
   stats.painter_splits = order.splits;
+  stats.painter_budget_exhausted = order.budget_exhausted;
   timings.sort_ms += clock.lap_ms();
 
   // Fragments are shaded as polygons of their own soup (they keep material, object, flags, plane).

@@ -132,8 +132,9 @@ std::string timings_json(const StageTimings& t, const RenderStats& s) {
                  {"shadow_passes", s.shadow_passes}, {"objects_culled", s.objects_culled}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
-  if (s.painter_pairs_tested || s.painter_splits) {
-    j["painter"] = {{"pairs_tested", s.painter_pairs_tested}, {"splits", s.painter_splits}};
+  if (s.painter_pairs_tested || s.painter_splits || s.painter_budget_exhausted) {
+    j["painter"] = {{"pairs_tested", s.painter_pairs_tested}, {"splits", s.painter_splits},
+                    {"budget_exhausted", s.painter_budget_exhausted}};
   }
   if (!s.bsp_cache.empty()) {
     j["bsp"] = {{"cache", s.bsp_cache},        {"nodes", s.bsp_nodes},

@@ -44,6 +44,7 @@ struct RenderStats {
   // Painter.
   size_t painter_pairs_tested = 0;  // pairs that needed Newell's extra tests
   size_t painter_splits = 0;
+  bool painter_budget_exhausted = false;  // newell hit a work bound: the order is not exact (docs/painter.md)
   // BSP.
   std::string bsp_cache;  // "hit", "miss" or "" when the pipeline has no tree
   size_t bsp_nodes = 0;
