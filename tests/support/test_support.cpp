@@ -39,6 +39,13 @@ void write_file(const std::filesystem::path& path, const std::string& bytes) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+nlohmann::json example_request(const std::string& stem, int width, int height) {
+  nlohmann::json r = nlohmann::json::parse(read_file(examples_dir() / (stem + ".json")));
+  r["options"]["width"] = width;
+  r["options"]["height"] = height;
+  return r;
+}
+
 std::vector<std::filesystem::path> example_files() {
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(examples_dir())) {

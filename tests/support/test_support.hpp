@@ -5,6 +5,8 @@
 #include "render/error_metrics.hpp"
 #include "render/image.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -20,6 +22,9 @@ std::filesystem::path output_dir(const std::string& suite);  // build/test-outpu
 
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+// examples/<stem>.json as a request, drawn at width x height.
+nlohmann::json example_request(const std::string& stem, int width = 320, int height = 240);
 
 // Every examples/*.json, sorted by name.
 std::vector<std::filesystem::path> example_files();

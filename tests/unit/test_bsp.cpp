@@ -21,10 +21,7 @@ namespace {
 using json = nlohmann::json;
 
 json example(const std::string& stem, int width = 320, int height = 240) {
-  json r = json::parse(testing::read_file(testing::examples_dir() / (stem + ".json")));
-  r["options"]["width"] = width;
-  r["options"]["height"] = height;
-  return r;
+  return testing::example_request(stem, width, height);
 }
 
 RenderResult render(const RenderRequest& r, const PolygonSoup& soup, PipelineKind pipeline,

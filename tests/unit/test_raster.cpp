@@ -2,6 +2,7 @@
 // property (no tolerance), projection and interpolation are checked to 1e-6 pixel.
 #include "render/draw.hpp"
 #include "render/pipeline.hpp"
+#include "support/soup_builder.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -150,22 +151,7 @@ TEST(Clip, PolygonCrossingBehindTheEyeStaysInFrontOfTheNearPlane) {
 // A hand-built soup of axis-aligned quads (no tessellator involved), one object each.
 PolygonSoup make_quads(const std::vector<std::array<Vec3, 4>>& quads) {
   PolygonSoup soup;
-  soup.materials.push_back({});
-  for (const auto& q : quads) {
-    Polygon p;
-    p.first_vertex = uint32_t(soup.positions.size());
-    p.vertex_count = 4;
-    p.id = uint32_t(soup.polygons.size());
-    p.object = p.id;
-    p.normal = glm::normalize(glm::cross(q[1] - q[0], q[2] - q[0]));
-    p.offset = glm::dot(p.normal, q[0]);
-    for (const Vec3& x : q) {
-      soup.positions.push_back(x);
-      soup.normals.push_back(glm::vec3(p.normal));
-    }
-    soup.polygons.push_back(p);
-    soup.objects.push_back({"/test", false, false});
-  }
+  for (const auto& q : quads) testing::add_polygon(soup, {q.begin(), q.end()});
   return soup;
 }
 
