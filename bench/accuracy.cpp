@@ -9,9 +9,9 @@
 #include "bench/accuracy/errors.hpp"
 #include "bench/accuracy/runs.hpp"
 #include "bench/accuracy/suite.hpp"
-#include "render/errors.hpp"
-#include "render/image.hpp"
-#include "render/scene_json.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/core/image.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <cstdio>
 #include <cstring>

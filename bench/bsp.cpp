@@ -4,10 +4,10 @@
 // warm cache; then build time, tree depth and fragment ratio for generated scenes of about 10^3,
 // 10^4 and 10^5 polygons: grids of the tubes, and blocks of copies of the apartment. Writes JSON to
 // --out. The classic reference: 4.1 s to build the 240-quad tree, 2 ms to traverse it.
-#include "render/bsp.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
-#include "render/timer.hpp"
+#include "render/pipelines/bsp.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/timer.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -5,11 +5,11 @@
 // Scenes: the four open 60-quad cylinders, a 6-room apartment of ~2,700 triangles with doors and
 // windows (a bird's-eye and an eye-level camera), and seeded random triangle soups of 10^3..10^6.
 // usage: bench_gen_scenes --dir DIR --out MANIFEST.json [--soups 1000,10000,...] [--seed N]
-#include "render/errors.hpp"
-#include "render/scene_json.hpp"
-#include "render/tessellate.hpp"
-#include "server/bench_render.hpp"
-#include "server/cli.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/tessellate.hpp"
+#include "cli/bench_render.hpp"
+#include "cli/cli.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -191,7 +191,7 @@ json write_scene(const SceneSpec& spec, const fs::path& dir) {
   write_file(request_path, spec.request.dump());
   rr::RenderRequest request = rr::request_from_json(spec.request);
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
-  write_file(obj_path, rr::server::encode_obj(soup, "roomrender benchmark scene " + spec.name +
+  write_file(obj_path, rr::cli::encode_obj(soup, "roomrender benchmark scene " + spec.name +
                                                         ": the tessellation of " + request_path.filename().string()));
   json cameras = json::array();
   for (const CameraSpec& c : spec.cameras) {
@@ -199,7 +199,7 @@ json write_scene(const SceneSpec& spec, const fs::path& dir) {
                        {"near", c.near}, {"far", c.far}});
   }
   return {{"name", spec.name}, {"kind", spec.kind}, {"request", request_path.string()}, {"obj", obj_path.string()},
-          {"polygons", soup.polygons.size()}, {"triangles", rr::server::fan_triangle_count(soup)},
+          {"polygons", soup.polygons.size()}, {"triangles", rr::cli::fan_triangle_count(soup)},
           {"cameras", cameras}, {"light_dir", spec.light_to}};
 }
 

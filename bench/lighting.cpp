@@ -3,7 +3,7 @@
 // median over --frames frames of every stage of the whole request path (parse, tessellate, shadow,
 // raster, shade, encode, total). Per-pixel shading runs inside the rasterizer's loop, so Phong's
 // cost shows in `raster`; `shade` is the per-polygon preparation. Writes JSON to --out.
-#include "render/pipeline.hpp"
+#include "render/pipelines/pipeline.hpp"
 
 #include <nlohmann/json.hpp>
 

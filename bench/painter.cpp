@@ -4,10 +4,10 @@
 // classic scenes that need splits; then the sort time of generated scenes of about 10^3, 10^4 and
 // 10^5 polygons (a square grid of the same tubes, seen the same way). Writes JSON to --out. The
 // classic reference: 12 ms for the painter's sort of the 240 quads.
-#include "render/painter.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
-#include "render/timer.hpp"
+#include "render/pipelines/painter.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/timer.hpp"
 
 #include <nlohmann/json.hpp>
 

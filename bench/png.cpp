@@ -2,9 +2,9 @@
 // (the reference) and of each mode (and of `fast` on one thread), with the ratios the performance
 // issue targets: fast >= 5x faster than the reference and no more than 1.5x its size. Writes JSON
 // to --out.
-#include "render/pipeline.hpp"
-#include "render/png.hpp"
-#include "render/timer.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/png.hpp"
+#include "render/core/timer.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -2,10 +2,10 @@
 // to a tiny render and its variant picked from the input's hash. No state survives between calls.
 #include "fuzz/fuzz_harness.hpp"
 
-#include "render/errors.hpp"
-#include "render/pipeline.hpp"
-#include "render/png.hpp"
-#include "render/tessellate.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/png.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <algorithm>
 #include <cmath>

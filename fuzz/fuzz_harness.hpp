@@ -4,8 +4,8 @@
 // to at most 32x32 and its work capped so one input takes milliseconds.
 #pragma once
 
-#include "render/scene.hpp"
-#include "render/scene_json.hpp"
+#include "render/core/scene.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <cstdint>
 #include <string>

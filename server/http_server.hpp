@@ -4,7 +4,7 @@
 // headers already rule them out are answered before their body is read.
 #pragma once
 
-#include "render/scene_json.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <atomic>
 #include <cstddef>

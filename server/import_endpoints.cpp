@@ -5,7 +5,7 @@
 // the format's default otherwise), width and height (the request's image size), store.
 // Files of other tools are larger than requests: the route has its own body limit
 // (--max-import-bytes, 64 MiB), and importing holds a render slot like a render does.
-#include "render/import.hpp"
+#include "render/import/import.hpp"
 #include "server/problem.hpp"
 #include "server/routes.hpp"
 

@@ -4,8 +4,8 @@
 // directory.
 #include "server/routes.hpp"
 
-#include "render/shading.hpp"
-#include "server/cli.hpp"
+#include "render/core/shading.hpp"
+#include "server/serve_command.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>

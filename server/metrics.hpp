@@ -4,8 +4,8 @@
 // pipeline table's names. Thread-safe; one Metrics object per Service.
 #pragma once
 
-#include "render/lru_cache.hpp"
-#include "render/pipeline.hpp"
+#include "render/core/lru_cache.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "server/render_gate.hpp"
 
 #include <map>

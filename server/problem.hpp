@@ -3,7 +3,7 @@
 // text of an `application/problem+json` body; nothing here knows about sockets or httplib.
 #pragma once
 
-#include "render/errors.hpp"
+#include "render/scene_io/errors.hpp"
 
 #include <exception>
 #include <stdexcept>

@@ -5,9 +5,9 @@
 // options as sent, and the response media type; a matching If-None-Match answers 304 before drawing.
 #include "server/routes.hpp"
 
-#include "render/timer.hpp"
+#include "render/core/timer.hpp"
 #include "server/http_util.hpp"
-#include "server/cli.hpp"
+#include "server/serve_command.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>

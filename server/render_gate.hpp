@@ -5,7 +5,7 @@
 // thread); the connection pool is sized larger than concurrency + queue so /livez still answers.
 #pragma once
 
-#include "render/cancel.hpp"
+#include "render/core/cancel.hpp"
 
 #include <chrono>
 #include <condition_variable>

@@ -5,8 +5,8 @@
 // POST /v1/import/{format}) is one row in a *_routes() list and one handler.
 #pragma once
 
-#include "render/pipeline.hpp"
-#include "render/timer.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/timer.hpp"
 #include "server/http_server.hpp"
 #include "server/metrics.hpp"
 #include "server/render_gate.hpp"

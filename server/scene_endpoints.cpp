@@ -4,7 +4,7 @@
 // tessellates, so it holds a render slot like a render does.
 #include "server/routes.hpp"
 
-#include "render/timer.hpp"
+#include "render/core/timer.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>

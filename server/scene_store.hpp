@@ -8,10 +8,10 @@
 // lose their file, and start-up loads the files back, oldest first.
 #pragma once
 
-#include "render/lru_cache.hpp"
-#include "render/placement.hpp"
-#include "render/scene_json.hpp"
-#include "render/tessellate.hpp"
+#include "render/core/lru_cache.hpp"
+#include "render/scene_io/placement.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
 // `roomrender serve`: the settings table (flag, ROOMRENDER_* variable, meaning, default), the
 // configuration built from it, and the process life cycle: print the configuration once, serve until
 // SIGTERM or SIGINT, drain, exit 0. Declared in cli.hpp.
-#include "server/cli.hpp"
+#include "server/serve_command.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -16,6 +16,12 @@
 #include <map>
 
 namespace rr::server {
+
+#ifndef ROOMRENDER_VERSION
+#define ROOMRENDER_VERSION "0.0.0"
+#endif
+
+std::string_view version() { return ROOMRENDER_VERSION; }
 
 namespace {
 

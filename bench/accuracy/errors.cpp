@@ -1,7 +1,7 @@
 // The error measures of one frame against the reference's (errors.hpp), from render/error_metrics.
 #include "bench/accuracy/errors.hpp"
 
-#include "render/error_metrics.hpp"
+#include "render/core/error_metrics.hpp"
 
 #include <cmath>
 

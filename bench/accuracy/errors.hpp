@@ -3,7 +3,7 @@
 // (the measures themselves live there; nothing is computed here).
 #pragma once
 
-#include "render/pipeline.hpp"
+#include "render/pipelines/pipeline.hpp"
 
 #include <nlohmann/json.hpp>
 

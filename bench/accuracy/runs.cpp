@@ -1,8 +1,8 @@
 // The accuracy benchmark's configurations and timed renders (runs.hpp).
 #include "bench/accuracy/runs.hpp"
 
-#include "render/timer.hpp"
-#include "server/bench_render.hpp"  // median_of
+#include "render/core/timer.hpp"
+#include "cli/bench_render.hpp"  // median_of
 
 #include <algorithm>
 #include <chrono>
@@ -117,10 +117,10 @@ TimedRender time_render(const BenchScene& scene, const std::string& scene_id, co
   auto median_stage = [&](double StageTimings::*field) {
     std::vector<double> v;
     for (const StageTimings& t : stages) v.push_back(t.*field);
-    return std::round(server::median_of(v) * 1000.0) / 1000.0;
+    return std::round(cli::median_of(v) * 1000.0) / 1000.0;
   };
   out.frames = int(frame_ms.size());
-  out.frame_ms_median = std::round(server::median_of(frame_ms) * 1000.0) / 1000.0;
+  out.frame_ms_median = std::round(cli::median_of(frame_ms) * 1000.0) / 1000.0;
   out.stage_ms_median = {{"sort", median_stage(&StageTimings::sort_ms)},
                          {"traverse", median_stage(&StageTimings::traverse_ms)},
                          {"shadow", median_stage(&StageTimings::shadow_ms)},

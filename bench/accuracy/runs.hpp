@@ -5,7 +5,7 @@
 #pragma once
 
 #include "bench/accuracy/suite.hpp"
-#include "render/pipeline.hpp"
+#include "render/pipelines/pipeline.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -3,9 +3,9 @@
 // only: each benchmark configuration sets the rest) and a light is added where none is given.
 #include "bench/accuracy/suite.hpp"
 
-#include "render/import.hpp"
-#include "render/scene_json.hpp"
-#include "server/import_files.hpp"
+#include "render/import/import.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/import/import_files.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -105,7 +105,7 @@ json import_request(const fs::path& path, ImportFormat format, const SuiteOption
   import.width = options.width;
   import.height = options.height;
   import.scale = scale;
-  return server::import_path(path, format, import).request;
+  return import_path(path, format, import).request;
 }
 
 // The nine Sweet Home 3D example homes (their observer camera) and the first R2V plans (the

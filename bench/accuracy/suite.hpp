@@ -4,8 +4,8 @@
 // with a message when absent). Parsing, importing and tessellating happen here, outside any timing.
 #pragma once
 
-#include "render/scene.hpp"
-#include "render/tessellate.hpp"
+#include "render/core/scene.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <filesystem>
 #include <string>

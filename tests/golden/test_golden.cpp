@@ -2,7 +2,7 @@
 // in tests/golden/images/ with the tolerance of support/golden.hpp (which also writes the actual
 // and diff images on failure). Regenerate the goldens only on purpose:
 // ROOMRENDER_UPDATE_GOLDENS=1 ctest -R golden (then look at every changed image).
-#include "render/pipeline.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "support/golden.hpp"
 #include "support/test_support.hpp"
 

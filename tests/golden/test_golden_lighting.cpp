@@ -3,8 +3,8 @@
 // tests/golden/images/lighting/<example>.<pipeline>.<shading>.<shadows|no-shadows>.png with the
 // tolerance of support/golden.hpp. Iterating pipeline_table() and shading_table() means a new
 // pipeline or mode shows up here (and needs its goldens generated) without touching this file.
-#include "render/pipeline.hpp"
-#include "render/shading.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/shading.hpp"
 #include "support/golden.hpp"
 #include "support/test_support.hpp"
 

@@ -5,7 +5,7 @@
 // trusted, 405/406).
 #include "server_fixture.hpp"
 
-#include "render/pipeline.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "server/http_server.hpp"
 
 #include <algorithm>

@@ -2,8 +2,8 @@
 // scratch directory): one JSON line whose frame times and stage medians are consistent, --out and
 // --ids that equal a normal `render` of the same request, camera/light/size flags that mean exactly
 // what the same values written into the request mean, and --list naming the build's own tables.
-#include "render/pipeline.hpp"
-#include "render/shading.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/shading.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // render writes the PNG and the raw id buffer and prints one JSON line of timings and counts; export
 // writes one OBJ `f` line per polygon in id order with exactly round-tripping coordinates; errors are
 // one JSON line on stderr with exit 1, usage errors exit 2; serve announces its port and stops on SIGTERM.
-#include "server/cli.hpp"
+#include "cli/cli.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // as is, an OBJ's .mtl is found beside it, warnings and errors are JSON lines on stderr (errors
 // locate the problem in the source file), and usage mistakes exit 2. Real files from ../shared/data
 // where present (the tests that need them skip otherwise); small fixtures written here otherwise.
-#include "render/image.hpp"
+#include "render/core/image.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

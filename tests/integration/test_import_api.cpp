@@ -2,7 +2,7 @@
 // scenes) out; importer errors as problem+json pointing into the file; the real interiors of
 // ../shared/data/meshes imported and rendered with every pipeline at 1280x720 (skipped when
 // ../shared is absent), printing their polygon counts, BSP figures and render times.
-#include "render/pipeline.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "server_fixture.hpp"
 
 #include <cstdio>

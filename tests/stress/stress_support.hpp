@@ -3,9 +3,9 @@
 // per-frame checks. Seeds come from testing::test_seeds (ROOMRENDER_TEST_SEED replays one).
 #pragma once
 
-#include "render/error_metrics.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
+#include "render/core/error_metrics.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/soup_builder.hpp"
 #include "support/test_support.hpp"
 

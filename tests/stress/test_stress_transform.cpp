@@ -3,7 +3,7 @@
 // the untransformed reference's id edges, no value anywhere is NaN or infinite, the BSP build
 // terminates and its fragments conserve each polygon's area to 1e-9 relative (moved or scaled; both
 // at once is bounded by the input's own rounding, see below).
-#include "render/bsp.hpp"
+#include "render/pipelines/bsp.hpp"
 #include "stress/stress_support.hpp"
 
 #include <cstdio>

@@ -7,7 +7,7 @@
 // ROOMRENDER_UPDATE_GOLDENS=1 ctest -R golden (then look at every changed image).
 #pragma once
 
-#include "render/image.hpp"
+#include "render/core/image.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

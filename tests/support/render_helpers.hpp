@@ -2,9 +2,9 @@
 // geometry: render a JSON request, cast the ray of a pixel centre, and read pixels back.
 #pragma once
 
-#include "render/camera.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
+#include "render/core/camera.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -3,7 +3,7 @@
 // flags say otherwise; the normal follows the winding (counter-clockwise seen from the front).
 #pragma once
 
-#include "render/tessellate.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <cstdlib>
 #include <random>

@@ -2,8 +2,8 @@
 // third-party data in ../shared (tests that need it skip when it is absent, as in a fresh clone).
 #pragma once
 
-#include "render/error_metrics.hpp"
-#include "render/image.hpp"
+#include "render/core/error_metrics.hpp"
+#include "render/core/image.hpp"
 
 #include <nlohmann/json.hpp>
 

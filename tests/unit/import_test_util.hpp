@@ -2,8 +2,8 @@
 // and a small render of an imported request that reports how much of the frame shows geometry.
 #pragma once
 
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

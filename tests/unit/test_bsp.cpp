@@ -2,9 +2,9 @@
 // edges, see testing::is_edge_pixel), the cache of trees across requests and threads, numerical
 // robustness far from the origin and at small scale, area conservation of the fragments, and deep
 // trees built and walked without recursion.
-#include "render/bsp.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
+#include "render/pipelines/bsp.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

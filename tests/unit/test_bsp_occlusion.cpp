@@ -2,9 +2,9 @@
 // the classic back-to-front walk it replaces: identical ids and identical pixels (translucent panes
 // included) on every example and on seeded random scenes and views, with less work where rooms hide
 // each other, and a walk that stops once every pixel is written.
-#include "render/bsp.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
+#include "render/pipelines/bsp.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 // terminate within the depth bound, and closest-hit and any-hit searches through the tree find
 // exactly what a brute-force loop over every polygon finds (same polygon, bit-identical t), on
 // seeded random soups. ROOMRENDER_TEST_SEED replays one seed.
-#include "render/bvh.hpp"
-#include "render/reference.hpp"
+#include "render/core/bvh.hpp"
+#include "render/pipelines/reference.hpp"
 #include "support/soup_builder.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Error measures on hand-made tiny buffers: edge pixels of an ASCII-art id buffer, visibility
 // error over all and non-edge pixels, RMSE/PSNR by the stated formula, shadow-mask differences,
 // size checks and the JSON shape `roomrender compare` prints.
-#include "render/error_metrics.hpp"
+#include "render/core/error_metrics.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

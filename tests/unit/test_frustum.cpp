@@ -1,11 +1,11 @@
 // Whole-object frustum culling (render/frustum.hpp): objects wholly outside the view are found, and
 // skipping their polygons changes nothing in the zbuffer and painter images (the same pipeline run
 // with and without the per-object test, on seeded random rooms of boxes seen from random cameras).
-#include "render/frustum.hpp"
-#include "render/painter.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
-#include "render/zbuffer.hpp"
+#include "render/core/frustum.hpp"
+#include "render/pipelines/painter.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/pipelines/zbuffer.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 // a clean InputError, never a crash or another exception. Also checks that the harness renders every
 // example (the other seeds), so fuzzing reaches the renderer rather than stopping at validation.
 #include "fuzz/fuzz_harness.hpp"
-#include "render/image.hpp"
+#include "render/core/image.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

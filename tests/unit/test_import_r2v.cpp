@@ -3,7 +3,7 @@
 // naming the line, and the twenty plans of ../shared/data: one's counts against its lines, all of
 // them imported and rendered with every pipeline.
 #include "import_test_util.hpp"
-#include "render/import.hpp"
+#include "render/import/import.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // nine example homes of ../shared/data: one checked against its XML read independently with pugixml,
 // all of them imported and rendered with every pipeline.
 #include "import_test_util.hpp"
-#include "render/import.hpp"
+#include "render/import/import.hpp"
 
 #include <gtest/gtest.h>
 #include <pugixml.hpp>

@@ -1,6 +1,6 @@
 // SharedLruCache: LRU order under the byte budget and entry count, single-flight builds under
 // concurrency, and failed builds that cache nothing.
-#include "render/lru_cache.hpp"
+#include "render/core/lru_cache.hpp"
 
 #include <gtest/gtest.h>
 

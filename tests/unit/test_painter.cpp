@@ -5,10 +5,10 @@
 // there the two pipelines may legitimately disagree (a cut made by a split lands within a rounding
 // of the true intersection line). Every other pixel must match exactly for `newell`, and must
 // differ somewhere for `mean` and `min` on the classic failure scenes.
-#include "render/painter.hpp"
-#include "render/painter_detail.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
+#include "render/pipelines/painter.hpp"
+#include "render/pipelines/painter_detail.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 // PNG encoders: every mode decodes to exactly the pixels it was given (checked with stb_image and,
 // for the container and zlib stream, independently with zlib, which verifies the CRCs and the
 // Adler-32 that stb_image skips), and `fast` is byte-identical for any thread count.
-#include "render/errors.hpp"
-#include "render/pipeline.hpp"
-#include "render/png.hpp"
-#include "render/scene_json.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/png.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Exact fixtures for the rasterizer, clipping and camera conventions: coverage is an integer
 // property (no tolerance), projection and interpolation are checked to 1e-6 pixel.
-#include "render/draw.hpp"
-#include "render/pipeline.hpp"
+#include "render/core/draw.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "support/soup_builder.hpp"
 #include "support/test_support.hpp"
 

@@ -3,9 +3,9 @@
 // z-buffer away from id edges (near-plane crossing, back faces, translucency); its colour is
 // shade_point's at the pixel's exact hit point; its shadow rays shadow exactly the analytic
 // footprint; and the shadow mask of the rasterizing pipelines agrees with it away from shadow edges.
-#include "render/error_metrics.hpp"
-#include "render/reference.hpp"
-#include "render/shading.hpp"
+#include "render/core/error_metrics.hpp"
+#include "render/pipelines/reference.hpp"
+#include "render/core/shading.hpp"
 #include "support/render_helpers.hpp"
 #include "support/soup_builder.hpp"
 #include "support/test_support.hpp"

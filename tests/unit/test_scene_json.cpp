@@ -1,8 +1,8 @@
 // scene_json: JSON text -> RenderRequest. Checks the documented defaults (docs/scene-format.md), that
 // every class of error carries its exact kind and JSON Pointer, that hostile bodies (deep nesting,
 // huge images) are refused quickly, and that the scene id ignores number spelling, camera and lights.
-#include "render/errors.hpp"
-#include "render/scene_json.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -2,9 +2,9 @@
 // (RFC 9110), base64 against RFC 4648's test vectors, the render gate's admission order, bounds and
 // deadlines, the Prometheus text of a histogram, the LRU cache's eviction listener, and the
 // placement checks on hand-placed boxes.
-#include "render/lru_cache.hpp"
-#include "render/placement.hpp"
-#include "render/scene_json.hpp"
+#include "render/core/lru_cache.hpp"
+#include "render/scene_io/placement.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "server/http_util.hpp"
 #include "server/metrics.hpp"
 #include "server/render_gate.hpp"

@@ -3,9 +3,9 @@
 // fragments of a polygon (as the painter and BSP pipelines draw them) shade like the whole polygon.
 // Pixel tolerances are in 8-bit levels: to_byte rounds, so an exact value is within 0.5 level; 1
 // level more absorbs the float per-pixel path.
-#include "render/polygon_ops.hpp"
-#include "render/shading.hpp"
-#include "render/shadow.hpp"
+#include "render/core/polygon_ops.hpp"
+#include "render/core/shading.hpp"
+#include "render/core/shadow.hpp"
 #include "support/render_helpers.hpp"
 
 #include <gtest/gtest.h>

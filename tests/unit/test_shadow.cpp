@@ -3,7 +3,7 @@
 // light; the gap at a box's base (peter-panning); when the pass is skipped; the memory bound.
 // The floor is one grey #808080 cell, ambient 0.2, flat shading and pcf 1, so a floor pixel is
 // either lit or at the ambient value and the threshold between them classifies it.
-#include "render/shadow.hpp"
+#include "render/core/shadow.hpp"
 #include "support/render_helpers.hpp"
 
 #include <gtest/gtest.h>

@@ -2,10 +2,10 @@
 // options; any camera for fit "scene", the same view for fit "view"), that a reused map gives the
 // bytes a frame's own pass gives, that a dark or recoloured light does not change the key while a
 // moved one does, and that simultaneous first requests run one pass.
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
-#include "render/shadow.hpp"
-#include "render/shadow_cache.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/shadow.hpp"
+#include "render/pipelines/shadow_cache.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Exact fixtures for the tessellator: face counts derived by hand, areas and volumes against
 // analytic values (relative 1e-9: the only error is double rounding over a few hundred terms),
 // closedness as the vanishing area-weighted normal sum, and the invariants of tessellate.hpp.
-#include "render/tessellate.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <gtest/gtest.h>
 

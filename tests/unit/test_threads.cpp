@@ -2,9 +2,9 @@
 // every shading x shadows off/on, drawn with 1, 2 and 8 threads, gives byte-identical PNG and id
 // buffers. The size is not a multiple of the 64-pixel tile, so partial tiles and tile seams are in
 // every image, and 8 threads exceed this machine's cores, so tiles really interleave.
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
-#include "render/shading.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/shading.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -5,11 +5,11 @@
 // The one allowed difference: pass 1 steps 1/w along a span instead of recomputing it per pixel,
 // so where two surfaces are within a float rounding of each other the other one may win; that is
 // bounded by 1 pixel in 10,000.
-#include "render/draw.hpp"
-#include "render/pipeline.hpp"
-#include "render/scene_json.hpp"
-#include "render/shading.hpp"
-#include "render/shadow.hpp"
+#include "render/core/draw.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "render/core/shading.hpp"
+#include "render/core/shadow.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

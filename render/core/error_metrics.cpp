@@ -1,0 +1,106 @@
+// Error measures (see error_metrics.hpp). Plain loops over same-sized buffers; sums in doubles of
+// integer squares, which are exact up to 2^53 / 255^2 ~ 1.4e11 channel values.
+#include "render/core/error_metrics.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace rr {
+
+namespace {
+void require_same_size(int w0, int h0, int w1, int h1, const char* what) {
+  if (w0 != w1 || h0 != h1) {
+    throw std::invalid_argument(std::string(what) + " sizes differ: " + std::to_string(w0) + "x" + std::to_string(h0) +
+                                " and " + std::to_string(w1) + "x" + std::to_string(h1));
+  }
+}
+}  // namespace
+
+bool is_edge_pixel(const IdBuffer& ids, int x, int y) {
+  const uint32_t id = ids.at(x, y);
+  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+  for (int k = 0; k < 4; ++k) {
+    const int nx = x + dx[k], ny = y + dy[k];
+    if (nx >= 0 && ny >= 0 && nx < ids.width && ny < ids.height && ids.at(nx, ny) != id) return true;
+  }
+  return false;
+}
+
+VisibilityError visibility_error(const IdBuffer& reference, const IdBuffer& test) {
+  require_same_size(reference.width, reference.height, test.width, test.height, "id buffer");
+  VisibilityError e;
+  for (int y = 0; y < reference.height; ++y) {
+    for (int x = 0; x < reference.width; ++x) {
+      const bool differs = reference.at(x, y) != test.at(x, y);
+      ++e.pixels;
+      e.differing += differs;
+      if (is_edge_pixel(reference, x, y)) continue;
+      ++e.non_edge_pixels;
+      e.non_edge_differing += differs;
+    }
+  }
+  return e;
+}
+
+ShadingError shading_error(const Image& reference, const Image& test) {
+  require_same_size(reference.width, reference.height, test.width, test.height, "image");
+  double sum = 0.0;
+  for (size_t i = 0; i < reference.rgb.size(); ++i) {
+    const double d = double(reference.rgb[i]) - double(test.rgb[i]);
+    sum += d * d;
+  }
+  ShadingError e;
+  e.rmse = reference.rgb.empty() ? 0.0 : std::sqrt(sum / double(reference.rgb.size()));
+  e.psnr_db = e.rmse > 0.0 ? 20.0 * std::log10(255.0 / e.rmse) : std::numeric_limits<double>::infinity();
+  return e;
+}
+
+ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test) {
+  if (reference.size() != test.size()) {
+    throw std::invalid_argument("shadow mask sizes differ: " + std::to_string(reference.size()) + " and " +
+                                std::to_string(test.size()) + " pixels");
+  }
+  ShadowError e;
+  e.pixels = reference.size();
+  for (size_t i = 0; i < reference.size(); ++i) e.differing += reference[i] != test[i];
+  return e;
+}
+
+ErrorMeasures compare_frames(const Frame& reference, const Frame& test) {
+  ErrorMeasures m;
+  m.width = reference.image.width;
+  m.height = reference.image.height;
+  m.visibility = visibility_error(reference.ids, test.ids);
+  m.shading = shading_error(reference.image, test.image);
+  if (!reference.shadow_mask.empty() && !test.shadow_mask.empty()) {
+    m.shadow = shadow_error(reference.shadow_mask, test.shadow_mask);
+  }
+  return m;
+}
+
+std::string error_measures_json(const ErrorMeasures& m) {
+  nlohmann::ordered_json j;
+  j["width"] = m.width;
+  j["height"] = m.height;
+  if (m.visibility) {
+    const VisibilityError& v = *m.visibility;
+    j["visibility"] = {{"pixels", v.pixels},
+                       {"differing", v.differing},
+                       {"error", v.share()},
+                       {"non_edge_pixels", v.non_edge_pixels},
+                       {"non_edge_differing", v.non_edge_differing},
+                       {"non_edge_error", v.non_edge_share()}};
+  }
+  if (m.shading) {
+    nlohmann::ordered_json s = {{"rmse", m.shading->rmse}, {"psnr_db", nullptr}};
+    if (std::isfinite(m.shading->psnr_db)) s["psnr_db"] = m.shading->psnr_db;
+    j["shading"] = s;
+  }
+  if (m.shadow) j["shadow"] = {{"pixels", m.shadow->pixels}, {"differing", m.shadow->differing}, {"error", m.shadow->share()}};
+  return j.dump();
+}
+
+}  // namespace rr

@@ -1,0 +1,62 @@
+// Error measures of a render against the reference (docs/accuracy.md): visibility error (share of
+// pixels whose polygon id differs, over all pixels and over pixels off the reference's id edges),
+// shading error (RMSE and PSNR of the 8-bit RGB image) and shadow error (share of pixels whose
+// per-light lit state differs). The first argument is always the reference; buffers must have one
+// size (std::invalid_argument otherwise). `roomrender compare` prints these as JSON.
+#pragma once
+
+#include "render/core/image.hpp"
+#include "render/core/frame.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+namespace rr {
+
+// A pixel with a 4-neighbour (inside the image) of another id, background included: polygon
+// borders, intersection lines and silhouettes, where two exact methods may disagree by rounding.
+bool is_edge_pixel(const IdBuffer& ids, int x, int y);
+
+struct VisibilityError {
+  size_t pixels = 0;              // all pixels
+  size_t differing = 0;           // id differs from the reference
+  size_t non_edge_pixels = 0;     // pixels that are not edge pixels of the reference
+  size_t non_edge_differing = 0;  // of those, id differs
+  double share() const { return pixels ? double(differing) / double(pixels) : 0.0; }
+  double non_edge_share() const { return non_edge_pixels ? double(non_edge_differing) / double(non_edge_pixels) : 0.0; }
+};
+VisibilityError visibility_error(const IdBuffer& reference, const IdBuffer& test);
+
+// RMSE over every channel of every pixel, in 8-bit units: sqrt(sum (a - b)^2 / (3 * pixels));
+// PSNR = 20 log10(255 / RMSE) dB, infinite for identical images.
+struct ShadingError {
+  double rmse = 0.0;
+  double psnr_db = 0.0;
+};
+ShadingError shading_error(const Image& reference, const Image& test);
+
+// Frame::shadow_mask bytes compared whole: a pixel differs when any of its lights' lit state does.
+struct ShadowError {
+  size_t pixels = 0;
+  size_t differing = 0;
+  double share() const { return pixels ? double(differing) / double(pixels) : 0.0; }
+};
+ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test);
+
+struct ErrorMeasures {
+  int width = 0, height = 0;
+  std::optional<VisibilityError> visibility;
+  std::optional<ShadingError> shading;
+  std::optional<ShadowError> shadow;
+};
+// Every measure the two frames allow: shadow only when both carry a shadow mask.
+ErrorMeasures compare_frames(const Frame& reference, const Frame& test);
+
+// One JSON object: {"width", "height", "visibility": {pixels, differing, error, non_edge_pixels,
+// non_edge_differing, non_edge_error}, "shading": {rmse, psnr_db (null when infinite)},
+// "shadow": {pixels, differing, error}}, each part only when measured.
+std::string error_measures_json(const ErrorMeasures& measures);
+
+}  // namespace rr

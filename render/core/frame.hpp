@@ -1,0 +1,103 @@
+// The structs every pipeline reads and writes for one frame: its inputs (scene, polygons, view,
+// options, what outlives the frame), its outputs (image, id buffer, optional shadow mask) and what it
+// measured (stage timings, counts). They sit below the pipelines: no header here includes one of them.
+#pragma once
+
+#include "render/core/camera.hpp"
+#include "render/core/cancel.hpp"
+#include "render/core/image.hpp"
+#include "render/core/lru_cache.hpp"
+#include "render/core/scene.hpp"
+#include "render/core/tessellate.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rr {
+
+struct StageTimings {  // wall-clock milliseconds; a stage that did not run stays 0
+  double parse_ms = 0.0;
+  double tessellate_ms = 0.0;
+  double build_ms = 0.0;     // BSP tree build (0 on a cache hit)
+  double sort_ms = 0.0;      // painter's depth sort (and Newell tests)
+  double traverse_ms = 0.0;  // BSP back-to-front walk
+  double shadow_ms = 0.0;    // shadow-map passes
+  double raster_ms = 0.0;
+  double shade_ms = 0.0;
+  double encode_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+struct RenderStats {
+  size_t polygons = 0;         // in the tessellated scene
+  size_t polygons_culled = 0;  // skipped before rasterization (back-facing or outside the view)
+  size_t polygons_drawn = 0;   // reached the rasterizer
+  size_t triangles = 0;        // rasterized after clipping
+  size_t fragments = 0;        // pixels that passed coverage (before the depth test)
+  size_t lights_evaluated = 0; // light-polygon (flat) or light-vertex/pixel evaluations
+  bool shadow_skipped = true;  // no shadow lookups (no light, shadows off, or nothing to cast)
+  size_t objects_culled = 0;   // solids (and walls, floor) wholly outside the view frustum
+  std::string shadow_cache = "none";  // "hit", "miss" (the pass ran), "none" (no maps wanted)
+  size_t shadow_passes = 0;    // shadow passes run by this frame: 1 on a miss, 0 on a hit
+  // Painter.
+  size_t painter_pairs_tested = 0;  // pairs that needed Newell's extra tests
+  size_t painter_splits = 0;
+  bool painter_budget_exhausted = false;  // newell hit a work bound: the order is not exact (docs/painter.md)
+  // BSP.
+  std::string bsp_cache;  // "hit", "miss" or "" when the pipeline has no tree
+  size_t bsp_nodes = 0;
+  size_t bsp_depth = 0;
+  size_t bsp_input_polygons = 0;
+  size_t bsp_fragments = 0;  // polygons stored in the tree after splitting
+  size_t bsp_splits = 0;
+  size_t bsp_subtrees_occluded = 0;  // front-to-back walk: subtrees skipped as already covered
+  size_t bsp_polygons_occluded = 0;  // front-to-back walk: projected polygons skipped as covered
+  bool bsp_screen_full = false;      // front-to-back walk stopped early: every pixel was written
+};
+
+struct Frame {
+  Image image;   // RGB8
+  IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
+  // Only when RenderContext::shadow_mask asked for it (else empty): per pixel, bit l is set when
+  // scene light l (l < 8) reaches the visible surface there: the light is on its lit side and,
+  // with shadows on, the shadow lookup (visibility >= 0.5) or shadow ray finds it unblocked.
+  std::vector<uint8_t> shadow_mask = {};
+};
+
+struct BspTree;  // bsp.hpp: a tree of one static scene for one set of BSP options
+using BspCache = SharedLruCache<BspTree>;  // keyed by scene id + BSP options, shared across requests
+struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
+using ShadowCache = SharedLruCache<ShadowMaps>;  // keyed by scene id + lights + map options (+ view)
+
+// What outlives one render and is shared across requests (all optional).
+struct RenderContext {
+  BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
+  const CancelToken* cancel = nullptr;   // null: never cancelled
+  std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
+  ShadowCache* shadow_cache = nullptr;   // null: every frame with shadows runs its own shadow pass
+  bool shadow_mask = false;              // fill Frame::shadow_mask (error measures); off: no cost
+  unsigned threads = 1;                  // threads drawing one frame's tiles (the output does not depend on it)
+};
+
+struct FrameInput {
+  // Whether polygon `p` may be visible as far as its whole object goes (see objects_in_view).
+  bool object_may_show(const Polygon& p) const { return !objects_in_view || (*objects_in_view)[p.object]; }
+
+  const Scene& scene;
+  const PolygonSoup& soup;
+  const ViewTransform& view;
+  const RenderOptions& options;
+  const RenderContext& context;
+  const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
+  // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
+  // not computed (the bsp pipeline culls subtrees of its tree instead).
+  const std::vector<uint8_t>* objects_in_view = nullptr;
+  size_t* lights_evaluated = nullptr;   // SurfaceShader adds its light evaluations here
+  uint8_t* shadow_mask = nullptr;       // Frame::shadow_mask's pixels when requested, else null
+};
+
+using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats,
+                            StageTimings& timings);
+
+}  // namespace rr

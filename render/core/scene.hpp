@@ -1,0 +1,182 @@
+// Plain structs for a parsed render request (docs/scene-format.md), with every default applied.
+// World space: metres, right-handed, +Y up; plan points are (x, z). Produced by scene_json, consumed
+// by tessellate (static geometry) and the pipelines (camera, lights, options). No behaviour here.
+#pragma once
+
+#include "render/core/math.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rr {
+
+struct MaterialParams {
+  float specular = 0.0f;    // Blinn-Phong specular strength, 0..1
+  Color specular_color{1.0f, 1.0f, 1.0f};
+  float shininess = 32.0f;  // Blinn-Phong exponent
+};
+
+struct Floor {
+  std::string id;
+  Vec2 origin{0.0, 0.0};  // (x, z) of the corner of cell (0, 0): its minimum x and z
+  int cells_x = 1;
+  int cells_z = 1;
+  double cell_size = 1.0;
+  double elevation = 0.0;
+  std::vector<Color> colors;  // >= 2; cell (i, j) takes colors[(i + j) % n]
+  MaterialParams material;
+};
+
+enum class OpeningType { door, window };
+
+struct Opening {
+  OpeningType type = OpeningType::door;
+  std::string id;
+  double offset = 0.0;  // along the centreline from the wall's start to the near edge
+  double width = 0.9;
+  double height = 2.0;
+  double sill = 0.0;  // above the wall's base; 0 for doors
+  Color color{0.545f, 0.353f, 0.169f};
+  float opacity = 1.0f;  // windows only
+  bool leaf = true;      // doors only: a leaf closes the opening
+};
+
+struct Wall {
+  std::string id;
+  Vec2 start{0.0, 0.0};
+  Vec2 end{1.0, 0.0};
+  double thickness = 0.15;
+  double height = 2.5;
+  double base = 0.0;
+  Color color{0.902f, 0.882f, 0.839f};
+  MaterialParams material;
+  std::vector<Opening> openings;
+};
+
+enum class SolidType { box, cylinder, pyramid, prism, mesh };
+
+struct Solid {
+  SolidType type = SolidType::box;
+  std::string id;
+  Color color{0.7f, 0.7f, 0.7f};
+  MaterialParams material;
+  // Footprint solids (box, cylinder, pyramid).
+  Vec2 center{0.0, 0.0};
+  double base = 0.0;
+  double rotation_y_deg = 0.0;  // counter-clockwise seen from above
+  Vec3 size{1.0, 1.0, 1.0};    // box and pyramid: (sx, height, sz)
+  // Cylinder.
+  double radius = 0.5;
+  double height = 1.0;  // cylinder and prism
+  int segments = 32;
+  bool smooth = true;  // cylinder default true, mesh default false (set by the parser)
+  bool caps = true;
+  // Prism.
+  std::vector<Vec2> points;  // simple polygon in the plan
+  // Mesh: vertices in object space, transformed by scale, then rotation_y, then position.
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<uint32_t>> faces;
+  std::vector<Vec3> normals;  // mesh: empty, or one shading normal per vertex (object space, unit)
+  Vec3 position{0.0, 0.0, 0.0};
+  Vec3 scale{1.0, 1.0, 1.0};
+  bool closed = false;  // mesh only; the other solids know whether they are closed
+};
+
+enum class LightType { directional, point };
+
+struct Light {
+  LightType type = LightType::directional;
+  std::string id;
+  Vec3 direction{0.0, -1.0, 0.0};  // directional: the direction the light travels (unit length)
+  Vec3 position{0.0, 2.0, 0.0};    // point
+  Color color{1.0f, 1.0f, 1.0f};
+  float intensity = 1.0f;
+  Vec3 attenuation{1.0, 0.0, 0.0};  // point: 1 / (c + l*d + q*d^2)
+};
+
+struct Ambient {
+  Color color{1.0f, 1.0f, 1.0f};
+  float intensity = 0.2f;
+};
+
+// Everything the tessellator reads. Its canonical hash is the scene id.
+struct StaticGeometry {
+  bool has_floor = false;
+  Floor floor;
+  std::vector<Wall> walls;
+  std::vector<Solid> solids;
+};
+
+struct Scene {
+  StaticGeometry geometry;
+  Color background{0.0f, 0.0f, 0.0f};
+  Ambient ambient;
+  std::vector<Light> lights;
+};
+
+struct Camera {
+  Vec3 position{0.0, 1.6, 5.0};
+  Vec3 target{0.0, 1.0, 0.0};
+  Vec3 up{0.0, 1.0, 0.0};
+  double fov_y_deg = 60.0;
+  double near = 0.1;
+  double far = 100.0;
+};
+
+enum class PipelineKind { zbuffer, painter, bsp, reference };  // one row each in pipeline.cpp's table
+enum class ShadingMode { flat, gouraud, phong };    // one row each in shading.cpp's table
+
+// Painter's sort key: mean / min (nearest vertex) / max view depth, or newell (mean order refined by
+// the Newell-Newell-Sancha tests, splitting polygons to break cycles).
+enum class PainterKey { mean, min, max, newell };
+
+// PNG encoder (png.hpp): fast (parallel zlib strips), small (stb_image_write, the reference), none.
+enum class PngCompression { fast, small, none };  // one row each in png.cpp's table
+
+// BSP walk (bsp.hpp): front to back with a coverage buffer that skips hidden subtrees (default), or
+// the classic back-to-front walk. Both give the same image; the option exists to compare them.
+enum class BspTraversal { front_to_back, back_to_front };
+
+// What a directional shadow map is fitted to (docs/lighting.md): the receivers the camera sees
+// (sharpest; reused only for the same view) or every receiver of the scene (reused by every camera).
+enum class ShadowFit { view, scene };
+
+struct BspOptions {
+  // Splitter score w1*|front - back| + w2*splits + w3*coplanar (lower is better).
+  double w1 = 1.0;
+  double w2 = 4.0;
+  double w3 = -1.0;
+  // Classification band as a fraction of the scene's bounding-box diagonal (docs/scene-format.md).
+  double epsilon = 1e-7;
+  int max_candidates = 32;  // splitter candidates scored per node when the node holds more polygons
+  BspTraversal traversal = BspTraversal::front_to_back;  // not part of the tree's cache key
+};
+
+struct ShadowOptions {
+  int size = 2048;           // shadow map side in texels (per cube face for point lights), 64..4096
+  int pcf = 1;               // percentage-closer filter kernel: 1 (hard), 3 or 5
+  double bias = 0.0;         // extra constant depth bias in texels of depth, added to the default
+  double slope_bias = 0.0;   // extra slope-scaled bias, added to the default
+  ShadowFit fit = ShadowFit::view;
+};
+
+struct RenderOptions {
+  int width = 640;
+  int height = 480;
+  PipelineKind pipeline = PipelineKind::zbuffer;
+  ShadingMode shading = ShadingMode::flat;
+  PainterKey painter_key = PainterKey::mean;
+  BspOptions bsp;
+  bool shadows = false;
+  ShadowOptions shadow;
+  PngCompression png_compression = PngCompression::fast;
+};
+
+struct RenderRequest {
+  Scene scene;
+  Camera camera;
+  RenderOptions options;
+};
+
+}  // namespace rr

@@ -1,0 +1,131 @@
+// Lighting and shading shared by every pipeline (docs/lighting.md). The model: ambient + Blinn-Phong
+// (Lambert diffuse and a specular lobe on the half vector) from directional and point lights, each
+// light scaled by its shadow-map visibility. Input: world-space positions and unit normals; output:
+// display colours (no gamma; to_byte clamps). Open surfaces (not part of a closed object) are lit
+// on the side facing the eye, so a single triangle seen from behind is not black.
+#pragma once
+
+#include "render/core/draw.hpp"
+#include "render/core/frame.hpp"
+#include "render/core/scene.hpp"
+#include "render/core/shadow.hpp"
+#include "render/core/tessellate.hpp"
+
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace rr {
+
+struct ShadingInfo {
+  ShadingMode mode;
+  const char* name;
+};
+std::span<const ShadingInfo> shading_table();
+const ShadingInfo* find_shading(std::string_view name);
+
+// The reference model, in doubles. `n` is the unit normal on the side being lit.
+// One light at p, attenuated and unshadowed: its colour on the surface is
+// material.color * irradiance + specular. Zero when the light is behind n.
+struct LightTerms {
+  glm::dvec3 irradiance{0.0};  // light colour x intensity x cos x attenuation
+  glm::dvec3 specular{0.0};    // strength x specular colour x light colour x intensity x (n.h)^shininess x attenuation
+};
+LightTerms light_terms(const Light& light, const Material& material, Vec3 p_world, Vec3 n, Vec3 eye);
+// Ambient + every light, unshadowed.
+Color shade_point(const Scene& scene, const Material& material, Vec3 p_world, Vec3 n, Vec3 eye);
+
+// Shading of the polygons of one frame, shared by every pipeline:
+//   prepare(i)     once per polygon that may be visible (the "shade" stage): flat colours and
+//                  Gouraud vertex colours are computed here, once per polygon;
+//   bind(i, s)     after project_polygon, before drawing it: selects the polygon, the lights that
+//                  reach its plane and the attributes of its clipped vertices;
+//   fragment(f, k) per covered pixel: the colour. Shadow lookups use the world position
+//                  interpolated across the drawn polygon, so every pipeline gets shadows.
+// Colours of a polygon drawn as fragments (painter splits, BSP fragments) are those of its source
+// polygon at the same points: a fragment's id is its source's index in input.soup.
+// The destructor adds the lights evaluated (per polygon for flat, per vertex for Gouraud, per pixel
+// for Phong) to *input.lights_evaluated, which render_frame reports.
+class SurfaceShader {
+ public:
+  // `soup` holds the polygons being drawn: input.soup, or fragments made from it (painter splits,
+  // BSP fragments) that keep their source's id, material, object, flags and plane.
+  SurfaceShader(const FrameInput& input, const PolygonSoup& soup);
+  ~SurfaceShader();
+  // A copy for another thread drawing the same frame: shares `prepared`'s per-polygon terms (read
+  // only; prepare() is never called on the copy) and binds and shades on its own. Its light
+  // evaluations are added to *lights_evaluated when it is destroyed.
+  SurfaceShader(const SurfaceShader& prepared, size_t* lights_evaluated);
+  SurfaceShader(const SurfaceShader&) = delete;
+  SurfaceShader& operator=(const SurfaceShader&) = delete;
+
+  void prepare(uint32_t index);
+  void bind(uint32_t index, const DrawScratch& scratch);
+  Color fragment(const Fragment& f, size_t k) const {
+    if (mask_) [[unlikely]] write_mask(f, k);
+    return constant_ ? current_ : shade_pixel(f, k);
+  }
+  // True when every polygon has one colour (flat shading, no shadow map, no shadow mask asked for):
+  // then polygon_color(index) is the colour of a prepared polygon, and drawing it needs no bind().
+  bool constant_per_polygon() const { return mode_ == ShadingMode::flat && slots_ == 0 && !mask_; }
+  Color polygon_color(uint32_t index) const { return prepared_->terms_[prepared_->term_begin_[index]]; }
+
+ private:
+  // A light that reaches the bound polygon, in floats for the per-pixel loop.
+  struct ActiveLight {
+    glm::vec3 to_light{0.0f};     // directional: unit vector toward the light
+    glm::vec3 position{0.0f};     // point: relative to the eye
+    glm::vec3 attenuation{1.0f, 0.0f, 0.0f};
+    glm::vec3 diffuse{0.0f};      // material colour x light colour x intensity
+    glm::vec3 specular{0.0f};     // strength x specular colour x light colour x intensity
+    bool point = false;
+    bool has_specular = false;
+    int32_t shadow = -1;          // index into shadowed_, or -1: never shadowed
+  };
+  struct Shadowed {
+    const ShadowLight* light;
+    ShadowReceiver receiver;
+    int32_t slot;  // index into ShadowMaps::lights
+  };
+
+  Color shade_pixel(const Fragment& f, size_t k) const;
+  void write_mask(const Fragment& f, size_t k) const;
+  float visibility(size_t s, const Fragment& f, size_t k) const;
+  Color shade_phong(const Fragment& f, size_t k) const;
+  void collect_reaching(const Polygon& source);
+  void add_terms(const Material& material, Vec3 p, Vec3 n, Color* terms);
+  void prepare_gouraud(uint32_t index, const Polygon& source);
+  void bind_gouraud(uint32_t index, const DrawScratch& scratch);
+
+  const FrameInput& input_;
+  const PolygonSoup& soup_;
+  const SurfaceShader* prepared_ = this;  // holds term_begin_ and terms_
+  size_t* lights_evaluated_;
+  const ShadowMaps* maps_;
+  ShadingMode mode_;
+  size_t slots_;                       // lights with shadow maps
+  std::vector<uint32_t> term_begin_;   // per polygon: its first entry in terms_
+  std::vector<Color> terms_;           // [unshadowed sum, one per slot], per polygon (flat) or vertex
+  std::vector<Color> scratch_terms_;   // source vertex terms while preparing a fragment
+  std::vector<uint32_t> reaching_;     // lights that reach the polygon being prepared
+  std::vector<glm::dvec3> slot_sums_;  // per slot, while adding terms
+  double sign_ = 1.0;                  // lit side of the polygon being prepared or bound
+  // The bound polygon.
+  bool constant_ = true;
+  Color current_{0.0f};
+  Color ambient_{0.0f};
+  float shininess_ = 1.0f;
+  std::vector<ActiveLight> active_;
+  std::vector<Shadowed> shadowed_;
+  std::vector<Color> bound_terms_;     // flat: 1 + shadowed; Gouraud: that per clipped vertex
+  std::vector<Vec3> coords_;           // per clipped vertex x shadowed_: shadow_coords
+  std::vector<glm::vec3> eye_to_p_, normal_;  // Phong: per clipped vertex
+  size_t evaluated_ = 0;
+  mutable size_t evaluated_per_pixel_ = 0;
+  // Frame::shadow_mask (null when not requested): the bound polygon's lights l < 8 that reach it,
+  // as (bit, index into shadowed_ or -1).
+  uint8_t* mask_ = nullptr;
+  std::vector<std::pair<uint8_t, int32_t>> mask_lights_;
+};
+
+}  // namespace rr

@@ -1,0 +1,183 @@
+// SurfaceShader's per-drawn-polygon and per-pixel half (see shading.hpp): bind() gathers what the
+// pixels of one clipped polygon need (lights reaching its plane, shadow coordinates and Gouraud
+// colours at the clipped vertices, Phong positions and normals), so fragment() only interpolates
+// with the rasterizer's perspective-correct weights and allocates nothing.
+#include "render/core/shading.hpp"
+
+#include "render/core/shading_detail.hpp"
+
+#include <cmath>
+
+namespace rr {
+
+using shading_detail::ambient_irradiance;
+using shading_detail::FanPoint;
+using shading_detail::locate_in_fan;
+
+void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
+  const Polygon& poly = soup_.polygons[index];
+  const Material& material = soup_.materials[poly.material];
+  const Vec3 eye = input_.view.eye;
+  sign_ = lit_side(poly, eye);
+  active_.clear();
+  shadowed_.clear();
+  mask_lights_.clear();
+  const auto& lights = input_.scene.lights;
+  for (uint32_t l = 0; l < lights.size(); ++l) {
+    const Light& light = lights[l];
+    if (!light_reaches(light, sign_ * poly.normal, sign_ * poly.offset)) continue;
+    ActiveLight a;
+    const int32_t slot = maps_ ? maps_->slot_of_light[l] : -1;
+    if (slot >= 0) {
+      const ShadowLight& sl = maps_->lights[size_t(slot)];
+      shadowed_.push_back({&sl, make_shadow_receiver(*maps_, sl, poly.normal, poly.offset), slot});
+      a.shadow = int32_t(shadowed_.size() - 1);
+    }
+    if (mask_ && l < 8) mask_lights_.push_back({uint8_t(1u << l), a.shadow});
+    if (mode_ != ShadingMode::phong) continue;
+    const glm::vec3 radiance = light.color * light.intensity;
+    a.point = light.type == LightType::point;
+    a.to_light = glm::vec3(-light.direction);
+    a.position = glm::vec3(light.position - eye);
+    a.attenuation = glm::vec3(light.attenuation);
+    a.diffuse = material.color * radiance;
+    a.has_specular = material.params.specular > 0.0f;
+    a.specular = material.params.specular * material.params.specular_color * radiance;
+    active_.push_back(a);
+  }
+  const auto& clipped = scratch.clipped;
+  const size_t shadowed = shadowed_.size();
+  coords_.resize(clipped.size() * shadowed);
+  for (size_t j = 0; j < clipped.size(); ++j) {
+    for (size_t s = 0; s < shadowed; ++s) coords_[j * shadowed + s] = shadow_coords(*shadowed_[s].light, clipped[j].p_world);
+  }
+  switch (mode_) {
+    case ShadingMode::flat: {
+      const Color* terms = &prepared_->terms_[prepared_->term_begin_[index]];
+      bound_terms_.resize(1 + shadowed);
+      bound_terms_[0] = current_ = terms[0];
+      for (size_t s = 0; s < shadowed; ++s) bound_terms_[1 + s] = terms[1 + size_t(shadowed_[s].slot)];
+      constant_ = shadowed == 0;
+      break;
+    }
+    case ShadingMode::gouraud:
+      bind_gouraud(index, scratch);
+      constant_ = false;
+      break;
+    case ShadingMode::phong:
+      ambient_ = Color(glm::dvec3(material.color) * ambient_irradiance(input_.scene));
+      shininess_ = material.params.shininess;
+      eye_to_p_.resize(clipped.size());
+      normal_.resize(clipped.size());
+      for (size_t j = 0; j < clipped.size(); ++j) {
+        eye_to_p_[j] = glm::vec3(clipped[j].p_world - eye);
+        normal_[j] = float(sign_) * clipped[j].normal;
+      }
+      constant_ = false;
+      break;
+  }
+}
+
+// Gouraud colours at the clipped vertices: the prepared vertex colours when clipping left the
+// polygon whole, else the polygon's fan interpolation at the new vertices, so that clipping never
+// changes the colour of a point.
+void SurfaceShader::bind_gouraud(uint32_t index, const DrawScratch& scratch) {
+  const Polygon& poly = soup_.polygons[index];
+  const Color* terms = &prepared_->terms_[prepared_->term_begin_[index]];
+  const size_t width = 1 + slots_, out_width = 1 + shadowed_.size();
+  const auto points = soup_.points(poly);
+  const auto& clipped = scratch.clipped;
+  bool whole = clipped.size() == points.size();
+  for (size_t j = 0; whole && j < clipped.size(); ++j) whole = clipped[j].p_world == points[j];
+  bound_terms_.resize(clipped.size() * out_width);
+  auto pick = [&](const Color* t, size_t at) { return at == 0 ? t[0] : t[1 + size_t(shadowed_[at - 1].slot)]; };
+  for (size_t j = 0; j < clipped.size(); ++j) {
+    Color* out = &bound_terms_[j * out_width];
+    if (whole) {
+      for (size_t t = 0; t < out_width; ++t) out[t] = pick(terms + j * width, t);
+      continue;
+    }
+    const FanPoint at = locate_in_fan(points, poly.normal, clipped[j].p_world);
+    for (size_t t = 0; t < out_width; ++t) {
+      out[t] = float(at.w[0]) * pick(terms, t) + float(at.w[1]) * pick(terms + at.j * width, t) +
+               float(at.w[2]) * pick(terms + (at.j + 1) * width, t);
+    }
+  }
+}
+
+float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {
+  const size_t n = shadowed_.size();
+  const Vec3 coords = f.b[0] * coords_[s] + f.b[1] * coords_[(k + 1) * n + s] + f.b[2] * coords_[(k + 2) * n + s];
+  return shadow_visibility(*maps_, *shadowed_[s].light, shadowed_[s].receiver, coords);
+}
+
+// A light counts as reaching the pixel when at least half of its PCF taps see it.
+void SurfaceShader::write_mask(const Fragment& f, size_t k) const {
+  uint8_t bits = 0;
+  for (const auto& [bit, shadow] : mask_lights_) {
+    if (shadow < 0 || visibility(size_t(shadow), f, k) >= 0.5f) bits = uint8_t(bits | bit);
+  }
+  mask_[size_t(f.y) * size_t(input_.view.width) + size_t(f.x)] = bits;
+}
+
+Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {
+  if (mode_ == ShadingMode::phong) return shade_phong(f, k);
+  const size_t n = shadowed_.size();
+  if (mode_ == ShadingMode::flat) {
+    Color c = bound_terms_[0];
+    for (size_t s = 0; s < n; ++s) c += visibility(s, f, k) * bound_terms_[1 + s];
+    return c;
+  }
+  // Gouraud: the fan triangle (0, k+1, k+2) of the clipped polygon, perspective-correct weights.
+  const size_t width = 1 + n;
+  const float b0 = float(f.b[0]), b1 = float(f.b[1]), b2 = float(f.b[2]);
+  const Color* t0 = &bound_terms_[0];
+  const Color* t1 = &bound_terms_[(k + 1) * width];
+  const Color* t2 = &bound_terms_[(k + 2) * width];
+  Color c = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
+  for (size_t s = 0; s < n; ++s) {
+    const float v = visibility(s, f, k);
+    if (v > 0.0f) c += v * (b0 * t0[1 + s] + b1 * t1[1 + s] + b2 * t2[1 + s]);
+  }
+  return c;
+}
+
+// The per-pixel Blinn-Phong of light_terms, in floats: positions relative to the eye keep float
+// precision far from the world origin.
+Color SurfaceShader::shade_phong(const Fragment& f, size_t k) const {
+  const float b0 = float(f.b[0]), b1 = float(f.b[1]), b2 = float(f.b[2]);
+  const glm::vec3 q = b0 * eye_to_p_[0] + b1 * eye_to_p_[k + 1] + b2 * eye_to_p_[k + 2];
+  glm::vec3 n = b0 * normal_[0] + b1 * normal_[k + 1] + b2 * normal_[k + 2];
+  const float n_len = glm::length(n);
+  n = n_len > 0.0f ? n / n_len : normal_[0];
+  const float q_len = glm::length(q);
+  const glm::vec3 to_eye = q_len > 0.0f ? -q / q_len : n;
+  Color c = ambient_;
+  evaluated_per_pixel_ += active_.size();
+  for (const ActiveLight& a : active_) {
+    const float vis = a.shadow >= 0 ? visibility(size_t(a.shadow), f, k) : 1.0f;
+    if (vis <= 0.0f) continue;
+    glm::vec3 l = a.to_light;
+    float attenuation = 1.0f;
+    if (a.point) {
+      const glm::vec3 d = a.position - q;
+      const float dist = glm::length(d);
+      if (!(dist > 0.0f)) continue;
+      l = d / dist;
+      attenuation = 1.0f / (a.attenuation.x + a.attenuation.y * dist + a.attenuation.z * dist * dist);
+    }
+    const float n_dot_l = glm::dot(n, l);
+    if (n_dot_l <= 0.0f) continue;
+    glm::vec3 term = a.diffuse * n_dot_l;
+    if (a.has_specular) {
+      const glm::vec3 h = l + to_eye;
+      const float h_len = glm::length(h);
+      const float n_dot_h = h_len > 0.0f ? glm::dot(n, h) / h_len : 0.0f;
+      if (n_dot_h > 0.0f) term += a.specular * std::pow(n_dot_h, shininess_);
+    }
+    c += term * (attenuation * vis);
+  }
+  return c;
+}
+
+}  // namespace rr

@@ -1,0 +1,71 @@
+// Static geometry (world space) -> planar convex polygons with outward normals, counter-clockwise
+// winding seen from the front, a stable id (= index, order in docs/scene-format.md) and a material.
+// Storage is flat (one vertex array, polygons index into it) so a million triangles cost no
+// per-polygon allocation. Invariants: every polygon has >= 3 vertices, is convex and planar within
+// 1e-9 of the scene size, and its `normal` is unit length with dot(normal, p) == offset on its plane.
+#pragma once
+
+#include "render/core/scene.hpp"
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace rr {
+
+struct Material {
+  Color color{0.7f, 0.7f, 0.7f};
+  float opacity = 1.0f;  // < 1: drawn translucent, after the opaque polygons
+  MaterialParams params;
+};
+
+// A scene element that polygons belong to (the floor, a wall, an opening's leaf or pane, a solid).
+struct SceneObject {
+  std::string pointer;  // JSON Pointer of the element in the request, e.g. "/scene/solids/3"
+  bool closed = false;  // faces bound a volume and wind outward: back faces can be skipped
+  bool smooth = false;  // shading normals are averaged across faces
+};
+
+enum PolygonFlags : uint32_t {
+  polygon_closed = 1u << 0,       // belongs to a closed object: invisible from behind its plane
+  polygon_translucent = 1u << 1,  // its material's opacity < 1
+};
+
+struct Polygon {
+  uint32_t first_vertex = 0;  // into PolygonSoup::positions / normals
+  uint32_t vertex_count = 0;
+  uint32_t id = 0;            // stable id; fragments made by clipping/splitting keep it
+  uint32_t material = 0;      // into PolygonSoup::materials
+  uint32_t object = 0;        // into PolygonSoup::objects
+  uint32_t flags = 0;         // PolygonFlags
+  Vec3 normal{0.0, 1.0, 0.0};  // unit, outward
+  double offset = 0.0;         // plane: dot(normal, p) == offset
+};
+
+struct PolygonSoup {
+  std::vector<Vec3> positions;         // world space
+  std::vector<glm::vec3> normals;      // per vertex shading normals (face normal when faceted)
+  std::vector<Polygon> polygons;
+  std::vector<Material> materials;
+  std::vector<SceneObject> objects;
+
+  std::span<const Vec3> points(const Polygon& p) const {
+    return {positions.data() + p.first_vertex, p.vertex_count};
+  }
+  std::span<const glm::vec3> vertex_normals(const Polygon& p) const {
+    return {normals.data() + p.first_vertex, p.vertex_count};
+  }
+};
+
+// Tessellates validated geometry. Deterministic: the same input gives the same polygons and ids.
+PolygonSoup tessellate(const StaticGeometry& geometry);
+
+// An upper bound on tessellate(geometry).polygons.size(), computed without building anything, so
+// the limit on polygon count is checked before memory is spent.
+size_t estimate_polygon_count(const StaticGeometry& geometry);
+
+// Area of a planar polygon (world units squared).
+double polygon_area(std::span<const Vec3> points);
+
+}  // namespace rr

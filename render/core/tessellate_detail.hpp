@@ -1,0 +1,50 @@
+// Internal to the tessellator (tessellate.cpp, tessellate_walls.cpp); nothing else includes it.
+// Every element emits its faces through SoupBuilder, so orientation, degeneracy, ids and flags are
+// decided in one place. World space, metres, doubles; emitted polygons obey tessellate.hpp.
+#pragma once
+
+#include "render/core/tessellate.hpp"
+
+#include <array>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace rr::detail {
+
+class SoupBuilder {
+ public:
+  uint32_t add_object(std::string pointer, bool closed, bool smooth);
+  uint32_t add_material(const Material& material);  // equal materials share one index
+
+  // Appends one convex planar polygon. Its winding is chosen so that the normal agrees with
+  // `outward` (any vector on the outward side of the plane: builders need not track handedness).
+  // Near-duplicate consecutive vertices are merged first; a polygon left without area is dropped
+  // (returns false) and takes no id. `shading` is per vertex, or empty for the face normal.
+  bool add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material, uint32_t object,
+                   std::span<const glm::vec3> shading = {});
+
+  PolygonSoup take() { return std::move(soup_); }
+
+ private:
+  PolygonSoup soup_;
+  std::map<std::array<float, 9>, uint32_t> material_index_;
+  std::vector<Vec3> points_;  // scratch, reused so emitting allocates nothing per polygon
+  std::vector<glm::vec3> shading_;
+};
+
+// Twice the area times the unit normal of a closed polygon (Newell's method, taken about the first
+// vertex so far-from-origin coordinates keep their precision). Right-hand rule: CCW -> toward viewer.
+Vec3 newell_vector(std::span<const Vec3> points);
+
+// The six faces of the cuboid centre ± half_x ± half_y ± half_z (any handedness), in the order
+// +x, -x, +y, -y, +z, -z.
+void add_cuboid(SoupBuilder& out, Vec3 centre, Vec3 half_x, Vec3 half_y, Vec3 half_z,
+                uint32_t material, uint32_t object);
+
+// Walls with their joins, openings, door leaves and panes (tessellate_walls.cpp).
+void add_walls(SoupBuilder& out, const std::vector<Wall>& walls);
+size_t estimate_wall_polygons(const Wall& wall);
+
+}  // namespace rr::detail

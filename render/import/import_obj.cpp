@@ -1,0 +1,308 @@
+// Wavefront OBJ text -> a request with one mesh solid per (o/g name, usemtl material) group, in order
+// of first appearance, coloured by the .mtl diffuse colour (Kd). Object space is the file's (Y up,
+// counter-clockwise fronts); the scale goes into each mesh's "scale". Faces are repaired so the
+// validator accepts them: repeated corners dropped, faces that are not planar within 1e-7 of their
+// group's size (the validator allows 1e-6) fan-triangulated, faces of zero area dropped; each repair
+// is counted in a warning. Bad numbers and indices are errors naming the line.
+#include "render/import/import.hpp"
+#include "render/import/import_obj.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace rr {
+
+using nlohmann::json;
+namespace import_detail {
+
+namespace {
+
+// Parses one `f` token's index (1-based, or negative from the end) against `count` defined so far.
+uint32_t resolve_index(std::string_view field, size_t count, const char* what, size_t line) {
+  std::optional<long long> raw = parse_long(field);
+  if (!raw) throw_at_line(Kind::malformed, line, std::string(what) + " index '" + std::string(field) + "' is not an integer");
+  const long long signed_count = static_cast<long long>(count);
+  long long index = *raw > 0 ? *raw - 1 : signed_count + *raw;
+  if (*raw == 0 || index < 0 || index >= signed_count) {
+    throw_at_line(Kind::invalid, line,
+                  std::string(what) + " index " + std::to_string(*raw) + " is out of range (" +
+                      std::to_string(count) + " " + what + (count == 1 ? "" : "s") +
+                      " defined before this line; OBJ indices start at 1, negative ones count back)");
+  }
+  return uint32_t(index);
+}
+
+Vec3 parse_vector(const std::vector<std::string_view>& fields, size_t line, const char* what) {
+  if (fields.size() < 4) throw_at_line(Kind::malformed, line, std::string(what) + " needs 3 numbers");
+  Vec3 v{0.0};
+  for (int k = 0; k < 3; ++k) {
+    std::optional<double> value = parse_double(fields[size_t(k) + 1]);
+    if (!value) {
+      throw_at_line(Kind::invalid, line, std::string(what) + " coordinate '" + std::string(fields[size_t(k) + 1]) +
+                                             "' is not a finite number");
+    }
+    // The mesh keeps file units; the request refuses coordinates beyond 1e6.
+    if (std::abs(*value) > 1e6) throw_at_line(Kind::invalid, line, std::string(what) + " coordinate exceeds 1e6");
+    v[k] = *value;
+  }
+  return v;
+}
+
+void parse_face(const std::vector<std::string_view>& fields, size_t line, ObjData& obj, Group& group) {
+  if (fields.size() < 4) throw_at_line(Kind::invalid, line, "a face needs at least 3 vertices");
+  Face face{uint32_t(obj.corners.size()), uint32_t(fields.size() - 1)};
+  for (size_t k = 1; k < fields.size(); ++k) {
+    std::string_view token = fields[k];
+    size_t slash1 = token.find('/');
+    Corner c;
+    c.v = resolve_index(token.substr(0, slash1), obj.positions.size(), "vertex", line);
+    if (slash1 != std::string_view::npos) {
+      size_t slash2 = token.find('/', slash1 + 1);
+      std::string_view vt = token.substr(slash1 + 1, slash2 == std::string_view::npos ? slash2 : slash2 - slash1 - 1);
+      if (!vt.empty()) resolve_index(vt, obj.texcoords, "texture coordinate", line);
+      if (slash2 != std::string_view::npos) c.vn = resolve_index(token.substr(slash2 + 1), obj.normals.size(), "normal", line);
+    }
+    obj.corners.push_back(c);
+  }
+  group.faces.push_back(face);
+}
+
+// Everything after the keyword, trimmed (names may contain spaces).
+std::string rest_of_line(std::string_view line, std::string_view keyword) {
+  std::string_view rest = line.substr(std::min(line.size(), line.find(keyword) + keyword.size()));
+  while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+  while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t')) rest.remove_suffix(1);
+  return std::string(rest);
+}
+
+}  // namespace
+
+ObjData parse_obj(std::string_view text) {
+  ObjData obj;
+  std::map<std::pair<std::string, std::string>, size_t> group_index;
+  std::string name, material;
+  size_t current = SIZE_MAX;  // the group faces go to; chosen lazily so empty groups vanish
+  size_t face_count = 0;
+  LineReader lines(text);
+  while (auto line = lines.next()) {
+    const size_t n = lines.line_number();
+    if (line->empty() || line->front() == '#') continue;
+    std::vector<std::string_view> fields = split_fields(*line);
+    if (fields.empty()) continue;
+    std::string_view key = fields[0];
+    if (key == "v") {
+      obj.positions.push_back(parse_vector(fields, n, "vertex"));
+    } else if (key == "vn") {
+      obj.normals.push_back(parse_vector(fields, n, "normal"));
+    } else if (key == "vt") {
+      ++obj.texcoords;
+    } else if (key == "f") {
+      if (++face_count > max_faces) {
+        throw_at_line(Kind::too_large, n, "more than " + std::to_string(max_faces) + " faces");
+      }
+      if (current == SIZE_MAX) {
+        auto [it, inserted] = group_index.try_emplace({name, material}, obj.groups.size());
+        if (inserted) obj.groups.push_back({name, material, {}});
+        current = it->second;
+      }
+      parse_face(fields, n, obj, obj.groups[current]);
+    } else if (key == "o" || key == "g") {
+      name = rest_of_line(*line, key);
+      current = SIZE_MAX;
+    } else if (key == "usemtl") {
+      material = rest_of_line(*line, key);
+      current = SIZE_MAX;
+    } else if (key == "mtllib") {
+      for (size_t k = 1; k < fields.size(); ++k) obj.libraries.emplace_back(fields[k]);
+    }
+    // s, l, p, curves and anything else carry nothing we draw.
+  }
+  return obj;
+}
+
+// newmtl name -> Kd colour, from the text of one .mtl file.
+void parse_mtl(std::string_view text, std::map<std::string, Color>& colors) {
+  std::string current;
+  LineReader lines(text);
+  while (auto line = lines.next()) {
+    std::vector<std::string_view> fields = split_fields(*line);
+    if (fields.empty() || fields[0].front() == '#') continue;
+    if (fields[0] == "newmtl") {
+      current = rest_of_line(*line, "newmtl");
+      colors.try_emplace(current, Color{0.7f});
+    } else if (fields[0] == "Kd" && !current.empty() && fields.size() >= 4) {
+      Color c{0.7f};
+      for (int k = 0; k < 3; ++k) {
+        if (auto v = parse_double(fields[size_t(k) + 1])) c[k] = float(std::clamp(*v, 0.0, 1.0));
+      }
+      colors[current] = c;
+    }
+  }
+}
+
+namespace {
+
+// Twice the area, and the largest distance of a corner from the plane through the centroid, as
+// scene_checks computes them for validation.
+std::pair<double, double> area_and_flatness(const std::vector<Vec3>& p) {
+  Vec3 centroid{0.0};
+  for (const Vec3& q : p) centroid += q;
+  centroid /= double(p.size());
+  Vec3 normal{0.0};
+  for (size_t k = 0; k < p.size(); ++k) normal += glm::cross(p[k] - centroid, p[(k + 1) % p.size()] - centroid);
+  double twice_area = glm::length(normal);
+  double off_plane = 0.0;
+  if (twice_area > 0.0) {
+    for (const Vec3& q : p) off_plane = std::max(off_plane, std::abs(glm::dot(normal / twice_area, q - centroid)));
+  }
+  return {twice_area, off_plane};
+}
+
+}  // namespace
+
+json group_mesh(const Group& g, const ObjData& obj, const std::vector<Vec3>& positions,
+                const std::vector<Vec3>& normals_in, bool mirrored, Color color, RepairCounts& repairs, Box3& box) {
+  bool with_normals = !obj.normals.empty();
+  Box3 group_box;
+  for (const Face& f : g.faces) {
+    for (uint32_t k = 0; k < f.corner_count; ++k) {
+      const Corner& c = obj.corners[f.first_corner + k];
+      group_box.add(positions[c.v]);
+      if (c.vn == no_normal || !(glm::length(obj.normals[c.vn]) > 0.0)) with_normals = false;
+    }
+  }
+  if (!obj.normals.empty() && !with_normals) ++repairs.dropped_normals;
+  box.add(group_box.lo), box.add(group_box.hi);
+  const double size = glm::length(group_box.hi - group_box.lo);
+  // 4x the validator's zero-area threshold, so rounding in either computation cannot disagree.
+  const double min_twice_area = 8.0 * (1e-8 * size) * (1e-8 * size);
+
+  std::unordered_map<uint64_t, uint32_t> local;
+  json vertices = json::array(), normals = json::array(), faces = json::array();
+  auto local_index = [&](const Corner& c) {
+    uint64_t key = (uint64_t(c.v) << 32) | (with_normals ? c.vn : 0u);
+    auto [it, inserted] = local.try_emplace(key, uint32_t(local.size()));
+    if (inserted) {
+      const Vec3& p = positions[c.v];
+      vertices.push_back({p.x, p.y, p.z});
+      if (with_normals) {
+        const Vec3 n = glm::normalize(normals_in[c.vn]);
+        normals.push_back(json_vec3(n));
+      }
+    }
+    return it->second;
+  };
+  std::vector<Corner> ring;
+  std::vector<Vec3> points;
+  auto emit = [&](const std::vector<Corner>& corners) {
+    points.clear();
+    for (const Corner& c : corners) points.push_back(positions[c.v]);
+    if (!(area_and_flatness(points).first > min_twice_area)) return ++repairs.degenerate, void();
+    json& face = faces.emplace_back(json::array());
+    for (const Corner& c : corners) face.push_back(local_index(c));
+  };
+  for (const Face& f : g.faces) {
+    ring.clear();
+    for (uint32_t k = 0; k < f.corner_count; ++k) {
+      const Corner& c = obj.corners[f.first_corner + k];
+      if (ring.empty() || ring.back().v != c.v) ring.push_back(c);
+    }
+    while (ring.size() > 1 && ring.front().v == ring.back().v) ring.pop_back();
+    if (mirrored) std::reverse(ring.begin(), ring.end());  // a mirror turns fronts into backs
+    if (ring.size() < 3) {
+      ++repairs.degenerate;
+      continue;
+    }
+    points.clear();
+    for (const Corner& c : ring) points.push_back(positions[c.v]);
+    std::set<uint32_t> distinct;
+    for (const Corner& c : ring) distinct.insert(c.v);
+    bool flat = ring.size() == 3 || area_and_flatness(points).second <= 1e-7 * size;
+    if (flat && distinct.size() == ring.size()) {
+      emit(ring);
+      continue;
+    }
+    ++repairs.triangulated;  // a fan from the first corner; a repeated corner leaves zero-area pieces
+    for (size_t k = 1; k + 1 < ring.size(); ++k) {
+      if (ring[0].v == ring[k].v || ring[k].v == ring[k + 1].v || ring[0].v == ring[k + 1].v) {
+        ++repairs.degenerate;
+        continue;
+      }
+      emit({ring[0], ring[k], ring[k + 1]});
+    }
+  }
+  json mesh = {{"type", "mesh"}, {"vertices", std::move(vertices)}, {"faces", std::move(faces)}};
+  std::string id = g.name.empty() ? g.material : (g.material.empty() ? g.name : g.name + " / " + g.material);
+  if (!id.empty()) mesh["id"] = id;
+  mesh["color"] = json_color(color);
+  if (with_normals) mesh["normals"] = std::move(normals);
+  return mesh;
+}
+
+void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& warnings) {
+  if (repairs.triangulated) {
+    warnings.push_back(std::to_string(repairs.triangulated) + " non-planar faces were split into triangles");
+  }
+  if (repairs.degenerate) warnings.push_back(std::to_string(repairs.degenerate) + " faces of zero area were dropped");
+  if (repairs.dropped_normals) {
+    warnings.push_back(std::to_string(repairs.dropped_normals) +
+                       " groups had faces without (or with zero) normals: their normals were dropped");
+  }
+}
+
+}  // namespace import_detail
+
+using namespace import_detail;
+
+ImportResult import_obj(std::string_view text, const ImportOptions& options) {
+  const double scale = resolve_scale(options, ImportFormat::obj);
+  ObjData obj = parse_obj(text);
+  ImportResult result;
+  std::map<std::string, Color> colors;
+  for (const std::string& library : obj.libraries) {
+    std::optional<std::string> mtl = options.read_companion ? options.read_companion(library)
+                                                                    : std::nullopt;
+    if (mtl) {
+      parse_mtl(*mtl, colors);
+    } else {
+      result.warnings.push_back("material library '" + library + "' is not available: its groups are grey");
+    }
+  }
+  std::set<std::string> unknown;
+  for (const Group& g : obj.groups) {
+    if (!g.material.empty() && !colors.contains(g.material)) unknown.insert(g.material);
+  }
+  if (!unknown.empty()) {
+    std::string names;
+    for (const std::string& n : unknown) names += (names.empty() ? "" : ", ") + n;
+    result.warnings.push_back("materials without a Kd colour, drawn grey: " + names);
+  }
+  RepairCounts repairs;
+  Box3 box;  // in file units; the meshes keep them and carry the scale
+  json solids = json::array();
+  for (const Group& g : obj.groups) {
+    auto color = colors.find(g.material);
+    json mesh = group_mesh(g, obj, obj.positions, obj.normals, false,
+                           color != colors.end() ? color->second : Color{0.7f}, repairs, box);
+    if (scale != 1.0) mesh["scale"] = scale;
+    if (!mesh["faces"].empty()) solids.push_back(std::move(mesh));
+  }
+  if (solids.empty()) throw InputError(Kind::invalid, "", "the OBJ file has no faces to draw");
+  add_repair_warnings(repairs, result.warnings);
+  box.lo *= scale, box.hi *= scale;
+  const double aspect = double(options.width) / double(options.height);
+  result.request = {{"scene",
+                     {{"background", "#20242a"},
+                      {"ambient", {{"intensity", 0.35}}},
+                      {"solids", std::move(solids)},
+                      {"lights", json::array({default_sun_light()})}}},
+                    {"camera", camera_showing_box(box, aspect)},
+                    {"options", request_options(options)}};
+  return result;
+}
+
+}  // namespace rr

@@ -1,0 +1,98 @@
+// Internals of the Sweet Home 3D importer shared by import_sweethome3d.cpp (the home: levels, rooms,
+// furniture, lights, camera) and import_sh3d_walls.cpp (walls and the openings cut into them).
+// Everything here is already in world units: metres, plan point (x, z) = (x_cm, y_cm) / 100, since
+// the plan's y axis points down exactly as our +Z does when seen from above.
+#pragma once
+
+#include "render/import/import_common.hpp"
+
+#include <pugixml.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rr::import_detail {
+
+// One element of Home.xml with where it is: a pointer-like path ("/home/wall/3": the fourth <wall>
+// child of <home>) and its 1-based line.
+struct Sh3dElement {
+  pugi::xml_node node;
+  std::string pointer;
+  size_t line = 0;
+};
+
+struct Sh3dLevel {
+  double elevation_m = 0.0;
+  double floor_thickness_m = 0.12;
+  bool visible = true;
+};
+
+// What the readers share: levels by id, the default wall height, and the line table for messages.
+struct Sh3dHome {
+  std::map<std::string, Sh3dLevel> levels;
+  double wall_height_m = 2.5;
+  std::vector<size_t> line_starts;  // byte offset of each line's first character
+  size_t line_of(const pugi::xml_node& node) const;
+};
+
+// Elements by name in document order, furniture groups flattened (their children carry absolute
+// coordinates in Home.xml). An explicit stack, so deep nesting cannot exhaust ours.
+std::map<std::string, std::vector<Sh3dElement>> collect_elements(const pugi::xml_node& home, const Sh3dHome& h);
+
+// Attribute readers: a missing optional attribute gives `fallback`; a present one that is not a
+// finite number, or a missing required one, is an InputError naming the element, attribute and line.
+double number_attribute(const Sh3dElement& e, const char* name, double fallback);
+double required_number(const Sh3dElement& e, const char* name);
+// "AARRGGBB" or "RRGGBB" hex -> colour (alpha ignored); nullopt when absent or not hex.
+std::optional<Color> color_attribute(const pugi::xml_node& node, const char* name);
+
+// The element's level (absent: the ground at elevation 0), or nullptr when that level is hidden
+// (its elements are left out, as Sweet Home 3D's 3D view leaves them out). A level the home does not
+// define is an InputError, since its elevation cannot be known.
+const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h);
+
+// A door or window as the walls see it: its span along its own x axis, in metres.
+struct Sh3dOpening {
+  const Sh3dElement* element = nullptr;
+  std::string name;
+  bool door = false;
+  bool leaf = true;  // doors: false for open doors and bare frames (their names say so)
+  Vec2 centre{0.0};
+  Vec2 axis{1.0, 0.0};  // its width direction in the plan
+  double width = 0.0, depth = 0.0, height = 0.0, elevation = 0.0;  // elevation above its level
+  std::string level;
+};
+
+// Where a piece of furniture goes: the centre of its box on the plan, its bottom, its size (x along
+// its width, y up, z along its depth) and its angle (Sweet Home 3D's: clockwise on the plan).
+struct PiecePlacement {
+  Vec2 centre{0.0};
+  double base = 0.0;
+  Vec3 size{1.0};
+  double angle = 0.0;
+};
+
+struct Sh3dModel;  // a parsed furniture OBJ and its .mtl colours (import_sh3d_models.cpp)
+
+// Furniture models read so far, by the `model` attribute; null when unavailable or unreadable.
+struct Sh3dModelCache {
+  std::map<std::string, std::shared_ptr<const Sh3dModel>> by_name;
+  size_t missing = 0, unreadable = 0, polygons_repaired = 0;
+};
+
+// Appends a piece's model as mesh solids placed as Sweet Home 3D places it (the model's box, after
+// its modelRotation, scaled onto the piece's box; modelMirrored flips its width axis), coloured by the
+// piece's color, else its <material> colours by name, else the model's .mtl. False when the model is
+// not available through options.read_companion (its name as written, then furniture/<file name>).
+bool add_piece_model(const Sh3dElement& e, const PiecePlacement& place, const ImportOptions& options,
+                     Sh3dModelCache& cache, nlohmann::json& solids);
+
+// Walls (arcs split into segments, sloped tops as a wall plus a wedge mesh) with every door and
+// window cut into the walls it intersects. Appends to `walls` and `solids`, warnings to `warnings`.
+void add_sh3d_walls(const std::vector<Sh3dElement>& wall_elements, const std::vector<Sh3dOpening>& openings,
+                    const Sh3dHome& h, nlohmann::json& walls, nlohmann::json& solids,
+                    std::vector<std::string>& warnings, Box3& box);
+
+}  // namespace rr::import_detail

@@ -1,0 +1,322 @@
+// Sweet Home 3D Home.xml -> a request: levels give elevations (elements of hidden levels are left
+// out, as Sweet Home 3D's 3D view leaves them out), walls and openings (import_sh3d_walls.cpp),
+// rooms as thin floor slabs (prisms), furniture and lamps as boxes of the piece's size and angle,
+// each light source as a point light, and the observer camera as the camera. Centimetres -> metres;
+// the plan's x and y are our x and z; Sweet Home 3D angles turn clockwise on the plan, ours
+// counter-clockwise, so rotation_y = -angle.
+#include "render/import/import.hpp"
+#include "render/import/import_sh3d.hpp"
+#include "render/scene_io/scene_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace rr {
+
+using nlohmann::json;
+using namespace import_detail;
+
+namespace import_detail {
+
+size_t Sh3dHome::line_of(const pugi::xml_node& node) const {
+  ptrdiff_t offset = node.offset_debug();
+  if (offset < 0 || line_starts.empty()) return 0;
+  auto it = std::upper_bound(line_starts.begin(), line_starts.end(), size_t(offset));
+  return size_t(it - line_starts.begin());
+}
+
+std::map<std::string, std::vector<Sh3dElement>> collect_elements(const pugi::xml_node& home, const Sh3dHome& h) {
+  std::map<std::string, std::vector<Sh3dElement>> out;
+  struct Open {
+    pugi::xml_node parent;
+    std::string pointer;
+  };
+  std::vector<Open> stack{{home, "/home"}};
+  while (!stack.empty()) {
+    Open open = std::move(stack.back());
+    stack.pop_back();
+    std::map<std::string, size_t> sibling_count;
+    for (pugi::xml_node child : open.parent.children()) {
+      if (child.type() != pugi::node_element) continue;
+      const std::string name = child.name();
+      const std::string pointer = open.pointer + "/" + name + "/" + std::to_string(sibling_count[name]++);
+      if (name == "furnitureGroup") {
+        stack.push_back({child, pointer});
+      } else {
+        out[name].push_back({child, pointer, h.line_of(child)});
+      }
+    }
+  }
+  // Groups were visited after their siblings; document order keeps the output stable and readable.
+  for (auto& [name, elements] : out) {
+    std::stable_sort(elements.begin(), elements.end(), [](const Sh3dElement& a, const Sh3dElement& b) {
+      return a.node.offset_debug() < b.node.offset_debug();
+    });
+  }
+  return out;
+}
+
+namespace {
+
+[[noreturn]] void throw_attribute(const Sh3dElement& e, const char* name, const std::string& problem) {
+  throw InputError(InputError::Kind::invalid, e.pointer,
+                   "line " + std::to_string(e.line) + ": <" + e.node.name() + "> attribute " + name + " " + problem);
+}
+
+}  // namespace
+
+double number_attribute(const Sh3dElement& e, const char* name, double fallback) {
+  pugi::xml_attribute a = e.node.attribute(name);
+  if (!a) return fallback;
+  std::optional<double> value = parse_double(a.as_string());
+  if (!value || std::abs(*value) > 1e8) throw_attribute(e, name, "'" + std::string(a.as_string()) + "' is not a number");
+  return *value;
+}
+
+double required_number(const Sh3dElement& e, const char* name) {
+  if (!e.node.attribute(name)) throw_attribute(e, name, "is missing");
+  return number_attribute(e, name, 0.0);
+}
+
+std::optional<Color> color_attribute(const pugi::xml_node& node, const char* name) {
+  std::string_view text = node.attribute(name).as_string("");
+  if (text.size() != 8 && text.size() != 6) return std::nullopt;
+  unsigned value = 0;
+  for (char c : text) {
+    if (!std::isxdigit(static_cast<unsigned char>(c))) return std::nullopt;
+    value = value * 16 + unsigned(std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : std::tolower(c) - 'a' + 10);
+  }
+  return Color{float((value >> 16) & 0xff) / 255.0f, float((value >> 8) & 0xff) / 255.0f, float(value & 0xff) / 255.0f};
+}
+
+const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h) {
+  static const Sh3dLevel ground;
+  pugi::xml_attribute a = e.node.attribute("level");
+  if (!a) return &ground;
+  auto it = h.levels.find(a.as_string());
+  if (it == h.levels.end()) {
+    throw InputError(InputError::Kind::invalid, e.pointer,
+                     "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" + a.as_string() +
+                         "', which the home does not define");
+  }
+  return it->second.visible ? &it->second : nullptr;
+}
+
+}  // namespace import_detail
+
+namespace {
+
+using Elements = std::map<std::string, std::vector<Sh3dElement>>;
+
+const std::vector<Sh3dElement>& elements_named(const Elements& all, const std::string& name) {
+  static const std::vector<Sh3dElement> none;
+  auto it = all.find(name);
+  return it == all.end() ? none : it->second;
+}
+
+std::string lower(std::string text) {
+  for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+pugi::xml_document load_home(std::string_view xml, Sh3dHome& h) {
+  h.line_starts.push_back(0);
+  for (size_t i = 0; i < xml.size(); ++i) {
+    if (xml[i] == '\n') h.line_starts.push_back(i + 1);
+  }
+  pugi::xml_document doc;
+  pugi::xml_parse_result parsed = doc.load_buffer(xml.data(), xml.size(), pugi::parse_default, pugi::encoding_utf8);
+  if (!parsed) {
+    auto it = std::upper_bound(h.line_starts.begin(), h.line_starts.end(), size_t(std::max<ptrdiff_t>(parsed.offset, 0)));
+    const size_t line = size_t(it - h.line_starts.begin());
+    throw_at_line(Kind::malformed, line, std::string("not well-formed XML: ") + parsed.description());
+  }
+  pugi::xml_node root = doc.document_element();
+  if (std::strcmp(root.name(), "home") != 0) {
+    throw InputError(Kind::malformed, "/" + std::string(root.name()),
+                     "the root element is <" + std::string(root.name()) + ">, not Sweet Home 3D's <home>");
+  }
+  return doc;
+}
+
+void read_levels(const Elements& all, Sh3dHome& h, std::vector<std::string>& warnings) {
+  for (const Sh3dElement& e : elements_named(all, "level")) {
+    Sh3dLevel level;
+    level.elevation_m = number_attribute(e, "elevation", 0.0) / 100.0;
+    level.floor_thickness_m = std::max(number_attribute(e, "floorThickness", 12.0) / 100.0, 0.001);
+    level.visible = e.node.attribute("visible").as_bool(true) && e.node.attribute("viewable").as_bool(true);
+    std::string id = e.node.attribute("id").as_string("");
+    if (!level.visible) {
+      warnings.push_back("line " + std::to_string(e.line) + ": level '" + e.node.attribute("name").as_string(id.c_str()) +
+                         "' is hidden; its walls, rooms and furniture are left out");
+    }
+    h.levels[id] = level;
+  }
+}
+
+std::vector<Sh3dOpening> read_openings(const Elements& all, const Sh3dHome& h) {
+  std::vector<Sh3dOpening> out;
+  for (const Sh3dElement& e : elements_named(all, "doorOrWindow")) {
+    if (!visible_level(e, h) || !e.node.attribute("visible").as_bool(true)) continue;
+    Sh3dOpening o;
+    o.element = &e;
+    o.name = e.node.attribute("name").as_string("");
+    const std::string words = lower(o.name + " " + e.node.attribute("catalogId").as_string(""));
+    o.door = words.find("door") != std::string::npos;
+    o.leaf = words.find("open") == std::string::npos && words.find("frame") == std::string::npos;
+    o.centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
+    const double angle = number_attribute(e, "angle", 0.0);
+    o.axis = {std::cos(angle), std::sin(angle)};
+    o.width = required_number(e, "width") / 100.0;
+    o.depth = required_number(e, "depth") / 100.0;
+    o.height = required_number(e, "height") / 100.0;
+    o.elevation = number_attribute(e, "elevation", 0.0) / 100.0;
+    o.level = e.node.attribute("level").as_string("");
+    out.push_back(o);
+  }
+  return out;
+}
+
+// Rooms' floors: a slab as thick as the level's floor, its top at the level's elevation.
+void add_rooms(const Elements& all, const Sh3dHome& h, json& solids, std::vector<std::string>& warnings) {
+  for (const Sh3dElement& e : elements_named(all, "room")) {
+    const Sh3dLevel* level = visible_level(e, h);
+    if (!level || !e.node.attribute("floorVisible").as_bool(true)) continue;
+    std::vector<Vec2> points;
+    for (pugi::xml_node p : e.node.children("point")) {
+      Sh3dElement point{p, e.pointer, e.line};
+      Vec2 q{round_m(required_number(point, "x") / 100.0), round_m(required_number(point, "y") / 100.0)};
+      if (points.empty() || q != points.back()) points.push_back(q);
+    }
+    while (points.size() > 1 && points.front() == points.back()) points.pop_back();
+    const std::string name = e.node.attribute("name").as_string("");
+    if (std::string problem = points.size() < 3 ? "fewer than 3 points" : simple_polygon_problem(points); !problem.empty()) {
+      warnings.push_back("line " + std::to_string(e.line) + ": room '" + name + "' is not a simple polygon (" + problem +
+                         "); its floor is left out");
+      continue;
+    }
+    json plan = json::array();
+    for (Vec2 q : points) plan.push_back(json_vec2(q));
+    const Color color = color_attribute(e.node, "floorColor").value_or(Color{0.75f, 0.72f, 0.66f});
+    solids.push_back({{"type", "prism"}, {"id", "room " + name + " (" + e.pointer + ")"}, {"points", std::move(plan)},
+                      {"base", round_m(level->elevation_m - level->floor_thickness_m)},
+                      {"height", round_m(level->floor_thickness_m)}, {"color", json_color(color)}});
+  }
+}
+
+// The piece's colour: its own, else its first coloured material, else grey.
+Color piece_color(const pugi::xml_node& node) {
+  if (auto c = color_attribute(node, "color")) return *c;
+  for (pugi::xml_node m : node.children("material")) {
+    if (auto c = color_attribute(m, "color")) return *c;
+  }
+  return Color{0.7f};
+}
+
+// Furniture and lamps as boxes; each lamp's light sources as point lights.
+void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& options, json& solids,
+                   json& lights, std::vector<std::string>& warnings) {
+  size_t skipped = 0;
+  Sh3dModelCache models;
+  for (const char* kind : {"pieceOfFurniture", "light"}) {
+    for (const Sh3dElement& e : elements_named(all, kind)) {
+      const Sh3dLevel* level = visible_level(e, h);
+      if (!level || !e.node.attribute("visible").as_bool(true)) continue;
+      const Vec2 centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
+      const Vec3 size = Vec3(required_number(e, "width"), required_number(e, "height"), required_number(e, "depth")) / 100.0;
+      const double angle = number_attribute(e, "angle", 0.0);
+      const double base = level->elevation_m + number_attribute(e, "elevation", 0.0) / 100.0;
+      if (!(size.x > 1e-4 && size.y > 1e-4 && size.z > 1e-4)) {
+        ++skipped;
+        continue;
+      }
+      const PiecePlacement place{centre, base, size, angle};
+      if (!options.furniture_models || !add_piece_model(e, place, options, models, solids)) {
+        solids.push_back({{"type", "box"}, {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
+                          {"center", json_vec2(centre)}, {"base", round_m(base)},
+                          {"size", json_vec3(size)}, {"rotation_y", -angle * 180.0 / pi},
+                          {"color", json_color(piece_color(e.node))}});
+      }
+      const double power = std::clamp(number_attribute(e, "power", 0.5), 0.0, 1.0);
+      for (pugi::xml_node source : e.node.children("lightSource")) {
+        Sh3dElement s{source, e.pointer, e.line};
+        // Source coordinates are fractions of the piece's box: x along width, y along depth, z up.
+        const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x, (number_attribute(s, "y", 0.5) - 0.5) * size.z};
+        const Vec2 plan = centre + Vec2(std::cos(angle) * local.x - std::sin(angle) * local.y,
+                                        std::sin(angle) * local.x + std::cos(angle) * local.y);
+        const double y = base + number_attribute(s, "z", 0.5) * size.y;
+        lights.push_back({{"type", "point"}, {"id", e.pointer}, {"position", json_vec3({plan.x, y, plan.y})},
+                          {"color", json_color(color_attribute(source, "color").value_or(Color{1.0f}))},
+                          {"intensity", 0.6 * power}, {"attenuation", {1.0, 0.0, 0.4}}});
+      }
+    }
+  }
+  if (skipped) warnings.push_back(std::to_string(skipped) + " pieces of furniture with no size were left out");
+  if (models.missing || models.unreadable) {
+    warnings.push_back(std::to_string(models.missing) + " furniture models were not found and " +
+                       std::to_string(models.unreadable) + " could not be read: those pieces are boxes");
+  }
+  if (models.polygons_repaired) {
+    warnings.push_back("furniture models: " + std::to_string(models.polygons_repaired) +
+                       " faces were triangulated or dropped (non-planar or of zero area)");
+  }
+}
+
+// The observer camera: eye at (x, z, y) / 100, looking along yaw (0 looks toward +y on the plan,
+// turning clockwise) and pitch (positive looks down); Sweet Home 3D's field of view is horizontal.
+std::optional<json> observer_camera(const Elements& all, double aspect, const Box3& box) {
+  for (const char* kind : {"observerCamera", "camera"}) {
+    for (const Sh3dElement& e : elements_named(all, kind)) {
+      if (std::string(e.node.attribute("attribute").as_string("")) != "observerCamera") continue;
+      const Vec3 eye = Vec3(required_number(e, "x"), required_number(e, "z"), required_number(e, "y")) / 100.0;
+      const double yaw = number_attribute(e, "yaw", 0.0), pitch = number_attribute(e, "pitch", 0.0);
+      const Vec3 look{-std::sin(yaw) * std::cos(pitch), -std::sin(pitch), std::cos(yaw) * std::cos(pitch)};
+      const double fov_x = std::clamp(number_attribute(e, "fieldOfView", pi / 3.0), 0.05, 3.0);
+      const double fov_y_deg = std::clamp(2.0 * std::atan(std::tan(0.5 * fov_x) / aspect) * 180.0 / pi, 2.0, 160.0);
+      const double reach = box.empty() ? 50.0 : glm::length(box.hi - box.lo) + glm::length(eye - 0.5 * (box.lo + box.hi));
+      return json{{"position", json_vec3(eye)}, {"target", json_vec3(eye + look)}, {"fov_y", fov_y_deg},
+                  {"near", 0.05}, {"far", std::max(round_m(2.0 * reach), 10.0)}};
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& options) {
+  const double scale = resolve_scale(options, ImportFormat::sweethome3d);
+  if (scale != 0.01) {
+    throw InputError(Kind::invalid, "/scale", "Sweet Home 3D homes are in centimetres: the scale is fixed at 0.01");
+  }
+  Sh3dHome h;
+  pugi::xml_document doc = load_home(home_xml, h);
+  pugi::xml_node root = doc.document_element();
+  h.wall_height_m = root.attribute("wallHeight").as_double(250.0) / 100.0;
+  if (!(h.wall_height_m > 0.0) || !std::isfinite(h.wall_height_m)) h.wall_height_m = 2.5;
+  const Elements all = collect_elements(root, h);
+  ImportResult result;
+  read_levels(all, h, result.warnings);
+  json walls = json::array(), solids = json::array(), lights = json::array({default_sun_light()});
+  Box3 box;
+  add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
+  add_rooms(all, h, solids, result.warnings);
+  add_furniture(all, h, options, solids, lights, result.warnings);
+  const double aspect = double(options.width) / double(options.height);
+  std::optional<json> camera = observer_camera(all, aspect, box);
+  if (!camera) {
+    result.warnings.push_back("the home has no observer camera; the camera shows the whole home from above");
+    camera = camera_showing_box(box, aspect);
+  }
+  result.request = {{"scene",
+                     {{"background", "#cce4fc"},
+                      {"ambient", {{"intensity", 0.45}}},
+                      {"walls", std::move(walls)},
+                      {"solids", std::move(solids)},
+                      {"lights", std::move(lights)}}},
+                    {"camera", std::move(*camera)},
+                    {"options", request_options(options)}};
+  return result;
+}
+
+}  // namespace rr

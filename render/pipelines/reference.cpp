@@ -1,0 +1,211 @@
+// The reference ray caster (see reference.hpp, docs/accuracy.md). Set-up projects every polygon
+// that is not back-facing exactly as the rasterizer's front end does (project_polygon: near, far and
+// guard-band clipping) and builds a BVH of them in world space; each pixel's ray then visits the
+// polygons whose boxes it enters, keeps those whose projection covers the pixel centre, and takes
+// its depth from the exact ray-plane intersection. Rows are independent and each is written by one
+// thread, so the image does not depend on the thread count.
+#include "render/pipelines/reference.hpp"
+
+#include "render/core/draw.hpp"
+#include "render/pipelines/reference_detail.hpp"
+#include "render/core/timer.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+namespace rr {
+
+namespace {
+// raster.hpp's top-left rule, on an edge of a positively wound polygon (y down): a top edge is
+// horizontal going right, a left edge goes up.
+bool is_top_left(double dx, double dy) { return (dy == 0.0 && dx > 0.0) || dy < 0.0; }
+}  // namespace
+
+bool covers_screen_point(std::span<const Vec2> xy, double px, double py) {
+  const size_t n = xy.size();
+  double twice_area = 0.0;
+  for (size_t j = 0; j < n; ++j) twice_area += xy[j].x * xy[(j + 1) % n].y - xy[(j + 1) % n].x * xy[j].y;
+  if (twice_area == 0.0 || n < 3) return false;
+  // Walk the edges in the rasterizer's positive winding (area > 0 with y down).
+  const bool reverse = twice_area < 0.0;
+  for (size_t j = 0; j < n; ++j) {
+    Vec2 a = xy[j], b = xy[(j + 1) % n];
+    if (reverse) std::swap(a, b);
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double e = dx * (py - a.y) - dy * (px - a.x);  // > 0 inside, as raster.hpp
+    if (e < 0.0 || (e == 0.0 && !is_top_left(dx, dy))) return false;
+  }
+  return true;
+}
+
+std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& polygon, Vec3 origin,
+                                        Vec3 direction, double t_min, double t_max) {
+  const double denom = glm::dot(polygon.normal, direction);
+  if (denom == 0.0) return std::nullopt;
+  const double t = (polygon.offset - glm::dot(polygon.normal, origin)) / denom;
+  if (!(t > t_min && t < t_max)) return std::nullopt;
+  const Vec3 p = origin + t * direction;
+  // Inside test in the plane with the largest normal component dropped; the polygon winds
+  // counter-clockwise about its normal, so every edge cross product has the sign of that component.
+  const Vec3 a = glm::abs(polygon.normal);
+  const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  const double sign = polygon.normal[drop] >= 0.0 ? 1.0 : -1.0;
+  const auto points = soup.points(polygon);
+  for (size_t j = 0; j < points.size(); ++j) {
+    const Vec3& s = points[j];
+    const Vec3& e = points[(j + 1) % points.size()];
+    const double cross = (e[u] - s[u]) * (p[v] - s[v]) - (e[v] - s[v]) * (p[u] - s[u]);
+    if (sign * cross < 0.0) return std::nullopt;
+  }
+  return t;
+}
+
+namespace reference_detail {
+
+ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
+  ReferenceScene rs(input);
+  const PolygonSoup& soup = input.soup;
+  rs.screen_begin.assign(soup.polygons.size() + 1, 0);
+  std::vector<uint32_t> visible;
+  DrawScratch scratch;
+  for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
+    rs.screen_begin[i] = uint32_t(rs.screen_xy.size());
+    const Polygon& poly = soup.polygons[i];
+    if (is_back_facing(poly, input.view.eye) || !project_polygon(input.view, soup, poly, scratch)) continue;
+    for (const RasterVertex& v : scratch.screen) rs.screen_xy.push_back({v.x, v.y});
+    visible.push_back(i);
+  }
+  rs.screen_begin[soup.polygons.size()] = uint32_t(rs.screen_xy.size());
+  stats.polygons_drawn = visible.size();
+  stats.polygons_culled = soup.polygons.size() - visible.size();
+  rs.view_bvh = build_polygon_bvh(soup, visible);
+  rs.shadows = input.options.shadows && !input.scene.lights.empty();
+  if (rs.shadows) {
+    std::vector<uint32_t> casters;
+    for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
+      if (!(soup.polygons[i].flags & polygon_translucent)) casters.push_back(i);
+    }
+    rs.shadow_bvh = build_polygon_bvh(soup, casters);
+  }
+  Box scene_box;
+  for (const Vec3& p : soup.positions) scene_box.grow(p);
+  if (!scene_box.empty()) {
+    rs.scene_size = glm::length(scene_box.hi - scene_box.lo);
+    rs.scene_magnitude = std::max(glm::length(scene_box.lo), glm::length(scene_box.hi));
+  }
+  rs.world_from_clip = glm::inverse(input.view.clip_from_world);
+  return rs;
+}
+
+// Depth order with the z-buffer's tie rule: a tie (relative reference_depth_tie) goes to the lower id.
+bool nearer(double depth, uint32_t id, double best_depth, uint32_t best_id) {
+  const double tolerance = reference_depth_tie * std::max(depth, best_depth);
+  if (std::abs(depth - best_depth) <= tolerance) return id < best_id;
+  return depth < best_depth;
+}
+
+PixelHits cast_pixel(const ReferenceScene& rs, int x, int y, std::vector<Hit>& translucent) {
+  const ViewTransform& view = rs.input.view;
+  const double x_ndc = 2.0 * (x + 0.5) / view.width - 1.0, y_ndc = 1.0 - 2.0 * (y + 0.5) / view.height;
+  const Vec4 far = rs.world_from_clip * Vec4(x_ndc, y_ndc, 1.0, 1.0);
+  const BvhRay ray(view.eye, Vec3(far) / far.w - view.eye);  // t = 1 on the far plane
+  const double depth_per_t = -(view.view_from_world * Vec4(ray.direction, 0.0)).z;
+  const double sx = x + 0.5, sy = y + 0.5;
+  const PolygonSoup& soup = rs.input.soup;
+  PixelHits out;
+  translucent.clear();
+  double t_max = std::numeric_limits<double>::infinity();
+  traverse_bvh(rs.view_bvh, ray, 0.0, t_max, [&](uint32_t i, double& t_limit) {
+    const Polygon& poly = soup.polygons[i];
+    const std::span<const Vec2> xy(rs.screen_xy.data() + rs.screen_begin[i], rs.screen_begin[i + 1] - rs.screen_begin[i]);
+    if (!covers_screen_point(xy, sx, sy)) return false;
+    const double denom = glm::dot(poly.normal, ray.direction);
+    if (denom == 0.0) return false;  // the eye is in its plane: the projection has no area anyway
+    const double t = (poly.offset - glm::dot(poly.normal, ray.origin)) / denom;
+    const Hit hit{i, t, t * depth_per_t};
+    if (poly.flags & polygon_translucent) {
+      translucent.push_back(hit);
+    } else if (out.opaque.polygon == background_id || nearer(hit.depth, i, out.opaque.depth, out.opaque.polygon)) {
+      out.opaque = hit;
+      t_limit = t * (1.0 + 4.0 * reference_depth_tie);  // still visit ties
+    }
+    return false;
+  });
+  // Translucent hits in front of the opaque one (a tie hides them, as the z-buffer's strict test),
+  // far to near; equal depths draw the higher index first, as zbuffer.cpp's sort.
+  std::erase_if(translucent, [&](const Hit& h) {
+    return out.opaque.polygon != background_id && !nearer(h.depth, 1, out.opaque.depth, 0);
+  });
+  std::sort(translucent.begin(), translucent.end(), [](const Hit& a, const Hit& b) {
+    return a.depth != b.depth ? a.depth > b.depth : a.polygon > b.polygon;
+  });
+  out.ray_origin = ray.origin;
+  out.ray_direction = ray.direction;
+  return out;
+}
+
+}  // namespace reference_detail
+
+using namespace reference_detail;
+
+namespace {
+
+void draw_row(const ReferenceScene& rs, int y, Frame& frame, size_t& hits, std::vector<Hit>& translucent) {
+  const PolygonSoup& soup = rs.input.soup;
+  for (int x = 0; x < frame.image.width; ++x) {
+    const PixelHits px = cast_pixel(rs, x, y, translucent);
+    const size_t i = size_t(y) * size_t(frame.image.width) + size_t(x);
+    uint8_t* rgb = frame.image.rgb.data() + i * 3;
+    uint8_t* mask = frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i];
+    auto paint = [&](const Hit& hit, float alpha) {
+      uint8_t lit = 0;
+      const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, lit);
+      frame.ids.ids[i] = soup.polygons[hit.polygon].id;
+      if (mask) *mask = lit;
+      for (int ch = 0; ch < 3; ++ch) {
+        rgb[ch] = alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(rgb[ch]) / 255.0f);
+      }
+    };
+    if (px.opaque.polygon != background_id) paint(px.opaque, 1.0f);
+    for (const Hit& h : translucent) paint(h, soup.materials[soup.polygons[h.polygon].material].opacity);
+    hits += px.opaque.polygon != background_id || !translucent.empty();
+  }
+}
+
+}  // namespace
+
+void draw_reference(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings) {
+  Stopwatch clock;
+  const ReferenceScene rs = prepare_reference(input, stats);
+  stats.shadow_skipped = !rs.shadows;
+  timings.build_ms += clock.lap_ms();
+  // Rows interleaved over the threads; each row is written by exactly one of them.
+  const int height = frame.image.height;
+  const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
+  std::atomic<int> next_row{0};
+  std::atomic<size_t> hits{0};
+  std::atomic<bool> cancelled{false};
+  auto work = [&] {
+    std::vector<Hit> translucent;
+    size_t own_hits = 0;
+    for (int y = next_row++; y < height; y = next_row++) {
+      if (input.context.cancel && input.context.cancel->expired()) {
+        cancelled = true;
+        break;
+      }
+      draw_row(rs, y, frame, own_hits, translucent);
+    }
+    hits += own_hits;
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (cancelled) throw RenderCancelled();
+  stats.fragments = hits;
+  timings.raster_ms += clock.lap_ms();
+}
+
+}  // namespace rr

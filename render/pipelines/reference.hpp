@@ -1,0 +1,33 @@
+// The exact reference renderer (pipeline "reference", docs/accuracy.md): one double-precision ray
+// through each pixel centre over the tessellated polygons, found with a BVH; the nearest hit gives
+// the id, depth and a per-pixel Blinn-Phong colour (light_terms, interpolated vertex normals), with
+// exact shadow rays to every light and translucent hits composited far to near. Ties follow the
+// rasterizer: the pixel-centre test runs on the same projected, clipped polygon with the top-left
+// rule, and equal depths keep the lower id. Used as the test oracle and the accuracy yardstick.
+#pragma once
+
+#include "render/core/bvh.hpp"
+#include "render/core/frame.hpp"
+
+#include <optional>
+
+namespace rr {
+
+void draw_reference(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings);
+
+// Where origin + t * direction (t_min < t < t_max) meets the convex polygon, boundary included;
+// nullopt when it misses or runs parallel to its plane. World space, doubles; used by the shadow
+// rays and by tests comparing the BVH with a brute-force search.
+std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& polygon, Vec3 origin,
+                                        Vec3 direction, double t_min, double t_max);
+
+// The pixel-centre coverage test of the reference: whether screen point (px, py) lies in the convex
+// screen polygon `xy` (either winding), with the rasterizer's top-left rule deciding points exactly
+// on an edge. False for a polygon of zero area.
+bool covers_screen_point(std::span<const Vec2> xy, double px, double py);
+
+// Two depths closer than this (relative) are a tie, which the lower polygon id wins, as the
+// z-buffer keeps the first drawn of equal depths.
+constexpr double reference_depth_tie = 1e-12;
+
+}  // namespace rr

@@ -1,0 +1,42 @@
+// Internal to the reference renderer (reference.cpp, reference_shade.cpp): the per-frame set-up
+// (projected polygons, BVHs) and one pixel's hits. Nothing else includes it.
+#pragma once
+
+#include "render/pipelines/reference.hpp"
+
+#include <vector>
+
+namespace rr::reference_detail {
+
+struct ReferenceScene {
+  explicit ReferenceScene(const FrameInput& frame_input) : input(frame_input) {}
+  const FrameInput& input;
+  std::vector<uint32_t> screen_begin;  // per polygon + 1: its projected vertices in screen_xy
+  std::vector<Vec2> screen_xy;         // clipped and projected as the rasterizer does (pixels)
+  Bvh view_bvh;                        // polygons that are not back-facing and survive clipping
+  Bvh shadow_bvh;                      // every opaque polygon (shadows on only)
+  bool shadows = false;
+  double scene_size = 1.0;       // bounding-box diagonal of all vertices
+  double scene_magnitude = 0.0;  // largest distance of the box corners from the origin
+  Mat4 world_from_clip{1.0};
+};
+
+struct Hit {
+  uint32_t polygon = background_id;  // index into input.soup
+  double t = 0.0;                    // along the pixel ray (1 = far plane)
+  double depth = 0.0;                // view depth, metres
+};
+
+struct PixelHits {
+  Hit opaque;  // polygon == background_id: none
+  Vec3 ray_origin{0.0}, ray_direction{0.0};
+};
+
+ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats);
+// The nearest opaque hit, and in `translucent` the translucent hits in front of it, far to near.
+PixelHits cast_pixel(const ReferenceScene& rs, int x, int y, std::vector<Hit>& translucent);
+// Colour of `hit` at world point p (ambient + each light reaching its lit side, scaled by an exact
+// shadow ray when shadows are on); `lit` gets bit l set for each light l < 8 that reaches p.
+Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, uint8_t& lit);
+
+}  // namespace rr::reference_detail

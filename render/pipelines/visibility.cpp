@@ -1,0 +1,302 @@
+// The tiled visibility buffer of the z-buffer pipeline (see visibility.hpp). Depth is 1/w in float,
+// as before: at the first pixel of each span it is the same sum as raster.hpp's weights, and along
+// the span it steps by the plane's exact x slope (1/w is affine in screen space), so a float only
+// changes where the two roundings straddle a float boundary.
+#include "render/pipelines/visibility.hpp"
+
+#include "render/core/draw.hpp"
+#include "render/core/parallel.hpp"
+#include "render/core/shading.hpp"
+#include "render/core/timer.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <memory>
+
+namespace rr {
+
+namespace {
+
+constexpr uint32_t no_triangle = 0xFFFFFFFFu;
+
+bool setup_binned(const BinnedTriangle& t, TriangleSetup& s) {
+  const int64_t X[3] = {t.X[0], t.X[1], t.X[2]}, Y[3] = {t.Y[0], t.Y[1], t.Y[2]};
+  return setup_triangle(X, Y, s);
+}
+
+PixelRect tile_rect(const VisibilityInput& vis, size_t tile, int width, int height) {
+  const int tx = int(tile % size_t(vis.tiles_x)), ty = int(tile / size_t(vis.tiles_x));
+  return {tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size), std::min(height, (ty + 1) * tile_size)};
+}
+
+// The frame-wide per-pixel buffers of pass 1; each tile touches only its own pixels.
+struct Buffers {
+  int width = 0;
+  float* depth = nullptr;      // 1/w of the nearest opaque triangle, 0 where none
+  uint32_t* visible = nullptr; // its position in the tile's bin, or no_triangle
+};
+
+// Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading.
+size_t resolve_triangle(const BinnedTriangle& t, uint32_t j, const PixelRect& r, const Buffers& b) {
+  TriangleSetup s;
+  if (!setup_binned(t, s)) return 0;
+  const int px0 = std::max(r.x0, s.px0), px1 = std::min(r.x1 - 1, s.px1);
+  const int py0 = std::max(r.y0, s.py0), py1 = std::min(r.y1 - 1, s.py1);
+  if (px0 > px1 || py0 > py1) return 0;
+  double w[3], dz_dx = 0.0;  // per edge: the weight of its vertex's 1/w
+  for (int k = 0; k < 3; ++k) {
+    w[k] = t.inv_w[s.order[k]];
+    dz_dx += double(s.step_x[k]) * s.inv_area * w[k];
+  }
+  int64_t e_row[3] = {s.edge(0, px0, py0), s.edge(1, px0, py0), s.edge(2, px0, py0)};
+  size_t covered = 0;
+  for (int y = py0; y <= py1; ++y) {
+    int64_t first, last = px1 - px0;
+    row_span(s, e_row, first, last);
+    if (last >= first) {
+      double z0 = 0.0;
+      for (int k = 0; k < 3; ++k) z0 += double(e_row[k] + first * s.step_x[k] + s.bias[k]) * s.inv_area * w[k];
+      const size_t at = size_t(y) * size_t(b.width) + size_t(px0 + first);
+      float* depth = b.depth + at;
+      uint32_t* visible = b.visible + at;
+      const int n = int(last - first + 1);
+      for (int i = 0; i < n; ++i) {  // branch-free so that it vectorizes
+        const float z = float(z0 + double(i) * dz_dx);
+        const bool nearer = z > depth[i];
+        depth[i] = nearer ? z : depth[i];
+        visible[i] = nearer ? j : visible[i];
+      }
+      covered += size_t(n);
+    }
+    for (int k = 0; k < 3; ++k) e_row[k] += s.step_y[k];
+  }
+  return covered;
+}
+
+size_t resolve_tile(const VisibilityInput& vis, size_t tile, const PixelRect& r, const Buffers& b) {
+  for (int y = r.y0; y < r.y1; ++y) {
+    const size_t at = size_t(y) * size_t(b.width) + size_t(r.x0);
+    std::fill_n(b.depth + at, r.x1 - r.x0, 0.0f);
+    std::fill_n(b.visible + at, r.x1 - r.x0, no_triangle);
+  }
+  size_t covered = 0;
+  const std::vector<uint32_t>& bin = vis.bins[tile];
+  for (uint32_t j = 0; j < bin.size(); ++j) covered += resolve_triangle(vis.triangles[bin[j]], j, r, b);
+  return covered;
+}
+
+// What one thread of pass 2 keeps between tiles.
+struct ShadeWorker {
+  std::unique_ptr<SurfaceShader> shader;  // a binding copy of the prepared shader
+  DrawScratch scratch;
+  uint32_t bound = no_triangle;  // the slot bound in `shader`, if any
+  std::vector<uint32_t> start, cursor;
+  std::vector<uint32_t> pixels;
+  size_t lights = 0, fragments = 0;
+};
+
+void write_color(uint8_t* px, Color c) { px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b); }
+
+// Shades the visible pixels of triangle `t` (their frame indices in pixels[begin, end)).
+void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const BinnedTriangle& t, const uint32_t* pixels, size_t count, ShadeWorker& w, Frame& frame) {
+  const uint32_t index = vis.polygons[t.slot];
+  const Polygon& poly = input.soup.polygons[index];
+  uint32_t* ids = frame.ids.ids.data();
+  uint8_t* rgb = frame.image.rgb.data();
+  for (size_t p = 0; p < count; ++p) ids[pixels[p]] = poly.id;
+  if (w.bound != t.slot) {
+    [[maybe_unused]] const bool projected = project_polygon(input.view, input.soup, poly, w.scratch);
+    assert(projected && "pass 1 drew this polygon from the same projection");
+    w.shader->bind(index, w.scratch);
+    w.bound = t.slot;
+  }
+  TriangleSetup s;
+  setup_binned(t, s);
+  Fragment f;
+  const size_t width = size_t(frame.image.width);
+  for (size_t p = 0; p < count; ++p) {
+    f.x = int(pixels[p] % width), f.y = int(pixels[p] / width);
+    const int64_t e[3] = {s.edge(0, f.x, f.y), s.edge(1, f.x, f.y), s.edge(2, f.x, f.y)};
+    pixel_weights(s, t.inv_w, e, f);
+    write_color(rgb + size_t(pixels[p]) * 3, w.shader->fragment(f, t.k));
+  }
+}
+
+// Pass 2 for one tile when every polygon has one colour: a table lookup per pixel, no sorting.
+void fill_tile_constant(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared,
+                        size_t tile, const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
+  const std::vector<uint32_t>& bin = vis.bins[tile];
+  w.start.resize(bin.size());  // bin position -> the triangle's polygon slot
+  for (size_t j = 0; j < bin.size(); ++j) w.start[j] = vis.triangles[bin[j]].slot;
+  uint32_t* ids = frame.ids.ids.data();
+  uint8_t* rgb = frame.image.rgb.data();
+  uint32_t last_slot = no_triangle, id = background_id;
+  uint8_t bytes[3] = {0, 0, 0};
+  for (int y = r.y0; y < r.y1; ++y) {
+    const size_t row = size_t(y) * size_t(b.width);
+    for (size_t i = row + size_t(r.x0); i < row + size_t(r.x1); ++i) {
+      const uint32_t v = b.visible[i];
+      if (v == no_triangle) continue;
+      const uint32_t slot = w.start[v];
+      if (slot != last_slot) {  // neighbouring pixels mostly show the same polygon
+        const uint32_t index = vis.polygons[slot];
+        const Color c = prepared.polygon_color(index);
+        bytes[0] = to_byte(c.r), bytes[1] = to_byte(c.g), bytes[2] = to_byte(c.b);
+        id = input.soup.polygons[index].id;
+        last_slot = slot;
+      }
+      ids[i] = id;
+      uint8_t* px = rgb + i * 3;
+      px[0] = bytes[0], px[1] = bytes[1], px[2] = bytes[2];
+    }
+  }
+}
+
+// Pass 2 for one tile: its visible pixels grouped by triangle (a counting sort by bin position, so
+// in draw order), each group shaded with its polygon bound once.
+void shade_tile(const FrameInput& input, const VisibilityInput& vis, size_t tile,
+                const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
+  const std::vector<uint32_t>& bin = vis.bins[tile];
+  w.start.assign(bin.size() + 1, 0);
+  for (int y = r.y0; y < r.y1; ++y) {
+    const uint32_t* v = b.visible + size_t(y) * size_t(b.width);
+    for (int x = r.x0; x < r.x1; ++x) {
+      if (v[x] != no_triangle) ++w.start[v[x] + 1];
+    }
+  }
+  for (size_t j = 0; j < bin.size(); ++j) w.start[j + 1] += w.start[j];
+  w.cursor = w.start;
+  w.pixels.resize(w.start.back());
+  for (int y = r.y0; y < r.y1; ++y) {
+    const size_t row = size_t(y) * size_t(b.width);
+    for (int x = r.x0; x < r.x1; ++x) {
+      const uint32_t v = b.visible[row + size_t(x)];
+      if (v != no_triangle) w.pixels[w.cursor[v]++] = uint32_t(row + size_t(x));
+    }
+  }
+  for (size_t j = 0; j < bin.size(); ++j) {
+    if (w.start[j] == w.start[j + 1]) continue;
+    shade_triangle(input, vis, vis.triangles[bin[j]], &w.pixels[w.start[j]], w.start[j + 1] - w.start[j], w, frame);
+  }
+}
+
+// Translucent polygons over one tile, far to near, depth-tested against pass 1 and not written.
+void blend_tile(const FrameInput& input, const VisibilityInput& vis, const PixelRect& r,
+                std::vector<float>& depth, ShadeWorker& w, Frame& frame) {
+  FrameTarget target{frame.image, frame.ids, &depth, r};
+  for (size_t n = 0; n < vis.translucent.size(); ++n) {
+    const PixelRect& q = vis.translucent_rects[n];
+    if (q.x1 <= r.x0 || q.x0 >= r.x1 || q.y1 <= r.y0 || q.y0 >= r.y1) continue;
+    const uint32_t index = vis.translucent[n];
+    const Polygon& poly = input.soup.polygons[index];
+    if (!project_polygon(input.view, input.soup, poly, w.scratch)) continue;
+    w.bound = no_triangle;
+    w.shader->bind(index, w.scratch);
+    const float alpha = input.soup.materials[poly.material].opacity;
+    w.fragments += draw_projected(target, w.scratch, poly.id, alpha, DepthMode::test_only,
+                                  [&](const Fragment& f, size_t k) { return w.shader->fragment(f, k); });
+  }
+}
+
+// A pixel rectangle holding every pixel centre the projected polygon can cover, clamped to the frame.
+PixelRect screen_bounds(const std::vector<RasterVertex>& screen, int width, int height) {
+  double x0 = screen[0].x, x1 = x0, y0 = screen[0].y, y1 = y0;
+  for (const RasterVertex& v : screen) {
+    x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+  }
+  auto clamp = [](double v, int hi) { return int(std::clamp(v, 0.0, double(hi))); };
+  return {clamp(std::floor(x0) - 1, width), clamp(std::floor(y0) - 1, height), clamp(std::ceil(x1) + 1, width),
+          clamp(std::ceil(y1) + 1, height)};
+}
+
+}  // namespace
+
+void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
+                  const std::vector<uint32_t>& translucent, VisibilityInput& out, RenderStats& stats) {
+  const int width = input.view.width, height = input.view.height;
+  out.tiles_x = (width + tile_size - 1) / tile_size;
+  out.tiles_y = (height + tile_size - 1) / tile_size;
+  out.bins.resize(size_t(out.tiles_x) * size_t(out.tiles_y));
+  for (auto& bin : out.bins) bin.clear();
+  out.polygons.clear();
+  out.triangles.clear();
+  out.translucent.clear();
+  out.translucent_rects.clear();
+  DrawScratch scratch;
+  std::vector<int32_t> sx, sy;
+  for (uint32_t i : opaque) {
+    if (!project_polygon(input.view, input.soup, input.soup.polygons[i], scratch)) continue;
+    ++stats.polygons_drawn;
+    stats.triangles += scratch.screen.size() - 2;
+    const uint32_t slot = uint32_t(out.polygons.size());
+    out.polygons.push_back(i);
+    sx.resize(scratch.screen.size()), sy.resize(scratch.screen.size());
+    for (size_t v = 0; v < scratch.screen.size(); ++v) {
+      sx[v] = int32_t(snap_to_subpixel(scratch.screen[v].x)), sy[v] = int32_t(snap_to_subpixel(scratch.screen[v].y));
+    }
+    for (uint32_t k = 0; k + 2 < scratch.screen.size(); ++k) {
+      const size_t v[3] = {0, k + 1, k + 2};
+      BinnedTriangle t{{sx[v[0]], sx[v[1]], sx[v[2]]}, {sy[v[0]], sy[v[1]], sy[v[2]]},
+                       {scratch.screen[v[0]].inv_w, scratch.screen[v[1]].inv_w, scratch.screen[v[2]].inv_w}, slot, k};
+      TriangleSetup s;
+      if (!setup_binned(t, s)) continue;
+      const int px0 = std::max(0, s.px0), px1 = std::min(width - 1, s.px1);
+      const int py0 = std::max(0, s.py0), py1 = std::min(height - 1, s.py1);
+      if (px0 > px1 || py0 > py1) continue;
+      const uint32_t index = uint32_t(out.triangles.size());
+      out.triangles.push_back(t);
+      for (int ty = py0 / tile_size; ty <= py1 / tile_size; ++ty) {
+        for (int tx = px0 / tile_size; tx <= px1 / tile_size; ++tx) out.bins[size_t(ty * out.tiles_x + tx)].push_back(index);
+      }
+    }
+  }
+  for (uint32_t i : translucent) {
+    if (!project_polygon(input.view, input.soup, input.soup.polygons[i], scratch)) continue;
+    ++stats.polygons_drawn;
+    stats.triangles += scratch.screen.size() - 2;
+    out.translucent.push_back(i);
+    out.translucent_rects.push_back(screen_bounds(scratch.screen, width, height));
+  }
+}
+
+void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
+                     unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {
+  Stopwatch clock;
+  const int width = frame.image.width, height = frame.image.height;
+  // Reused by this thread's next frame: no fresh pages (and page faults) per frame. References,
+  // because inside the workers' lambdas the names would mean the workers' own thread_locals.
+  thread_local std::vector<float> frame_depth;
+  thread_local std::vector<uint32_t> frame_visible;
+  std::vector<float>& depth = frame_depth;
+  std::vector<uint32_t>& visible = frame_visible;
+  depth.resize(size_t(width) * size_t(height));
+  visible.resize(depth.size());
+  const Buffers b{width, depth.data(), visible.data()};
+  const size_t tiles = vis.bins.size();
+  threads = std::max(1u, threads);
+  std::vector<size_t> covered(threads, 0);
+  parallel_for(threads, tiles, [&](size_t tile, unsigned worker) {
+    covered[worker] += resolve_tile(vis, tile, tile_rect(vis, tile, width, height), b);
+  });
+  timings.raster_ms += clock.lap_ms();
+
+  std::vector<ShadeWorker> workers(threads);
+  for (ShadeWorker& w : workers) w.shader = std::make_unique<SurfaceShader>(shader, &w.lights);
+  parallel_for(threads, tiles, [&](size_t tile, unsigned worker) {
+    const PixelRect r = tile_rect(vis, tile, width, height);
+    if (shader.constant_per_polygon()) {
+      fill_tile_constant(input, vis, shader, tile, r, b, workers[worker], frame);
+    } else {
+      shade_tile(input, vis, tile, r, b, workers[worker], frame);
+    }
+    if (!vis.translucent.empty()) blend_tile(input, vis, r, depth, workers[worker], frame);
+  });
+  for (size_t w = 0; w < threads; ++w) {
+    workers[w].shader.reset();  // adds its per-pixel light evaluations to workers[w].lights
+    stats.fragments += covered[w] + workers[w].fragments;
+    if (input.lights_evaluated) *input.lights_evaluated += workers[w].lights;
+  }
+  timings.shade_ms += clock.lap_ms();
+}
+
+}  // namespace rr

@@ -1,0 +1,46 @@
+// JSON text -> RenderRequest (docs/scene-format.md). Every error is an InputError carrying the JSON
+// Pointer of the offending value: malformed text -> Kind::malformed, schema or semantic violations ->
+// Kind::invalid, documented limits -> Kind::too_large. On success every default is applied.
+#pragma once
+
+#include "render/scene_io/errors.hpp"
+#include "render/core/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace rr {
+
+struct ParseLimits {
+  size_t max_depth = 64;                // JSON nesting, checked while parsing
+  int max_image_side = 4096;            // width and height
+  long long max_pixels = 16'800'000;    // width * height
+  size_t max_polygons = 2'000'000;      // after tessellation, estimated before it runs
+  int max_cylinder_segments = 1024;
+  long long max_floor_cells = 1'000'000;
+  double max_abs_coordinate = 1e6;      // metres, every position-like number
+  double max_far_over_near = 1e7;
+};
+
+// Parses JSON text, rejecting what nlohmann would accept but we will not: nesting deeper than
+// limits.max_depth (checked during parsing, before memory grows), duplicate object keys, NaN/Infinity
+// and numbers that overflow a double. Throws InputError(malformed).
+nlohmann::json parse_json_text(std::string_view text, const ParseLimits& limits = {});
+
+// Builds a request from parsed JSON, validating every field. Throws InputError.
+RenderRequest request_from_json(const nlohmann::json& request, const ParseLimits& limits = {});
+
+// parse_json_text + request_from_json.
+RenderRequest parse_request(std::string_view text, const ParseLimits& limits = {});
+
+// The static geometry (floor, walls, solids) as canonical JSON: defaults applied, keys sorted, every
+// number a double, so `1` and `1.0` serialise alike. Its hash is the scene id.
+nlohmann::json canonical_static_json(const StaticGeometry& geometry);
+
+// 16 lowercase hex digits: a 64-bit FNV-1a hash of canonical_static_json(geometry).dump().
+std::string scene_id(const StaticGeometry& geometry);
+
+}  // namespace rr
