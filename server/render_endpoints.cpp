@@ -6,6 +6,7 @@
 #include "server/routes.hpp"
 
 #include "render/core/timer.hpp"
+#include "render/scene_io/element_pointer.hpp"
 #include "server/http_util.hpp"
 #include "server/serve_command.hpp"
 #include "server/problem.hpp"
@@ -35,6 +36,7 @@ struct FramePlan {
   const std::string& static_id;
   const std::vector<PlacementWarning>& warnings;
   const RenderRequest& view;  // camera and options (its scene is unused)
+  std::string_view scene_pointer;  // where the scene sits in the client's document: "/scene" or ""
   std::string etag;
   double parse_ms = 0.0;
   double tessellate_ms = 0.0;
@@ -73,9 +75,13 @@ std::string server_timing(const std::vector<std::pair<std::string, double>>& sta
   return header;
 }
 
-json warnings_json(const std::vector<PlacementWarning>& warnings) {
+// Warnings name elements of the document the client sent: the request inline, the scene document
+// when the scene is stored.
+json warnings_json(const std::vector<PlacementWarning>& warnings, const Scene& scene, std::string_view scene_pointer) {
   json list = json::array();
-  for (const PlacementWarning& w : warnings) list.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
+  for (const WarningText& w : describe(warnings, scene, scene_pointer)) {
+    list.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
+  }
   return list;
 }
 
@@ -112,7 +118,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
     body["height"] = result.frame.image.height;
     body["cache"] = result.stats.bsp_cache.empty() ? "none" : result.stats.bsp_cache;
     body["etag"] = plan.etag;
-    body["warnings"] = warnings_json(plan.warnings);
+    body["warnings"] = warnings_json(plan.warnings, plan.scene, plan.scene_pointer);
     body["png_base64"] = base64_encode(png);
     res.set_content(body.dump(), "application/json");
   } else {
@@ -139,7 +145,7 @@ void handle_render(ServiceState& state, const Request& req, Response& res, const
     clock.lap_ms();
     PolygonSoup soup = tessellate(request.scene.geometry);
     std::vector<PlacementWarning> warnings = placement_warnings(request.scene, soup);
-    FramePlan plan{request.scene, soup, static_id, warnings, request, etag, parse_ms, clock.lap_ms()};
+    FramePlan plan{request.scene, soup, static_id, warnings, request, "/scene", etag, parse_ms, clock.lap_ms()};
     draw_and_answer(state, res, match, plan, token, total);
   });
 }
@@ -170,7 +176,7 @@ std::optional<std::pair<RenderRequest, std::string>> read_view(const ServiceStat
 void draw_stored(ServiceState& state, Response& res, const RouteMatch& match, const StoredScene& scene,
                  const std::pair<RenderRequest, std::string>& view, double parse_ms, const CancelToken& token,
                  Stopwatch& total) {
-  FramePlan plan{scene.scene, scene.soup, scene.static_id, scene.warnings, view.first, view.second, parse_ms, 0.0};
+  FramePlan plan{scene.scene, scene.soup, scene.static_id, scene.warnings, view.first, "", view.second, parse_ms, 0.0};
   draw_and_answer(state, res, match, plan, token, total);
 }
 

@@ -5,6 +5,7 @@
 #include "server/routes.hpp"
 
 #include "render/core/timer.hpp"
+#include "render/scene_io/element_pointer.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>
@@ -41,7 +42,9 @@ void store_and_answer(ServiceState& state, Response& res, const std::shared_ptr<
                     {{"", "scene too large to store"}});
   }
   json warnings = json::array();
-  for (const PlacementWarning& w : scene->warnings) warnings.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
+  for (const WarningText& w : describe(scene->warnings, scene->scene, "")) {
+    warnings.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
+  }
   res.set_header("Location", scene_location(scene->id));
   res.set_header("X-Scene-Id", scene->static_id);
   send_json(res,

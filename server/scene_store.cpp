@@ -29,8 +29,7 @@ size_t entry_bytes(const StoredScene& s) {
   size_t bytes = sizeof(StoredScene) + 2 * s.text.size();
   bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
   bytes += s.soup.polygons.capacity() * sizeof(Polygon) + s.soup.materials.capacity() * sizeof(Material);
-  for (const SceneObject& o : s.soup.objects) bytes += sizeof(SceneObject) + o.pointer.capacity();
-  for (const PlacementWarning& w : s.warnings) bytes += sizeof(w) + w.pointer.size() + w.detail.size();
+  bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
   return bytes;
 }
 
@@ -83,7 +82,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   out->scene = std::move(parsed.scene);
   out->soup = tessellate(out->scene.geometry);
   out->static_id = scene_id(out->scene.geometry);
-  out->warnings = placement_warnings(out->scene, out->soup, {}, "");
+  out->warnings = placement_warnings(out->scene, out->soup);
   out->bytes = entry_bytes(*out);
   return out;
 }

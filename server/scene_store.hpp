@@ -9,7 +9,7 @@
 #pragma once
 
 #include "render/core/lru_cache.hpp"
-#include "render/scene_io/placement.hpp"
+#include "render/core/placement.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/tessellate.hpp"
 
@@ -29,7 +29,7 @@ struct StoredScene {
   Scene scene;
   PolygonSoup soup;
   std::string static_id;  // scene_id(scene.geometry): X-Scene-Id, the BSP cache key
-  std::vector<PlacementWarning> warnings;  // pointers into the scene document ("/solids/2")
+  std::vector<PlacementWarning> warnings;  // written out relative to the scene document ("/solids/2")
   size_t bytes = 0;       // charged against the store's budget
 };
 

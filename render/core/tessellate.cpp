@@ -20,8 +20,8 @@ Vec3 newell_vector(std::span<const Vec3> points) {
   return sum;
 }
 
-uint32_t SoupBuilder::add_object(std::string pointer, bool closed, bool smooth) {
-  soup_.objects.push_back({std::move(pointer), closed, smooth});
+uint32_t SoupBuilder::add_object(ElementRef element, bool closed, bool smooth) {
+  soup_.objects.push_back({element, closed, smooth});
   return uint32_t(soup_.objects.size() - 1);
 }
 
@@ -233,7 +233,7 @@ void add_floor(SoupBuilder& out, const Floor& f) {
   if (colors.empty()) colors = fallback;  // the documented default; the parser normally fills it
   std::vector<uint32_t> materials;
   for (const Color& c : colors) materials.push_back(out.add_material({c, 1.0f, f.material}));
-  const uint32_t object = out.add_object("/scene/floor", false, false);
+  const uint32_t object = out.add_object(ElementRef::floor(), false, false);
   for (int j = 0; j < f.cells_z; ++j) {
     for (int i = 0; i < f.cells_x; ++i) {
       // Corners from the cell index, not accumulated, so neighbouring cells share exact edges.
@@ -394,7 +394,7 @@ void add_solid(SoupBuilder& out, const Solid& s, size_t index) {
                                                     : true;
   const bool smooth = (s.type == SolidType::cylinder || s.type == SolidType::mesh) &&
                       (s.smooth || !s.normals.empty());
-  const uint32_t object = out.add_object("/scene/solids/" + std::to_string(index), closed, smooth);
+  const uint32_t object = out.add_object(ElementRef::solid(index), closed, smooth);
   const uint32_t material = out.add_material(solid_material(s));
   switch (s.type) {
     case SolidType::box: add_box(out, s, material, object); break;

@@ -5,6 +5,7 @@
 // 1e-9 of the scene size, and its `normal` is unit length with dot(normal, p) == offset on its plane.
 #pragma once
 
+#include "render/core/element.hpp"
 #include "render/core/scene.hpp"
 
 #include <cstdint>
@@ -22,7 +23,7 @@ struct Material {
 
 // A scene element that polygons belong to (the floor, a wall, an opening's leaf or pane, a solid).
 struct SceneObject {
-  std::string pointer;  // JSON Pointer of the element in the request, e.g. "/scene/solids/3"
+  ElementRef element;   // the floor, a wall, an opening (leaf or pane) or a solid
   bool closed = false;  // faces bound a volume and wind outward: back faces can be skipped
   bool smooth = false;  // shading normals are averaged across faces
 };

@@ -15,7 +15,7 @@ namespace rr::detail {
 
 class SoupBuilder {
  public:
-  uint32_t add_object(std::string pointer, bool closed, bool smooth);
+  uint32_t add_object(ElementRef element, bool closed, bool smooth);
   uint32_t add_material(const Material& material);  // equal materials share one index
 
   // Appends one convex planar polygon. Its winding is chosen so that the normal agrees with

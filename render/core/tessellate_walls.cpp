@@ -384,7 +384,7 @@ void add_reveals(const WallBuild& b, size_t c) {
 // A door leaf (a closed box: left, right, top, bottom, start side, end side) or a window pane (one
 // quad facing the wall's left, in the middle of the thickness). The leaf is at most half the wall
 // thick so none of its faces can coincide with the wall's.
-void add_opening_fill(const WallBuild& b, size_t k, const std::string& pointer) {
+void add_opening_fill(const WallBuild& b, size_t k, ElementRef element) {
   const Opening& o = b.wall.openings[k];
   if (o.type == OpeningType::door && !o.leaf) return;
   const double top = std::min(b.wall.height, (o.type == OpeningType::door ? 0.0 : o.sill) + o.height);
@@ -392,13 +392,13 @@ void add_opening_fill(const WallBuild& b, size_t k, const std::string& pointer) 
     const double width = o.width - 2.0 * leaf_gap_m, height = top - leaf_gap_m;
     const double thickness = std::min(leaf_thickness_m, b.f.half_thickness);
     if (width <= 0.0 || height <= 0.0) return;
-    const uint32_t object = b.out.add_object(pointer, true, false);
+    const uint32_t object = b.out.add_object(element, true, false);
     const uint32_t material = b.out.add_material({o.color, 1.0f, MaterialParams{}});
     add_cuboid(b.out, b.at(o.offset + 0.5 * o.width, 0.0, 0.5 * height), b.leftward() * (0.5 * thickness),
                {0.0, 0.5 * height, 0.0}, b.along() * (-0.5 * o.width + leaf_gap_m), material, object);
     return;
   }
-  const uint32_t object = b.out.add_object(pointer, false, false);
+  const uint32_t object = b.out.add_object(element, false, false);
   const uint32_t material = b.out.add_material({o.color, o.opacity, MaterialParams{}});
   const double u0 = o.offset, u1 = o.offset + o.width;
   const Vec3 pane[4] = {b.at(u0, 0.0, o.sill), b.at(u1, 0.0, o.sill), b.at(u1, 0.0, top), b.at(u0, 0.0, top)};
@@ -413,13 +413,12 @@ void add_walls(SoupBuilder& out, const std::vector<Wall>& walls) {
   const std::vector<WallCuts> cuts = compute_cuts(walls, frames);
   for (size_t i = 0; i < walls.size(); ++i) {
     const Wall& w = walls[i];
-    const std::string pointer = "/scene/walls/" + std::to_string(i);
     // Lengths in this wall within 1e-9 of its size are treated as equal (flush openings, a door
     // reaching the top); the builder drops what that leaves without area.
     const double eps = 1e-9 * std::max({frames[i].length, w.height, w.thickness});
     WallBuild b{out, frames[i], w, cuts[i], {}, 0, 0};
     b.cols = build_columns(w, b.cuts, eps);
-    b.object = out.add_object(pointer, true, false);
+    b.object = out.add_object(ElementRef::wall(i), true, false);
     b.material = out.add_material({w.color, 1.0f, w.material});
     add_long_faces(b);
     add_top_and_bottom(b);
@@ -430,7 +429,7 @@ void add_walls(SoupBuilder& out, const std::vector<Wall>& walls) {
     }
     for (size_t k = 0; k < w.openings.size(); ++k) {
       if (column_of[k] >= 0) add_reveals(b, size_t(column_of[k]));
-      add_opening_fill(b, k, pointer + "/openings/" + std::to_string(k));
+      add_opening_fill(b, k, ElementRef::opening_of(i, k));
     }
   }
 }

@@ -3,7 +3,8 @@
 // deadlines, the Prometheus text of a histogram, the LRU cache's eviction listener, and the
 // placement checks on hand-placed boxes.
 #include "render/core/lru_cache.hpp"
-#include "render/scene_io/placement.hpp"
+#include "render/core/placement.hpp"
+#include "render/scene_io/element_pointer.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "server/http_util.hpp"
 #include "server/metrics.hpp"
@@ -178,10 +179,10 @@ TEST(SceneStore, SameIdWithOtherContentIsAConflict) {
   EXPECT_EQ(store.find("0123456789abcdef")->text, "{\"walls\":[]}");
 }
 
-std::vector<rr::PlacementWarning> warnings_for(const std::string& scene_json) {
+std::vector<rr::WarningText> warnings_for(const std::string& scene_json) {
   rr::RenderRequest request = rr::parse_request("{\"scene\": " + scene_json + "}");
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
-  return rr::placement_warnings(request.scene, soup);
+  return rr::describe(rr::placement_warnings(request.scene, soup), request.scene);
 }
 
 TEST(Placement, OverlappingSolidsWarnTouchingOnesDoNot) {
@@ -230,10 +231,26 @@ TEST(Placement, WarningsAreCappedWithASummary) {
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
   rr::PlacementLimits limits;
   limits.max_warnings = 5;
-  auto warnings = rr::placement_warnings(request.scene, soup, limits);
+  auto warnings = rr::describe(rr::placement_warnings(request.scene, soup, limits), request.scene);
   ASSERT_EQ(warnings.size(), 6u);
   EXPECT_EQ(warnings.back().pointer, "/scene");
   EXPECT_EQ(warnings.back().detail, "placement checks found more problems; 185 further warning(s) not listed");
+}
+
+// The same warnings name elements relative to where the scene sits: a stored scene document is the
+// scene itself, so its pointers have no "/scene" prefix.
+TEST(Placement, PointersFollowTheDocumentThatHoldsTheScene) {
+  rr::RenderRequest request = rr::parse_request(R"({"scene": {"walls": [{"start": [0, 0], "end": [4, 0], "id": "north"}],
+      "solids": [{"type": "box", "center": [1, 0], "size": [1, 1, 1]}]}})");
+  rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
+  auto typed = rr::placement_warnings(request.scene, soup);
+  ASSERT_EQ(typed.size(), 1u);
+  EXPECT_EQ(typed[0].issue, rr::PlacementIssue::intersects);
+  EXPECT_EQ(typed[0].element, rr::ElementRef::solid(0));
+  EXPECT_EQ(typed[0].other, rr::ElementRef::wall(0));
+  rr::WarningText stored = rr::describe(typed[0], request.scene, "");
+  EXPECT_EQ(stored.pointer, "/solids/0");
+  EXPECT_EQ(stored.detail, "solid intersects wall /walls/0 (\"north\")");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // analytic values (relative 1e-9: the only error is double rounding over a few hundred terms),
 // closedness as the vanishing area-weighted normal sum, and the invariants of tessellate.hpp.
 #include "render/core/tessellate.hpp"
+#include "render/scene_io/element_pointer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -71,7 +72,7 @@ PolygonSoup tessellate_checked(const StaticGeometry& g) {
 std::vector<size_t> polygons_of(const PolygonSoup& soup, const std::string& pointer) {
   std::vector<size_t> out;
   for (size_t i = 0; i < soup.polygons.size(); ++i) {
-    if (soup.objects[soup.polygons[i].object].pointer == pointer) out.push_back(i);
+    if (element_pointer(soup.objects[soup.polygons[i].object].element) == pointer) out.push_back(i);
   }
   return out;
 }
@@ -212,7 +213,7 @@ TEST(Tessellate, FloorCellsRowByRowWithCyclingColours) {
   const PolygonSoup soup = tessellate_checked(g);
   ASSERT_EQ(soup.polygons.size(), 6u);
   ASSERT_EQ(soup.objects.size(), 1u);
-  EXPECT_EQ(soup.objects[0].pointer, "/scene/floor");
+  EXPECT_EQ(element_pointer(soup.objects[0].element), "/scene/floor");
   EXPECT_FALSE(soup.objects[0].closed);
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 3; ++i) {
@@ -564,7 +565,7 @@ TEST(Tessellate, BoxFacesVolumeAndOrder) {
   g.solids = {s};
   const PolygonSoup soup = tessellate_checked(g);
   ASSERT_EQ(soup.polygons.size(), 6u);
-  EXPECT_EQ(soup.objects[0].pointer, "/scene/solids/0");
+  EXPECT_EQ(element_pointer(soup.objects[0].element), "/scene/solids/0");
   EXPECT_TRUE(soup.objects[0].closed);
   const Vec3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   const double offsets[6] = {2.0, 0.0, 1.5, -0.5, 3.5, -0.5};
@@ -814,8 +815,8 @@ TEST(Tessellate, EstimateBoundsACombinedScene) {
   EXPECT_EQ(soup.polygons.size(), 12u + 31u + 6u + 34u + 5u + 14u + 4u);
   // Object pointers in order: floor, wall, its two openings, then the solids.
   ASSERT_EQ(soup.objects.size(), 9u);
-  EXPECT_EQ(soup.objects[3].pointer, "/scene/walls/0/openings/1");
-  EXPECT_EQ(soup.objects[8].pointer, "/scene/solids/4");
+  EXPECT_EQ(element_pointer(soup.objects[3].element), "/scene/walls/0/openings/1");
+  EXPECT_EQ(element_pointer(soup.objects[8].element), "/scene/solids/4");
   StaticGeometry empty;
   EXPECT_EQ(estimate_polygon_count(empty), 0u);
   EXPECT_TRUE(tessellate(empty).polygons.empty());

@@ -2,23 +2,19 @@
 // tessellated vertices, plus a height range); pairs whose bounding boxes overlap are found by a sweep
 // along x and tested with separating axes. An overlap must exceed the tolerance on every axis and in
 // height to count, so elements that merely touch are quiet.
-#include "render/scene_io/placement.hpp"
-
-#include "render/scene_io/json_reader.hpp"
+#include "render/core/placement.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <limits>
 #include <optional>
+#include <utility>
 
 namespace rr {
 
 namespace {
 
 struct Footprint {
-  std::string pointer;
-  std::string label;  // pointer plus the element's id, for messages
-  bool wall = false;
+  ElementRef element;  // a wall or a solid
   std::vector<Vec2> hull = {};  // counter-clockwise in (x, z); fewer than 3 points: no area in plan
   Vec2 lo{std::numeric_limits<double>::max()}, hi{std::numeric_limits<double>::lowest()};
   double y0 = std::numeric_limits<double>::max(), y1 = std::numeric_limits<double>::lowest();
@@ -45,38 +41,16 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
   return hull;
 }
 
-// The index N when `pointer` is exactly prefix + N.
-std::optional<size_t> element_index(const std::string& pointer, std::string_view prefix) {
-  if (!pointer.starts_with(prefix) || pointer.size() == prefix.size()) return std::nullopt;
-  size_t index = 0;
-  const char* first = pointer.data() + prefix.size();
-  const char* last = pointer.data() + pointer.size();
-  auto [end, ec] = std::from_chars(first, last, index);
-  if (ec != std::errc() || end != last) return std::nullopt;
-  return index;
-}
+bool is_wall(const Footprint& f) { return f.element.kind == ElementKind::wall; }
 
-std::string label(const std::string& pointer, const std::string& id) {
-  return id.empty() ? pointer : pointer + " (\"" + id + "\")";
-}
-
-// The tessellator names objects "/scene/..."; the caller's document may hold the scene elsewhere.
-std::string rebased(const std::string& soup_pointer, const std::string& scene_pointer) {
-  return scene_pointer + soup_pointer.substr(std::string_view("/scene").size());
-}
-
-std::vector<Footprint> make_footprints(const Scene& scene, const PolygonSoup& soup, const std::string& scene_pointer) {
+std::vector<Footprint> make_footprints(const PolygonSoup& soup) {
   std::vector<Footprint> out;
   std::vector<std::optional<size_t>> slot(soup.objects.size());  // object -> footprint
   for (size_t o = 0; o < soup.objects.size(); ++o) {
-    const std::string& soup_pointer = soup.objects[o].pointer;
-    const std::string pointer = rebased(soup_pointer, scene_pointer);
-    if (auto w = element_index(soup_pointer, "/scene/walls/"); w && *w < scene.geometry.walls.size()) {
+    const ElementRef element = soup.objects[o].element;
+    if (element.kind == ElementKind::wall || element.kind == ElementKind::solid) {
       slot[o] = out.size();
-      out.push_back({pointer, label(pointer, scene.geometry.walls[*w].id), true});
-    } else if (auto s = element_index(soup_pointer, "/scene/solids/"); s && *s < scene.geometry.solids.size()) {
-      slot[o] = out.size();
-      out.push_back({pointer, label(pointer, scene.geometry.solids[*s].id), false});
+      out.push_back(Footprint{element});
     }
   }
   std::vector<std::vector<Vec2>> points(out.size());
@@ -130,18 +104,17 @@ double plan_penetration(const std::vector<Vec2>& a, const std::vector<Vec2>& b, 
 class WarningList {
  public:
   explicit WarningList(size_t max) : max_(max) {}
-  void add(std::string pointer, std::string detail) {
+  void add(const PlacementWarning& warning) {
     if (items_.size() < max_) {
-      items_.push_back({std::move(pointer), std::move(detail)});
+      items_.push_back(warning);
     } else {
       ++suppressed_;
     }
   }
-  std::vector<PlacementWarning> finish(bool stopped_early, const std::string& scene_pointer) {
+  std::vector<PlacementWarning> finish(bool stopped_early) {
     if (suppressed_ > 0 || stopped_early) {
-      std::string detail = "placement checks " + std::string(stopped_early ? "stopped early (too many overlapping pairs)" : "found more problems") +
-                           "; " + std::to_string(suppressed_) + " further warning(s) not listed";
-      items_.push_back({scene_pointer, detail});
+      const PlacementIssue issue = stopped_early ? PlacementIssue::stopped_early : PlacementIssue::more_problems;
+      items_.push_back({issue, ElementRef{}, ElementRef{}, 0.0, 0.0, suppressed_});
     }
     return std::move(items_);
   }
@@ -152,32 +125,29 @@ class WarningList {
   std::vector<PlacementWarning> items_;
 };
 
-void check_openings(const Scene& scene, const PlacementLimits& limits, const std::string& scene_pointer,
-                    WarningList& out) {
+void check_openings(const Scene& scene, const PlacementLimits& limits, WarningList& out) {
   const double clearance = limits.opening_clearance_m;
-  const std::string near = "less than " + format_number(clearance) + " m";
   for (size_t w = 0; w < scene.geometry.walls.size(); ++w) {
     const Wall& wall = scene.geometry.walls[w];
     const double length = glm::length(wall.end - wall.start);
-    const std::string base = scene_pointer + "/walls/" + std::to_string(w) + "/openings/";
     std::vector<size_t> order(wall.openings.size());
     for (size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::sort(order.begin(), order.end(),
               [&](size_t a, size_t b) { return wall.openings[a].offset < wall.openings[b].offset; });
     for (size_t n = 0; n < order.size(); ++n) {
       const Opening& o = wall.openings[order[n]];
-      const std::string pointer = base + std::to_string(order[n]);
+      const ElementRef opening = ElementRef::opening_of(w, order[n]);
       if (o.offset < clearance) {
-        out.add(pointer, "opening is " + format_number(o.offset) + " m from its wall's start (" + near + ")");
+        out.add({PlacementIssue::opening_near_start, opening, {}, o.offset, clearance, 0});
       }
       if (double rest = length - (o.offset + o.width); rest < clearance) {
-        out.add(pointer, "opening is " + format_number(std::max(rest, 0.0)) + " m from its wall's end (" + near + ")");
+        out.add({PlacementIssue::opening_near_end, opening, {}, std::max(rest, 0.0), clearance, 0});
       }
       if (n > 0) {
         const Opening& previous = wall.openings[order[n - 1]];
         if (double gap = o.offset - (previous.offset + previous.width); gap < clearance) {
-          out.add(pointer, "opening is " + format_number(std::max(gap, 0.0)) + " m from opening " +
-                               base + std::to_string(order[n - 1]) + " (" + near + ")");
+          out.add({PlacementIssue::openings_too_close, opening, ElementRef::opening_of(w, order[n - 1]),
+                   std::max(gap, 0.0), clearance, 0});
         }
       }
     }
@@ -191,10 +161,10 @@ void check_floor(const Scene& scene, const std::vector<Footprint>& footprints, c
   const Vec2 lo = floor.origin;
   const Vec2 hi = floor.origin + Vec2(floor.cells_x, floor.cells_z) * floor.cell_size;
   for (const Footprint& f : footprints) {
-    if (f.wall || f.hull.empty()) continue;
+    if (is_wall(f) || f.hull.empty()) continue;
     double beyond = std::max({lo.x - f.lo.x, lo.y - f.lo.y, f.hi.x - hi.x, f.hi.y - hi.y});
     if (beyond > limits.tolerance_m) {
-      out.add(f.pointer, "solid reaches " + format_number(beyond) + " m beyond the floor's edge");
+      out.add({PlacementIssue::beyond_floor, f.element, {}, beyond, 0.0, 0});
     }
   }
 }
@@ -216,7 +186,7 @@ bool check_intersections(const std::vector<Footprint>& footprints, const Placeme
     const Footprint& a = footprints[order[n]];
     for (size_t m = n + 1; m < order.size() && footprints[order[m]].lo.x < a.hi.x - tol; ++m) {
       const Footprint& b = footprints[order[m]];
-      if (a.wall && b.wall) continue;  // walls meet at joins by design
+      if (is_wall(a) && is_wall(b)) continue;  // walls meet at joins by design
       if (b.lo.y >= a.hi.y - tol || a.lo.y >= b.hi.y - tol) continue;
       if (std::min(a.y1, b.y1) - std::max(a.y0, b.y0) <= tol) continue;
       if (work > limits.max_pair_work) return false;
@@ -230,7 +200,7 @@ bool check_intersections(const std::vector<Footprint>& footprints, const Placeme
     const Footprint& a = footprints[first];
     const Footprint& b = footprints[second];
     // Walls come before solids in element order, so the later element of a pair is always a solid.
-    out.add(b.pointer, std::string(a.wall ? "solid intersects wall " : "solid intersects solid ") + a.label);
+    out.add({PlacementIssue::intersects, b.element, a.element, 0.0, 0.0, 0});
   }
   return true;
 }
@@ -238,13 +208,13 @@ bool check_intersections(const std::vector<Footprint>& footprints, const Placeme
 }  // namespace
 
 std::vector<PlacementWarning> placement_warnings(const Scene& scene, const PolygonSoup& soup,
-                                                 const PlacementLimits& limits, const std::string& scene_pointer) {
+                                                 const PlacementLimits& limits) {
   WarningList out(limits.max_warnings);
-  check_openings(scene, limits, scene_pointer, out);
-  std::vector<Footprint> footprints = make_footprints(scene, soup, scene_pointer);
+  check_openings(scene, limits, out);
+  std::vector<Footprint> footprints = make_footprints(soup);
   check_floor(scene, footprints, limits, out);
   bool complete = check_intersections(footprints, limits, out);
-  return out.finish(!complete, scene_pointer);
+  return out.finish(!complete);
 }
 
 }  // namespace rr
