@@ -3,7 +3,7 @@
 // request's "options" before validation, so they are checked exactly like values in the file.
 #include "cli/cli.hpp"
 
-#include "render/core/error_metrics.hpp"
+#include "render/scene_io/measures_json.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
@@ -276,7 +276,7 @@ int run_compare(std::span<const std::string> argv) {
       m.width = ra.width, m.height = ra.height;
       m.visibility = visibility_error(ra, rb);
     }
-    print_json_line(stdout, nlohmann::ordered_json::parse(error_measures_json(m)));
+    print_json_line(stdout, error_measures_json(m));
   });
 }
 

@@ -54,9 +54,4 @@ struct ErrorMeasures {
 // Every measure the two frames allow: shadow only when both carry a shadow mask.
 ErrorMeasures compare_frames(const Frame& reference, const Frame& test);
 
-// One JSON object: {"width", "height", "visibility": {pixels, differing, error, non_edge_pixels,
-// non_edge_differing, non_edge_error}, "shading": {rmse, psnr_db (null when infinite)},
-// "shadow": {pixels, differing, error}}, each part only when measured.
-std::string error_measures_json(const ErrorMeasures& measures);
-
 }  // namespace rr

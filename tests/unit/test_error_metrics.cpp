@@ -1,7 +1,7 @@
 // Error measures on hand-made tiny buffers: edge pixels of an ASCII-art id buffer, visibility
 // error over all and non-edge pixels, RMSE/PSNR by the stated formula, shadow-mask differences,
 // size checks and the JSON shape `roomrender compare` prints.
-#include "render/core/error_metrics.hpp"
+#include "render/scene_io/measures_json.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -79,7 +79,7 @@ TEST(ErrorMetrics, CompareFramesAndJson) {
   test.ids = ids_from({"11", "11"});
   ErrorMeasures m = compare_frames(truth, test);
   EXPECT_FALSE(m.shadow.has_value());  // neither frame carries a mask
-  nlohmann::json j = nlohmann::json::parse(error_measures_json(m));
+  nlohmann::json j = error_measures_json(m);
   EXPECT_EQ(j["width"], 2);
   EXPECT_EQ(j["visibility"]["differing"], 1);
   EXPECT_DOUBLE_EQ(j["visibility"]["error"].get<double>(), 0.25);
@@ -88,7 +88,7 @@ TEST(ErrorMetrics, CompareFramesAndJson) {
   EXPECT_FALSE(j.contains("shadow"));
   truth.shadow_mask = {1, 1, 1, 0};
   test.shadow_mask = {1, 1, 1, 1};
-  j = nlohmann::json::parse(error_measures_json(compare_frames(truth, test)));
+  j = error_measures_json(compare_frames(truth, test));
   EXPECT_DOUBLE_EQ(j["shadow"]["error"].get<double>(), 0.25);
 }
 
