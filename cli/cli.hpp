@@ -1,4 +1,4 @@
-// The roomrender subcommands behind server/main.cpp: render (request -> PNG, ids, timings line),
+// The roomrender subcommands behind cli/main.cpp: render (request -> PNG, ids, timings line),
 // export (request -> Wavefront OBJ of the tessellated scene) and serve (the HTTP service). Each takes
 // the arguments after its name and returns the exit code: 0 ok, 1 failed, 2 usage error. Machine
 // output is one JSON line: results on stdout, errors on stderr as {"error": ..., "pointer": ...}.
@@ -23,7 +23,7 @@ std::string usage_text();  // every subcommand with its options, for `roomrender
 
 int run_render(std::span<const std::string> args);
 // compare REFERENCE TEST: two id buffers (visibility error) or two PNGs (RMSE, PSNR) -> one JSON
-// line of error measures (render/error_metrics.hpp); sizes must match.
+// line of error measures (render/core/error_metrics.hpp); sizes must match.
 int run_compare(std::span<const std::string> args);
 int run_export(std::span<const std::string> args);
 int run_import(std::span<const std::string> args);  // FILE -> request JSON on stdout

@@ -1,4 +1,4 @@
-// roomrender entry point: `roomrender <subcommand> [args]` -> the subcommand in server/cli.hpp.
+// roomrender entry point: `roomrender <subcommand> [args]` -> the subcommand in cli/cli.hpp.
 // Exit codes: 0 ok, 1 the command failed, 2 usage error (unknown subcommand, bad flags).
 #include "cli/cli.hpp"
 

@@ -40,10 +40,10 @@ struct ServerConfig {
   std::filesystem::path data_dir;      // stored scenes persist here; empty: memory only
   size_t max_body_bytes = 8u << 20;    // larger bodies get 413 before they are read
   size_t max_import_bytes = 64u << 20; // POST /v1/import/{format}: files of other tools (an OBJ interior)
-  ParseLimits limits;                  // JSON depth, image size, polygons, ... (render/scene_json.hpp)
+  ParseLimits limits;                  // JSON depth, image size, polygons, ... (render/scene_io/scene_json.hpp)
   size_t bsp_cache_bytes = 256u << 20;
   size_t bsp_cache_entries = 1024;
-  size_t shadow_cache_bytes = 256u << 20;  // shadow maps of static scenes (render/shadow_cache.hpp)
+  size_t shadow_cache_bytes = 256u << 20;  // shadow maps of static scenes (render/pipelines/shadow_cache.hpp)
   size_t scene_store_bytes = 256u << 20;
   size_t scene_store_entries = 1000;
   int read_timeout_s = 5;

@@ -1,5 +1,5 @@
 // POST /v1/import/{format}: a file made by another tool (a Sweet Home 3D Home.xml or .sh3d, an R2V
-// floor plan, a Wavefront OBJ model) -> the complete render request it describes (render/import.hpp),
+// floor plan, a Wavefront OBJ model) -> the complete render request it describes (render/import/import.hpp),
 // ready for POST /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes) and the
 // answer names it and carries the default camera and options. Query: scale (metres per file unit;
 // the format's default otherwise), width and height (the request's image size), store.

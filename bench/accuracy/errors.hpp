@@ -1,5 +1,5 @@
 // The accuracy benchmark's error measures of one frame against the reference pipeline's frame of the
-// same scene, camera and options, as one JSON object. A thin adapter over render/error_metrics.hpp
+// same scene, camera and options, as one JSON object. A thin adapter over render/core/error_metrics.hpp
 // (the measures themselves live there; nothing is computed here).
 #pragma once
 

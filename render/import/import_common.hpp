@@ -1,4 +1,4 @@
-// Pieces every importer shares (render/import_*.cpp only): source-located errors, line splitting,
+// Pieces every importer shares (render/import/ only): source-located errors, line splitting,
 // number parsing, the bounding box of what was imported, and the default camera, lights and options
 // written around an imported scene. World space: metres, +Y up, plan points (x, z).
 #pragma once

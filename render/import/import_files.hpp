@@ -1,4 +1,4 @@
-// The importers (render/import.hpp) on files: read FILE, recognise its format unless one is given,
+// The importers (render/import/import.hpp) on files: read FILE, recognise its format unless one is given,
 // and let an OBJ's `mtllib` name a material library beside it. Used by `roomrender import` and
 // `roomrender render --obj`.
 #pragma once

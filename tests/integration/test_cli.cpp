@@ -82,7 +82,7 @@ uint32_t le32(const std::string& bytes, size_t at) {
   return v;
 }
 
-// Checks the id file against render/image.hpp's format by hand: header, size, and every id either
+// Checks the id file against render/core/image.hpp's format by hand: header, size, and every id either
 // background or a polygon. Returns how many pixels show a polygon.
 size_t check_id_file(const std::string& bytes, uint32_t width, uint32_t height, size_t polygons) {
   EXPECT_GE(bytes.size(), 8u);

@@ -33,7 +33,7 @@ std::vector<std::filesystem::path> example_files();
 // ('0'..'9'), so small exact fixtures read like pictures.
 std::string ids_as_ascii(const IdBuffer& ids);
 
-// "Edge pixel" (render/error_metrics.hpp): a pixel of `ids` with a 4-neighbour whose id differs;
+// "Edge pixel" (render/core/error_metrics.hpp): a pixel of `ids` with a 4-neighbour whose id differs;
 // there two exact pipelines may legitimately disagree (a split's cut lands within a rounding of
 // the true line).
 using rr::is_edge_pixel;

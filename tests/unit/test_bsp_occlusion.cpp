@@ -1,4 +1,4 @@
-// The BSP pipeline's front-to-back walk with a coverage buffer (render/bsp_occlusion.cpp) against
+// The BSP pipeline's front-to-back walk with a coverage buffer (render/pipelines/bsp_occlusion.cpp) against
 // the classic back-to-front walk it replaces: identical ids and identical pixels (translucent panes
 // included) on every example and on seeded random scenes and views, with less work where rooms hide
 // each other, and a walk that stops once every pixel is written.

@@ -1,4 +1,4 @@
-// Whole-object frustum culling (render/frustum.hpp): objects wholly outside the view are found, and
+// Whole-object frustum culling (render/core/frustum.hpp): objects wholly outside the view are found, and
 // skipping their polygons changes nothing in the zbuffer and painter images (the same pipeline run
 // with and without the per-object test, on seeded random rooms of boxes seen from random cameras).
 #include "render/core/frustum.hpp"

@@ -1,4 +1,4 @@
-// The shadow cache (render/shadow_cache.hpp): which frames reuse maps (same scene, light set and map
+// The shadow cache (render/pipelines/shadow_cache.hpp): which frames reuse maps (same scene, light set and map
 // options; any camera for fit "scene", the same view for fit "view"), that a reused map gives the
 // bytes a frame's own pass gives, that a dark or recoloured light does not change the key while a
 // moved one does, and that simultaneous first requests run one pass.
