@@ -27,7 +27,7 @@ inline void add_polygon(PolygonSoup& soup, const std::vector<Vec3>& points, uint
     soup.normals.push_back(glm::vec3(p.normal));
   }
   soup.polygons.push_back(p);
-  soup.objects.push_back({"/test", (flags & polygon_closed) != 0, false});
+  soup.objects.push_back({ElementRef::solid(soup.objects.size()), (flags & polygon_closed) != 0, false});
 }
 
 // `count` random triangles with corners in [-size, size]^3 (skipping near-degenerate ones).
