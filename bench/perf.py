@@ -160,6 +160,17 @@ def machine_info(roomrender):
             "roomrender": os.path.abspath(roomrender), "date": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())}
 
 
+def write_results(results, args, runner):
+    results["load"]["end"] = list(os.getloadavg())
+    results["load"]["samples_1min"] = runner.load_samples
+    results["results_path"] = os.path.relpath(args.results)
+    os.makedirs(os.path.dirname(os.path.abspath(args.results)), exist_ok=True)
+    with open(args.results, "w") as f:
+        json.dump(results, f, indent=1)
+        f.write("\n")
+    perf_report.write_report(results, args.doc)
+
+
 def select_scenes(sbs, args):
     """The wanted scenes whose OBJ exists, and the names of the wanted ones that do not."""
     wanted = args.scenes.split(",") if args.scenes else (QUICK_SCENES if args.quick else None)
@@ -222,20 +233,18 @@ def main():
             entry["triangles"] = next((r.get("triangles") for r in entry["runs"]["flat"][str(threads[-1])]
                                        if r.get("triangles")), None)
             results["scenes"].append(entry)
+            # A long run that is stopped still leaves every finished scene on record.
+            results["partial"] = "%d of %d scenes done, interrupted or still running" % (len(results["scenes"]),
+                                                                                          len(scenes))
+            write_results(results, args, runner)
         if not args.quick and os.path.exists(PRIORITY_REQUEST):
             results["priority"] = measure_priority(runner, rounds, frames, size)
     finally:
         shutil.rmtree(work, ignore_errors=True)
         for _, obj, _ in home_scenes:  # add_homes wrote them into a temp dir of its own
             shutil.rmtree(os.path.dirname(obj), ignore_errors=True)
-    results["load"]["end"] = list(os.getloadavg())
-    results["load"]["samples_1min"] = runner.load_samples
-    results["results_path"] = os.path.relpath(args.results)
-    os.makedirs(os.path.dirname(os.path.abspath(args.results)), exist_ok=True)
-    with open(args.results, "w") as f:
-        json.dump(results, f, indent=1)
-        f.write("\n")
-    perf_report.write_report(results, args.doc)
+    results.pop("partial", None)
+    write_results(results, args, runner)
     print(perf_report.ratio_table_text(results))
     log("wrote %s and %s" % (args.results, args.doc))
 

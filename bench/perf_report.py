@@ -100,10 +100,11 @@ def target_rows(results):
         rows.append(("%s: 1 thread / 2 threads ≥ 1.7× (room scenes)" % LABELS[variant], len(group),
                      sum(v >= 1.7 for v, _ in group), worst, all(v >= 1.7 for v, _ in group) and bool(group)))
     prio = results.get("priority")
-    if prio:
-        zb = prio["runs"]["zbuffer"]
-        for name, bound in PRIORITY_TARGETS:
-            v = paired(prio["runs"][name], zb)
+    for name, bound in PRIORITY_TARGETS:
+        if not prio:
+            rows.append(("%s / zbuffer ≤ %.1f× (examples/apartment.json, eye level)" % (name, bound), 0, 0, None, False))
+        else:
+            v = paired(prio["runs"][name], prio["runs"]["zbuffer"])
             rows.append(("%s / zbuffer ≤ %.1f× (%s, eye level%s)" % (name, bound, prio["request"],
                          ", warm tree" if name == "bsp" else ""), 1 if v else 0, int(bool(v and v <= bound)),
                          (v, {"name": "apartment.json"}) if v else None, bool(v and v <= bound)))
@@ -135,6 +136,8 @@ def header(results):
                 for r in rounds:
                     renderers.setdefault(v, r.get("renderer"))
     L = ["# Performance: roomrender against llvmpipe and Embree", ""]
+    if results.get("partial"):
+        L += ["> **Partial run:** %s. The tables hold the scenes measured so far." % results["partial"], ""]
     if results.get("quick"):
         L += ["> **Quick smoke run on a loaded, shared machine: not a measurement.** It checks that the harness "
               "works end to end (few scenes, one round, few frames, small frames). Run `bench/perf.sh` without "
