@@ -7,7 +7,7 @@ import math
 from xml.sax.saxutils import escape
 
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#7f7f7f"]
-LEFT, RIGHT, TOP = 80, 250, 44
+LEFT, TOP = 80, 44
 
 
 class Axis:
@@ -58,41 +58,46 @@ def _label(v):
     return "%g" % v if v >= 0.01 or v == 0 else "%.0e" % v
 
 
-def _frame(width, height, bottom, title, x_label, y_label, y_axis):
+def _frame(width, right, height, bottom, title, x_label, y_label, y_axis):
     out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" viewBox="0 0 %d %d" '
            'font-family="sans-serif" font-size="12">' % (width, height, width, height),
            '<rect width="100%" height="100%" fill="white"/>',
            '<text x="%d" y="24" font-size="15" font-weight="bold">%s</text>' % (LEFT, escape(title))]
     for t in y_axis.ticks():
         y = y_axis(t)
-        out.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (LEFT, y, width - RIGHT, y))
+        out.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (LEFT, y, width - right, y))
         out.append('<text x="%d" y="%.1f" text-anchor="end">%s</text>' % (LEFT - 6, y + 4, _label(t)))
     out.append('<rect x="%d" y="%d" width="%d" height="%d" fill="none" stroke="#444"/>'
-               % (LEFT, TOP, width - LEFT - RIGHT, height - TOP - bottom))
-    out.append('<text x="%d" y="%d" text-anchor="middle">%s</text>' % ((LEFT + width - RIGHT) / 2, height - 8,
+               % (LEFT, TOP, width - LEFT - right, height - TOP - bottom))
+    out.append('<text x="%d" y="%d" text-anchor="middle">%s</text>' % ((LEFT + width - right) / 2, height - 8,
                                                                          escape(x_label)))
     out.append('<text transform="translate(18 %d) rotate(-90)" text-anchor="middle">%s%s</text>'
                % ((TOP + height - bottom) / 2, escape(y_label), " (log scale)" if y_axis.log else ""))
     return out
 
 
+def _legend_width(series):
+    """The right margin that holds the legend: its longest name at about 7 px a character."""
+    return 48 + 7 * max(len(name) for name, _ in series)
+
+
 def _colour(colours, name, k):
     return (colours or {}).get(name) or COLOURS[k % len(COLOURS)]
 
 
-def _legend(out, width, names, colours):
+def _legend(out, width, right, names, colours):
     for i, name in enumerate(names):
         y = TOP + 12 + 20 * i
         colour = _colour(colours, name, i)
-        out.append('<rect x="%d" y="%d" width="14" height="10" fill="%s"/>' % (width - RIGHT + 12, y - 8, colour))
-        out.append('<text x="%d" y="%d">%s</text>' % (width - RIGHT + 32, y + 2, escape(name)))
+        out.append('<rect x="%d" y="%d" width="14" height="10" fill="%s"/>' % (width - right + 12, y - 8, colour))
+        out.append('<text x="%d" y="%d">%s</text>' % (width - right + 32, y + 2, escape(name)))
 
 
-def _reference(out, width, y_axis, value):
+def _reference(out, width, right, y_axis, value):
     if value is not None and y_axis.lo <= value <= y_axis.hi:
         y = y_axis(value)
         out.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#000" stroke-dasharray="6 4"/>'
-                   % (LEFT, y, width - RIGHT, y))
+                   % (LEFT, y, width - right, y))
 
 
 def category_plot(title, categories, series, y_label, reference=None, colours=None):
@@ -100,12 +105,13 @@ def category_plot(title, categories, series, y_label, reference=None, colours=No
     values = [v for _, vs in series for v in vs if v]
     if not values or not categories:
         return None
-    width = max(760, LEFT + RIGHT + 56 * len(categories))
+    right = _legend_width(series)
+    width = LEFT + right + max(440, 56 * len(categories))
     bottom = 40 + 6 * max(len(c) for c in categories)  # room for the slanted scene names
     height = TOP + 300 + bottom
     y = Axis(values, TOP + 300, TOP, include=[reference] if reference else ())
-    out = _frame(width, height, bottom, title, "scene", y_label, y)
-    band = (width - LEFT - RIGHT) / len(categories)
+    out = _frame(width, right, height, bottom, title, "scene", y_label, y)
+    band = (width - LEFT - right) / len(categories)
     for i, name in enumerate(categories):
         x = LEFT + band * (i + 0.5)
         out.append('<text transform="translate(%.1f %d) rotate(-35)" text-anchor="end">%s</text>'
@@ -113,7 +119,7 @@ def category_plot(title, categories, series, y_label, reference=None, colours=No
         if i:
             out.append('<line x1="%.1f" y1="%d" x2="%.1f" y2="%d" stroke="#eee"/>'
                        % (LEFT + band * i, TOP, LEFT + band * i, TOP + 300))
-    _reference(out, width, y, reference)
+    _reference(out, width, right, y, reference)
     for k, (name, vs) in enumerate(series):
         colour = _colour(colours, name, k)
         offset = (k - (len(series) - 1) / 2) * min(6.0, band * 0.8 / max(1, len(series)))
@@ -121,7 +127,7 @@ def category_plot(title, categories, series, y_label, reference=None, colours=No
             if v:
                 out.append('<circle cx="%.1f" cy="%.1f" r="4" fill="%s"/>' % (LEFT + band * (i + 0.5) + offset, y(v),
                                                                                colour))
-    _legend(out, width, [n for n, _ in series], colours)
+    _legend(out, width, right, [n for n, _ in series], colours)
     return "\n".join(out + ["</svg>"]) + "\n"
 
 
@@ -130,10 +136,11 @@ def xy_plot(title, series, x_label, y_label, colours=None):
     pts = [(x, v) for _, s in series for x, v in s if v]
     if len(pts) < 2:
         return None
-    width, height, bottom = 860, 440, 50
-    xa = Axis([p[0] for p in pts], LEFT, width - RIGHT)
+    right = _legend_width(series)
+    width, height, bottom = LEFT + right + 540, 440, 50
+    xa = Axis([p[0] for p in pts], LEFT, width - right)
     ya = Axis([p[1] for p in pts], height - bottom, TOP)
-    out = _frame(width, height, bottom, title, x_label + (" (log scale)" if xa.log else ""), y_label, ya)
+    out = _frame(width, right, height, bottom, title, x_label + (" (log scale)" if xa.log else ""), y_label, ya)
     for t in xa.ticks():
         out.append('<line x1="%.1f" y1="%d" x2="%.1f" y2="%d" stroke="#ddd"/>' % (xa(t), TOP, xa(t), height - bottom))
         out.append('<text x="%.1f" y="%d" text-anchor="middle">%s</text>' % (xa(t), height - bottom + 16, _label(t)))
@@ -144,5 +151,5 @@ def xy_plot(title, series, x_label, y_label, colours=None):
             out.append('<polyline fill="none" stroke="%s" stroke-width="2" points="%s"/>'
                        % (colour, " ".join("%.1f,%.1f" % p for p in good)))
         out += ['<circle cx="%.1f" cy="%.1f" r="4" fill="%s"/>' % (px, py, colour) for px, py in good]
-    _legend(out, width, [n for n, _ in series], colours)
+    _legend(out, width, right, [n for n, _ in series], colours)
     return "\n".join(out + ["</svg>"]) + "\n"
