@@ -4,7 +4,7 @@
 threads, in interleaved rounds of one run; writes the raw results (JSON) and the report (perf_report.py).
 Python 3 standard library only. Called by bench/perf.sh, which builds the peers and the scenes first.
 
-Scenes, cameras and the home import come from side_by_side.py itself, so this harness and the issue's
+Scenes, cameras and the home import come from side_by_side.py itself, so this harness and the targets'
 yardstick cannot drift apart. Every round runs every variant once per thread count, thread counts in
 alternating order, so slow drift of the machine's load cancels in the per-round ratios.
 """
@@ -22,7 +22,7 @@ import time
 
 import perf_report
 
-# name -> (renderer, what it runs). Ours always draw with the zbuffer pipeline, as the issue's targets do.
+# name -> (renderer, what it runs). Ours always draw with the zbuffer pipeline, as the performance targets do.
 VARIANTS = {
     "llvmpipe_flat": ("peer", ["--mode", "gl-flat"]),
     "llvmpipe_phong_shadow": ("peer", ["--mode", "gl"]),

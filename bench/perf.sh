@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# The performance yardstick of issue 15: roomrender `bench-render` against Mesa's llvmpipe and Embree 3
+# The performance yardstick: roomrender `bench-render` against Mesa's llvmpipe and Embree 3
 # (the peers of ../shared/peers) on the same OBJs and cameras as its tools/side_by_side.py, plus the
 # nine Sweet Home 3D homes, at 1 and 2 threads, interleaved rounds in one run. Writes
 # bench/results/performance.json and docs/performance.md with plots in docs/performance/. Not part of
-# the test run; takes one to two hours on a quiet 2-core machine.
+# the test run; about an hour with 2 rounds on a loaded 2-core machine (`--rounds 2`; default 3).
 #   bench/perf.sh [perf.py flags: --rounds N --frames N --size WxH --threads 1,2 --scenes a,b --no-homes]
 # Environment:
 #   QUICK=1     smoke run: 3 small scenes, 1 round, 5 frames, 640x360, no homes; writes

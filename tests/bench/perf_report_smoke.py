@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """bench/perf.sh's report code on a tiny recorded run (tests/bench/perf_tiny.json: four scenes at
-160x90, two rounds of one frame, painter and BSP included): every ratio the issue names is computed
-and judged, the tables list every scene, and each plot is well-formed SVG with a legend. No timing
-and no peers: it checks the arithmetic and the writing, not any renderer. Exit status 0 = pass."""
+160x90, two rounds of one frame, painter and BSP included): every ratio the performance targets name
+is computed and judged, the tables list every scene, and each plot is well-formed SVG with a legend.
+No timing and no peers: it checks the arithmetic and the writing, not any renderer. Exit 0 = pass."""
 import json
 import os
 import statistics
@@ -42,7 +42,7 @@ def main():
                 got = perf_report.fmt_x(perf_report.ratio_of(scene, key, "2"))
                 check(want == got, "%s %s: %s, expected %s" % (scene["name"], key, got, want))
                 check(label in text, "ratio column %r missing" % label)
-        # Every target of the issue has a row in the targets table, each with a verdict.
+        # Every performance target has a row in the targets table, each with a verdict.
         targets = [l for l in text.split("## Targets")[1].split("## Ratios")[0].splitlines() if l.startswith("| ") and
                    "verdict" not in l]
         check(len(targets) == 10, "expected 10 target rows (6 ratios, 2 speed-ups, painter, bsp), got %d" % len(targets))
