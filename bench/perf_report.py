@@ -114,12 +114,14 @@ def target_rows(results):
 def ratio_table_text(results):
     """The ratio table as plain text, for the console at the end of a run."""
     head = ["scene", "thr"] + [k for k, *_ in RATIOS] + ["speed-up flat", "speed-up P+S"]
-    lines = [" ".join("%-22s" % h if i == 0 else "%14s" % h for i, h in enumerate(head))]
+    width = max([22] + [len(s["name"]) for s in results["scenes"]])
+    row = lambda cells: " ".join(c.ljust(width) if i == 0 else "%14s" % c for i, c in enumerate(cells))
+    lines = [row(head)]
     for s in results["scenes"]:
         for t in results["settings"]["threads"]:
             cells = [s["name"], str(t)] + [fmt_x(ratio_of(s, k, str(t))) for k, *_ in RATIOS]
             cells += [fmt_x(speedup_of(s, v, results)) for v, _ in SPEEDUPS[:2]]
-            lines.append(" ".join("%-22s" % c if i == 0 else "%14s" % c for i, c in enumerate(cells)))
+            lines.append(row(cells))
     return "\n".join(lines)
 
 
@@ -136,6 +138,10 @@ def header(results):
                 for r in rounds:
                     renderers.setdefault(v, r.get("renderer"))
     L = ["# Performance: roomrender against llvmpipe and Embree", ""]
+    if statistics.median(samples) > m["cores"]:
+        L += ["> **Loaded machine:** the median 1-minute load average was %.1f on %s cores, from other work. Ratios "
+              "are paired per round and so hold up better than times, but treat verdicts near their bound as "
+              "undecided and repeat the run on a quiet machine." % (statistics.median(samples), m["cores"]), ""]
     if results.get("partial"):
         L += ["> **Partial run:** %s. The tables hold the scenes measured so far." % results["partial"], ""]
     if results.get("quick"):
