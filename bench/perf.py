@@ -157,7 +157,10 @@ def machine_info(roomrender):
                 ":!docs/performance")
     return {"cpu": cpu, "cores": os.cpu_count(), "kernel": platform.release(),
             "commit": git("rev-parse", "--short", "HEAD") + ("+dirty" if dirty else ""),
-            "roomrender": os.path.abspath(roomrender), "date": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())}
+            "roomrender": os.path.abspath(roomrender),
+            "roomrender_version": subprocess.run([roomrender, "--version"], capture_output=True,
+                                                 text=True).stdout.strip(),
+            "date": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())}
 
 
 def write_results(results, args, runner):

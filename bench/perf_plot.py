@@ -27,7 +27,10 @@ class Axis:
         self.p0, self.p1 = pixel_from, pixel_to
 
     def __call__(self, v):
-        f = (math.log10(v / self.lo) / math.log10(self.hi / self.lo)) if self.log else (v - self.lo) / (self.hi - self.lo)
+        if self.log:
+            f = math.log10(v / self.lo) / math.log10(self.hi / self.lo)
+        else:
+            f = (v - self.lo) / (self.hi - self.lo)
         return self.p0 + f * (self.p1 - self.p0)
 
     def ticks(self):

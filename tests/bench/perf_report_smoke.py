@@ -45,7 +45,8 @@ def main():
         # Every performance target has a row in the targets table, each with a verdict.
         targets = [l for l in text.split("## Targets")[1].split("## Ratios")[0].splitlines() if l.startswith("| ") and
                    "verdict" not in l]
-        check(len(targets) == 10, "expected 10 target rows (6 ratios, 2 speed-ups, painter, bsp), got %d" % len(targets))
+        check(len(targets) == 10,
+              "expected 10 target rows (6 ratios, 2 speed-ups, painter, bsp), got %d" % len(targets))
         check(all(l.rstrip(" |").endswith(("met", "met**", "not measured in this run")) for l in targets),
               "a target row without a verdict")
         # The room scene's flat ratio is judged against 0.4, the 10^4 soup's is not judged.
