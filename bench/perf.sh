@@ -1,19 +1,47 @@
 #!/usr/bin/env bash
-# The performance yardstick of issue 8: builds roomrender, the scene generator and the llvmpipe peer
-# harness in build-bench/ (Release), generates the benchmark scenes, runs both renderers on every
-# scene and mode in one run, and writes bench/results/performance.json and docs/performance.md (with
-# SVG plots in docs/performance/). Not part of the test run; takes about 10-20 minutes here.
-#   bench/perf.sh [--pipelines zbuffer,painter] [--skip-pixels] [--timeout SECONDS]
-# Environment: JOBS (build parallelism, default 2), SOUPS (default 1000,10000,100000,1000000), SHARED
-# (third-party data for the conference room and Sweet Home 3D homes, default ../shared/data; skipped
-# with a note when absent), HOMES (how many homes, default 9).
+# The performance yardstick: roomrender `bench-render` against Mesa's llvmpipe and Embree 3
+# (the peers of ../shared/peers) on the same OBJs and cameras as its tools/side_by_side.py, plus the
+# nine Sweet Home 3D homes, at 1 and 2 threads, interleaved rounds in one run. Writes
+# bench/results/performance.json and docs/performance.md with plots in docs/performance/. Not part of
+# the test run; about an hour with 2 rounds on a loaded 2-core machine (`--rounds 2`; default 3).
+#   bench/perf.sh [perf.py flags: --rounds N --frames N --size WxH --threads 1,2 --scenes a,b --no-homes]
+# Environment:
+#   QUICK=1     smoke run: 3 small scenes, 1 round, 5 frames, 640x360, no homes; writes
+#               bench/results/performance-quick.{json,md} instead, so it never overwrites the real report
+#   ROOMRENDER  a roomrender binary to measure (default: build one, Release, in build-bench/)
+#   PEERS       the peers' source (default ../shared/peers; read-only, built outside it)
+#   BENCH_CACHE where the peers are built and their scenes generated
+#               (default ${XDG_CACHE_HOME:-~/.cache}/roomrender-bench)
+#   JOBS        build parallelism (default 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+peers=$(cd "${PEERS:-../shared/peers}" && pwd)
+cache=${BENCH_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/roomrender-bench}
+mkdir -p "$cache"
 bench/install-bench-deps.sh
-cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DROOMRENDER_TESTS=OFF -DROOMRENDER_PEER_BENCH=ON >/dev/null
-cmake --build build-bench -j"${JOBS:-2}" --target roomrender bench_gen_scenes osmesa_bench
-build-bench/bench/bench_gen_scenes --dir build-bench/scenes --out build-bench/scenes/manifest.json \
-  --soups "${SOUPS:-1000,10000,100000,1000000}"
-python3 bench/perf.py --roomrender build-bench/roomrender --peer build-bench/bench/osmesa_bench \
-  --manifest build-bench/scenes/manifest.json --results bench/results/performance.json \
-  --doc docs/performance.md --shared "${SHARED:-../shared/data}" --homes "${HOMES:-9}" "$@"
+
+if [ -z "${ROOMRENDER:-}" ]; then
+  cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DROOMRENDER_TESTS=OFF >/dev/null
+  nice -n 10 cmake --build build-bench -j"${JOBS:-2}" --target roomrender
+  ROOMRENDER=build-bench/roomrender
+fi
+
+cmake -S "$peers" -B "$cache/peers-build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+nice -n 10 cmake --build "$cache/peers-build" -j"${JOBS:-2}" >/dev/null
+
+# The scenes are deterministic: regenerated only when gen_obj.py changes or a needed one is missing.
+scenes="$cache/scenes"
+stamp=$(sha256sum "$peers/scenes/gen_obj.py" | cut -d' ' -f1)
+[ "$(cat "$scenes/.stamp" 2>/dev/null)" = "$stamp" ] || rm -rf "$scenes"
+mkdir -p "$scenes"
+if [ -n "${QUICK:-}" ]; then
+  [ -f "$scenes/apartment.obj" ] || python3 "$peers/scenes/gen_obj.py" --outdir "$scenes" --only cylinders apartment
+  out=(--quick --results bench/results/performance-quick.json --doc bench/results/performance-quick.md)
+else
+  [ -f "$scenes/grid_1e6.obj" ] || python3 "$peers/scenes/gen_obj.py" --outdir "$scenes"
+  out=(--results bench/results/performance.json --doc docs/performance.md)
+fi
+echo "$stamp" >"$scenes/.stamp"
+
+python3 bench/perf.py --roomrender "$ROOMRENDER" --peers "$peers" --peers-build "$cache/peers-build" \
+  --scenes-dir "$scenes" "${out[@]}" "$@"
