@@ -85,3 +85,14 @@ export function zoom(camera, factor) {
 export function wheelFactor(deltaY) {
   return Math.exp(Math.max(-500, Math.min(500, deltaY)) * 0.001);
 }
+
+// Walk mode's look-around: the target turns about the eye (the eye stays), keeping its distance.
+// Dragging right turns the view right.
+export function look(camera, dAzimuthDeg, dElevationDeg) {
+  const c = withDefaults(camera);
+  const s = toSpherical(c.target, c.position);
+  if (s.distance === 0) return { position: c.position, target: c.target };
+  const elevation = Math.max(-maxElevationDeg, Math.min(maxElevationDeg, s.elevation - dElevationDeg));
+  const target = fromSpherical(c.position, { ...s, azimuth: s.azimuth - dAzimuthDeg, elevation });
+  return { position: c.position, target: roundVec(target) };
+}

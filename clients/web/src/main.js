@@ -5,14 +5,17 @@
 import { Api, ApiError } from "./api.js";
 import { RequestEditor } from "./editor.js";
 import { makeRequestChecker } from "./schema_check.js";
-import { withDefaults, orbit, pan, zoom } from "./camera.js";
+import { withDefaults, orbit, pan, zoom, look } from "./camera.js";
 import { attachViewer } from "./viewer.js";
 import { drawTimingChart, formatMs } from "./timings.js";
 import { showComparison, clearComparison } from "./compare_view.js";
 import { Controls } from "./controls.js";
+import { Designer, newRequest } from "./designer.js";
 
 const $ = (id) => document.getElementById(id);
 const defaultExample = "apartment";
+const previewScale = 0.5;    // renders while dragging are this fraction of the size, each way
+const restMs = 250;          // a drag that rests this long gets its full-size render
 
 const api = new Api();
 const app = {
@@ -22,6 +25,7 @@ const app = {
   shownB: null,
   loadedCamera: null,   // the camera of the loaded example: Home / 0 returns to it
   exampleName: "request",
+  restTimer: 0,         // full-size render due after a drag rests
 };
 
 function showProblems(items) {
@@ -80,15 +84,64 @@ function showStats(result, warningCount) {
   }));
 }
 
-// Places the answer's placement warnings (and the count of a PNG answer, whose list is not sent).
+// A warning's kind, for the filter: which check it comes from, read from its pointer and text.
+function warningKind({ pointer, detail }) {
+  if (/\/openings\//.test(pointer || "")) return "openings";
+  if (/floor/i.test(detail)) return "beyond the floor";
+  if (/\/solids\//.test(pointer || "") && /wall/i.test(detail)) return "solid and wall";
+  if (/\/solids\//.test(pointer || "")) return "solids";
+  return "other";
+}
+
+// The answer's placement warnings: drawn on their elements in the plan, and listed in a collapsible
+// list filtered by kind (open by itself while it is short).
+function showWarningList(warnings, extraCount) {
+  const box = $("warnings");
+  const select = $("warning-kind");
+  const kinds = [...new Set(warnings.map(warningKind))].sort();
+  const wanted = kinds.includes(select.value) ? select.value : "";
+  select.replaceChildren(new Option(`all (${warnings.length})`, ""),
+    ...kinds.map((k) => new Option(`${k} (${warnings.filter((w) => warningKind(w) === k).length})`, k)));
+  select.value = wanted;
+  const total = warnings.length || extraCount;
+  box.hidden = total === 0;
+  $("warnings-summary").textContent = `${total} placement warning${total === 1 ? "" : "s"}`;
+  if (warnings.length <= 5) box.open = true;
+  const list = $("warning-list");
+  list.replaceChildren();
+  for (const w of warnings) {
+    if (select.value && warningKind(w) !== select.value) continue;
+    const li = document.createElement("li");
+    li.className = "warning";
+    li.dataset.kind = warningKind(w);
+    const link = document.createElement("button");
+    link.type = "button";
+    link.className = "pointer";
+    link.textContent = w.pointer;
+    link.title = "Show this element in the editor and select it in the plan";
+    link.addEventListener("click", () => {
+      editor.reveal(w.pointer);
+      const element = /^\/scene\/(walls\/\d+(\/openings\/\d+)?|solids\/\d+|lights\/\d+)/.exec(w.pointer);
+      if (element) designer.select(element[0]);
+    });
+    li.append(link, " ", w.detail);
+    list.append(li);
+  }
+  if (!warnings.length && extraCount) {
+    const li = document.createElement("li");
+    li.className = "warning";
+    li.textContent = `${extraCount} placement warning(s); this server lists them only in JSON answers.`;
+    list.append(li);
+  }
+}
+
 function showWarnings(result) {
   const notes = result.warnings.map((w) => ({ pointer: w.pointer, message: w.detail, severity: "warning" }));
   editor.setServerNotes(notes);
-  const items = notes.map((n) => ({ pointer: n.pointer, detail: n.message, severity: "warning" }));
-  if (!notes.length && result.warningCount) {
-    items.push({ pointer: null, detail: `${result.warningCount} placement warning(s); this server lists them only in JSON answers.`, severity: "warning" });
-  }
-  showProblems(items);
+  app.lastWarnings = result.warnings;
+  designer.setMarks(result.warnings.map((w) => ({ ...w, severity: "warning" })));
+  showProblems([]);
+  showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0);
   return notes.length || result.warningCount || 0;
 }
 
@@ -96,6 +149,7 @@ function showError(error) {
   if (error instanceof ApiError) {
     editor.setServerNotes(error.errors.map((e) => ({ pointer: e.pointer, message: e.detail, severity: "error" })));
     showProblems(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
+    designer.setMarks(error.errors.map((e) => ({ ...e, severity: "error" })));
     setStatus(`The server refused the request (HTTP ${error.status} ${error.problem.title || ""}).`);
   } else {
     showProblems([{ pointer: null, detail: `Could not reach the server: ${error.message}` }]);
@@ -103,7 +157,10 @@ function showError(error) {
   }
 }
 
-async function render() {
+// `preview`: a reduced-size image while a drag goes on (the full size follows when it rests).
+async function render({ preview = false } = {}) {
+  clearTimeout(app.restTimer);
+  app.restTimer = 0;
   const request = editor.parsed();
   if (request === null) {
     showProblems([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
@@ -122,8 +179,14 @@ async function render() {
     if (compareWith) {
       requests.push({ ...request, options: { ...(request.options || {}), pipeline: compareWith } });
     }
+    const small = (r) => {
+      const o = r.options || {};
+      const w = Math.max(1, Math.round((o.width ?? 640) * previewScale));
+      const h = Math.max(1, Math.round((o.height ?? 480) * previewScale));
+      return { ...r, options: { ...o, width: w, height: h } };
+    };
     const results = await Promise.all(requests.map((r, i) =>
-      api.render(i === 0 ? editor.text() : r, { signal: controller.signal })));
+      api.render(preview ? small(r) : i === 0 ? editor.text() : r, { signal: controller.signal })));
     if (seq !== app.seq) return;
     await display(request, results, seq);
     const server = results.map((r) => formatMs(r.timings.total)).join(" + ");
@@ -164,19 +227,31 @@ async function display(request, [a, b], seq) {
   $("views").dataset.renderSeq = String(seq);
 }
 
-// Camera gestures edit the request's camera, then render.
+// Camera gestures edit the request's camera, then render: reduced size while a drag goes on, full
+// size once it rests or ends. In walk mode a drag looks around (the eye stays).
 function moveCamera(kind, ...args) {
   const request = editor.parsed();
   if (request === null) return;
   const camera = withDefaults(request.camera);
-  const moved = kind === "orbit" ? orbit(camera, ...args) : kind === "pan" ? pan(camera, ...args) : zoom(camera, ...args);
-  editor.setValues([{ pointer: "/camera/position", value: moved.position }, { pointer: "/camera/target", value: moved.target }]);
-  render();
+  const walking = designer.tool === "walk";
+  const moved = kind === "orbit" ? (walking ? look : orbit)(camera, ...args)
+    : kind === "pan" ? pan(camera, ...args) : zoom(camera, ...args);
+  designer.setCamera([{ pointer: "/camera/position", value: moved.position }, { pointer: "/camera/target", value: moved.target }]);
+  if ($("views").classList.contains("dragging")) {
+    render({ preview: true });
+    app.restTimer = setTimeout(() => render(), restMs);
+  } else {
+    render();
+  }
+}
+
+function endDrag() {
+  if (app.restTimer) render();
 }
 
 function resetCamera() {
   if (!app.loadedCamera) return;
-  editor.setValues([{ pointer: "/camera", value: app.loadedCamera }]);
+  designer.setCamera([{ pointer: "/camera", value: app.loadedCamera }]);
   render();
 }
 
@@ -184,7 +259,7 @@ async function loadExample(name) {
   try {
     const text = await api.exampleText(name);
     app.exampleName = name;
-    editor.setText(text);
+    designer.replaceAll(text, { render: false });
     const request = editor.parsed();
     app.loadedCamera = request && request.camera ? request.camera : null;
     showProblems([]);
@@ -219,7 +294,7 @@ async function importFile(file) {
       if (imported.warningCount) setStatus(`Imported ${file.name} with ${imported.warningCount} repair(s).`);
     }
     app.exampleName = file.name.replace(/\.[^.]*$/, "");
-    editor.setText(JSON.stringify(JSON.parse(text), null, 2));
+    designer.replaceAll(JSON.stringify(JSON.parse(text), null, 2), { render: false });
     const request = editor.parsed();
     app.loadedCamera = request?.camera || null;
     controls.readFrom(request);
@@ -230,9 +305,13 @@ async function importFile(file) {
 }
 
 const editor = new RequestEditor($("editor"), {
-  onChange: () => controls.readFromSoon(() => editor.parsed()),
+  onChange: () => {
+    controls.readFromSoon(() => editor.parsed());
+    designer.textChanged();
+  },
   onRun: () => render(),
 });
+const designer = new Designer(editor, { onEdited: () => render(), onStatus: setStatus });
 const controls = new Controls({
   setOptions: (entries) => {
     if (editor.setValues(entries)) render();
@@ -247,7 +326,28 @@ attachViewer($("views"), {
   onMove: moveCamera,
   onReset: resetCamera,
   onToggleCompare: () => controls.toggleCompare(),
+  onDragEnd: endDrag,
 });
+$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0));
+
+// Hooks for scripted checks that drive the page as a person would (tests/browser/designer.mjs).
+window.roomrenderDesigner = {
+  worldToPlan: (x, z) => designer.plan.toClient(x, z),
+  // The page point over the centre of pixel (u, v) of the full-size image, however large it is shown.
+  viewToPage: (u, v) => {
+    const r = $("image").getBoundingClientRect();
+    const o = editor.parsed()?.options || {};
+    const w = o.width ?? 640;
+    const h = o.height ?? 480;
+    return { x: r.left + ((u + 0.5) * r.width) / w, y: r.top + ((v + 0.5) * r.height) / h };
+  },
+  request: () => editor.parsed(),
+  selection: () => designer.selection,
+  idle: () => new Promise((resolve) => {
+    const check = () => (app.inflight || app.restTimer ? setTimeout(check, 25) : resolve());
+    check();
+  }),
+};
 
 $("render").addEventListener("click", () => render());
 $("example").addEventListener("change", (e) => loadExample(e.target.value));
@@ -291,7 +391,20 @@ async function start() {
   const wanted = new URLSearchParams(location.search).get("example");
   const first = examples.includes(wanted) ? wanted : examples.includes(defaultExample) ? defaultExample : examples[0];
   controls.setExamples(examples, first);
-  if (first) await loadExample(first);
+  const saved = wanted ? null : Designer.saved();
+  if (saved) {
+    designer.replaceAll(saved, { render: false });
+    designer.undo = [];
+    designer.updateButtons();
+    app.loadedCamera = editor.parsed()?.camera || null;
+    controls.readFrom(editor.parsed());
+    setStatus("Restored the scene saved in this browser.");
+    await render();
+  } else if (first) {
+    await loadExample(first);
+  } else {
+    designer.replaceAll(JSON.stringify(newRequest(), null, 2));
+  }
 }
 
 start().catch((error) => showError(error));
