@@ -1,0 +1,211 @@
+// The room designer in real Chromium against the real server, driven with mouse and keyboard only:
+// each scenario is one CTest test.
+//   node tests/browser/designer.mjs BUILD/roomrender OUT_DIR SCENARIO
+// Plan and image positions come from window.roomrenderDesigner (worldToPlan, viewToPage); the
+// request is read back after each step with request(). Waits are on idle() (no render in flight),
+// never on fixed sleeps, so a loaded machine only makes them slower.
+import { runScenario, assert } from "./support.mjs";
+
+const [binary, outDir, scenario] = process.argv.slice(2);
+
+const hooks = (page, name, ...args) => page.evaluate(([n, a]) => window.roomrenderDesigner[n](...a), [name, args]);
+const idle = (page) => page.evaluate(() => window.roomrenderDesigner.idle());
+const request = (page) => hooks(page, "request");
+const near = (a, b, tol = 1e-6) => a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol);
+
+async function clickPlan(page, x, z, options) {
+  const p = await hooks(page, "worldToPlan", x, z);
+  await page.mouse.click(p.x, p.y, options);
+}
+
+// Drags in the plan from one world point to another in `steps` pointer moves.
+async function dragPlan(page, from, to, steps = 8) {
+  const a = await hooks(page, "worldToPlan", ...from);
+  const b = await hooks(page, "worldToPlan", ...to);
+  await page.mouse.move(a.x, a.y);
+  await page.mouse.down();
+  for (let i = 1; i <= steps; i++) await page.mouse.move(a.x + ((b.x - a.x) * i) / steps, a.y + ((b.y - a.y) * i) / steps);
+  await page.mouse.up();
+}
+
+// The image on screen: size, distinct colours and a hash of its pixels.
+function imageSummary(page) {
+  return page.evaluate(() => {
+    const img = document.querySelector('[data-testid="view"]');
+    const canvas = document.createElement("canvas");
+    canvas.width = img.naturalWidth;
+    canvas.height = img.naturalHeight;
+    const ctx = canvas.getContext("2d");
+    ctx.drawImage(img, 0, 0);
+    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const colours = new Set();
+    let hash = 2166136261;
+    for (let i = 0; i < data.length; i += 4) {
+      const c = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
+      colours.add(c);
+      hash = Math.imul(hash ^ c, 16777619) >>> 0;
+    }
+    return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
+  });
+}
+
+// Opens the page, waits for its first render, and starts an empty scene with "New".
+async function openEmpty(page, server) {
+  await page.goto(`${server.url}/`);
+  await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+  await idle(page);
+  await page.click('[data-action="new"]');
+  await page.waitForFunction(() => (window.roomrenderDesigner.request()?.scene?.walls || [null]).length === 0);
+  await idle(page);
+  const r = await request(page);
+  assert(r.camera && r.scene.lights.length >= 1, `"New" gives a camera and a light: ${JSON.stringify(r)}`);
+  assert(r.scene.solids.length === 0, "and nothing else");
+}
+
+const room = [[0, 0], [5, 0], [5, 4], [0, 4]];
+
+async function drawRoom(page) {
+  await page.click('[data-tool="wall"]');
+  await clickPlan(page, ...room[0]);
+  for (let i = 1; i <= 4; i++) {
+    await clickPlan(page, ...room[i % 4]);
+    const walls = (await request(page)).scene.walls;
+    assert(walls.length === i, `wall ${i} is added by click ${i + 1}: ${JSON.stringify(walls)}`);
+    const w = walls[i - 1];
+    assert(near(w.start, room[i - 1]) && near(w.end, room[i % 4]), `wall ${i} runs ${room[i - 1]} -> ${room[i % 4]}: ${JSON.stringify(w)}`);
+  }
+  // The click on the start point closed the chain: a further click starts a new one, adding nothing.
+  await clickPlan(page, 2, 2);
+  assert((await request(page)).scene.walls.length === 4, "the chain ended on its start point");
+  await page.keyboard.press("Escape");
+}
+
+const scenarios = {
+  async designer_room({ page, server }) {
+    await openEmpty(page, server);
+    const empty = await imageSummary(page);
+
+    await drawRoom(page);
+
+    // A door in the south wall, a window in the east one.
+    await page.click('[data-tool="door"]');
+    await clickPlan(page, 2.5, 0);
+    let r = await request(page);
+    const door = r.scene.walls[0].openings?.[0];
+    assert(door && door.type === "door" && Math.abs(door.offset - 2.05) < 1e-6 && door.width === 0.9, `a door at 2.5 m: ${JSON.stringify(door)}`);
+    await page.click('[data-tool="window"]');
+    await clickPlan(page, 5, 2);
+    r = await request(page);
+    const win = r.scene.walls[1].openings?.[0];
+    assert(win && win.type === "window" && Math.abs(win.offset - 1.4) < 1e-6, `a window in the east wall: ${JSON.stringify(win)}`);
+    // A window over the door is refused in place, with the reason.
+    await clickPlan(page, 2.5, 0);
+    await page.waitForSelector("#plan-refusal:not([hidden])");
+    const reason = await page.textContent("#plan-refusal");
+    assert(/overlap/.test(reason), `the refusal says why: ${reason}`);
+    assert((await request(page)).scene.walls[0].openings.length === 1, "and nothing was added");
+
+    // A table and a chair from the catalogue.
+    await page.click('[data-tool="furniture"]');
+    await page.click('[data-item="table"]');
+    await clickPlan(page, 2.5, 2);
+    await page.click('[data-item="chair"]');
+    await clickPlan(page, 1.5, 2);
+    r = await request(page);
+    assert(r.scene.solids.length === 2, `two solids: ${r.scene.solids.length}`);
+    assert(r.scene.solids[0].id === "table-1" && near(r.scene.solids[0].position, [2.5, 0, 2]), `the table at (2.5, 2): ${r.scene.solids[0].position}`);
+    assert(r.scene.solids[1].id === "chair-1" && near(r.scene.solids[1].position, [1.5, 0, 2]), `the chair at (1.5, 2): ${r.scene.solids[1].position}`);
+
+    // Move the chair by dragging it 1 m toward +Z, then rotate it.
+    await page.click('[data-tool="select"]');
+    await dragPlan(page, [1.5, 2], [1.5, 3]);
+    r = await request(page);
+    assert(near(r.scene.solids[1].position, [1.5, 0, 3], 0.051), `the chair moved to (1.5, 3): ${r.scene.solids[1].position}`);
+    assert(await hooks(page, "selection") === "/scene/solids/1", "and is selected");
+    await page.keyboard.press("r");
+    r = await request(page);
+    assert(r.scene.solids[1].rotation_y === 15, `R turned it 15°: ${r.scene.solids[1].rotation_y}`);
+
+    // Delete the table.
+    await clickPlan(page, 2.5, 2);
+    assert(await hooks(page, "selection") === "/scene/solids/0", "a click selects the table");
+    await page.keyboard.press("Delete");
+    r = await request(page);
+    assert(r.scene.solids.length === 1 && r.scene.solids[0].id === "chair-1", `only the chair is left: ${r.scene.solids.map((s) => s.id)}`);
+
+    // Undo twice (the delete, the rotation), redo once (the rotation).
+    await page.keyboard.press("Control+z");
+    r = await request(page);
+    assert(r.scene.solids.length === 2 && r.scene.solids[0].id === "table-1", "undo brings the table back");
+    await page.keyboard.press("Control+z");
+    r = await request(page);
+    assert((r.scene.solids[1].rotation_y ?? 0) === 0, `a second undo takes the rotation back: ${r.scene.solids[1].rotation_y}`);
+    assert(near(r.scene.solids[1].position, [1.5, 0, 3], 0.051), "but not the move");
+    await page.keyboard.press("Control+Shift+z");
+    r = await request(page);
+    assert(r.scene.solids[1].rotation_y === 15 && r.scene.solids.length === 2, "redo turns the chair again, the table stays");
+
+    // The render follows: the room is in the image where the empty scene was plain background.
+    await idle(page);
+    const shown = await imageSummary(page);
+    assert(shown.width === 640 && shown.hash !== empty.hash && shown.colours > empty.colours,
+      `the image changed: ${JSON.stringify(empty)} -> ${JSON.stringify(shown)}`);
+    // The plan follows the request: four walls, two openings, two solids.
+    const drawn = await page.$$eval('[data-testid="plan"] [data-pointer]', (els) => els.map((e) => e.dataset.pointer));
+    for (const p of ["/scene/walls/3", "/scene/walls/0/openings/0", "/scene/walls/1/openings/0", "/scene/solids/0", "/scene/solids/1"]) {
+      assert(drawn.includes(p), `the plan draws ${p}: ${drawn}`);
+    }
+  },
+
+  async designer_walk({ page, server }) {
+    await openEmpty(page, server);
+    await drawRoom(page);
+    await idle(page);
+    await page.click('[data-tool="walk"]');
+    await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
+    await idle(page);
+    const before = (await request(page)).camera;
+    for (let i = 0; i < 8; i++) await page.keyboard.press("ArrowUp");
+    const after = (await request(page)).camera;
+    const moved = Math.hypot(after.position[0] - before.position[0], after.position[2] - before.position[2]);
+    assert(Math.abs(moved - 2) < 0.01 && after.position[1] === 1.6, `8 presses walked 2 m at eye height: ${before.position} -> ${after.position}`);
+    const targetMoved = after.target.map((v, i) => v - before.target[i]);
+    assert(near(targetMoved, after.position.map((v, i) => v - before.position[i]), 0.002), "the target moved with the eye");
+    await page.keyboard.press("Shift+ArrowDown");
+    const back = (await request(page)).camera;
+    assert(Math.abs(Math.hypot(back.position[0] - after.position[0], back.position[2] - after.position[2]) - 1) < 0.01, "Shift walks 1 m");
+    await idle(page);
+
+    // Dragging the image looks around: the eye stays, the target turns; the image is full size at rest.
+    const a = await hooks(page, "viewToPage", 320, 240);
+    await page.mouse.move(a.x, a.y);
+    await page.mouse.down();
+    for (let i = 1; i <= 6; i++) await page.mouse.move(a.x + i * 10, a.y);
+    await page.mouse.up();
+    await idle(page);
+    const looked = (await request(page)).camera;
+    assert(near(looked.position, back.position) && !near(looked.target, back.target), `look-around turns the target only: ${JSON.stringify(looked)}`);
+    const shown = await imageSummary(page);
+    assert(shown.width === 640 && shown.height === 480, `the image at rest is full size: ${shown.width}×${shown.height}`);
+  },
+
+  async designer_autosave({ page, server }) {
+    await openEmpty(page, server);
+    await page.click('[data-tool="furniture"]');
+    await page.click('[data-item="bed"]');
+    await clickPlan(page, 1, 1);
+    await page.click('[data-action="save"]');
+    await page.reload();
+    await page.waitForFunction(() => window.roomrenderDesigner && window.roomrenderDesigner.request());
+    await idle(page);
+    const r = await request(page);
+    assert(r.scene.solids.length === 1 && r.scene.solids[0].id === "bed-1", `the bed is restored: ${JSON.stringify(r.scene.solids.map((s) => s.id))}`);
+  },
+};
+
+const body = scenarios[scenario];
+if (!binary || !outDir || !body) {
+  console.error(`usage: designer.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")})`);
+  process.exit(2);
+}
+process.exit(await runScenario(scenario, { binary, outDir }, body));
