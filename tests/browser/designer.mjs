@@ -157,6 +157,44 @@ const scenarios = {
     }
   },
 
+  // The properties panel edits the selection within the schema's limits; a text edit in the editor
+  // is one undo step of the designer.
+  async designer_panel({ page, server }) {
+    await openEmpty(page, server);
+    await drawRoom(page);
+    await page.click('[data-tool="door"]');
+    await clickPlan(page, 2.5, 0);
+    assert(await hooks(page, "selection") === "/scene/walls/0/openings/0", "the new door is selected");
+    await page.fill('#properties input[data-field="width"]', "1.2");
+    await page.press('#properties input[data-field="width"]', "Enter");
+    let r = await request(page);
+    assert(r.scene.walls[0].openings[0].width === 1.2, `the panel widened the door: ${JSON.stringify(r.scene.walls[0].openings[0])}`);
+    await page.fill('#properties input[data-field="width"]', "9");
+    await page.press('#properties input[data-field="width"]', "Enter");
+    await page.waitForSelector("#plan-refusal:not([hidden])");
+    r = await request(page);
+    assert(r.scene.walls[0].openings[0].width === 1.2, "a door wider than its wall is refused");
+    await idle(page);
+
+    // Replace the text as a paste would: the plan follows, and one Ctrl+Z (outside the editor) takes
+    // the whole paste back.
+    const edited = structuredClone(r);
+    edited.scene.solids.push({ type: "box", id: "pasted", center: [1, 1], size: [0.5, 0.5, 0.5] });
+    await page.click(".cm-content");
+    await page.keyboard.press("Control+A");
+    await page.keyboard.insertText(JSON.stringify(edited, null, 2));
+    await page.waitForSelector('[data-testid="plan"] [data-pointer="/scene/solids/0"]');
+    await page.click('[data-tool="select"]');
+    const p = await hooks(page, "worldToPlan", 4, 3);
+    await page.mouse.click(p.x, p.y);  // the plan takes the keyboard
+    await page.keyboard.press("Control+z");
+    r = await request(page);
+    assert(r.scene.solids.length === 0 && r.scene.walls[0].openings[0].width === 1.2, `undo took the paste back: ${JSON.stringify(r.scene.solids)}`);
+    await page.keyboard.press("Control+z");
+    r = await request(page);
+    assert(r.scene.walls[0].openings[0].width === 0.9, "and then the panel's edit");
+  },
+
   async designer_walk({ page, server }) {
     await openEmpty(page, server);
     await drawRoom(page);
