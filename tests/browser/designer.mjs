@@ -13,9 +13,9 @@ const idle = (page) => page.evaluate(() => window.roomrenderDesigner.idle());
 const request = (page) => hooks(page, "request");
 const near = (a, b, tol = 1e-6) => a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol);
 
-async function clickPlan(page, x, z, options) {
+async function clickPlan(page, x, z) {
   const p = await hooks(page, "worldToPlan", x, z);
-  await page.mouse.click(p.x, p.y, options);
+  await page.mouse.click(p.x, p.y);
 }
 
 // Drags in the plan from one world point to another in `steps` pointer moves.
@@ -193,6 +193,26 @@ const scenarios = {
     await page.keyboard.press("Control+z");
     r = await request(page);
     assert(r.scene.walls[0].openings[0].width === 0.9, "and then the panel's edit");
+
+    // A point light by a click; Shift+click aims the sun; Ctrl+D duplicates the selected light.
+    await page.click('[data-tool="light"]');
+    await clickPlan(page, 2.5, 2);
+    r = await request(page);
+    const light = r.scene.lights[r.scene.lights.length - 1];
+    assert(light.type === "point" && near(light.position, [2.5, 2.4, 2]), `a point light at (2.5, 2): ${JSON.stringify(light)}`);
+    const sunBefore = r.scene.lights.find((l) => l.type === "directional").direction;
+    await page.keyboard.down("Shift");
+    await clickPlan(page, 4, 1);
+    await page.keyboard.up("Shift");
+    r = await request(page);
+    const sun = r.scene.lights.find((l) => l.type === "directional").direction;
+    assert(!near(sun, sunBefore) && sun[1] === -1, `Shift+click turned the sun: ${sunBefore} -> ${sun}: ${JSON.stringify(r.scene.lights)}`);
+    await page.click('[data-tool="select"]');
+    await clickPlan(page, 2.5, 2);
+    assert(/^\/scene\/lights\/\d+$/.test(await hooks(page, "selection")), "a click selects the light");
+    const count = r.scene.lights.length;
+    await page.keyboard.press("Control+d");
+    assert((await request(page)).scene.lights.length === count + 1, "Ctrl+D duplicated it");
   },
 
   async designer_walk({ page, server }) {
@@ -214,7 +234,12 @@ const scenarios = {
     assert(Math.abs(Math.hypot(back.position[0] - after.position[0], back.position[2] - after.position[2]) - 1) < 0.01, "Shift walks 1 m");
     await idle(page);
 
-    // Dragging the image looks around: the eye stays, the target turns; the image is full size at rest.
+    // Dragging the image looks around: the eye stays, the target turns; renders come back at half
+    // size while the drag goes on, and the image is full size at rest.
+    const sizes = [];
+    page.on("request", (req) => {
+      if (req.url().endsWith("/v1/render")) sizes.push(JSON.parse(req.postData()).options?.width);
+    });
     const a = await hooks(page, "viewToPage", 320, 240);
     await page.mouse.move(a.x, a.y);
     await page.mouse.down();
@@ -225,6 +250,7 @@ const scenarios = {
     assert(near(looked.position, back.position) && !near(looked.target, back.target), `look-around turns the target only: ${JSON.stringify(looked)}`);
     const shown = await imageSummary(page);
     assert(shown.width === 640 && shown.height === 480, `the image at rest is full size: ${shown.width}×${shown.height}`);
+    assert(sizes.includes(320) && sizes[sizes.length - 1] === 640, `half size while dragging, then full: ${sizes}`);
   },
 
   async designer_autosave({ page, server }) {

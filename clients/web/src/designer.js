@@ -322,6 +322,16 @@ export class Designer {
       this.drag = null;
       this.redraw();
     });
+    // The wheel zooms the plan about the pointer (the scene is not edited).
+    svg.addEventListener("wheel", (e) => {
+      e.preventDefault();
+      const before = this.plan.fromClient(e.clientX, e.clientY);
+      this.plan.s = Math.max(2, Math.min(400, this.plan.s * Math.exp(-Math.max(-300, Math.min(300, e.deltaY)) * 0.002)));
+      const after = this.plan.toClient(...before);
+      this.plan.ox += e.clientX - after.x;
+      this.plan.oy += e.clientY - after.y;
+      this.redraw();
+    }, { passive: false });
     svg.addEventListener("pointerleave", () => {
       this.cursor = null;
       if (this.tool === "wall") this.redraw();
