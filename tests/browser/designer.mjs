@@ -1,12 +1,13 @@
 // The room designer in real Chromium against the real server, driven with mouse and keyboard only:
 // each scenario is one CTest test.
 //   node tests/browser/designer.mjs BUILD/roomrender OUT_DIR SCENARIO
+//   node tests/browser/designer.mjs BUILD/roomrender OUT_DIR --screenshot docs/images/designer.png
 // Plan and image positions come from window.roomrenderDesigner (worldToPlan, viewToPage); the
 // request is read back after each step with request(). Waits are on idle() (no render in flight),
 // never on fixed sleeps, so a loaded machine only makes them slower.
 import { runScenario, assert } from "./support.mjs";
 
-const [binary, outDir, scenario] = process.argv.slice(2);
+const [binary, outDir, scenario, screenshotPath] = process.argv.slice(2);
 
 const hooks = (page, name, ...args) => page.evaluate(([n, a]) => window.roomrenderDesigner[n](...a), [name, args]);
 const idle = (page) => page.evaluate(() => window.roomrenderDesigner.idle());
@@ -267,9 +268,34 @@ const scenarios = {
   },
 };
 
-const body = scenarios[scenario];
-if (!binary || !outDir || !body) {
-  console.error(`usage: designer.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")})`);
+// The picture of the designer for the docs (not a test): a furnished room, the chair selected.
+async function screenshot({ page, server }) {
+  await openEmpty(page, server);
+  await drawRoom(page);
+  await page.click('[data-tool="door"]');
+  await clickPlan(page, 1.2, 4);
+  await page.click('[data-tool="window"]');
+  await clickPlan(page, 5, 2);
+  await clickPlan(page, 2.5, 0);
+  await page.click('[data-tool="furniture"]');
+  for (const [item, x, z] of [["bed", 1.1, 1.3], ["table", 3.5, 2.6], ["chair", 3.5, 3.3], ["sofa", 3.6, 0.7], ["lamp", 4.6, 3.6]]) {
+    await page.click(`[data-item="${item}"]`);
+    await clickPlan(page, x, z);
+  }
+  await page.keyboard.press("r");
+  await page.click('[data-tool="light"]');
+  await clickPlan(page, 2.5, 2);
+  await page.click('[data-tool="select"]');
+  await clickPlan(page, 3.5, 3.3);
+  await page.click('[data-action="frame"]');
+  await idle(page);
+  await page.screenshot({ path: screenshotPath });
+  console.log(`wrote ${screenshotPath}`);
+}
+
+const body = scenario === "--screenshot" ? screenshot : scenarios[scenario];
+if (!binary || !outDir || !body || (scenario === "--screenshot" && !screenshotPath)) {
+  console.error(`usage: designer.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")}|--screenshot FILE)`);
   process.exit(2);
 }
-process.exit(await runScenario(scenario, { binary, outDir }, body));
+process.exit(await runScenario(scenario.replace(/^--/, ""), { binary, outDir }, body));

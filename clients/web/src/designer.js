@@ -685,7 +685,7 @@ export class Designer {
     const centre = [(Math.min(...xs) + Math.max(...xs)) / 2, (Math.min(...zs) + Math.max(...zs)) / 2];
     const radius = Math.max(1, Math.hypot(Math.max(...xs) - Math.min(...xs), Math.max(...zs) - Math.min(...zs)) / 2);
     const d = radius / Math.tan(((request.camera?.fov_y ?? 60) * Math.PI) / 360) * 1.1;
-    this.setCamera([{ pointer: "/camera/position", value: [centre[0], 1 + d * 0.6, centre[1] + d * 0.8].map(round3) },
+    this.setCamera([{ pointer: "/camera/position", value: [centre[0], 1 + d * 0.82, centre[1] + d * 0.57].map(round3) },
       { pointer: "/camera/target", value: [centre[0], 1, centre[1]].map(round3) }]);
     this.onEdited();
   }
