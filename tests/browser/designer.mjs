@@ -238,13 +238,17 @@ const scenarios = {
     // Dragging the image looks around: the eye stays, the target turns; renders come back at half
     // size while the drag goes on, and the image is full size at rest.
     const sizes = [];
+    const isRender = (req) => req.url().endsWith("/v1/render");
     page.on("request", (req) => {
-      if (req.url().endsWith("/v1/render")) sizes.push(JSON.parse(req.postData()).options?.width);
+      if (isRender(req)) sizes.push(JSON.parse(req.postData()).options?.width);
     });
+    // Held until a half-size render was asked for: the page may gather all moves into one frame.
+    const preview = page.waitForRequest((req) => isRender(req) && JSON.parse(req.postData()).options?.width === 320);
     const a = await hooks(page, "viewToPage", 320, 240);
     await page.mouse.move(a.x, a.y);
     await page.mouse.down();
     for (let i = 1; i <= 6; i++) await page.mouse.move(a.x + i * 10, a.y);
+    await preview;
     await page.mouse.up();
     await idle(page);
     const looked = (await request(page)).camera;
