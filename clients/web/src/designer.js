@@ -7,14 +7,17 @@
 import { PlanView } from "./plan_view.js";
 import { makeFurniture, catalogueItems } from "./catalogue.js";
 import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
-  solidAnchor, distance, roundPoint } from "./plan_math.js";
-import { elementFields } from "./properties.js";
+  solidAnchor, distance, roundPoint, sceneBounds } from "./plan_math.js";
+import { renderProperties, fieldProblem } from "./properties.js";
+import { History } from "./history.js";
+import { withDefaults, atEyeHeight, walkStep, frameBounds } from "./camera.js";
 
 const $ = (id) => document.getElementById(id);
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const storageKey = "roomrender.designer.request";
 const textStepDelayMs = 600;
 const snapPx = 10;  // wall ends within this many pixels catch the pointer
+const eyeHeightM = 1.6;
 
 export const newRequest = () => ({
   scene: {
@@ -54,9 +57,7 @@ export class Designer {
     this.cursor = null;
     this.drag = null;
     this.marks = new Map();
-    this.undo = [];
-    this.redo = [];
-    this.committed = editor.text();
+    this.history = new History(editor.text());
     this.applying = false;
     this.textTimer = 0;
     this.saveTimer = 0;
@@ -104,11 +105,7 @@ export class Designer {
   flushTextStep() {
     clearTimeout(this.textTimer);
     this.textTimer = 0;
-    const text = this.editor.text();
-    if (text === this.committed || this.editor.parsed() === null) return;
-    this.undo.push(this.committed);
-    this.redo = [];
-    this.committed = text;
+    this.history.settle(this.editor.text(), this.editor.parsed() !== null);
     this.updateButtons();
   }
 
@@ -138,9 +135,7 @@ export class Designer {
     if (!entries.length) return false;
     const text = this.editor.text();
     if (!this.applyValues(entries)) return false;
-    this.undo.push(text);
-    this.redo = [];
-    this.committed = this.editor.text();
+    this.history.record(text, this.editor.text());
     this.afterEdit();
     return true;
   }
@@ -154,9 +149,9 @@ export class Designer {
 
   // Camera moves (orbit, walk, framing) edit the text but are no history step.
   setCamera(entries) {
-    const wasCommitted = this.editor.text() === this.committed;
+    const wasCommitted = this.editor.text() === this.history.committed;
     const ok = this.applyValues(entries);
-    if (ok && wasCommitted) this.committed = this.editor.text();
+    if (ok && wasCommitted) this.history.amend(this.editor.text());
     this.redraw();
     return ok;
   }
@@ -167,11 +162,8 @@ export class Designer {
     const before = this.editor.text();
     this.editor.serverNotes = [];
     this.applyText(text);
-    if (before !== this.editor.text() && before !== "") {
-      this.undo.push(before);
-      this.redo = [];
-    }
-    this.committed = this.editor.text();
+    if (before === "") this.history.reset(this.editor.text());
+    else this.history.record(before, this.editor.text());
     this.selection = null;
     this.chain = [];
     this.marks = new Map();
@@ -183,24 +175,24 @@ export class Designer {
     if (render) this.onEdited();
   }
 
-  // A history step back or forward; the camera stays where it is.
-  step(from, to) {
+  // A history step back (or forward); the camera stays where it is.
+  step(back) {
     this.flushTextStep();
-    if (!from.length) return;
     const camera = this.request()?.camera;
-    to.push(this.committed);
-    const text = from.pop();
+    const current = this.editor.text();
+    const text = back ? this.history.back(current) : this.history.forward(current);
+    if (text === null) return;
     this.applyText(text);
     if (camera && this.request()) this.applyValues([{ pointer: "/camera", value: camera }]);
-    this.committed = this.editor.text();
+    this.history.amend(this.editor.text());
     if (this.selection && at(this.request() || {}, this.selection) === undefined) this.selection = null;
     this.chain = [];
     this.afterEdit();
   }
 
   updateButtons() {
-    document.querySelector('[data-action="undo"]').disabled = !this.undo.length;
-    document.querySelector('[data-action="redo"]').disabled = !this.redo.length;
+    document.querySelector('[data-action="undo"]').disabled = !this.history.undo.length;
+    document.querySelector('[data-action="redo"]').disabled = !this.history.redo.length;
   }
 
   scheduleSave() {
@@ -293,8 +285,8 @@ export class Designer {
     }
     const actions = {
       new: () => this.replaceAll(JSON.stringify(newRequest(), null, 2)),
-      undo: () => this.step(this.undo, this.redo),
-      redo: () => this.step(this.redo, this.undo),
+      undo: () => this.step(true),
+      redo: () => this.step(false),
       save: () => {
         this.save();
         this.onStatus("Saved in this browser; it is restored when the page is opened again.");
@@ -572,54 +564,17 @@ export class Designer {
 
   // The properties panel: the selection's fields with the schema's limits; a change is one step.
   showProperties() {
-    const panel = $("properties");
     const request = this.request();
     const element = request && this.selection ? at(request, this.selection) : undefined;
-    if (element === undefined) {
-      panel.replaceChildren(Object.assign(document.createElement("p"), { className: "note",
-        textContent: "Select an element in the plan (Select tool, V) to edit its fields." }));
-      return;
-    }
-    const fields = elementFields(this.selection, element);
-    const title = document.createElement("h3");
-    title.textContent = `${element.id || element.type || "wall"} — ${this.selection}`;
-    const rows = fields.map((f) => {
-      const label = document.createElement("label");
-      label.textContent = f.label;
-      const input = document.createElement("input");
-      input.name = f.path.join(".");
-      input.dataset.field = f.path.join("/");
-      if (f.kind === "color") {
-        input.type = "color";
-        input.value = f.value;
-      } else if (f.kind === "bool") {
-        input.type = "checkbox";
-        input.checked = f.value;
-      } else {
-        input.type = "number";
-        input.step = f.step ?? 0.05;
-        if (f.min !== undefined) input.min = f.min;
-        if (f.max !== undefined) input.max = f.max;
-        input.value = f.value;
-      }
-      input.addEventListener("change", () => this.setField(f, f.kind === "bool" ? input.checked
-        : f.kind === "color" ? input.value : Number(input.value), input));
-      label.append(input);
-      return label;
-    });
-    panel.replaceChildren(title, ...rows);
+    renderProperties($("properties"), this.selection, element, (field, value) => this.setField(field, value));
   }
 
-  setField(field, value, input) {
-    if (field.kind === "number") {
-      const bad = !Number.isFinite(value) || (field.min !== undefined && value < field.min) ||
-        (field.exclusiveMin !== undefined && value <= field.exclusiveMin) || (field.max !== undefined && value > field.max);
-      if (bad) {
-        const limit = field.exclusiveMin !== undefined ? `> ${field.exclusiveMin}` : `≥ ${field.min}`;
-        this.refuse(`${field.label} must be ${limit}${field.max !== undefined ? ` and ≤ ${field.max}` : ""}`, null);
-        this.showProperties();
-        return;
-      }
+  setField(field, value) {
+    const problem = fieldProblem(field, value);
+    if (problem) {
+      this.refuse(problem, null);
+      this.showProperties();
+      return;
     }
     const pointer = this.selection;
     const current = clone(at(this.request(), pointer));
@@ -627,67 +582,42 @@ export class Designer {
     for (const k of field.path.slice(0, -1)) target = target[k] = target[k] ?? clone(field.container ?? {});
     target[field.path[field.path.length - 1]] = value;
     if (pointer.includes("/openings/")) {
-      const problem = this.openingProblemAt(pointer, current);
-      if (problem) {
-        this.refuse(`Not changed: ${problem}.`, null);
+      const clash = this.openingProblemAt(pointer, current);
+      if (clash) {
+        this.refuse(`Not changed: ${clash}.`, null);
         this.showProperties();
         return;
       }
     }
     this.edit((r) => setAt(r.scene, pointer.slice("/scene".length), current));
-    input?.focus?.();
   }
 
-  // ---- walk mode -----------------------------------------------------------------------------
+  // ---- camera: walk mode and framing (camera.js does the geometry) --------------------------
+
+  moveCamera({ position, target }) {
+    this.setCamera([{ pointer: "/camera/position", value: position }, { pointer: "/camera/target", value: target }]);
+    this.onEdited();
+  }
 
   startWalk() {
     const request = this.request();
     if (!request) return;
-    const c = { position: [0, 1.6, 5], target: [0, 1, 0], ...(request.camera || {}) };
-    const dy = 1.6 - c.position[1];
-    // Eye at 1.6 m, looking level-ish: keep the direction's turn, drop most of its pitch.
-    const target = [c.target[0], c.target[1] + dy, c.target[2]];
-    const h = Math.hypot(target[0] - c.position[0], target[2] - c.position[2]);
-    if (h > 1e-6) target[1] = 1.6 + Math.max(-0.3, Math.min(0.3, (target[1] - 1.6) / h)) * h;
-    this.setCamera([{ pointer: "/camera/position", value: [c.position[0], 1.6, c.position[2]].map(round3) },
-      { pointer: "/camera/target", value: target.map(round3) }]);
+    this.moveCamera(atEyeHeight(request.camera, eyeHeightM));
     $("views").focus({ preventScroll: true });
-    this.onEdited();
   }
 
-  // One step of `metres` forward (dz = 1) or sideways (dx = 1), eye and target together, level.
   walk(forward, right, metres) {
     const request = this.request();
-    if (!request) return;
-    const c = { position: [0, 1.6, 5], target: [0, 1, 0], ...(request.camera || {}) };
-    let f = [c.target[0] - c.position[0], c.target[2] - c.position[2]];
-    const len = Math.hypot(f[0], f[1]);
-    if (len < 1e-9) return;
-    f = [f[0] / len, f[1] / len];
-    const r = [-f[1], f[0]];  // right of the view direction, in plan (+Z is toward the viewer)
-    const move = [(f[0] * forward + r[0] * right) * metres, (f[1] * forward + r[1] * right) * metres];
-    this.setCamera([{ pointer: "/camera/position", value: [c.position[0] + move[0], c.position[1], c.position[2] + move[1]].map(round3) },
-      { pointer: "/camera/target", value: [c.target[0] + move[0], c.target[1], c.target[2] + move[1]].map(round3) }]);
-    this.onEdited();
+    if (request) this.moveCamera(walkStep(request.camera, forward, right, metres));
   }
 
-  // Camera over the whole scene, and the plan fitted to it.
+  // The plan fitted to the scene, and the camera over all of it.
   frameAll() {
     const request = this.request();
     if (!request) return;
     this.fit();
-    const scene = request.scene || {};
-    const el = [...(scene.walls || []).flatMap((w) => [w.start, w.end])];
-    for (const s of scene.solids || []) el.push(solidAnchor(s));
-    if (!el.length) el.push([0, 0], [5, 4]);
-    const xs = el.map((p) => p[0]);
-    const zs = el.map((p) => p[1]);
-    const centre = [(Math.min(...xs) + Math.max(...xs)) / 2, (Math.min(...zs) + Math.max(...zs)) / 2];
-    const radius = Math.max(1, Math.hypot(Math.max(...xs) - Math.min(...xs), Math.max(...zs) - Math.min(...zs)) / 2);
-    const d = radius / Math.tan(((request.camera?.fov_y ?? 60) * Math.PI) / 360) * 1.1;
-    this.setCamera([{ pointer: "/camera/position", value: [centre[0], 1 + d * 0.82, centre[1] + d * 0.57].map(round3) },
-      { pointer: "/camera/target", value: [centre[0], 1, centre[1]].map(round3) }]);
-    this.onEdited();
+    const bounds = sceneBounds(request.scene || {}) || [[0, 0], [5, 4]];
+    this.moveCamera(frameBounds(bounds, withDefaults(request.camera).fov_y));
   }
 
   // ---- keyboard ------------------------------------------------------------------------------
@@ -738,8 +668,6 @@ export class Designer {
     if (tools[key] && !e.target.closest?.("#views")) return done(), this.setTool(tools[key]);
   }
 }
-
-const round3 = (v) => Math.round(v * 1000) / 1000 + 0;
 
 // Sets the value at a pointer relative to `root` (its parent must exist).
 function setAt(root, pointer, value) {

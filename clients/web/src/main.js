@@ -394,7 +394,7 @@ async function start() {
   const saved = wanted ? null : Designer.saved();
   if (saved) {
     designer.replaceAll(saved, { render: false });
-    designer.undo = [];
+    designer.history.reset(editor.text());
     designer.updateButtons();
     app.loadedCamera = editor.parsed()?.camera || null;
     controls.readFrom(editor.parsed());

@@ -1,7 +1,7 @@
-// The fields the properties panel offers for a selected element. In: its JSON Pointer and value.
-// Out: [{label, path, kind, value, min | exclusiveMin, max, step}] with the element's current values
-// (or the format's defaults) and the limits of schemas/scene.schema.json ("> 0" sizes are
-// exclusiveMin 0; intensities, offsets and sills are ≥ 0; rotation any number).
+// The properties panel. In: the selected element's JSON Pointer and value. Out: its fields
+// ([{label, path, kind, value, min | exclusiveMin, max, step}], current values or the format's
+// defaults) as inputs with the limits of schemas/scene.schema.json ("> 0" sizes are exclusiveMin 0;
+// intensities, offsets and sills are ≥ 0; rotation any number), and the check of a typed value.
 
 const num = (label, path, value, limits = {}) => ({ label, path, kind: "number", value, ...limits });
 const positive = { exclusiveMin: 0, min: 0.01 };
@@ -77,4 +77,53 @@ export function elementFields(pointer, element) {
   if (/^\/scene\/solids\/\d+$/.test(pointer)) return solidFields(element);
   if (/^\/scene\/lights\/\d+$/.test(pointer)) return lightFields(element);
   return [];
+}
+
+// Why `value` is refused for `field`, or null.
+export function fieldProblem(field, value) {
+  if (field.kind !== "number") return null;
+  const bad = !Number.isFinite(value) || (field.min !== undefined && value < field.min) ||
+    (field.exclusiveMin !== undefined && value <= field.exclusiveMin) || (field.max !== undefined && value > field.max);
+  if (!bad) return null;
+  const limit = field.exclusiveMin !== undefined ? `> ${field.exclusiveMin}` : `≥ ${field.min}`;
+  return `${field.label} must be ${limit}${field.max !== undefined ? ` and ≤ ${field.max}` : ""}`;
+}
+
+function input(field, onChange) {
+  const label = document.createElement("label");
+  label.textContent = field.label;
+  const el = document.createElement("input");
+  el.name = field.path.join(".");
+  el.dataset.field = field.path.join("/");
+  if (field.kind === "color") {
+    el.type = "color";
+    el.value = field.value;
+  } else if (field.kind === "bool") {
+    el.type = "checkbox";
+    el.checked = field.value;
+  } else {
+    el.type = "number";
+    el.step = field.step ?? 0.05;
+    if (field.min !== undefined) el.min = field.min;
+    if (field.max !== undefined) el.max = field.max;
+    el.value = field.value;
+  }
+  el.addEventListener("change", () => onChange(field,
+    field.kind === "bool" ? el.checked : field.kind === "color" ? el.value : Number(el.value)));
+  label.append(el);
+  return label;
+}
+
+// Fills `panel` with the element's fields; onChange(field, value) when one is changed.
+export function renderProperties(panel, pointer, element, onChange) {
+  if (element === undefined || element === null) {
+    const note = document.createElement("p");
+    note.className = "note";
+    note.textContent = "Select an element in the plan (Select tool, V) to edit its fields.";
+    panel.replaceChildren(note);
+    return;
+  }
+  const title = document.createElement("h3");
+  title.textContent = `${element.id || element.type || "wall"} — ${pointer}`;
+  panel.replaceChildren(title, ...elementFields(pointer, element).map((f) => input(f, onChange)));
 }
