@@ -214,6 +214,21 @@ const scenarios = {
     const count = r.scene.lights.length;
     await page.keyboard.press("Control+d");
     assert((await request(page)).scene.lights.length === count + 1, "Ctrl+D duplicated it");
+
+    // The panel sets a wall's thickness, and the next walls drawn take it.
+    await clickPlan(page, 0, 2);
+    assert(await hooks(page, "selection") === "/scene/walls/3", "a click selects the west wall");
+    await page.fill('#properties input[data-field="thickness"]', "0.25");
+    await page.press('#properties input[data-field="thickness"]', "Enter");
+    assert((await request(page)).scene.walls[3].thickness === 0.25, "the panel set its thickness");
+    await page.click('[data-tool="wall"]');
+    await clickPlan(page, 1.5, 0);
+    await clickPlan(page, 1.5, 4);
+    await page.keyboard.press("Escape");
+    r = await request(page);
+    const inner = r.scene.walls[4];
+    assert(inner && near(inner.start, [1.5, 0]) && near(inner.end, [1.5, 4]) && inner.thickness === 0.25,
+      `a new wall takes the selected wall's thickness: ${JSON.stringify(inner)}`);
   },
 
   async designer_walk({ page, server }) {

@@ -275,6 +275,23 @@ export class Designer {
     this.showProperties();
   }
 
+  // The sizes a new wall or opening takes: those of the selected element of its kind (so the panel
+  // sets them for the next ones, as it does while a chain of walls is drawn), else `defaults`.
+  styleOf(kind, defaults) {
+    const el = this.selection ? at({ scene: this.lastScene }, this.selection) : undefined;
+    if (!el) return defaults;
+    const isWall = /^\/scene\/walls\/\d+$/.test(this.selection);
+    if (kind === "wall" && isWall) {
+      return { thickness: el.thickness ?? defaults.thickness, height: el.height ?? defaults.height,
+        ...(el.base !== undefined ? { base: el.base } : {}), ...(el.color !== undefined ? { color: el.color } : {}) };
+    }
+    if (kind !== "wall" && this.selection.includes("/openings/") && el.type === kind) {
+      const { offset, id, ...rest } = el;
+      return rest;
+    }
+    return defaults;
+  }
+
   bindToolbar() {
     for (const b of document.querySelectorAll("[data-tool]")) b.addEventListener("click", () => this.setTool(b.dataset.tool));
     for (const b of document.querySelectorAll("[data-item]")) {
@@ -419,7 +436,7 @@ export class Designer {
     if (distance(q, last) < 1e-6) return;
     const added = this.edit((r) => {
       r.scene.walls = r.scene.walls || [];
-      r.scene.walls.push({ start: last, end: q, thickness: 0.15, height: 2.5 });
+      r.scene.walls.push({ start: last, end: q, ...this.styleOf("wall", { thickness: 0.15, height: 2.5 }) });
       this.selection = `/scene/walls/${r.scene.walls.length - 1}`;
     });
     if (!added) return;
@@ -437,7 +454,7 @@ export class Designer {
     }
     const index = Number(m[1]);
     const wall = this.lastScene.walls[index];
-    const opening = openingAt(wall, projectOnWall(wall, p).t, openingDefaults[this.tool]);
+    const opening = openingAt(wall, projectOnWall(wall, p).t, this.styleOf(this.tool, openingDefaults[this.tool]));
     const problem = openingProblem(wall, opening);
     if (problem) {
       this.refuse(`No ${this.tool} here: ${problem}.`, e);
