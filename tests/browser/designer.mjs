@@ -231,6 +231,30 @@ const scenarios = {
       `a new wall takes the selected wall's thickness: ${JSON.stringify(inner)}`);
   },
 
+  // Placement warnings of the answer are outlined on their elements in the plan, with the message as
+  // a tooltip, and listed in a collapsible list filtered by kind.
+  async designer_warnings({ page, server }) {
+    await openEmpty(page, server);
+    await drawRoom(page);
+    await page.click('[data-tool="furniture"]');
+    await page.click('[data-item="box"]');
+    await clickPlan(page, 5, 2);     // through the east wall
+    await clickPlan(page, 2.5, 2);   // free standing
+    await idle(page);
+    await page.waitForSelector('[data-testid="plan"] [data-pointer="/scene/solids/0"].mark-warning');
+    const tip = await page.textContent('[data-testid="plan"] [data-pointer="/scene/solids/0"] title');
+    assert(tip.length > 0, "the outline carries the message");
+    assert(!(await page.$('[data-testid="plan"] [data-pointer="/scene/solids/1"].mark-warning')), "the free box is not marked");
+    const items = await page.$$eval("#warning-list li.warning", (lis) => lis.map((li) => li.dataset.kind + ": " + li.textContent));
+    assert(items.length >= 1 && items.every((t) => t.includes("/scene/solids/0") || t.includes("/scene/walls/1")), `the list names the clash: ${items}`);
+    const kinds = await page.$$eval("#warning-kind option", (os) => os.map((o) => o.value).filter(Boolean));
+    await page.selectOption("#warning-kind", kinds[0]);
+    const filtered = await page.$$eval("#warning-list li.warning", (lis) => lis.map((li) => li.dataset.kind));
+    assert(filtered.length >= 1 && filtered.every((k) => k === kinds[0]), `the filter keeps one kind: ${filtered}`);
+    await page.click("#warnings-summary");
+    assert(!(await page.$eval("#warnings", (d) => d.open)), "the list collapses");
+  },
+
   async designer_walk({ page, server }) {
     await openEmpty(page, server);
     await drawRoom(page);
