@@ -59,6 +59,9 @@ export class Designer {
     this.marks = new Map();
     this.history = new History(editor.text());
     this.applying = false;
+    this.parsedText = null;
+    this.parsedValue = null;
+    this.redrawFrame = 0;
     this.textTimer = 0;
     this.saveTimer = 0;
     this.lastScene = { walls: [], solids: [], lights: [] };
@@ -70,8 +73,15 @@ export class Designer {
 
   // ---- the request ---------------------------------------------------------------------------
 
+  // The parsed request, kept while the text is the same: the plan redraws on every pointer move, and
+  // an imported home's text takes a while to parse. Callers treat it as read-only (edit() copies).
   request() {
-    return this.editor.parsed();
+    const text = this.editor.text();
+    if (text !== this.parsedText) {
+      this.parsedText = text;
+      this.parsedValue = this.editor.parsed();
+    }
+    return this.parsedValue;
   }
 
   // Writes `text` through the editor without it counting as a text edit.
@@ -99,13 +109,18 @@ export class Designer {
     if (this.applying) return;
     clearTimeout(this.textTimer);
     this.textTimer = setTimeout(() => this.flushTextStep(), textStepDelayMs);
-    this.redraw();
+    if (!this.redrawFrame) {
+      this.redrawFrame = requestAnimationFrame(() => {
+        this.redrawFrame = 0;
+        this.redraw();
+      });
+    }
   }
 
   flushTextStep() {
     clearTimeout(this.textTimer);
     this.textTimer = 0;
-    this.history.settle(this.editor.text(), this.editor.parsed() !== null);
+    this.history.settle(this.editor.text(), this.request() !== null);
     this.updateButtons();
   }
 

@@ -26,7 +26,18 @@ const app = {
   loadedCamera: null,   // the camera of the loaded example: Home / 0 returns to it
   exampleName: "request",
   restTimer: 0,         // full-size render due after a drag rests
+  loading: 0,           // examples, imports or the start-up being fetched: a render will follow
 };
+
+// Counts `work` (a promise-returning function) as loading while it runs, for idle().
+async function loading(work) {
+  app.loading++;
+  try {
+    return await work();
+  } finally {
+    app.loading--;
+  }
+}
 
 function showProblems(items) {
   const list = $("problems");
@@ -255,7 +266,11 @@ function resetCamera() {
   render();
 }
 
-async function loadExample(name) {
+function loadExample(name) {
+  return loading(() => loadExampleNow(name));
+}
+
+async function loadExampleNow(name) {
   try {
     const text = await api.exampleText(name);
     app.exampleName = name;
@@ -281,7 +296,11 @@ function download(blob, name) {
 }
 
 // Files of other tools go through the server's importers; a .json file is a request already.
-async function importFile(file) {
+function importFile(file) {
+  return loading(() => importFileNow(file));
+}
+
+async function importFileNow(file) {
   const format = controls.importFormat(file.name);
   try {
     setStatus(`Importing ${file.name}…`);
@@ -344,7 +363,7 @@ window.roomrenderDesigner = {
   request: () => editor.parsed(),
   selection: () => designer.selection,
   idle: () => new Promise((resolve) => {
-    const check = () => (app.inflight || app.restTimer ? setTimeout(check, 25) : resolve());
+    const check = () => (app.inflight || app.restTimer || app.loading ? setTimeout(check, 25) : resolve());
     check();
   }),
 };
@@ -407,4 +426,4 @@ async function start() {
   }
 }
 
-start().catch((error) => showError(error));
+loading(start).catch((error) => showError(error));

@@ -84,11 +84,18 @@ export function solidFootprint(s) {
   if (s.type === "prism") return { polygon: s.points };
   if (s.type === "mesh") {
     const scale = Array.isArray(s.scale) ? s.scale : [s.scale ?? 1, s.scale ?? 1, s.scale ?? 1];
-    const xs = s.vertices.map((v) => v[0] * scale[0]);
-    const zs = s.vertices.map((v) => v[2] * scale[2]);
+    // Loops, not Math.min(...xs): an imported mesh can have more vertices than a call has arguments.
+    const lo = [Infinity, Infinity];
+    const hi = [-Infinity, -Infinity];
+    for (const v of s.vertices) {
+      const x = v[0] * scale[0];
+      const z = v[2] * scale[2];
+      if (x < lo[0]) lo[0] = x;
+      if (x > hi[0]) hi[0] = x;
+      if (z < lo[1]) lo[1] = z;
+      if (z > hi[1]) hi[1] = z;
+    }
     const pos = s.position || [0, 0, 0];
-    const lo = [Math.min(...xs), Math.min(...zs)];
-    const hi = [Math.max(...xs), Math.max(...zs)];
     const corners = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
     return { polygon: corners.map((q) => placePoint(q, rot, [pos[0], pos[2]])) };
   }
@@ -205,7 +212,13 @@ export function sceneBounds(scene) {
     pts.push(o, [o[0] + scene.floor.cells[0] * c, o[1] + scene.floor.cells[1] * c]);
   }
   if (!pts.length) return null;
-  const xs = pts.map((p) => p[0]);
-  const zs = pts.map((p) => p[1]);
-  return [[Math.min(...xs), Math.min(...zs)], [Math.max(...xs), Math.max(...zs)]];
+  const lo = [Infinity, Infinity];
+  const hi = [-Infinity, -Infinity];
+  for (const [x, z] of pts) {
+    lo[0] = Math.min(lo[0], x);
+    lo[1] = Math.min(lo[1], z);
+    hi[0] = Math.max(hi[0], x);
+    hi[1] = Math.max(hi[1], z);
+  }
+  return [lo, hi];
 }
