@@ -229,6 +229,22 @@ const scenarios = {
     const inner = r.scene.walls[4];
     assert(inner && near(inner.start, [1.5, 0]) && near(inner.end, [1.5, 4]) && inner.thickness === 0.25,
       `a new wall takes the selected wall's thickness: ${JSON.stringify(inner)}`);
+
+    // Dragging the (selected) new wall moves it; dragging one of its ends moves that end only.
+    await page.evaluate(() => window.scrollTo(0, 0));  // typing in the panel scrolled the page
+    await page.click('[data-tool="select"]');
+    await dragPlan(page, [1.5, 2], [1, 2]);
+    r = await request(page);
+    assert(near(r.scene.walls[4].start, [1, 0]) && near(r.scene.walls[4].end, [1, 4]), `the wall moved 0.5 m: ${JSON.stringify(r.scene.walls[4])}`);
+    await dragPlan(page, [1, 4], [1, 3]);
+    r = await request(page);
+    assert(near(r.scene.walls[4].start, [1, 0]) && near(r.scene.walls[4].end, [1, 3]), `its end moved: ${JSON.stringify(r.scene.walls[4])}`);
+    assert(near(r.scene.walls[2].end, [0, 4]) && near(r.scene.walls[3].start, [0, 4]), "the room's corners stayed");
+    // A corner of the room moves both walls meeting there.
+    await clickPlan(page, 0, 2);
+    await dragPlan(page, [0, 4], [0, 4.5]);
+    r = await request(page);
+    assert(near(r.scene.walls[2].end, [0, 4.5]) && near(r.scene.walls[3].start, [0, 4.5]), `the corner moved both walls: ${JSON.stringify(r.scene.walls.slice(2, 4))}`);
   },
 
   // Placement warnings of the answer are outlined on their elements in the plan, with the message as

@@ -7,7 +7,7 @@
 import { PlanView } from "./plan_view.js";
 import { makeFurniture, catalogueItems } from "./catalogue.js";
 import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
-  solidAnchor, distance, roundPoint, sceneBounds } from "./plan_math.js";
+  solidAnchor, distance, roundPoint, sceneBounds, moveWallEnds, wallsProblem } from "./plan_math.js";
 import { renderProperties, fieldProblem } from "./properties.js";
 import { History } from "./history.js";
 import { withDefaults, atEyeHeight, walkStep, frameBounds } from "./camera.js";
@@ -373,9 +373,20 @@ export class Designer {
     else if (this.tool === "furniture") this.dropFurniture(p);
     else if (this.tool === "light") this.clickLight(p, e);
     else if (this.tool === "select") {
+      // An end of the selected wall: dragging it moves that corner (and the walls meeting there).
+      const wall = /^\/scene\/walls\/\d+$/.test(this.selection || "") ? at({ scene }, this.selection) : null;
+      const end = wall && [wall.start, wall.end].find((q) => distance(p, q) <= this.tolerance());
+      if (end) {
+        this.drag = { pointer: "/scene/walls", corner: end, from: p, original: clone(scene.walls), moved: false, scene: null };
+        this.plan.svg.setPointerCapture(e.pointerId);
+        return;
+      }
       const hit = hitTest(scene, p, this.tolerance());
       this.select(hit);
-      if (hit && !hit.endsWith("floor")) {
+      if (hit && /^\/scene\/walls\/\d+$/.test(hit)) {
+        this.drag = { pointer: "/scene/walls", wall: at({ scene }, hit), from: p, original: clone(scene.walls), moved: false, scene: null };
+        this.plan.svg.setPointerCapture(e.pointerId);
+      } else if (hit && !hit.endsWith("floor")) {
         this.drag = { pointer: hit, from: p, original: clone(at({ scene }, hit)), moved: false, scene: null };
         this.plan.svg.setPointerCapture(e.pointerId);
       }
@@ -393,7 +404,8 @@ export class Designer {
     if (!this.drag.moved && Math.hypot(d[0], d[1]) * this.plan.s < 3) return;
     this.drag.moved = true;
     const scene = clone(this.lastScene);
-    const moved = this.movedElement(this.drag.pointer, this.drag.original, d);
+    const moved = this.drag.corner ? this.movedCorner(this.drag, p)
+      : this.drag.wall ? this.movedWall(this.drag, d) : this.movedElement(this.drag.pointer, this.drag.original, d);
     if (!moved) return;
     setAt(scene, this.drag.pointer.slice("/scene".length), moved);
     this.drag.scene = scene;
@@ -408,7 +420,8 @@ export class Designer {
       this.redraw();
       return;
     }
-    const problem = drag.pointer.includes("/openings/") ? this.openingProblemAt(drag.pointer, drag.result) : null;
+    const problem = drag.pointer.includes("/openings/") ? this.openingProblemAt(drag.pointer, drag.result)
+      : drag.pointer === "/scene/walls" ? wallsProblem(drag.result) : null;
     if (problem) {
       this.refuse(problem, null);
       this.redraw();
@@ -433,10 +446,24 @@ export class Designer {
     if (pointer.startsWith("/scene/lights/") && el.type === "point") {
       return { ...el, position: [roundPoint([el.position[0] + snapD[0], 0])[0], el.position[1], roundPoint([0, el.position[2] + snapD[1]])[1]] };
     }
-    if (pointer.startsWith("/scene/walls/")) {
-      return { ...el, start: roundPoint([el.start[0] + snapD[0], el.start[1] + snapD[1]]), end: roundPoint([el.end[0] + snapD[0], el.end[1] + snapD[1]]) };
-    }
     return null;
+  }
+
+  // The walls with the dragged wall moved by d (on the grid), the walls meeting its ends following.
+  movedWall(drag, d) {
+    const snapD = snapToGrid(d, 0.05);
+    const shift = (q) => ({ from: q, to: [q[0] + snapD[0], q[1] + snapD[1]] });
+    return moveWallEnds(drag.original, [shift(drag.wall.start), shift(drag.wall.end)]);
+  }
+
+  // The walls with the dragged corner on the pointer (snapped as the wall tool snaps, from the
+  // selected wall's other end).
+  movedCorner(drag, p) {
+    const wall = at({ scene: { walls: drag.original } }, this.selection);
+    const other = distance(wall.start, drag.corner) < 1e-6 ? wall.end : wall.start;
+    const ends = wallEnds(drag.original).filter((q) => distance(q, drag.corner) >= 1e-6);
+    const to = snapWallPoint(p, other, ends, this.tolerance());
+    return moveWallEnds(drag.original, [{ from: drag.corner, to }]);
   }
 
   clickWall(p) {

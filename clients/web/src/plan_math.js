@@ -222,3 +222,30 @@ export function sceneBounds(scene) {
   }
   return [lo, hi];
 }
+
+// Walls with every end that lies on a `from` point (within 1e-6 m, as the format joins them) put on
+// its `to` point: moving a corner moves the ends of all the walls that meet there.
+export function moveWallEnds(walls, moves) {
+  const moved = (p) => {
+    const m = moves.find((mv) => distance(p, mv.from) < 1e-6);
+    return m ? roundPoint(m.to) : p;
+  };
+  return walls.map((w) => {
+    const start = moved(w.start);
+    const end = moved(w.end);
+    return start === w.start && end === w.end ? w : { ...w, start, end };
+  });
+}
+
+// The first opening that no longer fits its wall, as "/scene/walls/i/openings/k: reason", or null.
+export function wallsProblem(walls) {
+  for (let i = 0; i < walls.length; i++) {
+    const w = walls[i];
+    if (distance(w.start, w.end) < 1e-6) return `wall ${i} would have no length`;
+    for (let k = 0; k < (w.openings || []).length; k++) {
+      const problem = openingProblem(w, w.openings[k], k);
+      if (problem) return `the ${w.openings[k].type} of wall ${i}: ${problem}`;
+    }
+  }
+  return null;
+}

@@ -107,6 +107,14 @@ export class PlanView {
           `/scene/walls/${i}/openings/${k}`);
       });
     });
+    const selectedWall = /^\/scene\/walls\/(\d+)$/.exec(selection || "");
+    const wall = selectedWall && (scene.walls || [])[Number(selectedWall[1])];
+    if (wall && Array.isArray(wall.start) && Array.isArray(wall.end)) {
+      for (const q of [wall.start, wall.end]) {
+        const [cx, cy] = this.toSvg(q);
+        el("circle", { cx, cy, r: 5, class: "handle" }, svg);  // drag to move this corner
+      }
+    }
     (scene.solids || []).forEach((s, i) => {
       let f;
       try {
@@ -120,12 +128,13 @@ export class PlanView {
         : el("polygon", { points: this.points(f.polygon), class: "solid", fill }, svg);
       decorate(node, `/scene/solids/${i}`);
     });
+    let suns = 0;
     (scene.lights || []).forEach((l, i) => {
       if (l.type === "point" && Array.isArray(l.position)) {
         const [cx, cy] = this.toSvg([l.position[0], l.position[2]]);
         decorate(el("circle", { cx, cy, r: 7, class: "light" }, svg), `/scene/lights/${i}`);
       } else if (l.type === "directional") {
-        this.drawDirection(l.direction || [0, -1, 0], w, i, decorate);
+        this.drawDirection(l.direction || [0, -1, 0], w, i, suns++, decorate);
       }
     });
     if (camera) this.drawCamera(camera);
@@ -148,10 +157,11 @@ export class PlanView {
     }
   }
 
-  // A directional light has no place: an arrow in the top-right corner shows where it travels in plan.
-  drawDirection(d, w, i, decorate) {
+  // A directional light has no place: a dial in the top-right corner (one per such light, side by
+  // side) shows where it travels in plan.
+  drawDirection(d, w, i, slot, decorate) {
     const g = decorate(el("g", { class: "sun" }, this.svg), `/scene/lights/${i}`);
-    const cx = w - 34 - i * 0;
+    const cx = w - 34 - slot * 52;
     const cy = 34;
     el("circle", { cx, cy, r: 22 }, g);
     const len = Math.hypot(d[0], d[2]);
