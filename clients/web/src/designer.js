@@ -5,7 +5,7 @@
 // a JSON text edit becomes one step once it has rested (or before the next designer action), and
 // camera moves are not steps: undo keeps the camera where it is.
 import { PlanView } from "./plan_view.js";
-import { makeFurniture, catalogueItems } from "./catalogue.js";
+import { makeFurniture } from "./catalogue.js";
 import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
   solidAnchor, distance, roundPoint, sceneBounds, moveWallEnds, wallsProblem } from "./plan_math.js";
 import { renderProperties, fieldProblem } from "./properties.js";
@@ -273,7 +273,7 @@ export class Designer {
     const wasWalk = this.tool === "walk";
     this.tool = tool;
     for (const b of document.querySelectorAll("[data-tool]")) b.setAttribute("aria-pressed", String(b.dataset.tool === tool));
-    $("catalogue").hidden = tool !== "furniture";
+    $("catalogue").classList.toggle("inactive", tool !== "furniture");
     document.body.dataset.tool = tool;
     if (tool === "walk" && !wasWalk) this.startWalk();
     this.redraw();
@@ -735,5 +735,3 @@ function setAt(root, pointer, value) {
   for (const t of tokens.slice(0, -1)) parent = parent[t];
   parent[tokens[tokens.length - 1]] = value;
 }
-
-export { catalogueItems };
