@@ -123,6 +123,10 @@ const scenarios = {
     r = await request(page);
     assert(near(r.scene.solids[1].position, [1.5, 0, 3], 0.051), `the chair moved to (1.5, 3): ${r.scene.solids[1].position}`);
     assert(await hooks(page, "selection") === "/scene/solids/1", "and is selected");
+    await page.keyboard.press("Shift+ArrowLeft");
+    r = await request(page);
+    assert(near(r.scene.solids[1].position, [1, 0, 3], 0.051), `Shift+← moved it 0.5 m: ${r.scene.solids[1].position}`);
+    await page.keyboard.press("Shift+ArrowRight");
     await page.keyboard.press("r");
     r = await request(page);
     assert(r.scene.solids[1].rotation_y === 15, `R turned it 15°: ${r.scene.solids[1].rotation_y}`);

@@ -592,6 +592,24 @@ export class Designer {
     });
   }
 
+  // Arrow keys in the plan move the selection as a drag by d metres would.
+  nudgeSelection(d) {
+    const pointer = this.selection;
+    const scene = this.lastScene;
+    if (/^\/scene\/walls\/\d+$/.test(pointer)) {
+      const walls = this.movedWall({ wall: at({ scene }, pointer), original: scene.walls }, d);
+      const problem = wallsProblem(walls);
+      if (problem) this.refuse(problem, null);
+      else this.edit((r) => { r.scene.walls = walls; });
+      return;
+    }
+    const moved = this.movedElement(pointer, at({ scene }, pointer), d);
+    if (!moved) return;
+    const problem = pointer.includes("/openings/") ? this.openingProblemAt(pointer, moved) : null;
+    if (problem) this.refuse(problem, null);
+    else this.edit((r) => setAt(r.scene, pointer.slice("/scene".length), moved));
+  }
+
   rotateSelection(deg) {
     const pointer = this.selection;
     if (!pointer || !pointer.startsWith("/scene/solids/")) return;
@@ -719,6 +737,12 @@ export class Designer {
       } else if (this.selection) {
         this.select(null);
       }
+      return;
+    }
+    const nudges = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] };
+    if (nudges[key] && this.selection && t === this.plan.svg) {
+      done();
+      this.nudgeSelection(nudges[key].map((v) => v * (e.shiftKey ? 0.5 : 0.05)));
       return;
     }
     if (key === "Delete" || key === "Backspace") return this.selection && (done(), this.deleteSelection());
