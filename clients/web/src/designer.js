@@ -237,12 +237,17 @@ export class Designer {
   redraw() {
     const request = this.request();
     if (request) this.lastScene = request.scene || {};
-    this.plan.draw(this.drag?.scene || this.lastScene, {
-      selection: this.selection,
-      marks: this.marks,
-      preview: this.tool === "wall" ? { chain: this.chain, cursor: this.cursor } : null,
-      camera: request?.camera,
-    });
+    try {
+      this.plan.draw(this.drag?.scene || this.lastScene, {
+        selection: this.selection,
+        marks: this.marks,
+        preview: this.tool === "wall" ? { chain: this.chain, cursor: this.cursor } : null,
+        camera: request?.camera,
+      });
+    } catch (error) {
+      // A request that parses but is not a scene yet (typing): the plan keeps what it could draw.
+      console.debug("plan:", error);
+    }
   }
 
   fit() {

@@ -36,10 +36,11 @@ export function snapWallPoint(p, from, ends, endTolM) {
   return roundPoint([from[0] + length * Math.cos(snapped), from[1] + length * Math.sin(snapped)]);
 }
 
-export const wallEnds = (walls) => (walls || []).flatMap((w) => [w.start, w.end]);
+export const wallEnds = (walls) => (walls || []).filter((w) => wallLength(w) > 0).flatMap((w) => [w.start, w.end]);
 
+// 0 for a wall whose ends are not (yet) two points: the text may be half-typed.
 export function wallLength(w) {
-  return distance(w.start, w.end);
+  return Array.isArray(w.start) && Array.isArray(w.end) ? distance(w.start, w.end) : 0;
 }
 
 // The wall's box in plan: four corners around its centreline (no mitres).
@@ -102,6 +103,15 @@ export function solidFootprint(s) {
   return { polygon: [] };
 }
 
+// The footprint, or null for a solid that lacks the members it needs (half-typed in the editor).
+export function footprintOrNull(s) {
+  try {
+    return solidFootprint(s);
+  } catch {
+    return null;
+  }
+}
+
 // The plan point a solid is moved by: center, or position's x and z for a mesh.
 export function solidAnchor(s) {
   if (s.type === "mesh") return [(s.position || [0, 0, 0])[0], (s.position || [0, 0, 0])[2]];
@@ -140,7 +150,7 @@ export function hitTest(scene, p, tolM) {
   const lights = scene.lights || [];
   for (let i = lights.length - 1; i >= 0; i--) {
     const l = lights[i];
-    if (l.type === "point" && distance(p, [l.position[0], l.position[2]]) <= Math.max(tolM, 0.15)) return `/scene/lights/${i}`;
+    if (l.type === "point" && Array.isArray(l.position) && distance(p, [l.position[0], l.position[2]]) <= Math.max(tolM, 0.15)) return `/scene/lights/${i}`;
   }
   const walls = scene.walls || [];
   for (let i = 0; i < walls.length; i++) {
@@ -153,7 +163,8 @@ export function hitTest(scene, p, tolM) {
   }
   const solids = scene.solids || [];
   for (let i = solids.length - 1; i >= 0; i--) {
-    const f = solidFootprint(solids[i]);
+    const f = footprintOrNull(solids[i]);
+    if (!f) continue;
     if (f.circle && distance(p, f.circle.center) <= f.circle.radius + tolM) return `/scene/solids/${i}`;
     if (f.polygon && f.polygon.length >= 3 && pointInPolygon(p, f.polygon)) return `/scene/solids/${i}`;
   }
@@ -198,15 +209,16 @@ export function openingAt(wall, tClicked, fields) {
 // Plan bounds of everything drawn: [[minX, minZ], [maxX, maxZ]], or null for an empty scene.
 export function sceneBounds(scene) {
   const pts = [];
-  for (const w of scene.walls || []) pts.push(w.start, w.end);
+  for (const w of scene.walls || []) if (wallLength(w)) pts.push(w.start, w.end);
   for (const s of scene.solids || []) {
-    const f = solidFootprint(s);
+    const f = footprintOrNull(s);
+    if (!f) continue;
     if (f.circle) pts.push([f.circle.center[0] - f.circle.radius, f.circle.center[1] - f.circle.radius],
       [f.circle.center[0] + f.circle.radius, f.circle.center[1] + f.circle.radius]);
     else pts.push(...(f.polygon || []));
   }
-  for (const l of scene.lights || []) if (l.type === "point") pts.push([l.position[0], l.position[2]]);
-  if (scene.floor) {
+  for (const l of scene.lights || []) if (l.type === "point" && Array.isArray(l.position)) pts.push([l.position[0], l.position[2]]);
+  if (scene.floor && Array.isArray(scene.floor.cells)) {
     const o = scene.floor.origin || [0, 0];
     const c = scene.floor.cell_size ?? 1;
     pts.push(o, [o[0] + scene.floor.cells[0] * c, o[1] + scene.floor.cells[1] * c]);

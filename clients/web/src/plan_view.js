@@ -174,6 +174,7 @@ export class PlanView {
   drawCamera(c) {
     const p = c.position || [0, 1.6, 5];
     const t = c.target || [0, 1, 0];
+    if (!Array.isArray(p) || !Array.isArray(t)) return;
     const [ex, ey] = this.toSvg([p[0], p[2]]);
     const dx = t[0] - p[0];
     const dz = t[2] - p[2];

@@ -2,7 +2,7 @@
 // hand-placed fixtures (a 5 m × 4 m room) whose answers can be worked out on paper.
 import { test } from "node:test";
 import assert from "node:assert/strict";
-import { snapWallPoint, hitTest, openingProblem, openingAt, placePoint, solidFootprint, moveSolid } from "../src/plan_math.js";
+import { snapWallPoint, hitTest, openingProblem, openingAt, placePoint, solidFootprint, moveSolid, sceneBounds } from "../src/plan_math.js";
 import { makeFurniture, catalogueItems } from "../src/catalogue.js";
 import { look } from "../src/camera.js";
 
@@ -68,4 +68,10 @@ test("walk mode's look keeps the eye and the distance to the target", () => {
   const l = look(c, 90, 0);
   assert.deepEqual(l.position, c.position);
   assert.ok(Math.abs(Math.hypot(l.target[0] - 1, l.target[2] - 1) - 2) < 1e-3);
+});
+
+test("half-typed elements are skipped, not thrown on", () => {
+  const scene = { walls: [{ start: [0, 0] }, ...walls], solids: [{ type: "box", center: [1, 1] }], lights: [{ type: "point" }], floor: {} };
+  assert.equal(hitTest(scene, [3, 0], 0.05), "/scene/walls/1");
+  assert.deepEqual(sceneBounds(scene), [[0, 0], [5, 4]]);
 });
