@@ -30,10 +30,13 @@ export const newRequest = () => ({
 });
 
 export class Designer {
-  constructor(editor, { onEdited, onStatus }) {
+  constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null }) {
     this.editor = editor;
     this.onEdited = onEdited;      // a designer edit was applied: render
     this.onStatus = onStatus;
+    this.onSave = onSave;          // Save was pressed (after the browser's copy was written)
+    this.onReplaced = onReplaced;  // a whole new text is about to be loaded
+    this.autosaveText = autosaveText;  // what the browser keeps (null: not this text), default the text
     this.plan = new PlanView($("plan"));
     this.tool = "select";
     this.item = "table";
@@ -157,12 +160,15 @@ export class Designer {
   }
 
   // A whole new request (New, an example, an import, a restore): one step, the plan fitted to it.
-  replaceAll(text, { render = true } = {}) {
+  // `step: false`: the new text stands in for the current one (the same scene, arrived in full).
+  replaceAll(text, { render = true, step = true } = {}) {
     this.flushTextStep();
+    this.onReplaced();
     const before = this.editor.text();
     this.editor.serverNotes = [];
     this.applyText(text);
     if (before === "") this.history.reset(this.editor.text());
+    else if (!step) this.history.amend(this.editor.text());
     else this.history.record(before, this.editor.text());
     this.selection = null;
     this.chain = [];
@@ -202,8 +208,10 @@ export class Designer {
 
   save() {
     clearTimeout(this.saveTimer);
+    const text = this.autosaveText ? this.autosaveText() : this.editor.text();
+    if (text === null) return;
     try {
-      localStorage.setItem(storageKey, this.editor.text());
+      localStorage.setItem(storageKey, text);
     } catch {
       // storage full or disabled: autosave is a convenience
     }
@@ -311,7 +319,8 @@ export class Designer {
       redo: () => this.step(false),
       save: () => {
         this.save();
-        this.onStatus("Saved in this browser; it is restored when the page is opened again.");
+        if (this.onSave) this.onSave();
+        else this.onStatus("Saved in this browser; it is restored when the page is opened again.");
       },
       frame: () => this.frameAll(),
     };

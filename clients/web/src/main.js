@@ -11,6 +11,10 @@ import { drawTimingChart, formatMs } from "./timings.js";
 import { showComparison, clearComparison } from "./compare_view.js";
 import { Controls } from "./controls.js";
 import { Designer, newRequest } from "./designer.js";
+import { showWarningList } from "./warning_list.js";
+import { Sharing } from "./sharing.js";
+import { parsePermalink, viewOf } from "./share.js";
+import { bigSceneChars } from "./big_scene.js";
 
 const $ = (id) => document.getElementById(id);
 const defaultExample = "apartment";
@@ -95,64 +99,13 @@ function showStats(result, warningCount) {
   }));
 }
 
-// A warning's kind, for the filter: which check it comes from, read from its pointer and text.
-function warningKind({ pointer, detail }) {
-  if (/\/openings\//.test(pointer || "")) return "openings";
-  if (/floor/i.test(detail)) return "beyond the floor";
-  if (/\/solids\//.test(pointer || "") && /wall/i.test(detail)) return "solid and wall";
-  if (/\/solids\//.test(pointer || "")) return "solids";
-  return "other";
-}
-
-// The answer's placement warnings: drawn on their elements in the plan, and listed in a collapsible
-// list filtered by kind (open by itself while it is short).
-function showWarningList(warnings, extraCount) {
-  const box = $("warnings");
-  const select = $("warning-kind");
-  const kinds = [...new Set(warnings.map(warningKind))].sort();
-  const wanted = kinds.includes(select.value) ? select.value : "";
-  select.replaceChildren(new Option(`all (${warnings.length})`, ""),
-    ...kinds.map((k) => new Option(`${k} (${warnings.filter((w) => warningKind(w) === k).length})`, k)));
-  select.value = wanted;
-  const total = warnings.length || extraCount;
-  box.hidden = total === 0;
-  $("warnings-summary").textContent = `${total} placement warning${total === 1 ? "" : "s"}`;
-  if (warnings.length <= 5) box.open = true;
-  const list = $("warning-list");
-  list.replaceChildren();
-  for (const w of warnings) {
-    if (select.value && warningKind(w) !== select.value) continue;
-    const li = document.createElement("li");
-    li.className = "warning";
-    li.dataset.kind = warningKind(w);
-    const link = document.createElement("button");
-    link.type = "button";
-    link.className = "pointer";
-    link.textContent = w.pointer;
-    link.title = "Show this element in the editor and select it in the plan";
-    link.addEventListener("click", () => {
-      editor.reveal(w.pointer);
-      const element = /^\/scene\/(walls\/\d+(\/openings\/\d+)?|solids\/\d+|lights\/\d+)/.exec(w.pointer);
-      if (element) designer.select(element[0]);
-    });
-    li.append(link, " ", w.detail);
-    list.append(li);
-  }
-  if (!warnings.length && extraCount) {
-    const li = document.createElement("li");
-    li.className = "warning";
-    li.textContent = `${extraCount} placement warning(s); this server lists them only in JSON answers.`;
-    list.append(li);
-  }
-}
-
 function showWarnings(result) {
   const notes = result.warnings.map((w) => ({ pointer: w.pointer, message: w.detail, severity: "warning" }));
   editor.setServerNotes(notes);
   app.lastWarnings = result.warnings;
   designer.setMarks(result.warnings.map((w) => ({ ...w, severity: "warning" })));
   showProblems([]);
-  showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0);
+  showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0, warningClicks);
   return notes.length || result.warningCount || 0;
 }
 
@@ -196,8 +149,9 @@ async function render({ preview = false } = {}) {
       const h = Math.max(1, Math.round((o.height ?? 480) * previewScale));
       return { ...r, options: { ...o, width: w, height: h } };
     };
-    const results = await Promise.all(requests.map((r, i) =>
-      api.render(preview ? small(r) : i === 0 ? editor.text() : r, { signal: controller.signal })));
+    const results = await Promise.all(requests.map(async (r, i) =>
+      (await sharing.render(preview ? small(r) : r, { signal: controller.signal })) ??
+        api.render(preview ? small(r) : i === 0 ? editor.text() : r, { signal: controller.signal })));
     if (seq !== app.seq) return;
     await display(request, results, seq);
     const server = results.map((r) => formatMs(r.timings.total)).join(" + ");
@@ -236,6 +190,7 @@ async function display(request, [a, b], seq) {
   // Tests (and people) can tell a new image from the old one by this number.
   img.dataset.renderSeq = String(seq);
   $("views").dataset.renderSeq = String(seq);
+  sharing.showLinks(request);
 }
 
 // Camera gestures edit the request's camera, then render: reduced size while a drag goes on, full
@@ -276,6 +231,8 @@ async function loadExampleNow(name) {
     app.exampleName = name;
     designer.replaceAll(text, { render: false });
     const request = editor.parsed();
+    app.example = { name, sceneKey: JSON.stringify(request?.scene) };
+    controls.showExample(name);
     app.loadedCamera = request && request.camera ? request.camera : null;
     showProblems([]);
     controls.readFrom(request);
@@ -304,16 +261,20 @@ async function importFileNow(file) {
   const format = controls.importFormat(file.name);
   try {
     setStatus(`Importing ${file.name}…`);
-    let text;
     if (format === "json") {
-      text = await file.text();
+      const text = await file.text();
+      if (text.length <= bigSceneChars) {
+        designer.replaceAll(JSON.stringify(JSON.parse(text), null, 2), { render: false });
+      } else {
+        const request = JSON.parse(text);
+        sharing.load(JSON.stringify(request.scene ?? {}), null, viewOf(request));
+      }
     } else {
-      const imported = await api.importFile(format, file);
-      text = imported.text;
-      if (imported.warningCount) setStatus(`Imported ${file.name} with ${imported.warningCount} repair(s).`);
+      // Stored by the server and rendered by id: an interior's meshes never travel back as JSON.
+      const receipt = await sharing.importStored(format, file);
+      if (receipt.warnings?.length) setStatus(`Imported ${file.name} with ${receipt.warnings.length} repair(s).`);
     }
     app.exampleName = file.name.replace(/\.[^.]*$/, "");
-    designer.replaceAll(JSON.stringify(JSON.parse(text), null, 2), { render: false });
     const request = editor.parsed();
     app.loadedCamera = request?.camera || null;
     controls.readFrom(request);
@@ -325,12 +286,21 @@ async function importFileNow(file) {
 
 const editor = new RequestEditor($("editor"), {
   onChange: () => {
-    controls.readFromSoon(() => editor.parsed());
+    controls.readFromSoon(() => editor.parsed(), (request) => controls.showExample(
+      app.example && JSON.stringify(request?.scene) === app.example.sceneKey ? app.example.name : null));
     designer.textChanged();
   },
   onRun: () => render(),
 });
-const designer = new Designer(editor, { onEdited: () => render(), onStatus: setStatus });
+const designer = new Designer(editor, {
+  onEdited: () => render(),
+  onStatus: setStatus,
+  onSave: () => sharing.save(),
+  onReplaced: () => sharing.replaced(),
+  autosaveText: () => sharing.autosaveText(),
+});
+const sharing = new Sharing({ api, editor, designer, onStatus: setStatus });
+const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p) };
 const controls = new Controls({
   setOptions: (entries) => {
     if (editor.setValues(entries)) render();
@@ -347,7 +317,7 @@ attachViewer($("views"), {
   onToggleCompare: () => controls.toggleCompare(),
   onDragEnd: endDrag,
 });
-$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0));
+$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0, warningClicks));
 
 // Hooks for scripted checks that drive the page as a person would (tests/browser/designer.mjs).
 window.roomrenderDesigner = {
@@ -362,6 +332,14 @@ window.roomrenderDesigner = {
   },
   request: () => editor.parsed(),
   selection: () => designer.selection,
+  // The bytes of the PNG on screen, base64-encoded (null before the first render).
+  png: async () => {
+    if (!app.shown) return null;
+    const bytes = new Uint8Array(await app.shown.blob.arrayBuffer());
+    let binary = "";
+    for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+    return btoa(binary);
+  },
   idle: () => new Promise((resolve) => {
     const check = () => (app.inflight || app.restTimer || app.loading ? setTimeout(check, 25) : resolve());
     check();
@@ -369,12 +347,16 @@ window.roomrenderDesigner = {
 };
 
 $("render").addEventListener("click", () => render());
-$("example").addEventListener("change", (e) => loadExample(e.target.value));
+$("example").addEventListener("change", (e) => {
+  if (e.target.value) loadExample(e.target.value);
+});
 $("download-png").addEventListener("click", () => {
   if (app.shown) download(app.shown.blob, `${app.exampleName}-${app.shown.pipeline}.png`);
 });
 $("download-scene").addEventListener("click", () => {
-  download(new Blob([editor.text()], { type: "application/json" }), `${app.exampleName}.json`);
+  const request = sharing.isBig() ? editor.parsed() : null;
+  const text = request ? JSON.stringify({ ...request, scene: sharing.fullScene(request.scene || {}) }) : editor.text();
+  download(new Blob([text], { type: "application/json" }), `${app.exampleName}.json`);
 });
 $("open-file").addEventListener("click", () => $("file").click());
 $("file").addEventListener("change", (e) => {
@@ -391,6 +373,45 @@ document.addEventListener("keydown", (e) => {
   }
 });
 
+// Opens a permalink (/?scene=ID&view=…): true when it named a scene and it loaded; a link that
+// fails says why, visibly, and the page goes on as without it.
+async function openLink(search) {
+  let link;
+  try {
+    link = parsePermalink(search);
+  } catch (error) {
+    sharing.showError(`This link cannot be opened: ${error.message}.`);
+    return false;
+  }
+  if (!link) return false;
+  try {
+    await sharing.openPermalink(link.id, link.view);
+  } catch (error) {
+    const why = error.status === 404 ? "the server has no such scene (it may have been evicted or deleted)"
+      : error.message;
+    sharing.showError(`Scene ${link.id} could not be opened: ${why}.`);
+    return false;
+  }
+  app.exampleName = `scene-${link.id}`;
+  app.loadedCamera = editor.parsed()?.camera || null;
+  controls.readFrom(editor.parsed());
+  controls.showExample(null);
+  setStatus(`Opened the stored scene ${link.id}.`);
+  await render();
+  return true;
+}
+
+// The browser's copy of a big scene is a link to it (autosaveText in sharing.js), as a search part.
+function storedSceneLink(saved) {
+  if (!saved || !saved.startsWith('{"stored_scene"')) return null;
+  try {
+    const { stored_scene: id, view } = JSON.parse(saved);
+    return `?scene=${encodeURIComponent(id)}&view=${encodeURIComponent(JSON.stringify(view || {}))}`;
+  } catch {
+    return null;
+  }
+}
+
 async function start() {
   await api.detect();
   const [pipelines, examples, schemas] = await Promise.all([
@@ -401,7 +422,7 @@ async function start() {
   controls.setPipelines(pipelines);
   controls.setImportSupported(api.has("/v1/import/{format}"));
   if (schemas) {
-    editor.setChecker(makeRequestChecker(...schemas));
+    editor.setChecker(sharing.filterChecker(makeRequestChecker(...schemas)));
     $("check-note").textContent = "Checked against the server's schema as you type; Ctrl+Enter renders.";
   } else {
     $("check-note").textContent =
@@ -410,8 +431,11 @@ async function start() {
   const wanted = new URLSearchParams(location.search).get("example");
   const first = examples.includes(wanted) ? wanted : examples.includes(defaultExample) ? defaultExample : examples[0];
   controls.setExamples(examples, first);
+  if (await openLink(location.search)) return;
   const saved = wanted ? null : Designer.saved();
-  if (saved) {
+  const savedLink = storedSceneLink(saved);
+  if (savedLink && (await openLink(savedLink))) return;
+  if (saved && !savedLink) {
     designer.replaceAll(saved, { render: false });
     designer.history.reset(editor.text());
     designer.updateButtons();
