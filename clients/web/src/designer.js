@@ -30,13 +30,15 @@ export const newRequest = () => ({
 });
 
 export class Designer {
-  constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null }) {
+  constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null,
+    onDragPreview = () => {} }) {
     this.editor = editor;
     this.onEdited = onEdited;      // a designer edit was applied: render
     this.onStatus = onStatus;
     this.onSave = onSave;          // Save was pressed (after the browser's copy was written)
     this.onReplaced = onReplaced;  // a whole new text is about to be loaded
     this.autosaveText = autosaveText;  // what the browser keeps (null: not this text), default the text
+    this.onDragPreview = onDragPreview;  // (scene) while a plan drag moves an element; null when it ends
     this.plan = new PlanView($("plan"));
     this.tool = "select";
     this.item = "table";

@@ -61,15 +61,19 @@ export const toolMethods = {
     const moved = this.drag.corner ? this.movedCorner(this.drag, p)
       : this.drag.wall ? this.movedWall(this.drag, d) : this.movedElement(this.drag.pointer, this.drag.original, d);
     if (!moved) return;
+    const changed = JSON.stringify(moved) !== JSON.stringify(this.drag.result);
     setAt(scene, this.drag.pointer.slice("/scene".length), moved);
     this.drag.scene = scene;
     this.drag.result = moved;
     this.redraw();
+    // The image follows the drag at reduced size (5 cm steps: only when the element moved).
+    if (changed) this.onDragPreview(scene);
   },
 
   pointerUp() {
     const drag = this.drag;
     this.drag = null;
+    this.onDragPreview(null);
     if (!drag || !drag.moved || !drag.result) {
       this.redraw();
       return;
@@ -79,6 +83,7 @@ export const toolMethods = {
     if (problem) {
       this.refuse(problem, null);
       this.redraw();
+      this.onEdited();  // the image showed the drag: back to the scene as it is
       return;
     }
     this.edit((r) => setAt(r.scene, drag.pointer.slice("/scene".length), drag.result));

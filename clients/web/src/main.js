@@ -30,6 +30,8 @@ const app = {
   loadedCamera: null,   // the camera of the loaded example: Home / 0 returns to it
   exampleName: "request",
   restTimer: 0,         // full-size render due after a drag rests
+  planFrame: 0,         // reduced-size render of a plan drag due at the next frame
+  planScene: null,
   loading: 0,           // examples, imports or the start-up being fetched: a render will follow
 };
 
@@ -122,10 +124,14 @@ function showError(error) {
 }
 
 // `preview`: a reduced-size image while a drag goes on (the full size follows when it rests).
-async function render({ preview = false } = {}) {
+// `scene`: the scene as a plan drag shows it, not yet in the editor.
+async function render({ preview = false, scene = null } = {}) {
   clearTimeout(app.restTimer);
   app.restTimer = 0;
-  const request = editor.parsed();
+  cancelAnimationFrame(app.planFrame);
+  app.planFrame = 0;
+  const parsed = editor.parsed();
+  const request = parsed && scene ? { ...parsed, scene } : parsed;
   if (request === null) {
     showProblems([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
     return;
@@ -151,7 +157,7 @@ async function render({ preview = false } = {}) {
     };
     const results = await Promise.all(requests.map(async (r, i) =>
       (await sharing.render(preview ? small(r) : r, { signal: controller.signal })) ??
-        api.render(preview ? small(r) : i === 0 ? editor.text() : r, { signal: controller.signal })));
+        api.render(preview ? small(r) : i === 0 && !scene ? editor.text() : r, { signal: controller.signal })));
     if (seq !== app.seq) return;
     await display(request, results, seq);
     const server = results.map((r) => formatMs(r.timings.total)).join(" + ");
@@ -205,7 +211,13 @@ function moveCamera(kind, ...args) {
   designer.setCamera([{ pointer: "/camera/position", value: moved.position }, { pointer: "/camera/target", value: moved.target }]);
   if ($("views").classList.contains("dragging")) {
     render({ preview: true });
-    app.restTimer = setTimeout(() => render(), restMs);
+    // At rest, the full size; a reduced image still on its way is not aborted for it (on a slow
+    // server the preview of each step would be, and the drag would show nothing).
+    const rest = () => {
+      app.restTimer = app.inflight ? setTimeout(rest, 50) : 0;
+      if (!app.restTimer) render();
+    };
+    app.restTimer = setTimeout(rest, restMs);
   } else {
     render();
   }
@@ -298,6 +310,20 @@ const designer = new Designer(editor, {
   onSave: () => sharing.save(),
   onReplaced: () => sharing.replaced(),
   autosaveText: () => sharing.autosaveText(),
+  // A plan drag renders at reduced size, at most once a frame; a big scene would be stored each
+  // step, so it waits for the drop.
+  onDragPreview: (scene) => {
+    app.planScene = scene;
+    if (!scene || sharing.isBig()) {
+      cancelAnimationFrame(app.planFrame);
+      app.planFrame = 0;
+    } else if (!app.planFrame) {
+      app.planFrame = requestAnimationFrame(() => {
+        app.planFrame = 0;
+        render({ preview: true, scene: app.planScene });
+      });
+    }
+  },
 });
 const sharing = new Sharing({ api, editor, designer, onStatus: setStatus });
 const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p) };
@@ -341,7 +367,7 @@ window.roomrenderDesigner = {
     return btoa(binary);
   },
   idle: () => new Promise((resolve) => {
-    const check = () => (app.inflight || app.restTimer || app.loading ? setTimeout(check, 25) : resolve());
+    const check = () => (app.inflight || app.restTimer || app.planFrame || app.loading ? setTimeout(check, 25) : resolve());
     check();
   }),
 };
