@@ -12,7 +12,8 @@ import { showComparison, clearComparison } from "./compare_view.js";
 import { Controls } from "./controls.js";
 import { Designer, newRequest } from "./designer.js";
 import { showWarningList } from "./warning_list.js";
-import { Sharing } from "./sharing.js";
+import { showProblems, replaceImage, showStats, download } from "./result_view.js";
+import { Sharing, storedSceneLink } from "./sharing.js";
 import { parsePermalink, viewOf } from "./share.js";
 import { bigSceneChars } from "./big_scene.js";
 
@@ -45,25 +46,7 @@ async function loading(work) {
   }
 }
 
-function showProblems(items) {
-  const list = $("problems");
-  list.replaceChildren();
-  for (const { pointer, detail, severity } of items) {
-    const li = document.createElement("li");
-    li.className = severity || "error";
-    if (pointer !== null && pointer !== undefined) {
-      const link = document.createElement("button");
-      link.type = "button";
-      link.className = "pointer";
-      link.textContent = pointer === "" ? "(whole request)" : pointer;
-      link.title = "Show this field in the editor";
-      link.addEventListener("click", () => editor.reveal(pointer));
-      li.append(link, " ");
-    }
-    li.append(detail);  // text, never HTML: details can quote the request
-    list.append(li);
-  }
-}
+const showProblemList = (items) => showProblems(items, (pointer) => editor.reveal(pointer));
 
 function setBusy(busy) {
   $("progress").hidden = !busy;
@@ -75,38 +58,12 @@ function setStatus(text) {
   $("status").textContent = text;
 }
 
-function replaceImage(img, previous, blob) {
-  if (previous) URL.revokeObjectURL(previous.url);
-  const url = URL.createObjectURL(blob);
-  img.src = url;
-  return url;
-}
-
-function showStats(result, warningCount) {
-  const counts = result.counts || {};
-  const rows = [
-    ["scene id", result.sceneId],
-    ["BSP cache", result.cache],
-    ["polygons", counts.polygons],
-    ["polygons drawn", counts.polygons_drawn],
-    ["fragments", counts.fragments],
-    ["placement warnings", warningCount],
-  ].filter(([, v]) => v !== undefined && v !== "");  // a PNG answer carries fewer facts than JSON
-  $("stats").replaceChildren(...rows.flatMap(([k, v]) => {
-    const dt = document.createElement("dt");
-    dt.textContent = k;
-    const dd = document.createElement("dd");
-    dd.textContent = String(v);
-    return [dt, dd];
-  }));
-}
-
 function showWarnings(result) {
   const notes = result.warnings.map((w) => ({ pointer: w.pointer, message: w.detail, severity: "warning" }));
   editor.setServerNotes(notes);
   app.lastWarnings = result.warnings;
   designer.setMarks(result.warnings.map((w) => ({ ...w, severity: "warning" })));
-  showProblems([]);
+  showProblemList([]);
   showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0, warningClicks);
   return notes.length || result.warningCount || 0;
 }
@@ -114,11 +71,11 @@ function showWarnings(result) {
 function showError(error) {
   if (error instanceof ApiError) {
     editor.setServerNotes(error.errors.map((e) => ({ pointer: e.pointer, message: e.detail, severity: "error" })));
-    showProblems(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
+    showProblemList(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
     designer.setMarks(error.errors.map((e) => ({ ...e, severity: "error" })));
     setStatus(`The server refused the request (HTTP ${error.status} ${error.problem.title || ""}).`);
   } else {
-    showProblems([{ pointer: null, detail: `Could not reach the server: ${error.message}` }]);
+    showProblemList([{ pointer: null, detail: `Could not reach the server: ${error.message}` }]);
     setStatus("Render failed.");
   }
 }
@@ -133,7 +90,7 @@ async function render({ preview = false, scene = null } = {}) {
   const parsed = editor.parsed();
   const request = parsed && scene ? { ...parsed, scene } : parsed;
   if (request === null) {
-    showProblems([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
+    showProblemList([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
     return;
   }
   if (app.inflight) app.inflight.abort();
@@ -246,22 +203,12 @@ async function loadExampleNow(name) {
     app.example = { name, sceneKey: JSON.stringify(request?.scene) };
     controls.showExample(name);
     app.loadedCamera = request && request.camera ? request.camera : null;
-    showProblems([]);
+    showProblemList([]);
     controls.readFrom(request);
     await render();
   } catch (error) {
     showError(error);
   }
-}
-
-function download(blob, name) {
-  const a = document.createElement("a");
-  a.href = URL.createObjectURL(blob);
-  a.download = name;
-  document.body.append(a);
-  a.click();
-  a.remove();
-  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
 
 // Files of other tools go through the server's importers; a .json file is a request already.
@@ -425,17 +372,6 @@ async function openLink(search) {
   setStatus(`Opened the stored scene ${link.id}.`);
   await render();
   return true;
-}
-
-// The browser's copy of a big scene is a link to it (autosaveText in sharing.js), as a search part.
-function storedSceneLink(saved) {
-  if (!saved || !saved.startsWith('{"stored_scene"')) return null;
-  try {
-    const { stored_scene: id, view } = JSON.parse(saved);
-    return `?scene=${encodeURIComponent(id)}&view=${encodeURIComponent(JSON.stringify(view || {}))}`;
-  } catch {
-    return null;
-  }
 }
 
 async function start() {

@@ -77,23 +77,32 @@ export class Sharing {
     this.saved = { id, key: JSON.stringify(this.editor.parsed()?.scene) };
   }
 
-  // A file imported and stored by the server. It renders by id at once, with the camera and options
-  // of the server's answer; the scene is fetched meanwhile (GET /v1/scenes/{id}: an interior's
-  // megabytes take the server a while to compress) and then fills the editor, meshes kept out.
-  async importStored(format, file) {
+  // A file imported and stored by the server. A scene that arrives within `waitMs` fills the editor
+  // before the first render; else it renders by id at once, with the camera and options of the
+  // server's answer, and fills the editor when it comes (GET /v1/scenes/{id}: the server compresses
+  // an interior's megabytes first, which takes it a while).
+  async importStored(format, file, { waitMs = 1500 } = {}) {
     const receipt = await this.api.importStored(format, file);
     if (!/^[0-9a-f]{16}$/.test(receipt.id || "")) throw new Error("the import answer names no stored scene");
     const view = { camera: receipt.camera, options: receipt.options };
+    const fetched = this.api.storedSceneText(receipt.id).then((text) => ({ text }), (error) => ({ error }));
+    const early = await Promise.race([fetched, new Promise((done) => setTimeout(() => done(null), waitMs))]);
+    if (early?.text) {
+      this.load(early.text, receipt.id, view);
+      return receipt;
+    }
     this.designer.replaceAll(JSON.stringify(view, null, 2), { render: false });
     this.big = { id: receipt.id, key: JSON.stringify({}), meshes: new Map(), chars: 0, pending: true };
     this.showSummary(`Scene ${receipt.id} is stored on the server and renders from there; fetching it to edit its elements…`);
-    this.api.storedSceneText(receipt.id).then((text) => {
+    fetched.then(({ text, error }) => {
       if (this.big?.id !== receipt.id || !this.big.pending) return;  // another scene came meanwhile
+      if (error) {
+        this.showSummary(`Scene ${receipt.id} renders from the server, but could not be fetched to edit: ${error.message}`);
+        return;
+      }
       if (JSON.stringify(this.editor.parsed()?.scene ?? {}) !== this.big.key) return;  // a scene was typed
       this.load(text, receipt.id, viewOf(this.editor.parsed() || view), { step: false });
       if (!this.big) $("big-summary").hidden = true;
-    }).catch((error) => {
-      if (this.big?.id === receipt.id) this.showSummary(`Scene ${receipt.id} renders from the server, but could not be fetched to edit: ${error.message}`);
     });
     return receipt;
   }
@@ -164,9 +173,22 @@ export class Sharing {
     });
   }
 
-  // What the browser keeps of a big scene (too big for its storage): the link to it.
+  // What the browser keeps: the editor's text, or for a big scene (too big for the browser's
+  // storage, and its text has the meshes kept out) a link to its stored copy; null: nothing yet.
   autosaveText() {
-    if (!this.big || !this.big.id) return null;
+    if (!this.big) return this.editor.text();
+    if (!this.big.id) return null;
     return JSON.stringify({ stored_scene: this.big.id, view: viewOf(this.editor.parsed() || {}) });
+  }
+}
+
+// The browser's copy of a big scene is a link to it (autosaveText above), as a search part.
+export function storedSceneLink(saved) {
+  if (!saved || !saved.startsWith('{"stored_scene"')) return null;
+  try {
+    const { stored_scene: id, view } = JSON.parse(saved);
+    return `?scene=${encodeURIComponent(id)}&view=${encodeURIComponent(JSON.stringify(view || {}))}`;
+  } catch {
+    return null;
   }
 }

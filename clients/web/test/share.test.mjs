@@ -51,3 +51,12 @@ test("a big scene's meshes are kept out and put back whole", () => {
   assert.equal(joined.lights.length, 1);
   assert.match(summarize(split.scene, 2.5e6, split.meshes.size), /^2\.50 MB scene: 1 walls, 2 solids \(1 meshes kept out/);
 });
+
+test("the browser's copy of a big scene opens as a permalink", async () => {
+  const { storedSceneLink } = await import("../src/sharing.js");
+  const view = viewOf(request);
+  const link = storedSceneLink(JSON.stringify({ stored_scene: "0123456789abcdef", view }));
+  assert.deepEqual(parsePermalink(link), { id: "0123456789abcdef", view });
+  assert.equal(storedSceneLink('{"scene": {}}'), null, "a request is no link");
+  assert.equal(storedSceneLink(null), null);
+});
