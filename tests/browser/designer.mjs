@@ -246,6 +246,38 @@ const scenarios = {
     assert(sizes.includes(320) && sizes[sizes.length - 1] === 640, `half size while dragging, then full: ${sizes}`);
   },
 
+  // Dragging a chair in the plan renders the dragged scene at half size as it goes; the drop renders
+  // the edited request in full.
+  async designer_plan_preview({ page, server }) {
+    await openEmpty(page, server);
+    await page.click('[data-tool="furniture"]');
+    await page.click('[data-item="chair"]');
+    await clickPlan(page, 2, 2);
+    await idle(page);
+    await page.click('[data-tool="select"]');
+    const sizes = [];
+    const isRender = (req) => req.url().endsWith("/v1/render");
+    page.on("request", (req) => {
+      if (isRender(req)) sizes.push(JSON.parse(req.postData()).options?.width);
+    });
+    const preview = page.waitForRequest((req) => isRender(req) && JSON.parse(req.postData()).options?.width === 320 &&
+      JSON.parse(req.postData()).scene.solids[0].position[0] > 2);
+    const a = await hooks(page, "worldToPlan", 2, 2);
+    const b = await hooks(page, "worldToPlan", 3, 2);
+    await page.mouse.move(a.x, a.y);
+    await page.mouse.down();
+    for (let i = 1; i <= 5; i++) await page.mouse.move(a.x + ((b.x - a.x) * i) / 5, a.y);
+    await preview;
+    assert((await request(page)).scene.solids[0].position[0] === 2, "the editor keeps the chair until the drop");
+    await page.mouse.up();
+    await idle(page);
+    const r = await request(page);
+    assert(near(r.scene.solids[0].position, [3, 0, 2], 0.051), `the drop moved the chair: ${r.scene.solids[0].position}`);
+    assert(sizes.includes(320) && sizes[sizes.length - 1] === 640, `half size while dragging, then full: ${sizes}`);
+    const shown = await imageSummary(page);
+    assert(shown.width === 640, `the image at rest is full size: ${shown.width}`);
+  },
+
   async designer_autosave({ page, server }) {
     await openEmpty(page, server);
     await page.click('[data-tool="furniture"]');
