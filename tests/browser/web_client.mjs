@@ -256,9 +256,9 @@ const scenarios = {
     const stats = await page.textContent("#stats");
     assert(/polygons\s*\d+/.test(stats), `the stats show polygon counts: ${stats}`);
     const index = request.scene.solids.length - 1;
-    const warning = await page.textContent("#problems li.warning");
+    const warning = await page.textContent("#warning-list li.warning");
     assert(warning.includes(`/scene/solids/${index}`), `a placement warning names the box: ${warning}`);
-    await page.click("#problems li.warning .pointer");
+    await page.click("#warning-list li.warning .pointer");
     await page.waitForSelector(".cm-inline-warning");
   },
 

@@ -101,13 +101,26 @@ export class Api {
 
   // POST /v1/render. Asks for JSON (timings, counts, warnings with the image) but takes the PNG answer
   // of a server that does not offer JSON, reading the same facts from its headers.
-  async render(body, { signal } = {}) {
-    const res = await ok(await fetch(this.url("/v1/render"), {
+  render(body, { signal } = {}) {
+    return this.renderAt("/v1/render", body, { signal });
+  }
+
+  // POST /v1/scenes/{id}/render with {camera, options}: as render(), for a stored scene. Its
+  // warnings point into the stored scene (/solids/3); they are given as pointers into the request.
+  async renderStored(id, view, { signal } = {}) {
+    const result = await this.renderAt(`/v1/scenes/${encodeURIComponent(id)}/render`, view, { signal, stored: true });
+    return { ...result, warnings: result.warnings.map((w) => ({ ...w, pointer: sceneScoped(w.pointer) })) };
+  }
+
+  async renderAt(path, body, { signal, stored = false } = {}) {
+    const res = await fetch(this.url(path), {
       method: "POST",
       headers: { "Content-Type": "application/json", Accept: "application/json, image/png;q=0.5" },
       body: typeof body === "string" ? body : JSON.stringify(body),
       signal,
-    }));
+    });
+    if (!res.ok && stored) throw scopedError(res.status, await problemOf(res));
+    await ok(res);
     const type = res.headers.get("Content-Type") || "";
     if (type.startsWith("application/json")) {
       const answer = await res.json();
@@ -132,6 +145,23 @@ export class Api {
     };
   }
 
+  // POST /v1/scenes: stores a scene document (an object, or its text as it is) -> {id, ...}.
+  async storeScene(scene, { signal } = {}) {
+    const res = await fetch(this.url("/v1/scenes"), {
+      method: "POST",
+      headers: { "Content-Type": "application/json", Accept: "application/json" },
+      body: typeof scene === "string" ? scene : JSON.stringify(scene),
+      signal,
+    });
+    if (!res.ok) throw scopedError(res.status, await problemOf(res));
+    return res.json();
+  }
+
+  // GET /v1/scenes/{id}: the stored scene document as text (canonical JSON).
+  async storedSceneText(id, { signal } = {}) {
+    return (await ok(await fetch(this.url(`/v1/scenes/${encodeURIComponent(id)}`), { signal }))).text();
+  }
+
   // POST /v1/import/{format}: a file of another tool -> a complete render request (as text).
   async importFile(format, file, { signal } = {}) {
     const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}`), {
@@ -142,4 +172,30 @@ export class Api {
     }));
     return { text: await res.text(), warningCount: Number(res.headers.get("X-Warning-Count") || 0) };
   }
+
+  // POST /v1/import/{format}?store=1: the file's scene is stored on the server, which answers its id
+  // with the default camera and options ({id, camera, options, warnings}); the scene never travels
+  // back as part of the answer.
+  async importStored(format, file, { signal } = {}) {
+    const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}?store=1`), {
+      method: "POST",
+      headers: { "Content-Type": "application/octet-stream", Accept: "application/json" },
+      body: file,
+      signal,
+    }));
+    return res.json();
+  }
+}
+
+// A pointer into a stored scene document (/solids/3) as a pointer into a request (/scene/solids/3);
+// those into the view of a stored render (/camera/…, /options/…) are request pointers already.
+function sceneScoped(pointer) {
+  if (typeof pointer !== "string" || !pointer.startsWith("/") || /^\/(camera|options)(\/|$)/.test(pointer)) return pointer;
+  return `/scene${pointer}`;
+}
+
+function scopedError(status, problem) {
+  const errors = Array.isArray(problem.errors)
+    ? problem.errors.map((e) => ({ ...e, pointer: sceneScoped(e.pointer) })) : problem.errors;
+  return new ApiError(status, { ...problem, errors });
 }

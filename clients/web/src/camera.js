@@ -85,3 +85,48 @@ export function zoom(camera, factor) {
 export function wheelFactor(deltaY) {
   return Math.exp(Math.max(-500, Math.min(500, deltaY)) * 0.001);
 }
+
+// Walk mode's look-around: the target turns about the eye (the eye stays), keeping its distance.
+// Dragging right turns the view right.
+export function look(camera, dAzimuthDeg, dElevationDeg) {
+  const c = withDefaults(camera);
+  const s = toSpherical(c.target, c.position);
+  if (s.distance === 0) return { position: c.position, target: c.target };
+  const elevation = Math.max(-maxElevationDeg, Math.min(maxElevationDeg, s.elevation - dElevationDeg));
+  const target = fromSpherical(c.position, { ...s, azimuth: s.azimuth - dAzimuthDeg, elevation });
+  return { position: c.position, target: roundVec(target) };
+}
+
+// Walk mode starts at eye height `eyeY`: the eye moves up or down, the target by as much, with the
+// view's pitch limited so the walker looks ahead rather than at the floor.
+export function atEyeHeight(camera, eyeY, maxPitch = 0.3) {
+  const c = withDefaults(camera);
+  const dy = eyeY - c.position[1];
+  const target = [c.target[0], c.target[1] + dy, c.target[2]];
+  const h = Math.hypot(target[0] - c.position[0], target[2] - c.position[2]);
+  if (h > 1e-6) target[1] = eyeY + Math.max(-maxPitch, Math.min(maxPitch, (target[1] - eyeY) / h)) * h;
+  return { position: roundVec([c.position[0], eyeY, c.position[2]]), target: roundVec(target) };
+}
+
+// One walk step of `metres`: forward (+1/−1) along the view's direction in plan, right (+1/−1)
+// across it; eye and target move together and keep their heights.
+export function walkStep(camera, forward, right, metres) {
+  const c = withDefaults(camera);
+  const f = [c.target[0] - c.position[0], c.target[2] - c.position[2]];
+  const len = Math.hypot(f[0], f[1]);
+  if (len < 1e-9) return { position: c.position, target: c.target };
+  const [fx, fz] = [f[0] / len, f[1] / len];
+  const [rx, rz] = [-fz, fx];  // right of the view direction, +Y up
+  const move = [(fx * forward + rx * right) * metres, 0, (fz * forward + rz * right) * metres];
+  return { position: roundVec(add(c.position, move)), target: roundVec(add(c.target, move)) };
+}
+
+// A camera over plan bounds [[minX, minZ], [maxX, maxZ]]: looking at their centre 1 m up, 55° down
+// from the +Z side, far enough for a vertical field of view `fovDeg` to hold their diagonal.
+export function frameBounds([lo, hi], fovDeg = cameraDefaults.fov_y) {
+  const centre = [(lo[0] + hi[0]) / 2, 1, (lo[1] + hi[1]) / 2];
+  const radius = Math.max(1, Math.hypot(hi[0] - lo[0], hi[1] - lo[1]) / 2);
+  const d = (radius / Math.tan(rad(fovDeg) / 2)) * 1.1;
+  const e = rad(55);
+  return { position: roundVec(add(centre, [0, d * Math.sin(e), d * Math.cos(e)])), target: roundVec(centre) };
+}

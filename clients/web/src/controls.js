@@ -49,6 +49,19 @@ export class Controls {
     fillSelect($("example"), names.map((n) => [n, n.replace(/_/g, " ")]), selected);
   }
 
+  // The example selector names the example whose scene the editor holds, or "(custom)" once the
+  // scene is another (New, a drawing, an import, a link). Picking "(custom)" loads nothing.
+  showExample(name) {
+    const select = $("example");
+    let custom = select.querySelector('option[value=""]');
+    if (name === null && !custom) {
+      custom = new Option("(custom)", "");
+      select.prepend(custom);
+    }
+    if (name !== null && custom) custom.remove();
+    select.value = name ?? "";
+  }
+
   setImportSupported(supported) {
     $("open-file").disabled = false;
     $("file").accept = supported ? ".json,.xml,.sh3d,.obj,.txt" : ".json";
@@ -77,9 +90,13 @@ export class Controls {
   }
 
   // Typing changes the request many times a second; the selectors follow when it pauses.
-  readFromSoon(parse) {
+  readFromSoon(parse, after = () => {}) {
     clearTimeout(this.timer);
-    this.timer = setTimeout(() => this.readFrom(parse()), 150);
+    this.timer = setTimeout(() => {
+      const request = parse();
+      this.readFrom(request);
+      if (request) after(request);
+    }, 150);
   }
 
   comparePipeline() {

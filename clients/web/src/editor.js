@@ -3,7 +3,7 @@
 // the server's own problem+json errors and placement warnings. Every diagnostic is kept as a JSON
 // Pointer and placed on the text each time the linter runs, so it follows the field through edits;
 // each is underlined and its message is written at the end of the field's line.
-import { EditorState, Prec } from "@codemirror/state";
+import { EditorState, Prec, StateEffect } from "@codemirror/state";
 import { EditorView, Decoration, ViewPlugin, WidgetType, keymap, lineNumbers, highlightActiveLine,
   highlightActiveLineGutter, drawSelection } from "@codemirror/view";
 import { defaultKeymap, history, historyKeymap } from "@codemirror/commands";
@@ -12,6 +12,11 @@ import { syntaxHighlighting, defaultHighlightStyle, bracketMatching, foldGutter,
 import { json } from "@codemirror/lang-json";
 import { linter, lintGutter, lintKeymap, forceLinting, forEachDiagnostic, setDiagnosticsEffect } from "@codemirror/lint";
 import { parseTree, pointerRange, setAtPointer, applyChange } from "./json_pointer.js";
+
+// Asks the linter to run again although the text did not change (new server notes arrived).
+// forceLinting alone runs only a lint that is already pending: once the last one has finished, it
+// does nothing, and notes that arrive after it would wait for the next keystroke.
+const relint = StateEffect.define();
 
 class InlineMessage extends WidgetType {
   constructor(text, severity) {
@@ -88,7 +93,8 @@ export class RequestEditor {
           indentOnInput(), bracketMatching(), highlightActiveLine(),
           syntaxHighlighting(defaultHighlightStyle, { fallback: true }), json(),
           keymap.of([...defaultKeymap, ...historyKeymap, ...foldKeymap, ...lintKeymap]),
-          linter((view) => this.diagnostics(view.state.doc.toString()), { delay: 250 }),
+          linter((view) => this.diagnostics(view.state.doc.toString()), { delay: 250,
+            needsRefresh: (u) => u.transactions.some((tr) => tr.effects.some((e) => e.is(relint))) }),
           lintGutter(), inlineMessagePlugin,
           EditorView.contentAttributes.of({ "aria-label": "Render request (JSON)" }),
           EditorView.updateListener.of((u) => { if (u.docChanged) this.onChange(this.text()); }),
@@ -127,7 +133,15 @@ export class RequestEditor {
       if (!change) return false;
       text = applyChange(text, change);
     }
-    if (text === before) return true;
+    this.replaceText(text);
+    return true;
+  }
+
+  // Replaces the text by `text`, changing only the stretch between their common start and end, so the
+  // view and the cursor stay where they are (one undoable step of the editor's own history).
+  replaceText(text) {
+    const before = this.text();
+    if (text === before) return;
     let start = 0;
     while (start < text.length && start < before.length && text[start] === before[start]) start++;
     let end = 0;
@@ -135,11 +149,15 @@ export class RequestEditor {
            text[text.length - 1 - end] === before[before.length - 1 - end]) end++;
     this.view.dispatch({ changes: { from: start, to: before.length - end, insert: text.slice(start, text.length - end) },
       userEvent: "input.set" });
-    return true;
   }
 
   setChecker(checker) {
     this.checker = checker;
+    this.relintNow();
+  }
+
+  relintNow() {
+    this.view.dispatch({ effects: relint.of(null) });
     forceLinting(this.view);
   }
 
@@ -152,7 +170,7 @@ export class RequestEditor {
       const r = n.pointer === null ? null : pointerRange(text, tree, n.pointer);
       return { ...n, valueText: r ? text.slice(r.value.from, r.value.to) : null };
     });
-    forceLinting(this.view);
+    this.relintNow();
   }
 
   diagnostics(text) {

@@ -5,14 +5,22 @@
 import { Api, ApiError } from "./api.js";
 import { RequestEditor } from "./editor.js";
 import { makeRequestChecker } from "./schema_check.js";
-import { withDefaults, orbit, pan, zoom } from "./camera.js";
+import { withDefaults, orbit, pan, zoom, look } from "./camera.js";
 import { attachViewer } from "./viewer.js";
 import { drawTimingChart, formatMs } from "./timings.js";
 import { showComparison, clearComparison } from "./compare_view.js";
 import { Controls } from "./controls.js";
+import { Designer, newRequest } from "./designer.js";
+import { showWarningList } from "./warning_list.js";
+import { showProblems, replaceImage, showStats, download } from "./result_view.js";
+import { Sharing, storedSceneLink } from "./sharing.js";
+import { parsePermalink, viewOf } from "./share.js";
+import { bigSceneChars } from "./big_scene.js";
 
 const $ = (id) => document.getElementById(id);
 const defaultExample = "apartment";
+const previewScale = 0.5;    // renders while dragging are this fraction of the size, each way
+const restMs = 250;          // a drag that rests this long gets its full-size render
 
 const api = new Api();
 const app = {
@@ -22,27 +30,23 @@ const app = {
   shownB: null,
   loadedCamera: null,   // the camera of the loaded example: Home / 0 returns to it
   exampleName: "request",
+  restTimer: 0,         // full-size render due after a drag rests
+  planFrame: 0,         // reduced-size render of a plan drag due at the next frame
+  planScene: null,
+  loading: 0,           // examples, imports or the start-up being fetched: a render will follow
 };
 
-function showProblems(items) {
-  const list = $("problems");
-  list.replaceChildren();
-  for (const { pointer, detail, severity } of items) {
-    const li = document.createElement("li");
-    li.className = severity || "error";
-    if (pointer !== null && pointer !== undefined) {
-      const link = document.createElement("button");
-      link.type = "button";
-      link.className = "pointer";
-      link.textContent = pointer === "" ? "(whole request)" : pointer;
-      link.title = "Show this field in the editor";
-      link.addEventListener("click", () => editor.reveal(pointer));
-      li.append(link, " ");
-    }
-    li.append(detail);  // text, never HTML: details can quote the request
-    list.append(li);
+// Counts `work` (a promise-returning function) as loading while it runs, for idle().
+async function loading(work) {
+  app.loading++;
+  try {
+    return await work();
+  } finally {
+    app.loading--;
   }
 }
+
+const showProblemList = (items) => showProblems(items, (pointer) => editor.reveal(pointer));
 
 function setBusy(busy) {
   $("progress").hidden = !busy;
@@ -54,59 +58,39 @@ function setStatus(text) {
   $("status").textContent = text;
 }
 
-function replaceImage(img, previous, blob) {
-  if (previous) URL.revokeObjectURL(previous.url);
-  const url = URL.createObjectURL(blob);
-  img.src = url;
-  return url;
-}
-
-function showStats(result, warningCount) {
-  const counts = result.counts || {};
-  const rows = [
-    ["scene id", result.sceneId],
-    ["BSP cache", result.cache],
-    ["polygons", counts.polygons],
-    ["polygons drawn", counts.polygons_drawn],
-    ["fragments", counts.fragments],
-    ["placement warnings", warningCount],
-  ].filter(([, v]) => v !== undefined && v !== "");  // a PNG answer carries fewer facts than JSON
-  $("stats").replaceChildren(...rows.flatMap(([k, v]) => {
-    const dt = document.createElement("dt");
-    dt.textContent = k;
-    const dd = document.createElement("dd");
-    dd.textContent = String(v);
-    return [dt, dd];
-  }));
-}
-
-// Places the answer's placement warnings (and the count of a PNG answer, whose list is not sent).
 function showWarnings(result) {
   const notes = result.warnings.map((w) => ({ pointer: w.pointer, message: w.detail, severity: "warning" }));
   editor.setServerNotes(notes);
-  const items = notes.map((n) => ({ pointer: n.pointer, detail: n.message, severity: "warning" }));
-  if (!notes.length && result.warningCount) {
-    items.push({ pointer: null, detail: `${result.warningCount} placement warning(s); this server lists them only in JSON answers.`, severity: "warning" });
-  }
-  showProblems(items);
+  app.lastWarnings = result.warnings;
+  designer.setMarks(result.warnings.map((w) => ({ ...w, severity: "warning" })));
+  showProblemList([]);
+  showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0, warningClicks);
   return notes.length || result.warningCount || 0;
 }
 
 function showError(error) {
   if (error instanceof ApiError) {
     editor.setServerNotes(error.errors.map((e) => ({ pointer: e.pointer, message: e.detail, severity: "error" })));
-    showProblems(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
+    showProblemList(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
+    designer.setMarks(error.errors.map((e) => ({ ...e, severity: "error" })));
     setStatus(`The server refused the request (HTTP ${error.status} ${error.problem.title || ""}).`);
   } else {
-    showProblems([{ pointer: null, detail: `Could not reach the server: ${error.message}` }]);
+    showProblemList([{ pointer: null, detail: `Could not reach the server: ${error.message}` }]);
     setStatus("Render failed.");
   }
 }
 
-async function render() {
-  const request = editor.parsed();
+// `preview`: a reduced-size image while a drag goes on (the full size follows when it rests).
+// `scene`: the scene as a plan drag shows it, not yet in the editor.
+async function render({ preview = false, scene = null } = {}) {
+  clearTimeout(app.restTimer);
+  app.restTimer = 0;
+  cancelAnimationFrame(app.planFrame);
+  app.planFrame = 0;
+  const parsed = editor.parsed();
+  const request = parsed && scene ? { ...parsed, scene } : parsed;
   if (request === null) {
-    showProblems([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
+    showProblemList([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
     return;
   }
   if (app.inflight) app.inflight.abort();
@@ -122,8 +106,15 @@ async function render() {
     if (compareWith) {
       requests.push({ ...request, options: { ...(request.options || {}), pipeline: compareWith } });
     }
-    const results = await Promise.all(requests.map((r, i) =>
-      api.render(i === 0 ? editor.text() : r, { signal: controller.signal })));
+    const small = (r) => {
+      const o = r.options || {};
+      const w = Math.max(1, Math.round((o.width ?? 640) * previewScale));
+      const h = Math.max(1, Math.round((o.height ?? 480) * previewScale));
+      return { ...r, options: { ...o, width: w, height: h } };
+    };
+    const results = await Promise.all(requests.map(async (r, i) =>
+      (await sharing.render(preview ? small(r) : r, { signal: controller.signal })) ??
+        api.render(preview ? small(r) : i === 0 && !scene ? editor.text() : r, { signal: controller.signal })));
     if (seq !== app.seq) return;
     await display(request, results, seq);
     const server = results.map((r) => formatMs(r.timings.total)).join(" + ");
@@ -162,32 +153,57 @@ async function display(request, [a, b], seq) {
   // Tests (and people) can tell a new image from the old one by this number.
   img.dataset.renderSeq = String(seq);
   $("views").dataset.renderSeq = String(seq);
+  sharing.showLinks(request);
 }
 
-// Camera gestures edit the request's camera, then render.
+// Camera gestures edit the request's camera, then render: reduced size while a drag goes on, full
+// size once it rests or ends. In walk mode a drag looks around (the eye stays).
 function moveCamera(kind, ...args) {
   const request = editor.parsed();
   if (request === null) return;
   const camera = withDefaults(request.camera);
-  const moved = kind === "orbit" ? orbit(camera, ...args) : kind === "pan" ? pan(camera, ...args) : zoom(camera, ...args);
-  editor.setValues([{ pointer: "/camera/position", value: moved.position }, { pointer: "/camera/target", value: moved.target }]);
-  render();
+  const walking = designer.tool === "walk";
+  const moved = kind === "orbit" ? (walking ? look : orbit)(camera, ...args)
+    : kind === "pan" ? pan(camera, ...args) : zoom(camera, ...args);
+  designer.setCamera([{ pointer: "/camera/position", value: moved.position }, { pointer: "/camera/target", value: moved.target }]);
+  if ($("views").classList.contains("dragging")) {
+    render({ preview: true });
+    // At rest, the full size; a reduced image still on its way is not aborted for it (on a slow
+    // server the preview of each step would be, and the drag would show nothing).
+    const rest = () => {
+      app.restTimer = app.inflight ? setTimeout(rest, 50) : 0;
+      if (!app.restTimer) render();
+    };
+    app.restTimer = setTimeout(rest, restMs);
+  } else {
+    render();
+  }
+}
+
+function endDrag() {
+  if (app.restTimer) render();
 }
 
 function resetCamera() {
   if (!app.loadedCamera) return;
-  editor.setValues([{ pointer: "/camera", value: app.loadedCamera }]);
+  designer.setCamera([{ pointer: "/camera", value: app.loadedCamera }]);
   render();
 }
 
-async function loadExample(name) {
+function loadExample(name) {
+  return loading(() => loadExampleNow(name));
+}
+
+async function loadExampleNow(name) {
   try {
     const text = await api.exampleText(name);
     app.exampleName = name;
-    editor.setText(text);
+    designer.replaceAll(text, { render: false });
     const request = editor.parsed();
+    app.example = { name, sceneKey: JSON.stringify(request?.scene) };
+    controls.showExample(name);
     app.loadedCamera = request && request.camera ? request.camera : null;
-    showProblems([]);
+    showProblemList([]);
     controls.readFrom(request);
     await render();
   } catch (error) {
@@ -195,31 +211,29 @@ async function loadExample(name) {
   }
 }
 
-function download(blob, name) {
-  const a = document.createElement("a");
-  a.href = URL.createObjectURL(blob);
-  a.download = name;
-  document.body.append(a);
-  a.click();
-  a.remove();
-  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+// Files of other tools go through the server's importers; a .json file is a request already.
+function importFile(file) {
+  return loading(() => importFileNow(file));
 }
 
-// Files of other tools go through the server's importers; a .json file is a request already.
-async function importFile(file) {
+async function importFileNow(file) {
   const format = controls.importFormat(file.name);
   try {
     setStatus(`Importing ${file.name}…`);
-    let text;
     if (format === "json") {
-      text = await file.text();
+      const text = await file.text();
+      if (text.length <= bigSceneChars) {
+        designer.replaceAll(JSON.stringify(JSON.parse(text), null, 2), { render: false });
+      } else {
+        const request = JSON.parse(text);
+        sharing.load(JSON.stringify(request.scene ?? {}), null, viewOf(request));
+      }
     } else {
-      const imported = await api.importFile(format, file);
-      text = imported.text;
-      if (imported.warningCount) setStatus(`Imported ${file.name} with ${imported.warningCount} repair(s).`);
+      // Stored by the server and rendered by id: an interior's meshes never travel back as JSON.
+      const receipt = await sharing.importStored(format, file);
+      if (receipt.warnings?.length) setStatus(`Imported ${file.name} with ${receipt.warnings.length} repair(s).`);
     }
     app.exampleName = file.name.replace(/\.[^.]*$/, "");
-    editor.setText(JSON.stringify(JSON.parse(text), null, 2));
     const request = editor.parsed();
     app.loadedCamera = request?.camera || null;
     controls.readFrom(request);
@@ -230,9 +244,36 @@ async function importFile(file) {
 }
 
 const editor = new RequestEditor($("editor"), {
-  onChange: () => controls.readFromSoon(() => editor.parsed()),
+  onChange: () => {
+    controls.readFromSoon(() => editor.parsed(), (request) => controls.showExample(
+      app.example && JSON.stringify(request?.scene) === app.example.sceneKey ? app.example.name : null));
+    designer.textChanged();
+  },
   onRun: () => render(),
 });
+const designer = new Designer(editor, {
+  onEdited: () => render(),
+  onStatus: setStatus,
+  onSave: () => sharing.save(),
+  onReplaced: () => sharing.replaced(),
+  autosaveText: () => sharing.autosaveText(),
+  // A plan drag renders at reduced size, at most once a frame; a big scene would be stored each
+  // step, so it waits for the drop.
+  onDragPreview: (scene) => {
+    app.planScene = scene;
+    if (!scene || sharing.isBig()) {
+      cancelAnimationFrame(app.planFrame);
+      app.planFrame = 0;
+    } else if (!app.planFrame) {
+      app.planFrame = requestAnimationFrame(() => {
+        app.planFrame = 0;
+        render({ preview: true, scene: app.planScene });
+      });
+    }
+  },
+});
+const sharing = new Sharing({ api, editor, designer, onStatus: setStatus });
+const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p) };
 const controls = new Controls({
   setOptions: (entries) => {
     if (editor.setValues(entries)) render();
@@ -247,15 +288,48 @@ attachViewer($("views"), {
   onMove: moveCamera,
   onReset: resetCamera,
   onToggleCompare: () => controls.toggleCompare(),
+  onDragEnd: endDrag,
 });
+$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0, warningClicks));
+
+// Hooks for scripted checks that drive the page as a person would (tests/browser/designer.mjs).
+window.roomrenderDesigner = {
+  worldToPlan: (x, z) => designer.plan.toClient(x, z),
+  // The page point over the centre of pixel (u, v) of the full-size image, however large it is shown.
+  viewToPage: (u, v) => {
+    const r = $("image").getBoundingClientRect();
+    const o = editor.parsed()?.options || {};
+    const w = o.width ?? 640;
+    const h = o.height ?? 480;
+    return { x: r.left + ((u + 0.5) * r.width) / w, y: r.top + ((v + 0.5) * r.height) / h };
+  },
+  request: () => editor.parsed(),
+  selection: () => designer.selection,
+  // The bytes of the PNG on screen, base64-encoded (null before the first render).
+  png: async () => {
+    if (!app.shown) return null;
+    const bytes = new Uint8Array(await app.shown.blob.arrayBuffer());
+    let binary = "";
+    for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+    return btoa(binary);
+  },
+  idle: () => new Promise((resolve) => {
+    const check = () => (app.inflight || app.restTimer || app.planFrame || app.loading ? setTimeout(check, 25) : resolve());
+    check();
+  }),
+};
 
 $("render").addEventListener("click", () => render());
-$("example").addEventListener("change", (e) => loadExample(e.target.value));
+$("example").addEventListener("change", (e) => {
+  if (e.target.value) loadExample(e.target.value);
+});
 $("download-png").addEventListener("click", () => {
   if (app.shown) download(app.shown.blob, `${app.exampleName}-${app.shown.pipeline}.png`);
 });
 $("download-scene").addEventListener("click", () => {
-  download(new Blob([editor.text()], { type: "application/json" }), `${app.exampleName}.json`);
+  const request = sharing.isBig() ? editor.parsed() : null;
+  const text = request ? JSON.stringify({ ...request, scene: sharing.fullScene(request.scene || {}) }) : editor.text();
+  download(new Blob([text], { type: "application/json" }), `${app.exampleName}.json`);
 });
 $("open-file").addEventListener("click", () => $("file").click());
 $("file").addEventListener("change", (e) => {
@@ -272,6 +346,34 @@ document.addEventListener("keydown", (e) => {
   }
 });
 
+// Opens a permalink (/?scene=ID&view=…): true when it named a scene and it loaded; a link that
+// fails says why, visibly, and the page goes on as without it.
+async function openLink(search) {
+  let link;
+  try {
+    link = parsePermalink(search);
+  } catch (error) {
+    sharing.showError(`This link cannot be opened: ${error.message}.`);
+    return false;
+  }
+  if (!link) return false;
+  try {
+    await sharing.openPermalink(link.id, link.view);
+  } catch (error) {
+    const why = error.status === 404 ? "the server has no such scene (it may have been evicted or deleted)"
+      : error.message;
+    sharing.showError(`Scene ${link.id} could not be opened: ${why}.`);
+    return false;
+  }
+  app.exampleName = `scene-${link.id}`;
+  app.loadedCamera = editor.parsed()?.camera || null;
+  controls.readFrom(editor.parsed());
+  controls.showExample(null);
+  setStatus(`Opened the stored scene ${link.id}.`);
+  await render();
+  return true;
+}
+
 async function start() {
   await api.detect();
   const [pipelines, examples, schemas] = await Promise.all([
@@ -282,7 +384,7 @@ async function start() {
   controls.setPipelines(pipelines);
   controls.setImportSupported(api.has("/v1/import/{format}"));
   if (schemas) {
-    editor.setChecker(makeRequestChecker(...schemas));
+    editor.setChecker(sharing.filterChecker(makeRequestChecker(...schemas)));
     $("check-note").textContent = "Checked against the server's schema as you type; Ctrl+Enter renders.";
   } else {
     $("check-note").textContent =
@@ -291,7 +393,23 @@ async function start() {
   const wanted = new URLSearchParams(location.search).get("example");
   const first = examples.includes(wanted) ? wanted : examples.includes(defaultExample) ? defaultExample : examples[0];
   controls.setExamples(examples, first);
-  if (first) await loadExample(first);
+  if (await openLink(location.search)) return;
+  const saved = wanted ? null : Designer.saved();
+  const savedLink = storedSceneLink(saved);
+  if (savedLink && (await openLink(savedLink))) return;
+  if (saved && !savedLink) {
+    designer.replaceAll(saved, { render: false });
+    designer.history.reset(editor.text());
+    designer.updateButtons();
+    app.loadedCamera = editor.parsed()?.camera || null;
+    controls.readFrom(editor.parsed());
+    setStatus("Restored the scene saved in this browser.");
+    await render();
+  } else if (first) {
+    await loadExample(first);
+  } else {
+    designer.replaceAll(JSON.stringify(newRequest(), null, 2));
+  }
 }
 
-start().catch((error) => showError(error));
+loading(start).catch((error) => showError(error));

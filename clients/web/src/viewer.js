@@ -9,7 +9,7 @@ const keyOrbitDeg = 5;
 const keyPanPx = 24;
 const keyZoom = 0.9;
 
-export function attachViewer(area, { onMove, onReset, onToggleCompare }) {
+export function attachViewer(area, { onMove, onReset, onToggleCompare, onDragEnd = () => {} }) {
   let drag = null;  // {x, y, mode, height}
   let pending = { orbit: [0, 0], pan: [0, 0], height: 1, zoom: 1 };
   let frame = 0;
@@ -60,7 +60,12 @@ export function attachViewer(area, { onMove, onReset, onToggleCompare }) {
   const end = (e) => {
     if (!drag || e.pointerId !== drag.id) return;
     drag = null;
+    if (frame) {
+      cancelAnimationFrame(frame);
+      flush();  // the last moves, while still "dragging", so they too come back small
+    }
     area.classList.remove("dragging");
+    onDragEnd();
   };
   area.addEventListener("pointerup", end);
   area.addEventListener("pointercancel", end);

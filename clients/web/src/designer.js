@@ -1,0 +1,397 @@
+// The room designer: tools that edit the request through the plan (walls, doors, windows, furniture,
+// lights, select/move/rotate/delete/duplicate), a properties panel, undo/redo and autosave. In: the
+// request editor (its text stays the one source of truth) and pointer/key events. Out: edits made by
+// JSON Pointer through the editor, one history step each. The history holds whole request texts;
+// a JSON text edit becomes one step once it has rested (or before the next designer action), and
+// camera moves are not steps: undo keeps the camera where it is. The plan's pointer tools are in
+// designer_tools.js; the commands on the selection, the camera and the keys in designer_commands.js.
+import { PlanView } from "./plan_view.js";
+import { renderProperties, fieldProblem } from "./properties.js";
+import { History } from "./history.js";
+import { toolMethods } from "./designer_tools.js";
+import { commandMethods } from "./designer_commands.js";
+import { at, setAt, clone } from "./designer_util.js";
+
+const $ = (id) => document.getElementById(id);
+const storageKey = "roomrender.designer.request";
+const textStepDelayMs = 600;
+
+export const newRequest = () => ({
+  scene: {
+    version: 1,
+    background: "#c9d6e3",
+    ambient: { color: "#ffffff", intensity: 0.3 },
+    walls: [],
+    solids: [],
+    lights: [{ type: "directional", direction: [-0.4, -1, -0.3], intensity: 0.8 }],
+  },
+  camera: { position: [2.5, 7, 10], target: [2.5, 0, 2], fov_y: 60 },
+  options: { width: 640, height: 480 },
+});
+
+export class Designer {
+  constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null,
+    onDragPreview = () => {} }) {
+    this.editor = editor;
+    this.onEdited = onEdited;      // a designer edit was applied: render
+    this.onStatus = onStatus;
+    this.onSave = onSave;          // Save was pressed (after the browser's copy was written)
+    this.onReplaced = onReplaced;  // a whole new text is about to be loaded
+    this.autosaveText = autosaveText;  // what the browser keeps (null: not this text), default the text
+    this.onDragPreview = onDragPreview;  // (scene) while a plan drag moves an element; null when it ends
+    this.plan = new PlanView($("plan"));
+    this.tool = "select";
+    this.item = "table";
+    this.selection = null;
+    this.chain = [];               // wall tool: points clicked so far
+    this.cursor = null;
+    this.drag = null;
+    this.marks = new Map();
+    this.history = new History(editor.text());
+    this.applying = false;
+    this.parsedText = null;
+    this.parsedValue = null;
+    this.redrawFrame = 0;
+    this.textTimer = 0;
+    this.saveTimer = 0;
+    this.lastScene = { walls: [], solids: [], lights: [] };
+    this.bindToolbar();
+    this.bindPlan();
+    document.addEventListener("keydown", (e) => this.onKey(e), true);
+    new ResizeObserver(() => this.redraw()).observe(this.plan.svg);
+  }
+
+  // ---- the request ---------------------------------------------------------------------------
+
+  // The parsed request, kept while the text is the same: the plan redraws on every pointer move, and
+  // an imported home's text takes a while to parse. Callers treat it as read-only (edit() copies).
+  request() {
+    const text = this.editor.text();
+    if (text !== this.parsedText) {
+      this.parsedText = text;
+      this.parsedValue = this.editor.parsed();
+    }
+    return this.parsedValue;
+  }
+
+  // Writes `text` through the editor without it counting as a text edit.
+  applyText(text) {
+    this.applying = true;
+    try {
+      this.editor.replaceText(text);
+    } finally {
+      this.applying = false;
+    }
+  }
+
+  applyValues(entries) {
+    this.applying = true;
+    try {
+      return this.editor.setValues(entries);
+    } finally {
+      this.applying = false;
+    }
+  }
+
+  // The editor's text changed. Designer writes are steps already; typing becomes one when it rests.
+  textChanged() {
+    this.scheduleSave();
+    if (this.applying) return;
+    clearTimeout(this.textTimer);
+    this.textTimer = setTimeout(() => this.flushTextStep(), textStepDelayMs);
+    if (!this.redrawFrame) {
+      this.redrawFrame = requestAnimationFrame(() => {
+        this.redrawFrame = 0;
+        this.redraw();
+      });
+    }
+  }
+
+  flushTextStep() {
+    clearTimeout(this.textTimer);
+    this.textTimer = 0;
+    this.history.settle(this.editor.text(), this.request() !== null);
+    this.updateButtons();
+  }
+
+  // One designer step: `mutate(request)` edits a copy; the members it changed are written back by
+  // pointer (so the rest of the text stays as typed). Returns false when nothing changed.
+  edit(mutate) {
+    this.flushTextStep();
+    const before = this.request();
+    if (before === null) {
+      this.onStatus("The JSON has an error; fix it before editing in the plan.");
+      return false;
+    }
+    const after = clone(before);
+    after.scene = after.scene || {};
+    const result = mutate(after);
+    if (result === false) return false;
+    const entries = [];
+    if (!before.scene) {
+      entries.push({ pointer: "/scene", value: after.scene });
+    } else {
+      for (const key of Object.keys(after.scene)) {
+        if (JSON.stringify(before.scene[key]) !== JSON.stringify(after.scene[key])) {
+          entries.push({ pointer: `/scene/${key}`, value: after.scene[key] });
+        }
+      }
+    }
+    if (!entries.length) return false;
+    const text = this.editor.text();
+    if (!this.applyValues(entries)) return false;
+    this.history.record(text, this.editor.text());
+    this.afterEdit();
+    return true;
+  }
+
+  afterEdit() {
+    this.updateButtons();
+    this.redraw();
+    this.showProperties();
+    this.onEdited();
+  }
+
+  // Camera moves (orbit, walk, framing) edit the text but are no history step.
+  setCamera(entries) {
+    const wasCommitted = this.editor.text() === this.history.committed;
+    const ok = this.applyValues(entries);
+    if (ok && wasCommitted) this.history.amend(this.editor.text());
+    this.redraw();
+    return ok;
+  }
+
+  // A whole new request (New, an example, an import, a restore): one step, the plan fitted to it.
+  // `step: false`: the new text stands in for the current one (the same scene, arrived in full).
+  replaceAll(text, { render = true, step = true } = {}) {
+    this.flushTextStep();
+    this.onReplaced();
+    const before = this.editor.text();
+    this.editor.serverNotes = [];
+    this.applyText(text);
+    if (before === "") this.history.reset(this.editor.text());
+    else if (!step) this.history.amend(this.editor.text());
+    else this.history.record(before, this.editor.text());
+    this.selection = null;
+    this.chain = [];
+    this.marks = new Map();
+    const request = this.request();
+    this.plan.fit(request?.scene);
+    this.updateButtons();
+    this.redraw();
+    this.showProperties();
+    if (render) this.onEdited();
+  }
+
+  // A history step back (or forward); the camera stays where it is.
+  step(back) {
+    this.flushTextStep();
+    const camera = this.request()?.camera;
+    const current = this.editor.text();
+    const text = back ? this.history.back(current) : this.history.forward(current);
+    if (text === null) return;
+    this.applyText(text);
+    if (camera && this.request()) this.applyValues([{ pointer: "/camera", value: camera }]);
+    this.history.amend(this.editor.text());
+    if (this.selection && at(this.request() || {}, this.selection) === undefined) this.selection = null;
+    this.chain = [];
+    this.afterEdit();
+  }
+
+  updateButtons() {
+    document.querySelector('[data-action="undo"]').disabled = !this.history.undo.length;
+    document.querySelector('[data-action="redo"]').disabled = !this.history.redo.length;
+  }
+
+  scheduleSave() {
+    clearTimeout(this.saveTimer);
+    this.saveTimer = setTimeout(() => this.save(), 400);
+  }
+
+  save() {
+    clearTimeout(this.saveTimer);
+    const text = this.autosaveText ? this.autosaveText() : this.editor.text();
+    if (text === null) return;
+    try {
+      localStorage.setItem(storageKey, text);
+    } catch {
+      // storage full or disabled: autosave is a convenience
+    }
+  }
+
+  static saved() {
+    try {
+      return localStorage.getItem(storageKey);
+    } catch {
+      return null;
+    }
+  }
+
+  // ---- drawing -------------------------------------------------------------------------------
+
+  redraw() {
+    const request = this.request();
+    if (request) this.lastScene = request.scene || {};
+    try {
+      this.plan.draw(this.drag?.scene || this.lastScene, {
+        selection: this.selection,
+        marks: this.marks,
+        preview: this.tool === "wall" ? { chain: this.chain, cursor: this.cursor } : null,
+        camera: request?.camera,
+      });
+    } catch (error) {
+      // A request that parses but is not a scene yet (typing): the plan keeps what it could draw.
+      console.debug("plan:", error);
+    }
+  }
+
+  fit() {
+    this.plan.fit(this.request()?.scene);
+    this.redraw();
+  }
+
+  // Warnings and errors of the last answer, drawn on the elements they name ({pointer, detail, severity}).
+  setMarks(notes) {
+    this.marks = new Map();
+    for (const n of notes) {
+      const m = /^\/scene\/(walls\/\d+(\/openings\/\d+)?|solids\/\d+|lights\/\d+|floor)/.exec(n.pointer || "");
+      if (!m) continue;
+      const pointer = m[0];
+      const old = this.marks.get(pointer);
+      this.marks.set(pointer, {
+        severity: old?.severity === "error" || n.severity === "error" ? "error" : "warning",
+        text: old ? `${old.text}\n${n.detail}` : n.detail,
+      });
+    }
+    this.redraw();
+  }
+
+  // ---- tools ---------------------------------------------------------------------------------
+
+  setTool(tool) {
+    if (this.tool === "wall" && tool !== "wall") this.chain = [];
+    const wasWalk = this.tool === "walk";
+    this.tool = tool;
+    for (const b of document.querySelectorAll("[data-tool]")) b.setAttribute("aria-pressed", String(b.dataset.tool === tool));
+    $("catalogue").classList.toggle("inactive", tool !== "furniture");
+    document.body.dataset.tool = tool;
+    if (tool === "walk" && !wasWalk) this.startWalk();
+    this.redraw();
+  }
+
+  setItem(item) {
+    this.item = item;
+    for (const b of document.querySelectorAll("[data-item]")) b.setAttribute("aria-pressed", String(b.dataset.item === item));
+  }
+
+  select(pointer) {
+    this.selection = pointer;
+    this.redraw();
+    this.showProperties();
+  }
+
+  // The sizes a new wall or opening takes: those of the selected element of its kind (so the panel
+  // sets them for the next ones, as it does while a chain of walls is drawn), else `defaults`.
+  styleOf(kind, defaults) {
+    const el = this.selection ? at({ scene: this.lastScene }, this.selection) : undefined;
+    if (!el) return defaults;
+    const isWall = /^\/scene\/walls\/\d+$/.test(this.selection);
+    if (kind === "wall" && isWall) {
+      return { thickness: el.thickness ?? defaults.thickness, height: el.height ?? defaults.height,
+        ...(el.base !== undefined ? { base: el.base } : {}), ...(el.color !== undefined ? { color: el.color } : {}) };
+    }
+    if (kind !== "wall" && this.selection.includes("/openings/") && el.type === kind) {
+      const { offset, id, ...rest } = el;
+      return rest;
+    }
+    return defaults;
+  }
+
+  bindToolbar() {
+    for (const b of document.querySelectorAll("[data-tool]")) b.addEventListener("click", () => this.setTool(b.dataset.tool));
+    for (const b of document.querySelectorAll("[data-item]")) {
+      b.addEventListener("click", () => {
+        this.setItem(b.dataset.item);
+        this.setTool("furniture");
+      });
+    }
+    const actions = {
+      new: () => this.replaceAll(JSON.stringify(newRequest(), null, 2)),
+      undo: () => this.step(true),
+      redo: () => this.step(false),
+      save: () => {
+        this.save();
+        if (this.onSave) this.onSave();
+        else this.onStatus("Saved in this browser; it is restored when the page is opened again.");
+      },
+      frame: () => this.frameAll(),
+    };
+    for (const b of document.querySelectorAll("[data-action]")) b.addEventListener("click", () => actions[b.dataset.action]());
+    this.actions = actions;
+    this.setItem(this.item);
+    this.setTool("select");
+    this.updateButtons();
+  }
+
+  bindPlan() {
+    const svg = this.plan.svg;
+    svg.addEventListener("pointerdown", (e) => {
+      if (e.button !== 0) return;
+      svg.focus({ preventScroll: true });
+      e.preventDefault();
+      this.pointerDown(this.plan.fromClient(e.clientX, e.clientY), e);
+    });
+    svg.addEventListener("pointermove", (e) => this.pointerMove(this.plan.fromClient(e.clientX, e.clientY), e));
+    svg.addEventListener("pointerup", (e) => this.pointerUp(e));
+    svg.addEventListener("pointercancel", () => {
+      this.drag = null;
+      this.redraw();
+    });
+    // The wheel zooms the plan about the pointer (the scene is not edited).
+    svg.addEventListener("wheel", (e) => {
+      e.preventDefault();
+      const before = this.plan.fromClient(e.clientX, e.clientY);
+      this.plan.s = Math.max(2, Math.min(400, this.plan.s * Math.exp(-Math.max(-300, Math.min(300, e.deltaY)) * 0.002)));
+      const after = this.plan.toClient(...before);
+      this.plan.ox += e.clientX - after.x;
+      this.plan.oy += e.clientY - after.y;
+      this.redraw();
+    }, { passive: false });
+    svg.addEventListener("pointerleave", () => {
+      this.cursor = null;
+      if (this.tool === "wall") this.redraw();
+    });
+  }
+
+  // The properties panel: the selection's fields with the schema's limits; a change is one step.
+  showProperties() {
+    const request = this.request();
+    const element = request && this.selection ? at(request, this.selection) : undefined;
+    renderProperties($("properties"), this.selection, element, (field, value) => this.setField(field, value));
+  }
+
+  setField(field, value) {
+    const problem = fieldProblem(field, value);
+    if (problem) {
+      this.refuse(problem, null);
+      this.showProperties();
+      return;
+    }
+    const pointer = this.selection;
+    const current = clone(at(this.request(), pointer));
+    let target = current;
+    for (const k of field.path.slice(0, -1)) target = target[k] = target[k] ?? clone(field.container ?? {});
+    target[field.path[field.path.length - 1]] = value;
+    if (pointer.includes("/openings/")) {
+      const clash = this.openingProblemAt(pointer, current);
+      if (clash) {
+        this.refuse(`Not changed: ${clash}.`, null);
+        this.showProperties();
+        return;
+      }
+    }
+    this.edit((r) => setAt(r.scene, pointer.slice("/scene".length), current));
+  }
+}
+
+Object.assign(Designer.prototype, toolMethods, commandMethods);

@@ -1,0 +1,239 @@
+// The plan's pointer tools of the designer: select/drag (elements, walls, wall corners), wall
+// chains, doors and windows, furniture and lights. In: plan points in metres (+X right, +Z down) and
+// the pointer events they came from. Out: designer steps through Designer.edit(), or a refusal said
+// in place. Mixed into Designer.prototype (designer.js), so `this` is the designer.
+import { makeFurniture } from "./catalogue.js";
+import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
+  solidAnchor, distance, roundPoint, moveWallEnds, wallsProblem } from "./plan_math.js";
+import { at, setAt, clone } from "./designer_util.js";
+
+const $ = (id) => document.getElementById(id);
+const snapPx = 10;  // wall ends within this many pixels catch the pointer
+
+const openingDefaults = {
+  door: { type: "door", width: 0.9, height: 2.0 },
+  window: { type: "window", width: 1.2, height: 1.2, sill: 0.9 },
+};
+
+export const toolMethods = {
+  tolerance() {
+    return snapPx / this.plan.s;
+  },
+
+  pointerDown(p, e) {
+    const scene = this.lastScene;
+    if (this.tool === "wall") this.clickWall(p);
+    else if (this.tool === "door" || this.tool === "window") this.clickOpening(p, e);
+    else if (this.tool === "furniture") this.dropFurniture(p);
+    else if (this.tool === "light") this.clickLight(p, e);
+    else if (this.tool === "select") {
+      // An end of the selected wall: dragging it moves that corner (and the walls meeting there).
+      const wall = /^\/scene\/walls\/\d+$/.test(this.selection || "") ? at({ scene }, this.selection) : null;
+      const end = wall && [wall.start, wall.end].find((q) => distance(p, q) <= this.tolerance());
+      if (end) {
+        this.drag = { pointer: "/scene/walls", corner: end, from: p, original: clone(scene.walls), moved: false, scene: null };
+        this.plan.svg.setPointerCapture(e.pointerId);
+        return;
+      }
+      const hit = hitTest(scene, p, this.tolerance());
+      this.select(hit);
+      if (hit && /^\/scene\/walls\/\d+$/.test(hit)) {
+        this.drag = { pointer: "/scene/walls", wall: at({ scene }, hit), from: p, original: clone(scene.walls), moved: false, scene: null };
+        this.plan.svg.setPointerCapture(e.pointerId);
+      } else if (hit && !hit.endsWith("floor")) {
+        this.drag = { pointer: hit, from: p, original: clone(at({ scene }, hit)), moved: false, scene: null };
+        this.plan.svg.setPointerCapture(e.pointerId);
+      }
+    }
+  },
+
+  pointerMove(p) {
+    if (this.tool === "wall") {
+      this.cursor = snapWallPoint(p, this.chain[this.chain.length - 1], [...wallEnds(this.lastScene.walls), ...this.chain], this.tolerance());
+      this.redraw();
+      return;
+    }
+    if (!this.drag) return;
+    const d = [p[0] - this.drag.from[0], p[1] - this.drag.from[1]];
+    if (!this.drag.moved && Math.hypot(d[0], d[1]) * this.plan.s < 3) return;
+    this.drag.moved = true;
+    const scene = clone(this.lastScene);
+    const moved = this.drag.corner ? this.movedCorner(this.drag, p)
+      : this.drag.wall ? this.movedWall(this.drag, d) : this.movedElement(this.drag.pointer, this.drag.original, d);
+    if (!moved) return;
+    const changed = JSON.stringify(moved) !== JSON.stringify(this.drag.result);
+    setAt(scene, this.drag.pointer.slice("/scene".length), moved);
+    this.drag.scene = scene;
+    this.drag.result = moved;
+    this.redraw();
+    // The image follows the drag at reduced size (5 cm steps: only when the element moved).
+    if (changed) this.onDragPreview(scene);
+  },
+
+  pointerUp() {
+    const drag = this.drag;
+    this.drag = null;
+    this.onDragPreview(null);
+    if (!drag || !drag.moved || !drag.result) {
+      this.redraw();
+      return;
+    }
+    const problem = drag.pointer.includes("/openings/") ? this.openingProblemAt(drag.pointer, drag.result)
+      : drag.pointer === "/scene/walls" ? wallsProblem(drag.result) : null;
+    if (problem) {
+      this.refuse(problem, null);
+      this.redraw();
+      this.onEdited();  // the image showed the drag: back to the scene as it is
+      return;
+    }
+    this.edit((r) => setAt(r.scene, drag.pointer.slice("/scene".length), drag.result));
+  },
+
+  // The element moved by d metres in plan (snapped to the grid), or null when it cannot move.
+  movedElement(pointer, el, d) {
+    const snapD = snapToGrid(d, 0.05);
+    if (pointer.includes("/openings/")) {
+      const wall = at({ scene: this.lastScene }, pointer.replace(/\/openings\/\d+$/, ""));
+      const len = distance(wall.start, wall.end);
+      const along = (snapD[0] * (wall.end[0] - wall.start[0]) + snapD[1] * (wall.end[1] - wall.start[1])) / len;
+      return { ...el, offset: Math.round(Math.max(0, Math.min(len - el.width, el.offset + along)) * 1000) / 1000 };
+    }
+    if (pointer.startsWith("/scene/solids/")) {
+      const a = solidAnchor(el);
+      return moveSolid(el, [a[0] + snapD[0], a[1] + snapD[1]]);
+    }
+    if (pointer.startsWith("/scene/lights/") && el.type === "point") {
+      return { ...el, position: [roundPoint([el.position[0] + snapD[0], 0])[0], el.position[1], roundPoint([0, el.position[2] + snapD[1]])[1]] };
+    }
+    return null;
+  },
+
+  // The walls with the dragged wall moved by d (on the grid), the walls meeting its ends following.
+  movedWall(drag, d) {
+    const snapD = snapToGrid(d, 0.05);
+    const shift = (q) => ({ from: q, to: [q[0] + snapD[0], q[1] + snapD[1]] });
+    return moveWallEnds(drag.original, [shift(drag.wall.start), shift(drag.wall.end)]);
+  },
+
+  // The walls with the dragged corner on the pointer (snapped as the wall tool snaps, from the
+  // selected wall's other end).
+  movedCorner(drag, p) {
+    const wall = at({ scene: { walls: drag.original } }, this.selection);
+    const other = distance(wall.start, drag.corner) < 1e-6 ? wall.end : wall.start;
+    const ends = wallEnds(drag.original).filter((q) => distance(q, drag.corner) >= 1e-6);
+    const to = snapWallPoint(p, other, ends, this.tolerance());
+    return moveWallEnds(drag.original, [{ from: drag.corner, to }]);
+  },
+
+  clickWall(p) {
+    const last = this.chain[this.chain.length - 1];
+    const q = snapWallPoint(p, last, [...wallEnds(this.lastScene.walls), ...this.chain], this.tolerance());
+    if (!last) {
+      this.chain = [q];
+      this.cursor = q;
+      this.redraw();
+      return;
+    }
+    if (distance(q, last) < 1e-6) return;
+    const added = this.edit((r) => {
+      r.scene.walls = r.scene.walls || [];
+      r.scene.walls.push({ start: last, end: q, ...this.styleOf("wall", { thickness: 0.15, height: 2.5 }) });
+      this.selection = `/scene/walls/${r.scene.walls.length - 1}`;
+    });
+    if (!added) return;
+    if (this.chain.length >= 2 && distance(q, this.chain[0]) < 1e-6) this.chain = [];  // closed
+    else this.chain.push(q);
+    this.redraw();
+  },
+
+  clickOpening(p, e) {
+    const hit = hitTest({ walls: this.lastScene.walls }, p, this.tolerance());
+    const m = hit && /^\/scene\/walls\/(\d+)/.exec(hit);
+    if (!m) {
+      this.refuse(`a ${this.tool} goes into a wall: click on one`, e);
+      return;
+    }
+    const index = Number(m[1]);
+    const wall = this.lastScene.walls[index];
+    const opening = openingAt(wall, projectOnWall(wall, p).t, this.styleOf(this.tool, openingDefaults[this.tool]));
+    const problem = openingProblem(wall, opening);
+    if (problem) {
+      this.refuse(`No ${this.tool} here: ${problem}.`, e);
+      return;
+    }
+    this.edit((r) => {
+      const w = r.scene.walls[index];
+      w.openings = w.openings || [];
+      w.openings.push(opening);
+      this.selection = `/scene/walls/${index}/openings/${w.openings.length - 1}`;
+    });
+  },
+
+  openingProblemAt(pointer, opening) {
+    const m = /^\/scene\/walls\/(\d+)\/openings\/(\d+)$/.exec(pointer);
+    const wall = this.lastScene.walls[Number(m[1])];
+    return openingProblem(wall, opening, Number(m[2]));
+  },
+
+  // Says in place why an action was refused: a note at the pointer in the plan, and in the status.
+  refuse(reason, e) {
+    const note = $("plan-refusal");
+    note.textContent = reason;
+    note.hidden = false;
+    const box = $("plan").getBoundingClientRect();
+    const wrap = $("plan-wrap").getBoundingClientRect();
+    const x = e ? e.clientX - wrap.left : box.width / 2;
+    const y = e ? e.clientY - wrap.top : 20;
+    note.style.left = `${Math.max(0, Math.min(box.width - 220, x + 10))}px`;
+    note.style.top = `${y + 10}px`;
+    clearTimeout(this.refusalTimer);
+    this.refusalTimer = setTimeout(() => { note.hidden = true; }, 5000);
+    this.onStatus(reason);
+  },
+
+  nextId(item, solids) {
+    const used = new Set(solids.map((s) => s.id));
+    let n = 1;
+    while (used.has(`${item}-${n}`)) n++;
+    return `${item}-${n}`;
+  },
+
+  dropFurniture(p) {
+    const point = snapToGrid(p, 0.05);
+    this.edit((r) => {
+      r.scene.solids = r.scene.solids || [];
+      r.scene.solids.push(makeFurniture(this.item, point, this.nextId(this.item, r.scene.solids)));
+      this.selection = `/scene/solids/${r.scene.solids.length - 1}`;
+    });
+  },
+
+  // Click: a point light 2.4 m up. Shift+click: the selected (or first) directional light travels
+  // toward the clicked point from the plan's centre, 45° downward.
+  clickLight(p, e) {
+    const point = snapToGrid(p, 0.05);
+    if (e.shiftKey) {
+      this.edit((r) => {
+        const lights = (r.scene.lights = r.scene.lights || []);
+        const sel = this.selection && /^\/scene\/lights\/(\d+)$/.exec(this.selection);
+        let i = sel && lights[Number(sel[1])]?.type === "directional" ? Number(sel[1]) : lights.findIndex((l) => l.type === "directional");
+        if (i < 0) i = lights.push({ type: "directional" }) - 1;
+        const b = this.plan.fromClient(...Object.values(this.planCentre()));
+        const d = [point[0] - b[0], point[1] - b[1]];
+        const len = Math.hypot(d[0], d[1]) || 1;
+        lights[i] = { ...lights[i], direction: [d[0] / len, -1, d[1] / len].map((v) => Math.round(v * 1000) / 1000) };
+        this.selection = `/scene/lights/${i}`;
+      });
+      return;
+    }
+    this.edit((r) => {
+      r.scene.lights = r.scene.lights || [];
+      r.scene.lights.push({ type: "point", position: [point[0], 2.4, point[1]], intensity: 0.6, attenuation: [1, 0, 0.05] });
+      this.selection = `/scene/lights/${r.scene.lights.length - 1}`;
+    });
+  },
+
+  planCentre() {
+    const r = this.plan.svg.getBoundingClientRect();
+    return { x: r.left + r.width / 2, y: r.top + r.height / 2 };
+  },
+};

@@ -1,0 +1,212 @@
+// The plan: the scene seen from above, to scale, drawn into an SVG. In: a request's scene, the
+// selection and marks (warnings, errors) by JSON Pointer, and tool previews. Out: SVG elements
+// carrying data-pointer. Plan point [x, z] maps to SVG pixel (ox + x·s, oy + z·s): +X right, +Z
+// down, s pixels per metre; one SVG pixel is one CSS pixel (no viewBox), so client coordinates are
+// the SVG's bounding box plus that.
+import { wallPolygon, openingPolygon, solidFootprint, sceneBounds } from "./plan_math.js";
+
+const NS = "http://www.w3.org/2000/svg";
+
+function el(name, attrs, parent) {
+  const e = document.createElementNS(NS, name);
+  for (const [k, v] of Object.entries(attrs)) if (v !== undefined && v !== null) e.setAttribute(k, String(v));
+  if (parent) parent.append(e);
+  return e;
+}
+
+function colorText(c, fallback) {
+  if (typeof c === "string") return c;
+  if (Array.isArray(c)) return `rgb(${c.map((v) => Math.round(Math.max(0, Math.min(1, v)) * 255)).join(",")})`;
+  return fallback;
+}
+
+// A length of 1, 2 or 5 × 10^k metres between 60 and 150 pixels.
+function scaleBarMetres(s) {
+  for (let k = -2; k < 6; k++) {
+    for (const m of [1, 2, 5]) {
+      const len = m * 10 ** k;
+      if (len * s >= 60) return len;
+    }
+  }
+  return 1;
+}
+
+export class PlanView {
+  constructor(svg) {
+    this.svg = svg;
+    this.s = 50;    // pixels per metre
+    this.ox = 40;   // SVG pixel of plan x = 0
+    this.oy = 40;   // SVG pixel of plan z = 0
+  }
+
+  size() {
+    const r = this.svg.getBoundingClientRect();
+    return { w: r.width || 400, h: r.height || 400 };
+  }
+
+  // Scale and offset so `bounds` (or a 6 × 5 m area for an empty scene) fills the SVG with a margin.
+  fit(scene) {
+    const b = sceneBounds(scene || {}) || [[-0.5, -0.5], [5.5, 4.5]];
+    const { w, h } = this.size();
+    const margin = 30;
+    const spanX = Math.max(b[1][0] - b[0][0], 1);
+    const spanZ = Math.max(b[1][1] - b[0][1], 1);
+    this.s = Math.max(2, Math.min(400, Math.min((w - 2 * margin) / spanX, (h - 2 * margin) / spanZ)));
+    this.ox = (w - spanX * this.s) / 2 - b[0][0] * this.s;
+    this.oy = (h - spanZ * this.s) / 2 - b[0][1] * this.s;
+  }
+
+  toSvg([x, z]) {
+    return [this.ox + x * this.s, this.oy + z * this.s];
+  }
+
+  toClient(x, z) {
+    const r = this.svg.getBoundingClientRect();
+    const [sx, sy] = this.toSvg([x, z]);
+    return { x: r.left + sx, y: r.top + sy };
+  }
+
+  fromClient(clientX, clientY) {
+    const r = this.svg.getBoundingClientRect();
+    return [(clientX - r.left - this.ox) / this.s, (clientY - r.top - this.oy) / this.s];
+  }
+
+  points(poly) {
+    return poly.map((p) => this.toSvg(p).map((v) => v.toFixed(1)).join(",")).join(" ");
+  }
+
+  // Redraws everything. `marks`: Map pointer -> {severity, text}; `preview`: {chain, cursor} of the
+  // wall tool; `camera`: the request's camera (eye and direction drawn).
+  draw(scene, { selection = null, marks = new Map(), preview = null, camera = null } = {}) {
+    const svg = this.svg;
+    svg.replaceChildren();
+    const { w, h } = this.size();
+    this.drawGrid(w, h);
+    const decorate = (node, pointer) => {
+      node.dataset.pointer = pointer;
+      const mark = marks.get(pointer);
+      if (mark) {
+        node.classList.add(mark.severity === "error" ? "mark-error" : "mark-warning");
+        el("title", {}, node).textContent = mark.text;
+      }
+      if (pointer === selection) node.classList.add("selected");
+      return node;
+    };
+    if (scene.floor && Array.isArray(scene.floor.cells)) {
+      const f = scene.floor;
+      const o = f.origin || [0, 0];
+      const c = f.cell_size ?? 1;
+      const [x, y] = this.toSvg(o);
+      decorate(el("rect", { x, y, width: f.cells[0] * c * this.s, height: f.cells[1] * c * this.s, class: "floor" }, svg), "/scene/floor");
+    }
+    (scene.walls || []).forEach((wall, i) => {
+      if (!Array.isArray(wall.start) || !Array.isArray(wall.end)) return;
+      decorate(el("polygon", { points: this.points(wallPolygon(wall)), class: "wall" }, svg), `/scene/walls/${i}`);
+      (wall.openings || []).forEach((o, k) => {
+        decorate(el("polygon", { points: this.points(openingPolygon(wall, o)), class: `opening ${o.type}` }, svg),
+          `/scene/walls/${i}/openings/${k}`);
+      });
+    });
+    const selectedWall = /^\/scene\/walls\/(\d+)$/.exec(selection || "");
+    const wall = selectedWall && (scene.walls || [])[Number(selectedWall[1])];
+    if (wall && Array.isArray(wall.start) && Array.isArray(wall.end)) {
+      for (const q of [wall.start, wall.end]) {
+        const [cx, cy] = this.toSvg(q);
+        el("circle", { cx, cy, r: 5, class: "handle" }, svg);  // drag to move this corner
+      }
+    }
+    (scene.solids || []).forEach((s, i) => {
+      let f;
+      try {
+        f = solidFootprint(s);
+      } catch {
+        return;  // half-typed in the editor
+      }
+      const fill = colorText(s.color, "#b3b3b3");
+      const node = f.circle
+        ? el("circle", { cx: this.toSvg(f.circle.center)[0], cy: this.toSvg(f.circle.center)[1], r: f.circle.radius * this.s, class: "solid", fill }, svg)
+        : el("polygon", { points: this.points(f.polygon), class: "solid", fill }, svg);
+      decorate(node, `/scene/solids/${i}`);
+    });
+    let suns = 0;
+    (scene.lights || []).forEach((l, i) => {
+      if (l.type === "point" && Array.isArray(l.position)) {
+        const [cx, cy] = this.toSvg([l.position[0], l.position[2]]);
+        decorate(el("circle", { cx, cy, r: 7, class: "light" }, svg), `/scene/lights/${i}`);
+      } else if (l.type === "directional") {
+        this.drawDirection(l.direction || [0, -1, 0], w, i, suns++, decorate);
+      }
+    });
+    if (camera) this.drawCamera(camera);
+    if (preview) this.drawPreview(preview);
+    this.drawScaleBar(h);
+  }
+
+  drawGrid(w, h) {
+    const g = el("g", { class: "grid" }, this.svg);
+    const [x0, z0] = [-this.ox / this.s, -this.oy / this.s];
+    const [x1, z1] = [(w - this.ox) / this.s, (h - this.oy) / this.s];
+    const step = this.s >= 40 ? 0.5 : this.s >= 8 ? 1 : 10;
+    for (let x = Math.ceil(x0 / step) * step; x <= x1; x += step) {
+      const X = this.ox + x * this.s;
+      el("line", { x1: X, y1: 0, x2: X, y2: h, class: Math.abs(x - Math.round(x)) < 1e-9 ? "major" : "" }, g);
+    }
+    for (let z = Math.ceil(z0 / step) * step; z <= z1; z += step) {
+      const Y = this.oy + z * this.s;
+      el("line", { x1: 0, y1: Y, x2: w, y2: Y, class: Math.abs(z - Math.round(z)) < 1e-9 ? "major" : "" }, g);
+    }
+  }
+
+  // A directional light has no place: a dial in the top-right corner (one per such light, side by
+  // side) shows where it travels in plan.
+  drawDirection(d, w, i, slot, decorate) {
+    const g = decorate(el("g", { class: "sun" }, this.svg), `/scene/lights/${i}`);
+    const cx = w - 34 - slot * 52;
+    const cy = 34;
+    el("circle", { cx, cy, r: 22 }, g);
+    const len = Math.hypot(d[0], d[2]);
+    const [ux, uy] = len > 1e-6 ? [d[0] / len, d[2] / len] : [0, 0];
+    el("line", { x1: cx - ux * 16, y1: cy - uy * 16, x2: cx + ux * 16, y2: cy + uy * 16 }, g);
+    el("circle", { cx: cx + ux * 16, cy: cy + uy * 16, r: 3 }, g);
+    el("title", {}, g).textContent = `directional light ${i}: direction [${d.join(", ")}]`;
+  }
+
+  drawCamera(c) {
+    const p = c.position || [0, 1.6, 5];
+    const t = c.target || [0, 1, 0];
+    if (!Array.isArray(p) || !Array.isArray(t)) return;
+    const [ex, ey] = this.toSvg([p[0], p[2]]);
+    const dx = t[0] - p[0];
+    const dz = t[2] - p[2];
+    const len = Math.hypot(dx, dz) || 1;
+    const g = el("g", { class: "camera" }, this.svg);
+    el("line", { x1: ex, y1: ey, x2: ex + (dx / len) * 22, y2: ey + (dz / len) * 22 }, g);
+    el("circle", { cx: ex, cy: ey, r: 5 }, g);
+    el("title", {}, g).textContent = `camera at [${p.join(", ")}]`;
+  }
+
+  drawPreview({ chain, cursor }) {
+    const pts = [...chain, cursor].filter(Boolean);
+    if (pts.length >= 2) el("polyline", { points: this.points(pts), class: "preview" }, this.svg);
+    if (cursor) {
+      const [x, y] = this.toSvg(cursor);
+      el("circle", { cx: x, cy: y, r: 4, class: "cursor" }, this.svg);
+      if (chain.length) {
+        const last = chain[chain.length - 1];
+        const len = Math.hypot(cursor[0] - last[0], cursor[1] - last[1]);
+        el("text", { x: x + 8, y: y - 8, class: "measure" }, this.svg).textContent = `${len.toFixed(2)} m`;
+      }
+    }
+  }
+
+  drawScaleBar(h) {
+    const m = scaleBarMetres(this.s);
+    const g = el("g", { class: "scale-bar" }, this.svg);
+    const x = 12;
+    const y = h - 14;
+    el("line", { x1: x, y1: y, x2: x + m * this.s, y2: y }, g);
+    el("line", { x1: x, y1: y - 4, x2: x, y2: y + 4 }, g);
+    el("line", { x1: x + m * this.s, y1: y - 4, x2: x + m * this.s, y2: y + 4 }, g);
+    el("text", { x: x + 2, y: y - 6 }, g).textContent = m >= 1 ? `${m} m` : `${Math.round(m * 100)} cm`;
+  }
+}

@@ -1,0 +1,77 @@
+// The designer's plan geometry: snapping, hit tests, opening checks and the catalogue's meshes, on
+// hand-placed fixtures (a 5 m × 4 m room) whose answers can be worked out on paper.
+import { test } from "node:test";
+import assert from "node:assert/strict";
+import { snapWallPoint, hitTest, openingProblem, openingAt, placePoint, solidFootprint, moveSolid, sceneBounds } from "../src/plan_math.js";
+import { makeFurniture, catalogueItems } from "../src/catalogue.js";
+import { look } from "../src/camera.js";
+
+const walls = [
+  { start: [0, 0], end: [5, 0], thickness: 0.15, height: 2.5, openings: [{ type: "door", offset: 1, width: 0.9 }] },
+  { start: [5, 0], end: [5, 4], thickness: 0.15, height: 2.5 },
+];
+
+test("wall points snap to ends, then to 15° steps and 10 cm lengths, then to the grid", () => {
+  assert.deepEqual(snapWallPoint([5.04, 0.03], null, [[5, 0]], 0.1), [5, 0]);
+  assert.deepEqual(snapWallPoint([1.23, 0.07], [0, 0], [], 0.1), [1.2, 0]);
+  const p = snapWallPoint([2.1, 2.0], [0, 0], [], 0.1);  // 43.6° -> 45°, length 2.9
+  assert.ok(Math.abs(p[0] - 2.051) < 1e-3 && Math.abs(p[1] - 2.051) < 1e-3, String(p));
+  assert.deepEqual(snapWallPoint([0.26, 0.34], null, [], 0.1), [0.3, 0.3]);
+});
+
+test("rotation_y turns +X toward -Z (counter-clockwise from above)", () => {
+  const [x, z] = placePoint([1, 0], 90, [0, 0]);
+  assert.ok(Math.abs(x) < 1e-12 && Math.abs(z + 1) < 1e-12);
+});
+
+test("hit tests find openings before their wall, solids inside their footprint", () => {
+  const scene = { walls, solids: [{ type: "box", center: [2, 2], size: [1, 1, 1] }] };
+  assert.equal(hitTest(scene, [1.4, 0.02], 0.05), "/scene/walls/0/openings/0");
+  assert.equal(hitTest(scene, [3, -0.05], 0.05), "/scene/walls/0");
+  assert.equal(hitTest(scene, [2.4, 2.4], 0.05), "/scene/solids/0");
+  assert.equal(hitTest(scene, [3.5, 3], 0.05), null);
+});
+
+test("an opening that does not fit is refused with the format's rule", () => {
+  assert.equal(openingProblem(walls[1], { type: "window", offset: 1, width: 1.2 }), null);
+  assert.match(openingProblem(walls[0], { type: "window", offset: 1.5, width: 1 }), /overlap/);
+  assert.match(openingProblem(walls[1], { type: "door", offset: 0, width: 6 }), /does not fit/);
+  assert.match(openingProblem(walls[1], { type: "window", offset: 0, width: 1, sill: 2, height: 1 }), /above the wall/);
+  assert.deepEqual(openingAt(walls[1], 3.9, { type: "window", width: 1.2 }).offset, 2.8);  // slid inside
+});
+
+test("every catalogue item is a valid solid whose footprint is centred where it was dropped", () => {
+  for (const item of catalogueItems) {
+    const s = makeFurniture(item, [2, 3], `${item}-1`);
+    const f = solidFootprint(s);
+    const c = f.circle ? f.circle.center : [0, 1].map((k) => (Math.min(...f.polygon.map((p) => p[k])) + Math.max(...f.polygon.map((p) => p[k]))) / 2);
+    assert.ok(Math.abs(c[0] - 2) < 0.1 && Math.abs(c[1] - 3) < 0.15, `${item}: ${c}`);
+    if (s.type === "mesh") {
+      for (const face of s.faces) assert.ok(face.every((i) => i >= 0 && i < s.vertices.length));
+      // Closed and wound outward: the faces' signed volume is positive.
+      let volume = 0;
+      for (const [a, b, c2, d] of s.faces) {
+        for (const [p, q, r] of [[a, b, c2], [a, c2, d]]) {
+          const [P, Q, R] = [s.vertices[p], s.vertices[q], s.vertices[r]];
+          volume += (P[0] * (Q[1] * R[2] - Q[2] * R[1]) - P[1] * (Q[0] * R[2] - Q[2] * R[0]) + P[2] * (Q[0] * R[1] - Q[1] * R[0])) / 6;
+        }
+      }
+      assert.ok(volume > 0, `${item} winds outward: ${volume}`);
+    }
+    const moved = moveSolid(s, [3, 3]);
+    assert.notEqual(moved, s);
+  }
+});
+
+test("walk mode's look keeps the eye and the distance to the target", () => {
+  const c = { position: [1, 1.6, 1], target: [1, 1.6, -1] };
+  const l = look(c, 90, 0);
+  assert.deepEqual(l.position, c.position);
+  assert.ok(Math.abs(Math.hypot(l.target[0] - 1, l.target[2] - 1) - 2) < 1e-3);
+});
+
+test("half-typed elements are skipped, not thrown on", () => {
+  const scene = { walls: [{ start: [0, 0] }, ...walls], solids: [{ type: "box", center: [1, 1] }], lights: [{ type: "point" }], floor: {} };
+  assert.equal(hitTest(scene, [3, 0], 0.05), "/scene/walls/1");
+  assert.deepEqual(sceneBounds(scene), [[0, 0], [5, 4]]);
+});

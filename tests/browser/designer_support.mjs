@@ -1,0 +1,76 @@
+// Steps shared by the designer's browser tests (designer.mjs, sharing.mjs): the page's hooks
+// (window.roomrenderDesigner), clicks and drags in the plan by world coordinates, a summary of the
+// image on screen, and the empty 5 m × 4 m room drawn with the wall tool.
+import { assert } from "./support.mjs";
+
+export const hooks = (page, name, ...args) => page.evaluate(([n, a]) => window.roomrenderDesigner[n](...a), [name, args]);
+export const idle = (page) => page.evaluate(() => window.roomrenderDesigner.idle());
+export const request = (page) => hooks(page, "request");
+export const near = (a, b, tol = 1e-6) => a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol);
+
+export async function clickPlan(page, x, z) {
+  const p = await hooks(page, "worldToPlan", x, z);
+  await page.mouse.click(p.x, p.y);
+}
+
+// Drags in the plan from one world point to another in `steps` pointer moves.
+export async function dragPlan(page, from, to, steps = 8) {
+  const a = await hooks(page, "worldToPlan", ...from);
+  const b = await hooks(page, "worldToPlan", ...to);
+  await page.mouse.move(a.x, a.y);
+  await page.mouse.down();
+  for (let i = 1; i <= steps; i++) await page.mouse.move(a.x + ((b.x - a.x) * i) / steps, a.y + ((b.y - a.y) * i) / steps);
+  await page.mouse.up();
+}
+
+// The image on screen: size, distinct colours and a hash of its pixels.
+export function imageSummary(page) {
+  return page.evaluate(() => {
+    const img = document.querySelector('[data-testid="view"]');
+    const canvas = document.createElement("canvas");
+    canvas.width = img.naturalWidth;
+    canvas.height = img.naturalHeight;
+    const ctx = canvas.getContext("2d");
+    ctx.drawImage(img, 0, 0);
+    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const colours = new Set();
+    let hash = 2166136261;
+    for (let i = 0; i < data.length; i += 4) {
+      const c = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
+      colours.add(c);
+      hash = Math.imul(hash ^ c, 16777619) >>> 0;
+    }
+    return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
+  });
+}
+
+// Opens the page, waits for its first render, and starts an empty scene with "New".
+export async function openEmpty(page, server) {
+  await page.goto(`${server.url}/`);
+  await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+  await idle(page);
+  await page.click('[data-action="new"]');
+  await page.waitForFunction(() => (window.roomrenderDesigner.request()?.scene?.walls || [null]).length === 0);
+  await idle(page);
+  const r = await request(page);
+  assert(r.camera && r.scene.lights.length >= 1, `"New" gives a camera and a light: ${JSON.stringify(r)}`);
+  assert(r.scene.solids.length === 0, "and nothing else");
+}
+
+export const room = [[0, 0], [5, 0], [5, 4], [0, 4]];
+
+export async function drawRoom(page) {
+  await page.click('[data-tool="wall"]');
+  await clickPlan(page, ...room[0]);
+  for (let i = 1; i <= 4; i++) {
+    await clickPlan(page, ...room[i % 4]);
+    const walls = (await request(page)).scene.walls;
+    assert(walls.length === i, `wall ${i} is added by click ${i + 1}: ${JSON.stringify(walls)}`);
+    const w = walls[i - 1];
+    assert(near(w.start, room[i - 1]) && near(w.end, room[i % 4]), `wall ${i} runs ${room[i - 1]} -> ${room[i % 4]}: ${JSON.stringify(w)}`);
+  }
+  // The click on the start point closed the chain: a further click starts a new one, adding nothing.
+  await clickPlan(page, 2, 2);
+  assert((await request(page)).scene.walls.length === 4, "the chain ended on its start point");
+  await page.keyboard.press("Escape");
+}
