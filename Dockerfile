@@ -24,7 +24,8 @@ FROM docker.io/library/debian:bookworm AS runtime
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libcpp-httplib0.11 zlib1g libpugixml1v5 libzip4 \
  && rm -rf /var/lib/apt/lists/* /var/cache/apt/* /var/log/apt /var/log/dpkg.log \
- && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin roomrender \
+ && groupadd --system --gid 10001 roomrender \
+ && useradd --system --uid 10001 --gid 10001 --no-create-home --shell /usr/sbin/nologin roomrender \
  && install -d -o roomrender -g roomrender -m 0750 /var/lib/roomrender
 COPY --from=build /src/build/roomrender /usr/local/bin/roomrender
 COPY --from=build /src/clients/web /usr/share/roomrender/web

@@ -77,8 +77,9 @@ def check_dockerfile(source_dir):
             copied[parts[-1]] = parts[1]
     runtime_runs = " ".join(rest for keyword, rest in runtime if keyword == "RUN")
     users = [rest for keyword, rest in runtime if keyword == "USER"]
-    check(f"runtime user {RUNTIME_USER} has uid {RUNTIME_UID}",
-          re.search(rf"useradd\b[^&]*--uid {RUNTIME_UID}\b[^&]*\b{RUNTIME_USER}\b", runtime_runs) is not None
+    check(f"runtime user {RUNTIME_USER} has uid and gid {RUNTIME_UID}",
+          re.search(rf"useradd\b[^&]*--uid {RUNTIME_UID} --gid {RUNTIME_UID}\b[^&]*\b{RUNTIME_USER}\b",
+                    runtime_runs) is not None
           and users and users[-1] in (RUNTIME_USER, str(RUNTIME_UID)), f"USER {users}")
     for name, source in [("WEB", "/src/clients/web"), ("EXAMPLES", "/src/examples"), ("SCHEMAS", "/src/schemas")]:
         var = f"ROOMRENDER_{name}_DIR"
