@@ -14,7 +14,7 @@ build_packages=(
   zlib1g-dev libpugixml-dev libzip-dev
 )
 test_packages=(
-  curl ca-certificates python3 nginx-light chromium fonts-dejavu-core
+  curl ca-certificates python3 python3-yaml nginx-light chromium fonts-dejavu-core
 )
 
 mode=all

@@ -5,8 +5,11 @@
 #      (by whichever replica took the first, keyless request, and once by its home replica);
 #   2. the same traffic with nginx's default round robin (fresh replicas), for comparison;
 #   3. one replica killed: the others keep answering every scene.
+# First it reads the Dockerfile, compose file and k8s manifest (tests/deploy/check_manifests.py): the
+# image's user owns its data directory and both deployments mount their volumes there.
 # Prints the cache-hit rates and writes them to build/test-output/deploy/replicas.json.
-# Usage: tests/deploy/test_replicas.sh BUILD_DIR   (needs nginx, curl, python3: scripts/install-deps.sh)
+# Usage: tests/deploy/test_replicas.sh BUILD_DIR   (needs nginx, curl, python3, python3-yaml:
+#        scripts/install-deps.sh)
 set -euo pipefail
 source_dir="$(cd "$(dirname "$0")/../.." && pwd)"
 build_dir="$(cd "${1:?usage: $0 BUILD_DIR}" && pwd)"
@@ -28,6 +31,8 @@ cleanup() {
 trap cleanup EXIT
 fail() { echo "test_replicas: FAIL: $*" >&2; [ -f "$work/error.log" ] && tail -5 "$work/error.log" >&2; exit 1; }
 command -v nginx >/dev/null || fail "nginx is not installed (scripts/install-deps.sh installs it)"
+# The Dockerfile, compose file and k8s manifest, read rather than run (no container engine here).
+python3 "$source_dir/tests/deploy/check_manifests.py" "$source_dir" || fail "deploy manifests (above)"
 
 free_port() {  # a port the kernel just handed out and released: good enough on loopback
   local port

@@ -1,0 +1,245 @@
+#!/usr/bin/env python3
+"""Reads the Dockerfile, .dockerignore, deploy/compose.yaml and deploy/k8s/roomrender.yaml and checks
+what no engine on the test machine can run: the image builds from every tracked source file, runs as
+uid 10001 with a data directory it owns, serves its schemas, and compose and Kubernetes mount their
+volumes where that directory is, writable by that user. One PASS/FAIL line per check; exit 1 on any
+failure. Usage: tests/deploy/check_manifests.py [SOURCE_DIR]   (python3 and python3-yaml)
+"""
+import os
+import re
+import shlex
+import subprocess
+import sys
+
+import yaml
+
+RUNTIME_UID = 10001
+RUNTIME_USER = "roomrender"
+
+failures = []
+
+
+def check(name, ok, why=""):
+    print(f"check_manifests: {'PASS' if ok else 'FAIL'} {name}{'' if ok else ': ' + why}")
+    if not ok:
+        failures.append(name)
+
+
+# --- Dockerfile -------------------------------------------------------------------------------------
+
+def dockerfile_stages(text):
+    """Instructions per stage: [(stage_name, [(KEYWORD, argument text)])], continuation lines joined."""
+    joined = re.sub(r"\\\n", " ", text)
+    stages = []
+    for line in joined.splitlines():
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        keyword, _, rest = line.partition(" ")
+        keyword = keyword.upper()
+        if keyword == "FROM":
+            m = re.search(r"\bAS\s+(\S+)", rest, re.IGNORECASE)
+            stages.append((m.group(1) if m else str(len(stages)), []))
+        elif stages:
+            stages[-1][1].append((keyword, rest.strip()))
+    return stages
+
+
+def env_values(instructions):
+    env = {}
+    for keyword, rest in instructions:
+        if keyword == "ENV":
+            for token in shlex.split(rest):
+                if "=" in token:
+                    key, value = token.split("=", 1)
+                    env[key] = value
+    return env
+
+
+def check_dockerfile(source_dir):
+    stages = dockerfile_stages(open(os.path.join(source_dir, "Dockerfile")).read())
+    check("Dockerfile has two stages, build and runtime", [s[0] for s in stages] == ["build", "runtime"],
+          f"stages {[s[0] for s in stages]}")
+    if len(stages) != 2:
+        return None
+    build, runtime = stages[0][1], stages[1][1]
+    runs = " ".join(rest for keyword, rest in build if keyword == "RUN")
+    check("build stage copies the whole context (COPY . .)", ("COPY", ". .") in build,
+          "a fixed folder list misses folders added later")
+    check("build stage compiles with -Werror and runs the unit tests",
+          "-DROOMRENDER_WERROR=ON" in runs and "unit_tests --gtest" in runs, runs)
+
+    env = env_values(runtime)
+    copied = {}  # destination -> source of COPY --from=build
+    for keyword, rest in runtime:
+        parts = rest.split()
+        if keyword == "COPY" and parts and parts[0] == "--from=build":
+            copied[parts[-1]] = parts[1]
+    runtime_runs = " ".join(rest for keyword, rest in runtime if keyword == "RUN")
+    users = [rest for keyword, rest in runtime if keyword == "USER"]
+    check(f"runtime user {RUNTIME_USER} has uid and gid {RUNTIME_UID}",
+          re.search(rf"useradd\b[^&]*--uid {RUNTIME_UID} --gid {RUNTIME_UID}\b[^&]*\b{RUNTIME_USER}\b",
+                    runtime_runs) is not None
+          and users and users[-1] in (RUNTIME_USER, str(RUNTIME_UID)), f"USER {users}")
+    for name, source in [("WEB", "/src/clients/web"), ("EXAMPLES", "/src/examples"), ("SCHEMAS", "/src/schemas")]:
+        var = f"ROOMRENDER_{name}_DIR"
+        value = env.get(var)
+        check(f"{var} names where the image holds {source}", value is not None and copied.get(value) == source,
+              f"{var}={value}, copies {copied}")
+
+    data_dir = env.get("ROOMRENDER_DATA_DIR")
+    check("ROOMRENDER_DATA_DIR is set", data_dir is not None, "the server would keep scenes in memory only")
+    if data_dir is None:
+        return None
+    owned = re.search(rf"install -d -o {RUNTIME_USER} -g {RUNTIME_USER}\b[^&]*\s{re.escape(data_dir)}\b",
+                      runtime_runs) or re.search(rf"chown\b[^&]*\b{RUNTIME_USER}\b[^&]*\s{re.escape(data_dir)}\b",
+                                                 runtime_runs)
+    check(f"the image creates {data_dir} owned by {RUNTIME_USER}", owned is not None, runtime_runs)
+    volumes = [rest for keyword, rest in runtime if keyword == "VOLUME"]
+    check(f"VOLUME {data_dir}", any(data_dir in v for v in volumes), f"VOLUME {volumes}")
+    health = " ".join(rest for keyword, rest in runtime if keyword == "HEALTHCHECK")
+    check("HEALTHCHECK on /livez, STOPSIGNAL SIGTERM",
+          "/livez" in health and ("STOPSIGNAL", "SIGTERM") in runtime, health)
+    return data_dir
+
+
+# --- .dockerignore ----------------------------------------------------------------------------------
+
+def ignore_regex(pattern):
+    """A .dockerignore pattern as a regex over slash-separated paths relative to the context root."""
+    out, i = "", 0
+    while i < len(pattern):
+        if pattern.startswith("**/", i):
+            out, i = out + "(?:.*/)?", i + 3
+        elif pattern.startswith("**", i):
+            out, i = out + ".*", i + 2
+        elif pattern[i] == "*":
+            out, i = out + "[^/]*", i + 1
+        elif pattern[i] == "?":
+            out, i = out + "[^/]", i + 1
+        else:
+            out, i = out + re.escape(pattern[i]), i + 1
+    return re.compile(out + r"\Z")
+
+
+def ignore_rules(path):
+    rules = []
+    for line in open(path).read().splitlines():
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        exception = line.startswith("!")
+        pattern = line[1:] if exception else line
+        rules.append((exception, ignore_regex(pattern.strip("/"))))
+    return rules
+
+
+def ignored(rules, path):
+    """Docker's rule: the last pattern matching the path or one of its parent folders decides."""
+    parts = path.split("/")
+    prefixes = ["/".join(parts[:n]) for n in range(1, len(parts) + 1)]
+    result = False
+    for exception, regex in rules:
+        if any(regex.match(p) for p in prefixes):
+            result = not exception
+    return result
+
+
+def tracked_files(source_dir):
+    try:
+        out = subprocess.run(["git", "-C", source_dir, "ls-files"], capture_output=True, text=True, check=True)
+        files = out.stdout.splitlines()
+        if files:
+            return files
+    except (OSError, subprocess.CalledProcessError):
+        pass
+    files = []
+    for root, dirs, names in os.walk(source_dir):
+        dirs[:] = [d for d in dirs if d != ".git" and d != "node_modules" and not
+                   (root == source_dir and d.startswith("build"))]
+        files += [os.path.relpath(os.path.join(root, n), source_dir) for n in names]
+    return files
+
+
+# Tracked files the image build never reads; everything else must reach the build context, so a new
+# source folder (or a file a new CMakeLists.txt reads) cannot be left out silently.
+NOT_NEEDED = re.compile(r"(?:\.ci/|docs/|deploy/|bench/results/|[^/]*\.md\Z|\.[^/]*\Z|scripts/(?!install-deps\.sh\Z))")
+
+
+def check_dockerignore(source_dir):
+    rules = ignore_rules(os.path.join(source_dir, ".dockerignore"))
+    files = [f for f in tracked_files(source_dir) if os.path.exists(os.path.join(source_dir, f))]
+    missing = [f for f in files if not NOT_NEEDED.match(f) and ignored(rules, f)]
+    check("every tracked source file reaches the build context", not missing and len(files) > 0,
+          f"{len(missing)} left out, e.g. {missing[:5]}")
+    kept = [p for p in [".git/HEAD", "build/roomrender", "build-asan/CMakeCache.txt",
+                        "build/test-output/golden/x.png", "clients/web/node_modules/x/package.json",
+                        "tests/schema/node_modules/ajv/package.json", "tests/x/__pycache__/y.pyc"]
+            if not ignored(rules, p)]
+    check(".dockerignore keeps out .git, build trees, node_modules, test outputs", not kept, f"kept {kept}")
+
+
+# --- compose and Kubernetes -------------------------------------------------------------------------
+
+def data_dir_arg(args):
+    args = list(args or [])
+    if "--data-dir" in args and args.index("--data-dir") + 1 < len(args):
+        return args[args.index("--data-dir") + 1]
+    return None
+
+
+def check_compose(source_dir, data_dir):
+    path = os.path.join(source_dir, "deploy", "compose.yaml")
+    doc = yaml.safe_load(open(path))
+    named = set((doc.get("volumes") or {}).keys())
+    replicas = {n: s for n, s in doc["services"].items() if "build" in s}
+    check("compose builds the replicas from the repository's Dockerfile",
+          len(replicas) > 0 and all(os.path.isfile(os.path.join(os.path.dirname(path),
+                                                                 s["build"] if isinstance(s["build"], str)
+                                                                 else s["build"].get("context", "."),
+                                                                 "Dockerfile"))
+                                    for s in replicas.values()), f"services {list(doc['services'])}")
+    for name, service in replicas.items():
+        mounts = [v.split(":") for v in service.get("volumes", []) if isinstance(v, str)]
+        at_data = [m for m in mounts if len(m) >= 2 and m[1] == data_dir]
+        arg = data_dir_arg(service.get("command"))
+        user = str(service.get("user", RUNTIME_UID)).split(":")[0]
+        check(f"compose {name}: a named volume at {data_dir}, run as uid {RUNTIME_UID}",
+              len(at_data) == 1 and at_data[0][0] in named and arg in (None, data_dir)
+              and user in (str(RUNTIME_UID), RUNTIME_USER),
+              f"volumes {service.get('volumes')}, --data-dir {arg}, user {user}")
+
+
+def check_k8s(source_dir, data_dir):
+    docs = [d for d in yaml.safe_load_all(open(os.path.join(source_dir, "deploy", "k8s", "roomrender.yaml"))) if d]
+    sets = [d for d in docs if d["kind"] == "StatefulSet"]
+    check("k8s: one StatefulSet", len(sets) == 1, f"{len(sets)}")
+    if len(sets) != 1:
+        return
+    pod = sets[0]["spec"]["template"]["spec"]
+    security = pod.get("securityContext", {})
+    check(f"k8s: pod runs as uid {RUNTIME_UID}, non-root, fsGroup {RUNTIME_UID}",
+          security.get("runAsUser") == RUNTIME_UID and security.get("runAsNonRoot") is True
+          and security.get("fsGroup") == RUNTIME_UID, f"{security}")
+    claims = {t["metadata"]["name"] for t in sets[0]["spec"].get("volumeClaimTemplates", [])}
+    for container in pod["containers"]:
+        mounts = [m for m in container.get("volumeMounts", []) if m["mountPath"] == data_dir]
+        arg = data_dir_arg(container.get("args"))
+        escalation = container.get("securityContext", {}).get("allowPrivilegeEscalation")
+        check(f"k8s {container['name']}: a claimed volume at {data_dir}, no privilege escalation",
+              len(mounts) == 1 and mounts[0]["name"] in claims and arg in (None, data_dir) and escalation is False,
+              f"mounts {container.get('volumeMounts')}, --data-dir {arg}, allowPrivilegeEscalation {escalation}")
+
+
+def main():
+    source_dir = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
+    data_dir = check_dockerfile(source_dir)
+    check_dockerignore(source_dir)
+    if data_dir:
+        check_compose(source_dir, data_dir)
+        check_k8s(source_dir, data_dir)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
