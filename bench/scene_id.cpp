@@ -4,6 +4,7 @@
 // room). Parsing and importing are not timed. Writes JSON to --out.
 // usage: bench_scene_id --out OUT.json [--runs N] [--request FILE]... [--obj FILE]...
 #include "render/import/import_files.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/timer.hpp"
 

@@ -3,6 +3,7 @@
 #include "fuzz/fuzz_harness.hpp"
 
 #include "render/core/hash.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/png.hpp"
