@@ -11,6 +11,7 @@
 #include "bench/accuracy/suite.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/core/image.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/scene_json.hpp"
 
 #include <cstdio>

@@ -6,6 +6,7 @@
 // --out. The classic reference: 4.1 s to build the 240-quad tree, 2 ms to traverse it.
 #include "render/pipelines/bsp.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/timer.hpp"
 

@@ -6,6 +6,7 @@
 #include "render/scene_io/measures_json.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/import/import_files.hpp"
 #include "render/core/shading.hpp"

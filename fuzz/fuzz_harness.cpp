@@ -2,6 +2,8 @@
 // to a tiny render and its variant picked from the input's hash. No state survives between calls.
 #include "fuzz/fuzz_harness.hpp"
 
+#include "render/core/hash.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/png.hpp"
@@ -21,8 +23,7 @@ ParseLimits fuzz_limits() {
 }
 
 Variant variant_of(std::string_view bytes) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  uint64_t h = fnv1a(bytes);
   Variant v;
   v.pipeline = PipelineKind(h % 3);
   h /= 3;

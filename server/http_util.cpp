@@ -6,7 +6,6 @@
 #include <cctype>
 #include <charconv>
 #include <cstdint>
-#include <cstdio>
 #include <vector>
 
 namespace rr::server {
@@ -118,14 +117,6 @@ bool if_none_match_matches(std::string_view if_none_match, std::string_view etag
     if (candidate == "*" || opaque(candidate) == opaque(etag)) return true;
   }
   return false;
-}
-
-std::string hash_hex(std::string_view bytes) {
-  uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64-bit offset basis and prime
-  for (unsigned char c : bytes) hash = (hash ^ c) * 0x100000001b3ull;
-  char digits[17];
-  std::snprintf(digits, sizeof digits, "%016llx", static_cast<unsigned long long>(hash));
-  return digits;
 }
 
 std::string base64_encode(std::string_view bytes) {

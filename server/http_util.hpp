@@ -3,6 +3,8 @@
 // content hashes for ids and ETags, and base64 for JSON render answers. Pure functions on strings.
 #pragma once
 
+#include "render/core/hash.hpp"
+
 #include <optional>
 #include <span>
 #include <string>
@@ -24,8 +26,9 @@ std::optional<std::string> negotiate(std::string_view accept, std::span<const st
 // W/ prefix is ignored, as RFC 9110 asks for If-None-Match).
 bool if_none_match_matches(std::string_view if_none_match, std::string_view etag);
 
-// 16 lowercase hex digits of the 64-bit FNV-1a hash of `bytes`; the same hash scene_id() uses.
-std::string hash_hex(std::string_view bytes);
+// 16 lowercase hex digits of the 64-bit FNV-1a hash of `bytes` (render/core/hash.hpp): stored-scene
+// ids and ETags.
+using rr::hash_hex;
 
 std::string base64_encode(std::string_view bytes);
 

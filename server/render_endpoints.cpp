@@ -5,6 +5,7 @@
 // options as sent, and the response media type; a matching If-None-Match answers 304 before drawing.
 #include "server/routes.hpp"
 
+#include "render/core/scene_id.hpp"
 #include "render/core/timer.hpp"
 #include "render/scene_io/element_pointer.hpp"
 #include "server/http_util.hpp"

@@ -4,6 +4,7 @@
 #include "server/scene_store.hpp"
 
 #include "server/http_util.hpp"
+#include "render/core/scene_id.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -6,6 +6,7 @@
 #include "render/pipelines/bsp.hpp"
 #include "render/core/frustum.hpp"
 #include "render/pipelines/painter.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/png.hpp"
 #include "render/pipelines/reference.hpp"

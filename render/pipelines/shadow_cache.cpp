@@ -1,7 +1,7 @@
 // The shadow cache's key and lookup (see shadow_cache.hpp).
 #include "render/pipelines/shadow_cache.hpp"
 
-#include "render/scene_io/scene_json.hpp"  // scene_id
+#include "render/core/scene_id.hpp"
 
 #include <cstdio>
 #include <initializer_list>

@@ -16,7 +16,6 @@
 #include <cfloat>
 #include <climits>
 #include <cmath>
-#include <cstdio>
 
 namespace rr {
 
@@ -564,128 +563,6 @@ RenderRequest request_from_json(const json& request, const ParseLimits& limits) 
 
 RenderRequest parse_request(std::string_view text, const ParseLimits& limits) {
   return request_from_json(parse_json_text(text, limits), limits);
-}
-
-// --- canonical static geometry -----------------------------------------------------------------------
-
-namespace {
-
-// Every number goes through here: always a double, and -0 folded into 0 so the two hash alike.
-json num(double v) { return json(v == 0.0 ? 0.0 : v); }
-json vec(Vec2 v) { return json::array({num(v.x), num(v.y)}); }
-json vec(Vec3 v) { return json::array({num(v.x), num(v.y), num(v.z)}); }
-json rgb(Color c) { return json::array({num(c.r), num(c.g), num(c.b)}); }
-json material(const MaterialParams& m) {
-  return {{"shininess", num(m.shininess)}, {"specular", num(m.specular)}, {"specular_color", rgb(m.specular_color)}};
-}
-
-json canonical_floor(const Floor& f) {
-  json colors = json::array();
-  for (Color c : f.colors) colors.push_back(rgb(c));
-  return {{"origin", vec(f.origin)},       {"cells", {num(f.cells_x), num(f.cells_z)}},
-          {"cell_size", num(f.cell_size)}, {"elevation", num(f.elevation)},
-          {"colors", colors},              {"material", material(f.material)}};
-}
-
-json canonical_opening(const Opening& o) {
-  json out = {{"offset", num(o.offset)}, {"width", num(o.width)}, {"height", num(o.height)},
-              {"color", rgb(o.color)}};
-  if (o.type == OpeningType::door) {
-    out["type"] = "door";
-    out["leaf"] = o.leaf;
-  } else {
-    out["type"] = "window";
-    out["sill"] = num(o.sill);
-    out["opacity"] = num(o.opacity);
-  }
-  return out;
-}
-
-json canonical_wall(const Wall& w) {
-  json openings = json::array();
-  for (const Opening& o : w.openings) openings.push_back(canonical_opening(o));
-  return {{"start", vec(w.start)},   {"end", vec(w.end)},       {"thickness", num(w.thickness)},
-          {"height", num(w.height)}, {"base", num(w.base)},     {"color", rgb(w.color)},
-          {"material", material(w.material)}, {"openings", openings}};
-}
-
-// Only the members that the solid's type reads, so unused struct fields cannot split one scene id.
-void add_type_members(const Solid& s, json& out) {
-  switch (s.type) {
-    case SolidType::box:
-    case SolidType::pyramid:
-      out["size"] = vec(s.size);
-      break;
-    case SolidType::cylinder:
-      out.update({{"radius", num(s.radius)}, {"height", num(s.height)}, {"segments", num(s.segments)},
-                  {"smooth", s.smooth}, {"caps", s.caps}});
-      break;
-    case SolidType::prism: {
-      json points = json::array();
-      for (Vec2 p : s.points) points.push_back(vec(p));
-      out.update({{"points", points}, {"height", num(s.height)}, {"base", num(s.base)}});
-      break;
-    }
-    case SolidType::mesh: {
-      json vertices = json::array(), faces = json::array();
-      for (Vec3 v : s.vertices) vertices.push_back(vec(v));
-      for (const auto& face : s.faces) {
-        json& out_face = faces.emplace_back(json::array());
-        for (uint32_t index : face) out_face.push_back(num(index));
-      }
-      out.update({{"vertices", vertices}, {"faces", faces}, {"position", vec(s.position)},
-                  {"scale", vec(s.scale)}, {"rotation_y", num(s.rotation_y_deg)},
-                  {"smooth", s.smooth}, {"closed", s.closed}});
-      if (!s.normals.empty()) {  // only when given, so scenes without normals keep their ids
-        json normals = json::array();
-        for (Vec3 n : s.normals) normals.push_back(vec(n));
-        out["normals"] = normals;
-      }
-      break;
-    }
-  }
-}
-
-const char* solid_type_name(SolidType type) {
-  switch (type) {
-    case SolidType::box: return "box";
-    case SolidType::cylinder: return "cylinder";
-    case SolidType::pyramid: return "pyramid";
-    case SolidType::prism: return "prism";
-    case SolidType::mesh: return "mesh";
-  }
-  return "?";
-}
-
-json canonical_solid(const Solid& s) {
-  json out = {{"type", solid_type_name(s.type)}, {"color", rgb(s.color)},
-              {"material", material(s.material)}};
-  if (s.type == SolidType::box || s.type == SolidType::cylinder || s.type == SolidType::pyramid) {
-    out.update({{"center", vec(s.center)}, {"base", num(s.base)}, {"rotation_y", num(s.rotation_y_deg)}});
-  }
-  add_type_members(s, out);
-  return out;
-}
-
-}  // namespace
-
-json canonical_static_json(const StaticGeometry& geometry) {
-  json walls = json::array(), solids = json::array();
-  for (const Wall& w : geometry.walls) walls.push_back(canonical_wall(w));
-  for (const Solid& s : geometry.solids) solids.push_back(canonical_solid(s));
-  return {{"floor", geometry.has_floor ? canonical_floor(geometry.floor) : json(nullptr)},
-          {"walls", walls},
-          {"solids", solids}};
-}
-
-std::string scene_id(const StaticGeometry& geometry) {
-  uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64-bit offset basis and prime
-  for (unsigned char c : canonical_static_json(geometry).dump()) {
-    hash = (hash ^ c) * 0x100000001b3ull;
-  }
-  char hex_digits[17];
-  std::snprintf(hex_digits, sizeof hex_digits, "%016llx", static_cast<unsigned long long>(hash));
-  return hex_digits;
 }
 
 }  // namespace rr

@@ -36,11 +36,4 @@ RenderRequest request_from_json(const nlohmann::json& request, const ParseLimits
 // parse_json_text + request_from_json.
 RenderRequest parse_request(std::string_view text, const ParseLimits& limits = {});
 
-// The static geometry (floor, walls, solids) as canonical JSON: defaults applied, keys sorted, every
-// number a double, so `1` and `1.0` serialise alike. Its hash is the scene id.
-nlohmann::json canonical_static_json(const StaticGeometry& geometry);
-
-// 16 lowercase hex digits: a 64-bit FNV-1a hash of canonical_static_json(geometry).dump().
-std::string scene_id(const StaticGeometry& geometry);
-
 }  // namespace rr

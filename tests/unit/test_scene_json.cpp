@@ -1,6 +1,7 @@
 // scene_json: JSON text -> RenderRequest. Checks the documented defaults (docs/scene-format.md), that
-// every class of error carries its exact kind and JSON Pointer, that hostile bodies (deep nesting,
-// huge images) are refused quickly, and that the scene id ignores number spelling, camera and lights.
+// every class of error carries its exact kind and JSON Pointer, and that hostile bodies (deep nesting,
+// huge images) are refused quickly. The scene id's properties are tested in test_scene_id.cpp.
+#include "render/core/scene_id.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
@@ -458,65 +459,6 @@ TEST(SceneJsonMalformed, InvalidUtf8) {
   // The detail goes into a JSON problem body, so it must itself be valid UTF-8.
   EXPECT_NO_THROW((void)json(f.detail).dump()) << f.detail;
   expect_error("{\"scene\":{\"\xC0\xAF\":1}}", Kind::malformed, "");
-}
-
-// --- canonical JSON and scene id -----------------------------------------------------------------------
-
-std::string id_of(const std::string& text) { return scene_id(parse_request(text).scene.geometry); }
-
-TEST(SceneId, NumberSpellingDoesNotMatter) {
-  EXPECT_EQ(id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0],"height":3}]}})"),
-            id_of(R"({"scene":{"walls":[{"start":[0.0,0e0],"end":[4.0,0],"height":3.0}]}})"));
-  // Spelled-out defaults equal omitted ones.
-  EXPECT_EQ(id_of(R"({"scene":{"floor":{"cells":[2,2]}}})"),
-            id_of(R"({"scene":{"floor":{"cells":[2,2],"cell_size":1,"colors":["#D9D4C7","#8c8579"],
-                                       "material":{"specular":0,"shininess":32}}}})"));
-}
-
-TEST(SceneId, CameraLightsAndBackgroundDoNotMatter) {
-  const std::string walls = R"("walls":[{"start":[0,0],"end":[4,0]}])";
-  EXPECT_EQ(id_of("{\"scene\":{" + walls + "}}"),
-            id_of("{\"scene\":{" + walls + R"(,"background":"#ff0000","ambient":{"intensity":1},
-                  "lights":[{"type":"point","position":[0,2,0]}]},
-                  "camera":{"position":[3,3,3]},"options":{"width":10}})"));
-}
-
-TEST(SceneId, GeometryChangesDoMatter) {
-  std::string base = id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0]}]}})");
-  EXPECT_NE(base, id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0.5]}]}})"));
-  EXPECT_NE(base, id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0],"color":"#000000"}]}})"));
-  EXPECT_NE(base, id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0]}],"floor":{"cells":[1,1]}}})"));
-  EXPECT_EQ(base.size(), 16u);
-  EXPECT_EQ(base.find_first_not_of("0123456789abcdef"), std::string::npos) << base;
-}
-
-// Every number in the canonical form is a double, whatever the request spelled.
-bool all_numbers_are_doubles(const json& j) {
-  if (j.is_number()) return j.is_number_float();
-  if (j.is_structured()) {
-    for (const json& child : j) {
-      if (!all_numbers_are_doubles(child)) return false;
-    }
-  }
-  return true;
-}
-
-TEST(SceneId, CanonicalJsonHoldsStaticGeometryOnly) {
-  RenderRequest r = parse_request(R"({"scene":{"floor":{"cells":[2,3]},
-    "walls":[{"start":[0,0],"end":[5,0],"id":"north","openings":[{"type":"door","offset":1,"width":1}]}],
-    "solids":[{"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2]]},
-              {"type":"cylinder","center":[0,0],"radius":1,"height":1}],
-    "lights":[{"type":"directional"}]}})");
-  json canonical = canonical_static_json(r.scene.geometry);
-  EXPECT_TRUE(all_numbers_are_doubles(canonical)) << canonical.dump();
-  EXPECT_EQ(canonical.size(), 3u);
-  EXPECT_TRUE(canonical.contains("floor") && canonical.contains("walls") && canonical.contains("solids"));
-  EXPECT_EQ(canonical["floor"]["cells"], json({2.0, 3.0}));
-  EXPECT_FALSE(canonical["walls"][0].contains("id"));
-  EXPECT_EQ(canonical["walls"][0]["openings"][0]["type"], "door");
-  EXPECT_EQ(canonical["solids"][0]["faces"], json({{0.0, 1.0, 2.0}}));
-  EXPECT_EQ(canonical["solids"][1]["segments"], 32.0);
-  EXPECT_EQ(canonical_static_json(StaticGeometry{})["floor"], json(nullptr));
 }
 
 // --- pointers ------------------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 // Pixel tolerances are in 8-bit levels: to_byte rounds, so an exact value is within 0.5 level; 1
 // level more absorbs the float per-pixel path.
 #include "render/core/polygon_ops.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/shadow.hpp"
 #include "support/render_helpers.hpp"

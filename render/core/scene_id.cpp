@@ -1,0 +1,93 @@
+// The canonical binary form that scene_id() hashes, in struct member order:
+// - numbers (double, and float widened exactly to double) as their IEEE-754 bits, least significant
+//   byte first, with -0.0 folded into 0.0; ints as 64-bit two's complement; mesh face indices as
+//   32 bits (their type, and most of a large mesh's bytes); bools as one byte;
+// - enums (opening and solid types) as their integer in scene.hpp's declaration order;
+// - every vector prefixed by its length (64 bits), so [[1,2],[3]] and [[1],[2,3]] differ;
+// - names (`id` members) left out: they label warnings but draw nothing; the floor only when present.
+// Every member of a solid is hashed, whatever its type reads: the parser leaves the members a type
+// does not read at their defaults, so they cannot split one scene's id, and no member the tessellator
+// reads can be forgotten. The structured bindings name every member, so a member added to one of
+// these structs stops this file compiling until it is hashed here (or deliberately skipped).
+#include "render/core/scene_id.hpp"
+
+#include "render/core/hash.hpp"
+
+#include <bit>
+#include <vector>
+
+namespace rr {
+
+namespace {
+
+void add(Fnv1a& h, double v) { h.add_u64(std::bit_cast<uint64_t>(v == 0.0 ? 0.0 : v)); }
+void add(Fnv1a& h, float v) { add(h, double(v)); }
+void add(Fnv1a& h, int v) { h.add_u64(uint64_t(int64_t(v))); }
+void add(Fnv1a& h, uint32_t v) { h.add_u32(v); }
+void add(Fnv1a& h, bool v) { h.add_u8(v ? 1 : 0); }
+void add(Fnv1a& h, OpeningType v) { h.add_u64(uint64_t(v)); }
+void add(Fnv1a& h, SolidType v) { h.add_u64(uint64_t(v)); }
+void add(Fnv1a& h, Vec2 v) { add(h, v.x); add(h, v.y); }
+void add(Fnv1a& h, Vec3 v) { add(h, v.x); add(h, v.y); add(h, v.z); }
+void add(Fnv1a& h, Color c) { add(h, c.r); add(h, c.g); add(h, c.b); }
+void add(Fnv1a& h, const MaterialParams& m);
+void add(Fnv1a& h, const Opening& o);
+void add(Fnv1a& h, const Wall& w);
+void add(Fnv1a& h, const Solid& s);
+
+template <class T>
+void add(Fnv1a& h, const std::vector<T>& items) {
+  h.add_u64(items.size());
+  for (const T& item : items) add(h, item);
+}
+
+void add(Fnv1a& h, const MaterialParams& m) {
+  const auto& [specular, specular_color, shininess] = m;
+  add(h, specular); add(h, specular_color); add(h, shininess);
+}
+
+void add(Fnv1a& h, const Floor& f) {
+  const auto& [id, origin, cells_x, cells_z, cell_size, elevation, colors, material] = f;
+  (void)id;
+  add(h, origin); add(h, cells_x); add(h, cells_z); add(h, cell_size); add(h, elevation);
+  add(h, colors); add(h, material);
+}
+
+void add(Fnv1a& h, const Opening& o) {
+  const auto& [type, id, offset, width, height, sill, color, opacity, leaf] = o;
+  (void)id;
+  add(h, type); add(h, offset); add(h, width); add(h, height); add(h, sill); add(h, color);
+  add(h, opacity); add(h, leaf);
+}
+
+void add(Fnv1a& h, const Wall& w) {
+  const auto& [id, start, end, thickness, height, base, color, material, openings] = w;
+  (void)id;
+  add(h, start); add(h, end); add(h, thickness); add(h, height); add(h, base); add(h, color);
+  add(h, material); add(h, openings);
+}
+
+void add(Fnv1a& h, const Solid& s) {
+  const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments,
+               smooth, caps, points, vertices, faces, normals, position, scale, closed] = s;
+  (void)id;
+  add(h, type); add(h, color); add(h, material);
+  add(h, center); add(h, base); add(h, rotation_y_deg); add(h, size);
+  add(h, radius); add(h, height); add(h, segments); add(h, smooth); add(h, caps);
+  add(h, points); add(h, vertices); add(h, faces); add(h, normals);
+  add(h, position); add(h, scale); add(h, closed);
+}
+
+}  // namespace
+
+std::string scene_id(const StaticGeometry& geometry) {
+  const auto& [has_floor, floor, walls, solids] = geometry;
+  Fnv1a h;
+  h.add_bytes("roomrender static geometry 1");  // names this encoding; changed when it changes
+  add(h, has_floor);
+  if (has_floor) add(h, floor);
+  add(h, walls); add(h, solids);
+  return hex64(h.value());
+}
+
+}  // namespace rr
