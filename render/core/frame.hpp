@@ -92,14 +92,15 @@ using BspCache = SharedLruCache<BspTree>;  // keyed by scene id + BSP options, s
 struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
 using ShadowCache = SharedLruCache<ShadowMaps>;  // keyed by scene id + lights + map options (+ view)
 
-// What outlives one render and is shared across requests (all optional).
+// What one render is given besides the scene and the view (all optional): what outlives it and is
+// shared across requests (caches, cancellation), how to run it, and what its caller measured first.
 struct RenderContext {
   BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
   const CancelToken* cancel = nullptr;   // null: never cancelled
   std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
   ShadowCache* shadow_cache = nullptr;   // null: every frame with shadows runs its own shadow pass
   bool shadow_mask = false;              // fill Frame::shadow_mask (error measures); off: no cost
-  unsigned threads = 1;                  // threads drawing one frame's tiles and encoding its PNG (the output does not depend on it)
+  unsigned threads = 1;                  // threads drawing the tiles and encoding the PNG (output does not depend on it)
   bool encode = true;                    // false: render() leaves the PNG empty (bench-render's frames)
   // What the caller measured for this request before calling render(), carried into its report.
   // render() adds its own time to before_ms, so total = parse start -> encode end, less queue.
