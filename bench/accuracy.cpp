@@ -131,7 +131,7 @@ ordered_json run_row(const BenchScene& scene, const rr::bench::BenchConfig& conf
 
 // Every configuration on one scene; prints one progress line per run to stderr.
 void bench_scene(const BenchScene& scene, const Args& args, ordered_json& runs) {
-  const std::string id = rr::scene_id(scene.request.scene.geometry);
+  const std::string id = scene.prepared.static_id;
   ReferenceCache references{scene, id, args.timeout_s, {}};
   for (rr::bench::BenchConfig config : rr::bench::make_configs(scene)) {
     config.options.width = scene.request.options.width;
@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
     ordered_json scenes = ordered_json::array(), runs = ordered_json::array();
     for (const BenchScene& scene : rr::bench::load_suite(args.suite)) {
       scenes.push_back({{"name", scene.name}, {"class", scene.scene_class}, {"source", scene.source},
-                        {"polygons", scene.soup.polygons.size()}, {"lights", scene.request.scene.lights.size()},
+                        {"polygons", scene.prepared.soup.polygons.size()}, {"lights", scene.prepared.scene.lights.size()},
                         {"light_added", scene.light_added}, {"camera", scene.camera_note},
                         {"large", rr::bench::is_large(scene)},
                         {"few_shadow_settings", rr::bench::has_few_shadow_settings(scene)}});

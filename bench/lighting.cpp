@@ -3,7 +3,9 @@
 // median over --frames frames of every stage of the whole request path (parse, tessellate, shadow,
 // raster, shade, encode, total). Per-pixel shading runs inside the rasterizer's loop, so Phong's
 // cost shows in `raster`; `shade` is the per-polygon preparation. Writes JSON to --out.
-#include "render/pipelines/pipeline.hpp"
+#include "render/core/timer.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +31,18 @@ double median(std::vector<double> v) {
 }
 
 double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
+
+// One request as `roomrender render` takes it: parse, prepare_scene, render() (total: parse -> encode).
+rr::RenderOutcome render_text(const std::string& text) {
+  rr::Stopwatch total, parse_clock;
+  rr::RenderRequest request = rr::parse_request(text);
+  rr::RenderContext context;
+  context.parse_ms = parse_clock.elapsed_ms();
+  const rr::PreparedScene scene = rr::prepare_scene(std::move(request.scene));
+  context.tessellate_ms = scene.tessellate_ms;
+  context.before_ms = total.elapsed_ms();
+  return rr::render(request, scene, context);
+}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -75,13 +89,13 @@ int main(int argc, char** argv) {
       request["options"]["shading"] = shading;
       request["options"]["shadows"] = shadows;
       const std::string text = request.dump();
-      rr::render_request_text(text);  // warm-up: page in the code and the allocator
+      render_text(text);  // warm-up: page in the code and the allocator
       std::vector<std::vector<double>> times(std::size(stages));
       rr::RenderStats stats;
       for (int f = 0; f < frames; ++f) {
-        rr::EncodedRender r = rr::render_request_text(text);
-        for (size_t s = 0; s < std::size(stages); ++s) times[s].push_back(r.result.timings.*stages[s].field);
-        stats = r.result.stats;
+        const rr::RenderOutcome r = render_text(text);
+        for (size_t s = 0; s < std::size(stages); ++s) times[s].push_back(r.report.timings.*stages[s].field);
+        stats = r.report.stats;
       }
       json medians = json::object();
       std::printf("%-8s %-8s", shading, shadows ? "on" : "off");

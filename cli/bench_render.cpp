@@ -1,15 +1,15 @@
 // bench-render's frame loop and report (see bench_render.hpp).
 #include "cli/bench_render.hpp"
 
-#include "render/core/scene_id.hpp"
 #include "render/core/timer.hpp"
+#include "render/scene_io/report_json.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace rr::cli {
 
-BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, const BenchRun& run) {
+BenchReport bench_frames(const RenderRequest& request, const PreparedScene& scene, const BenchRun& run) {
   BenchReport report;
   // The cache lives for this run only; with run.bsp_cache the warm-up frames fill it as the first
   // request for a scene fills the service's.
@@ -17,21 +17,15 @@ BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, 
   ShadowCache shadow_cache(size_t{1} << 30);
   RenderContext context;
   context.threads = run.threads;
+  context.encode = false;  // frames are measured up to the image; encoding is bench/png.cpp's
   if (run.bsp_cache) context.bsp_cache = &bsp_cache;
   if (run.shadow_cache && request.options.shadows) context.shadow_cache = &shadow_cache;
-  if (context.bsp_cache || context.shadow_cache) {
-    // The cache key. Hashing the geometry takes about 0.4 s for a 10^6-polygon scene, so it is
-    // computed only when a cache needs it, and once, not per frame.
-    context.scene_id = scene_id(request.scene.geometry);
-  }
-  for (int i = 0; i < run.warmup; ++i) {
-    render_frame(request.scene, soup, request.camera, request.options, context);
-  }
+  for (int i = 0; i < run.warmup; ++i) render(request, scene, context);
   for (int i = 0; i < run.frames; ++i) {
     Stopwatch clock;
-    RenderResult result = render_frame(request.scene, soup, request.camera, request.options, context);
+    RenderOutcome result = render(request, scene, context);
     report.frame_ms.push_back(clock.elapsed_ms());
-    report.stages.push_back(result.timings);
+    report.stages.push_back(result.report.timings);
     if (i + 1 == run.frames) report.last = std::move(result);
   }
   return report;
@@ -73,8 +67,8 @@ nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchR
                           {"shade", stage_median(field(&StageTimings::shade_ms))},
                           {"other", stage_median(other)},
                           {"total", stage_median(field(&StageTimings::total_ms))}};
-  // The last frame's counts, in the service's own format (timings_json is the one writer of it).
-  auto last = nlohmann::ordered_json::parse(timings_json(report.last.timings, report.last.stats));
+  // The last frame's counts, in the service's own format (report_json is the one writer of it).
+  const nlohmann::ordered_json last = report_json(report.last.report);
   for (const char* key : {"counts", "shadow", "painter", "bsp"}) {
     if (last.contains(key)) j[key] = last[key];
   }

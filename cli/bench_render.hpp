@@ -1,10 +1,10 @@
-// The measuring core of `roomrender bench-render`: renders one tessellated scene K times (after
-// untimed warm-up frames) exactly as the service would, and reports the wall-clock frame time
+// The measuring core of `roomrender bench-render`: renders one prepared scene K times (after
+// untimed warm-up frames) through render(), as the service does but without encoding, and reports the wall-clock frame time
 // (min / median / max) and the median of every stage in StageTimings. Parsing and tessellation are
 // not frame work: the caller times its own setup. Output is one JSON object (cli.cpp prints it).
 #pragma once
 
-#include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/render.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -26,19 +26,19 @@ struct BenchRun {
 };
 
 struct BenchReport {
-  std::vector<double> frame_ms;      // wall-clock of each timed render_frame call
+  std::vector<double> frame_ms;      // wall-clock of each timed render() call
   std::vector<StageTimings> stages;  // each timed frame's own stage timings
-  RenderResult last;                 // the last frame, for --out and --ids
+  RenderOutcome last;                // the last frame (no PNG), for --out and --ids
 };
 
-BenchReport bench_frames(const RenderRequest& request, const PolygonSoup& soup, const BenchRun& run);
+BenchReport bench_frames(const RenderRequest& request, const PreparedScene& scene, const BenchRun& run);
 
 // Median of a non-empty list; the mean of the middle two for an even count (the peer harness,
 // bench/peer/osmesa_bench.cpp, uses the same definition).
 double median_of(std::vector<double> values);
 
 // {"frames", "warmup", "frame_ms_min", "frame_ms_median", "frame_ms_max", "stage_ms_median": {every
-//  StageTimings stage of render_frame, "other" (total less the stages, per frame), "total"},
+//  StageTimings stage of the frame, "other" (total less the stages, per frame), "total"},
 //  "counts", "shadow" (and "painter" / "bsp" when present): the last frame's counts}.
 nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchRun& run);
 

@@ -7,8 +7,11 @@
 #include "render/scene_io/errors.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/scene_id.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/report_json.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/import/import_files.hpp"
+#include "render/core/png.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
 #include "cli/bench_render.hpp"
@@ -152,18 +155,19 @@ int run_reporting_errors(const std::function<void()>& work) {
 
 // The request text with the command-line overrides written into its "options". Text that is not
 // an object with an object "options" is passed on untouched, so validation reports it as usual.
-std::string apply_overrides(const std::string& text, const ParsedArgs& args) {
+// The request with --width, --height and --pipeline written into its options (before validation,
+// so an override is checked like the member it replaces).
+nlohmann::json apply_overrides(nlohmann::json request, const ParsedArgs& args) {
   auto width = flag(args, "--width"), height = flag(args, "--height"), pipeline = flag(args, "--pipeline");
-  if (!width && !height && !pipeline) return text;
-  nlohmann::json request = parse_json_text(text);
-  if (!request.is_object()) return text;
+  if (!width && !height && !pipeline) return request;
+  if (!request.is_object()) return request;
   nlohmann::json& options = request["options"];
   if (options.is_null()) options = nlohmann::json::object();
-  if (!options.is_object()) return text;
+  if (!options.is_object()) return request;
   if (width) options["width"] = parse_any_int(*width, "--width");
   if (height) options["height"] = parse_any_int(*height, "--height");
   if (pipeline) options["pipeline"] = *pipeline;
-  return request.dump();
+  return request;
 }
 
 void write_number(std::string& out, double value) {
@@ -229,15 +233,22 @@ int run_render(std::span<const std::string> argv) {
   return run_reporting_errors([&] {
     std::string text = flag(args, "--obj") ? imported_request_text(args, ImportFormat::obj, *flag(args, "--obj"))
                                            : read_input(args.positional[0]);
+    // total runs from here (parse) to the end of encoding, as the service's does.
+    Stopwatch total, parse_clock;
+    RenderRequest request = request_from_json(apply_overrides(parse_json_text(text), args));
     RenderContext context;
+    context.parse_ms = parse_clock.elapsed_ms();
     context.threads = std::max(1u, std::thread::hardware_concurrency());
-    EncodedRender out = render_request_text(apply_overrides(text, args), context);
+    PreparedScene scene = prepare_scene(std::move(request.scene));
+    context.tessellate_ms = scene.tessellate_ms;
+    context.before_ms = total.elapsed_ms();
+    RenderOutcome out = render(request, scene, context);
     write_output(*flag(args, "--output"), out.png);
-    if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(out.result.frame.ids));
-    nlohmann::ordered_json line = nlohmann::ordered_json::parse(timings_json(out.result.timings, out.result.stats));
-    line["scene_id"] = out.scene_id;
-    line["width"] = out.result.frame.image.width;
-    line["height"] = out.result.frame.image.height;
+    if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(out.frame.ids));
+    nlohmann::ordered_json line = report_json(out.report);
+    line["scene_id"] = out.report.scene_id;
+    line["width"] = out.report.width;
+    line["height"] = out.report.height;
     print_json_line(stdout, line);
   });
 }
@@ -496,11 +507,13 @@ int run_bench_render(std::span<const std::string> argv) {
     std::string input = from_obj ? *flag(args, "--obj") : *flag(args, "--request");
     std::string text = from_obj ? imported_request_text(args, ImportFormat::obj, input) : read_input(input);
     RenderRequest request = request_from_json(apply_bench_overrides(parse_json_text(text), overrides));
-    Stopwatch setup;
-    PolygonSoup soup = tessellate(request.scene.geometry);
-    const double setup_ms = setup.elapsed_ms();
-    BenchReport report = bench_frames(request, soup, run);
-    if (auto out = flag(args, "--out")) write_output(*out, encode_png(report.last.frame.image));
+    const PreparedScene scene = prepare_scene(std::move(request.scene));
+    const PolygonSoup& soup = scene.soup;
+    const double setup_ms = scene.tessellate_ms;
+    BenchReport report = bench_frames(request, scene, run);
+    if (auto out = flag(args, "--out")) {
+      write_output(*out, encode_png(report.last.frame.image, request.options.png_compression, run.threads));
+    }
     if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(report.last.frame.ids));
     nlohmann::ordered_json line = {{"source", from_obj ? "obj" : "request"}, {"input", input},
                                    {"pipeline", pipeline_info(request.options.pipeline).name},

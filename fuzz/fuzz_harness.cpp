@@ -1,13 +1,11 @@
-// The fuzz path (fuzz_harness.hpp): the same stages as render_request_text, with the request shrunk
-// to a tiny render and its variant picked from the input's hash. No state survives between calls.
+// The fuzz path (fuzz_harness.hpp): parse, then prepare_scene and render() as every caller does,
+// with the request shrunk to a tiny render and its variant picked from the input's hash. No state survives between calls.
 #include "fuzz/fuzz_harness.hpp"
 
 #include "render/core/hash.hpp"
 #include "render/core/scene_id.hpp"
 #include "render/scene_io/errors.hpp"
-#include "render/pipelines/pipeline.hpp"
-#include "render/core/png.hpp"
-#include "render/core/tessellate.hpp"
+#include "render/pipelines/render.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -64,11 +62,8 @@ Outcome run_request_bytes(std::string_view bytes, const Variant& variant) {
     return out;
   }
   shrink_for_fuzzing(request, variant);
-  PolygonSoup soup = tessellate(request.scene.geometry);
-  RenderContext context;
-  context.scene_id = scene_id(request.scene.geometry);
-  RenderResult result = render_frame(request.scene, soup, request.camera, request.options, context);
-  out.png = encode_png(result.frame.image, request.options.png_compression, 1);
+  const PreparedScene scene = prepare_scene(std::move(request.scene));
+  out.png = render(request, scene).png;  // one thread, no caches: nothing survives the call
   out.rendered = true;
   return out;
 }

@@ -84,13 +84,16 @@ void require_admission(ServiceState& state, RenderGate::Admission admission) {
   }
 }
 
-void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, Stopwatch&)>& work) {
+void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, SlotClock&)>& work) {
   CancelToken token;
   token.deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(state.config.render_timeout_ms);
+  Stopwatch queue;
   GateSlot slot(state.gate, token);
+  const double queue_ms = queue.elapsed_ms();
   require_admission(state, slot.admission());
   if (state.config.on_render_admitted) state.config.on_render_admitted();
-  Stopwatch total;
+  SlotClock total;
+  total.queue_ms = queue_ms;
   try {
     work(token, total);
   } catch (const RenderCancelled&) {

@@ -115,11 +115,12 @@ void Metrics::record_request(std::string_view route, std::string_view method, in
   request_seconds_.try_emplace(std::string(route), duration_buckets).first->second.observe(seconds);
 }
 
-void Metrics::record_render(std::string_view pipeline, const std::vector<std::pair<std::string, double>>& stage_ms) {
+void Metrics::record_render(std::string_view pipeline, const StageTimings& timings) {
   std::lock_guard lock(mutex_);
-  for (const auto& [stage, ms] : stage_ms) {
+  for (const StageField& stage : stage_table) {
+    const double ms = timings.*stage.ms;
     if (ms <= 0.0) continue;
-    stage_seconds_.try_emplace({std::string(pipeline), stage}, duration_buckets).first->second.observe(ms / 1000.0);
+    stage_seconds_.try_emplace({std::string(pipeline), stage.name}, duration_buckets).first->second.observe(ms / 1000.0);
   }
 }
 

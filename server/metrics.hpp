@@ -1,6 +1,6 @@
 // The service's counters and histograms, exposed at GET /metrics in the Prometheus text format
 // (version 0.0.4), written by hand. Labels are bounded: routes are the route table's templates (or
-// "unmatched"), methods the few httplib accepts, stages the fixed StageTimings names, pipelines the
+// "unmatched"), methods the few httplib accepts, stages the names of stage_table, pipelines the
 // pipeline table's names. Thread-safe; one Metrics object per Service.
 #pragma once
 
@@ -39,8 +39,8 @@ struct MetricsSnapshot {
 class Metrics {
  public:
   void record_request(std::string_view route, std::string_view method, int status, double seconds);
-  // One render's stages as (name, milliseconds); stages that did not run (0 ms) are not observed.
-  void record_render(std::string_view pipeline, const std::vector<std::pair<std::string, double>>& stage_ms);
+  // One render's stages, named by stage_table; stages that did not run (0 ms) are not observed.
+  void record_render(std::string_view pipeline, const StageTimings& timings);
   void record_rejection(std::string_view reason);  // saturated, expired, deadline, draining
 
   // The whole exposition text, this object's series followed by the snapshot's.

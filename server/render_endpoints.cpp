@@ -1,13 +1,15 @@
 // Render endpoints: POST /v1/render (a whole request), POST /v1/scenes/{id}/render ({camera,
 // options} for a stored scene) and GET /v1/scenes/{id}/render.png (camera and options as query
-// parameters). All three end in draw_and_answer, so a stored scene and the same scene sent inline
-// produce the same bytes. The ETag hashes the renderer version, the scene document, the camera and
+// parameters). All three end in draw_and_answer, which calls render() (render/pipelines/render.hpp)
+// as the CLI does, so a stored scene, the same scene sent inline and `roomrender render` produce the
+// same bytes. The ETag hashes the renderer version, the scene document, the camera and
 // options as sent, and the response media type; a matching If-None-Match answers 304 before drawing.
 #include "server/routes.hpp"
 
-#include "render/core/scene_id.hpp"
 #include "render/core/timer.hpp"
 #include "render/scene_io/element_pointer.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/report_json.hpp"
 #include "server/http_util.hpp"
 #include "server/serve_command.hpp"
 #include "server/problem.hpp"
@@ -30,17 +32,15 @@ using nlohmann::json;
 
 const std::vector<std::string> render_types = {"image/png", "application/json"};
 
-// A render about to be drawn: the scene (stored or parsed from the request) and the view.
+// A render about to be drawn: the prepared scene (stored, or prepared from the request) and the view.
 struct FramePlan {
-  const Scene& scene;
-  const PolygonSoup& soup;
-  const std::string& static_id;
-  const std::vector<PlacementWarning>& warnings;
+  const PreparedScene& scene;
   const RenderRequest& view;  // camera and options (its scene is unused)
   std::string_view scene_pointer;  // where the scene sits in the client's document: "/scene" or ""
   std::string etag;
   double parse_ms = 0.0;
-  double tessellate_ms = 0.0;
+  double tessellate_ms = 0.0;  // 0 for a stored scene: it was prepared when it was stored
+  double before_slot_ms = 0.0;  // spent on this request before it queued for a slot (parse start on)
 };
 
 // The member of a request object, or {} when absent: absent and empty render alike.
@@ -57,20 +57,13 @@ std::string render_etag(const std::string& scene_hash, const json& view, const s
   return "\"" + hash_hex(key) + "\"";
 }
 
-// Stage names and times in the order timings_json reports them, for Server-Timing and metrics.
-std::vector<std::pair<std::string, double>> stage_list(const RenderResult& result) {
-  auto report = nlohmann::ordered_json::parse(timings_json(result.timings, result.stats));
-  std::vector<std::pair<std::string, double>> stages;
-  for (const auto& [name, ms] : report.at("timings_ms").items()) stages.emplace_back(name, ms.get<double>());
-  return stages;
-}
-
-// W3C Server-Timing with every stage, so this header and the CLI's timings name the same stages.
-std::string server_timing(const std::vector<std::pair<std::string, double>>& stages) {
+// W3C Server-Timing with every stage of stage_table, so this header, the JSON answer's timings_ms and
+// the CLI's line name the same stages.
+std::string server_timing(const StageTimings& timings) {
   std::string header;
   char buffer[96];
-  for (const auto& [name, ms] : stages) {
-    std::snprintf(buffer, sizeof buffer, "%s%s;dur=%.3f", header.empty() ? "" : ", ", name.c_str(), ms);
+  for (const StageField& stage : stage_table) {
+    std::snprintf(buffer, sizeof buffer, "%s%s;dur=%.3f", header.empty() ? "" : ", ", stage.name, timings.*stage.ms);
     header += buffer;
   }
   return header;
@@ -87,43 +80,40 @@ json warnings_json(const std::vector<PlacementWarning>& warnings, const Scene& s
 }
 
 void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match, const FramePlan& plan,
-                     const CancelToken& token, Stopwatch& total) {
+                     const CancelToken& token, const SlotClock& clock) {
   check_cancel(&token);
-  RenderContext context{&state.bsp_cache, &token, plan.static_id, &state.shadow_cache};
+  RenderContext context{&state.bsp_cache, &token, plan.scene.static_id, &state.shadow_cache};
   context.threads = render_threads(state.config);  // the server's setting, never the request's
-  RenderResult result = render_frame(plan.scene, plan.soup, plan.view.camera, plan.view.options, context);
-  Stopwatch clock;
-  check_cancel(&token);
-  std::string png = encode_png(result.frame.image);
-  result.timings.parse_ms = plan.parse_ms;
-  result.timings.tessellate_ms = plan.tessellate_ms;
-  result.timings.encode_ms = clock.lap_ms();
-  result.timings.total_ms = total.elapsed_ms();
+  context.queue_ms = clock.queue_ms;
+  context.parse_ms = plan.parse_ms;
+  context.tessellate_ms = plan.tessellate_ms;
+  context.before_ms = plan.before_slot_ms + clock.elapsed_ms();
+  RenderOutcome out = render(plan.view, plan.scene, context);
+  const RenderReport& report = out.report;
 
-  const char* pipeline = pipeline_info(plan.view.options.pipeline).name;
-  auto stages = stage_list(result);
-  state.metrics.record_render(pipeline, stages);
+  const char* pipeline = pipeline_info(report.pipeline).name;
+  state.metrics.record_render(pipeline, report.timings);
   RequestContext& log = request_context();
   log.pipeline = pipeline;
-  log.cache = result.stats.bsp_cache;
+  log.cache = report.stats.bsp_cache;
 
-  res.set_header("Server-Timing", server_timing(stages));
-  if (!result.stats.bsp_cache.empty()) res.set_header("X-Cache", result.stats.bsp_cache);
-  res.set_header("X-Shadow-Cache", result.stats.shadow_cache);
-  res.set_header("X-Warning-Count", std::to_string(plan.warnings.size()));
+  res.set_header("Server-Timing", server_timing(report.timings));
+  if (!report.stats.bsp_cache.empty()) res.set_header("X-Cache", report.stats.bsp_cache);
+  res.set_header("X-Shadow-Cache", report.stats.shadow_cache);
+  res.set_header("X-Warning-Count", std::to_string(plan.scene.warnings.size()));
   if (match.media_type == "application/json") {
-    auto body = nlohmann::ordered_json::parse(timings_json(result.timings, result.stats));
-    body["scene_id"] = plan.static_id;
+    nlohmann::ordered_json body = report_json(report);
+    body["scene_id"] = report.scene_id;
     body["pipeline"] = pipeline;
-    body["width"] = result.frame.image.width;
-    body["height"] = result.frame.image.height;
-    body["cache"] = result.stats.bsp_cache.empty() ? "none" : result.stats.bsp_cache;
+    body["width"] = report.width;
+    body["height"] = report.height;
+    body["cache"] = report.stats.bsp_cache.empty() ? "none" : report.stats.bsp_cache;
     body["etag"] = plan.etag;
-    body["warnings"] = warnings_json(plan.warnings, plan.scene, plan.scene_pointer);
-    body["png_base64"] = base64_encode(png);
+    body["warnings"] = warnings_json(plan.scene.warnings, plan.scene.scene, plan.scene_pointer);
+    body["png_base64"] = base64_encode(out.png);
     res.set_content(body.dump(), "application/json");
   } else {
-    res.body = std::move(png);
+    res.body = std::move(out.png);
     res.set_header("Content-Type", "image/png");
   }
   res.status = 200;
@@ -132,22 +122,19 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
 void handle_render(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   res.set_header("Cache-Control", "no-store");
   res.set_header("Vary", "Accept");
-  with_render_slot(state, [&](const CancelToken& token, Stopwatch& total) {
-    Stopwatch clock;
+  with_render_slot(state, [&](const CancelToken& token, SlotClock& clock) {
+    Stopwatch parse_clock;
     json body = parse_body(state, req);
     RenderRequest request = request_from_json(body, state.config.limits);
-    double parse_ms = clock.lap_ms();
-    std::string static_id = scene_id(request.scene.geometry);
-    request_context().scene_id = static_id;
-    res.set_header("X-Scene-Id", static_id);
+    double parse_ms = parse_clock.elapsed_ms();
     std::string etag = render_etag(hash_hex(member(body, "scene").dump()), body, match.media_type);
-    if (answer_not_modified(req, res, etag)) return;
+    if (answer_not_modified(req, res, etag)) return;  // before the scene is prepared: a 304 costs no tessellation
     check_cancel(&token);
-    clock.lap_ms();
-    PolygonSoup soup = tessellate(request.scene.geometry);
-    std::vector<PlacementWarning> warnings = placement_warnings(request.scene, soup);
-    FramePlan plan{request.scene, soup, static_id, warnings, request, "/scene", etag, parse_ms, clock.lap_ms()};
-    draw_and_answer(state, res, match, plan, token, total);
+    PreparedScene scene = prepare_scene(std::move(request.scene));
+    request_context().scene_id = scene.static_id;
+    res.set_header("X-Scene-Id", scene.static_id);
+    FramePlan plan{scene, request, "/scene", etag, parse_ms, scene.tessellate_ms};
+    draw_and_answer(state, res, match, plan, token, clock);
   });
 }
 
@@ -175,20 +162,20 @@ std::optional<std::pair<RenderRequest, std::string>> read_view(const ServiceStat
 }
 
 void draw_stored(ServiceState& state, Response& res, const RouteMatch& match, const StoredScene& scene,
-                 const std::pair<RenderRequest, std::string>& view, double parse_ms, const CancelToken& token,
-                 Stopwatch& total) {
-  FramePlan plan{scene.scene, scene.soup, scene.static_id, scene.warnings, view.first, "", view.second, parse_ms, 0.0};
-  draw_and_answer(state, res, match, plan, token, total);
+                 const std::pair<RenderRequest, std::string>& view, double parse_ms, double before_slot_ms,
+                 const CancelToken& token, const SlotClock& clock) {
+  FramePlan plan{scene, view.first, "", view.second, parse_ms, 0.0, before_slot_ms};
+  draw_and_answer(state, res, match, plan, token, clock);
 }
 
 void handle_stored_render(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   res.set_header("Cache-Control", "no-store");
   res.set_header("Vary", "Accept");
   auto scene = require_scene(state, match);
-  with_render_slot(state, [&](const CancelToken& token, Stopwatch& total) {
-    Stopwatch clock;
+  with_render_slot(state, [&](const CancelToken& token, SlotClock& clock) {
+    Stopwatch parse_clock;
     auto view = read_view(state, req, res, match, *scene, parse_body(state, req));
-    if (view) draw_stored(state, res, match, *scene, *view, clock.lap_ms(), token, total);
+    if (view) draw_stored(state, res, match, *scene, *view, parse_clock.elapsed_ms(), 0.0, token, clock);
   });
 }
 
@@ -227,6 +214,7 @@ constexpr QueryParam query_params[] = {
     {"shadow_bias", "/options/shadow/bias", ParamKind::number},
     {"shadow_slope_bias", "/options/shadow/slope_bias", ParamKind::number},
     {"shadow_fit", "/options/shadow/fit", ParamKind::text},
+    {"png", "/options/png/compression", ParamKind::text},
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {
@@ -314,14 +302,16 @@ void handle_render_png(ServiceState& state, const Request& req, Response& res, c
   // (until the renderer's version does, which changes the ETag).
   res.set_header("Cache-Control", "public, max-age=31536000, immutable");
   std::optional<std::pair<RenderRequest, std::string>> view;
+  Stopwatch parse_clock;
   try {  // the query is short (httplib bounds the request line), so this runs before admission
     view = read_view(state, req, res, match, *scene, view_from_query(req));
   } catch (const InputError& e) {
     rethrow_for_query(e);
   }
   if (!view) return;  // 304
-  with_render_slot(state, [&](const CancelToken& token, Stopwatch& total) {
-    draw_stored(state, res, match, *scene, *view, 0.0, token, total);
+  const double parse_ms = parse_clock.elapsed_ms();
+  with_render_slot(state, [&](const CancelToken& token, SlotClock& clock) {
+    draw_stored(state, res, match, *scene, *view, parse_ms, parse_ms, token, clock);
   });
 }
 

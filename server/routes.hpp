@@ -87,10 +87,13 @@ bool answer_not_modified(const httplib::Request& req, httplib::Response& res, co
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
 // Throws HttpError 503 (+ Retry-After) unless `admission` is admitted.
 void require_admission(ServiceState& state, RenderGate::Admission admission);
+// A stopwatch started on admission, and how long the request waited for its slot (the `queue` stage).
+struct SlotClock : Stopwatch {
+  double queue_ms = 0.0;
+};
 // Runs `work` holding a render slot, with the configured deadline (counted from arrival, so queueing
-// spends it) in the token and a stopwatch started on admission. Refusals and cancellations become
-// HttpErrors: 503 (saturated, deadline passed in the queue, draining) or 504 (deadline passed while
-// drawing).
-void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, Stopwatch&)>& work);
+// spends it) in the token and a SlotClock. Refusals and cancellations become HttpErrors: 503
+// (saturated, deadline passed in the queue, draining) or 504 (deadline passed while drawing).
+void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, SlotClock&)>& work);
 
 }  // namespace rr::server

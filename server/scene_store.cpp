@@ -80,10 +80,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   auto out = std::make_shared<StoredScene>();
   out->text = document.dump();
   out->id = hash_hex(out->text);
-  out->scene = std::move(parsed.scene);
-  out->soup = tessellate(out->scene.geometry);
-  out->static_id = scene_id(out->scene.geometry);
-  out->warnings = placement_warnings(out->scene, out->soup);
+  static_cast<PreparedScene&>(*out) = rr::prepare_scene(std::move(parsed.scene));
   out->bytes = entry_bytes(*out);
   return out;
 }

@@ -9,9 +9,8 @@
 #pragma once
 
 #include "render/core/lru_cache.hpp"
-#include "render/core/placement.hpp"
+#include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "render/core/tessellate.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -23,13 +22,11 @@
 
 namespace rr::server {
 
-struct StoredScene {
+// The prepared scene (render() draws it as is; its warnings point into the scene document,
+// "/solids/2") with the document it came from.
+struct StoredScene : PreparedScene {
   std::string id;         // hash_hex(text)
   std::string text;       // canonical JSON of the scene document
-  Scene scene;
-  PolygonSoup soup;
-  std::string static_id;  // scene_id(scene.geometry): X-Scene-Id, the BSP cache key
-  std::vector<PlacementWarning> warnings;  // written out relative to the scene document ("/solids/2")
   size_t bytes = 0;       // charged against the store's budget
 };
 

@@ -92,19 +92,25 @@ TimedRender time_render(const BenchScene& scene, const std::string& scene_id, co
                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(timeout_s));
   BspCache bsp_cache(size_t{2} << 30);
   RenderContext context{&bsp_cache, &cancel, scene_id};
-  const RenderRequest& r = scene.request;
+  RenderRequest view = scene.request;
+  view.options = options;
+  context.encode = false;  // frames are measured up to the image, as bench-render's
+  auto frame_of = [&] {
+    RenderOutcome outcome = render(view, scene.prepared, context);
+    return RenderResult{std::move(outcome.frame), outcome.report.timings, std::move(outcome.report.stats)};
+  };
   std::vector<double> frame_ms;
   std::vector<StageTimings> stages;
   try {
     // The warm-up frame builds (and caches) the BSP tree, pages in the buffers and is the frame the
     // error measures use: only it fills the per-pixel shadow mask, which the timed frames skip.
     context.shadow_mask = true;
-    out.last = render_frame(r.scene, scene.soup, r.camera, options, context);
+    out.last = frame_of();
     out.build_ms = out.last.timings.build_ms;
     context.shadow_mask = false;
     for (int i = 0; i < max_frames; ++i) {
       Stopwatch clock;
-      const RenderResult frame = render_frame(r.scene, scene.soup, r.camera, options, context);
+      const RenderResult frame = frame_of();
       frame_ms.push_back(clock.elapsed_ms());
       stages.push_back(frame.timings);
       const double first = frame_ms.front();

@@ -29,9 +29,9 @@ struct BenchConfig {
 // instead of eight.
 constexpr size_t large_scene_polygons = 100'000;
 constexpr size_t many_lights = 4;
-inline bool is_large(const BenchScene& s) { return s.soup.polygons.size() > large_scene_polygons; }
+inline bool is_large(const BenchScene& s) { return s.prepared.soup.polygons.size() > large_scene_polygons; }
 inline bool has_few_shadow_settings(const BenchScene& s) {
-  return is_large(s) || s.request.scene.lights.size() > many_lights;
+  return is_large(s) || s.prepared.scene.lights.size() > many_lights;
 }
 std::vector<BenchConfig> make_configs(const BenchScene& scene);
 

@@ -44,7 +44,7 @@ BenchScene finish(std::string name, std::string scene_class, std::string source,
   }
   request["options"] = {{"width", options.width}, {"height", options.height}};
   scene.request = request_from_json(request);
-  scene.soup = tessellate(scene.request.scene.geometry);
+  scene.prepared = prepare_scene(std::move(scene.request.scene));
   scene.name = std::move(name);
   scene.scene_class = std::move(scene_class);
   scene.source = std::move(source);

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "render/core/scene.hpp"
-#include "render/core/tessellate.hpp"
+#include "render/pipelines/render.hpp"
 
 #include <filesystem>
 #include <string>
@@ -28,8 +28,8 @@ struct BenchScene {
   std::string name;
   std::string scene_class;  // "classic", "rooms", "sh3d", "r2v", "interiors"
   std::string source;       // file it came from (and camera name), for the report
-  RenderRequest request;    // options.width/height set; options otherwise defaults
-  PolygonSoup soup;
+  RenderRequest request;    // camera and options (width/height set; otherwise defaults); scene moved out
+  PreparedScene prepared;   // the scene, tessellated, with its id
   bool light_added = false;  // the source had no light: one default directional light was added
   std::string camera_note;   // how the camera was chosen
 };

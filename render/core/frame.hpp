@@ -10,6 +10,7 @@
 #include "render/core/scene.hpp"
 #include "render/core/tessellate.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 namespace rr {
 
 struct StageTimings {  // wall-clock milliseconds; a stage that did not run stays 0
+  double queue_ms = 0.0;     // waiting for a render slot (the service); not part of total
   double parse_ms = 0.0;
   double tessellate_ms = 0.0;
   double build_ms = 0.0;     // BSP tree build (0 on a cache hit)
@@ -26,8 +28,28 @@ struct StageTimings {  // wall-clock milliseconds; a stage that did not run stay
   double raster_ms = 0.0;
   double shade_ms = 0.0;
   double encode_ms = 0.0;
-  double total_ms = 0.0;
+  double total_ms = 0.0;     // parse -> encode, wall clock, less any queue wait in between
 };
+
+// The one list of stages: the name each is reported under (CLI line, JSON answer, Server-Timing,
+// /metrics, the web page's bars) and its field, in report order. A stage added here appears in all.
+struct StageField {
+  const char* name;
+  double StageTimings::*ms;
+};
+inline constexpr std::array<StageField, 11> stage_table = {{
+    {"queue", &StageTimings::queue_ms},
+    {"parse", &StageTimings::parse_ms},
+    {"tessellate", &StageTimings::tessellate_ms},
+    {"build", &StageTimings::build_ms},
+    {"sort", &StageTimings::sort_ms},
+    {"traverse", &StageTimings::traverse_ms},
+    {"shadow", &StageTimings::shadow_ms},
+    {"raster", &StageTimings::raster_ms},
+    {"shade", &StageTimings::shade_ms},
+    {"encode", &StageTimings::encode_ms},
+    {"total", &StageTimings::total_ms},
+}};
 
 struct RenderStats {
   size_t polygons = 0;         // in the tessellated scene
@@ -70,14 +92,22 @@ using BspCache = SharedLruCache<BspTree>;  // keyed by scene id + BSP options, s
 struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
 using ShadowCache = SharedLruCache<ShadowMaps>;  // keyed by scene id + lights + map options (+ view)
 
-// What outlives one render and is shared across requests (all optional).
+// What one render is given besides the scene and the view (all optional): what outlives it and is
+// shared across requests (caches, cancellation), how to run it, and what its caller measured first.
 struct RenderContext {
   BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
   const CancelToken* cancel = nullptr;   // null: never cancelled
   std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
   ShadowCache* shadow_cache = nullptr;   // null: every frame with shadows runs its own shadow pass
   bool shadow_mask = false;              // fill Frame::shadow_mask (error measures); off: no cost
-  unsigned threads = 1;                  // threads drawing one frame's tiles (the output does not depend on it)
+  unsigned threads = 1;                  // threads drawing the tiles and encoding the PNG (output does not depend on it)
+  bool encode = true;                    // false: render() leaves the PNG empty (bench-render's frames)
+  // What the caller measured for this request before calling render(), carried into its report.
+  // render() adds its own time to before_ms, so total = parse start -> encode end, less queue.
+  double queue_ms = 0.0;       // waiting for a render slot
+  double parse_ms = 0.0;       // request -> RenderRequest
+  double tessellate_ms = 0.0;  // the scene prepared for this request (0 for a stored, prepared one)
+  double before_ms = 0.0;      // wall clock from parse start to the render() call, queue wait excluded
 };
 
 struct FrameInput {

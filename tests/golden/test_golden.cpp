@@ -4,6 +4,7 @@
 // ROOMRENDER_UPDATE_GOLDENS=1 ctest -R golden (then look at every changed image).
 #include "render/pipelines/pipeline.hpp"
 #include "support/golden.hpp"
+#include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -39,7 +40,7 @@ TEST_P(Golden, MatchesCommittedImage) {
   const GoldenCase& c = GetParam();
   nlohmann::json request = nlohmann::json::parse(testing::read_file(testing::examples_dir() / (c.example + ".json")));
   request["options"]["pipeline"] = c.pipeline;
-  EncodedRender render = render_request_text(request.dump());
+  rr::testing::TextRender render = rr::testing::render_text(request.dump());
   testing::expect_matches_golden(c.example + "." + c.pipeline, render.png, render.result.frame.image);
 }
 

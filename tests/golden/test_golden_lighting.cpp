@@ -6,6 +6,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/shading.hpp"
 #include "support/golden.hpp"
+#include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -66,7 +67,7 @@ TEST_P(GoldenLighting, MatchesCommittedImage) {
   request["options"]["shadows"] = c.shadows;
   request["options"]["width"] = 320;
   request["options"]["height"] = 240;
-  EncodedRender render = render_request_text(request.dump());
+  rr::testing::TextRender render = rr::testing::render_text(request.dump());
   EXPECT_EQ(render.result.stats.shadow_skipped, !c.shadows);  // every room casts something
   testing::expect_matches_golden("lighting/" + c.name(), render.png, render.result.frame.image);
 }

@@ -3,6 +3,7 @@
 // camera exactly on a wall's plane, grazing views. Each must render without crash, hang, NaN or a
 // hole, with a stated bound on the error against the reference; plus run-to-run determinism.
 #include "stress/stress_support.hpp"
+#include "support/render_helpers.hpp"
 
 #include <cstdio>
 
@@ -150,8 +151,8 @@ TEST(StressDeterminism, SameRequestGivesByteIdenticalPngs) {
   request["options"]["shadows"] = true;
   for (const PipelineInfo& p : pipeline_table()) {
     request["options"]["pipeline"] = p.name;
-    const std::string first = render_request_text(request.dump()).png;
-    for (int run = 0; run < 2; ++run) EXPECT_EQ(render_request_text(request.dump()).png, first) << p.name << " run " << run;
+    const std::string first = rr::testing::render_text(request.dump()).png;
+    for (int run = 0; run < 2; ++run) EXPECT_EQ(rr::testing::render_text(request.dump()).png, first) << p.name << " run " << run;
   }
 }
 

@@ -4,11 +4,14 @@
 
 #include "render/core/camera.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <optional>
+#include <string>
+#include <string_view>
 
 namespace rr::testing {
 
@@ -25,6 +28,25 @@ inline SceneRender render_json(const nlohmann::json& request) {
   out.soup = tessellate(out.request.scene.geometry);
   out.view = make_view(out.request.camera, out.request.options.width, out.request.options.height);
   out.result = render_frame(out.request.scene, out.soup, out.request.camera, out.request.options);
+  return out;
+}
+
+// A request's JSON text through the path every caller takes: parse_request, prepare_scene, render().
+struct TextRender {
+  RenderRequest request;  // camera and options (the scene was moved into the prepared scene)
+  RenderResult result;    // the frame with the report's timings and stats
+  std::string png;        // in the request's PNG mode
+  std::string scene_id;
+};
+
+inline TextRender render_text(std::string_view text, const RenderContext& context = {}) {
+  TextRender out;
+  out.request = parse_request(text);
+  const PreparedScene scene = prepare_scene(std::move(out.request.scene));
+  RenderOutcome rendered = render(out.request, scene, context);
+  out.result = {std::move(rendered.frame), rendered.report.timings, std::move(rendered.report.stats)};
+  out.png = std::move(rendered.png);
+  out.scene_id = rendered.report.scene_id;
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include "render/pipelines/bsp.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -75,8 +76,8 @@ TEST(Bsp, SecondCameraHitsTheCacheAndBuildsNothing) {
   json second = first;
   second["camera"]["position"] = {1.0, 6.0, 9.0};
   RenderContext context{&cache, nullptr, ""};
-  EncodedRender a = render_request_text(first.dump(), context);
-  EncodedRender b = render_request_text(second.dump(), context);
+  rr::testing::TextRender a = rr::testing::render_text(first.dump(), context);
+  rr::testing::TextRender b = rr::testing::render_text(second.dump(), context);
   EXPECT_EQ(a.result.stats.bsp_cache, "miss");
   EXPECT_GT(a.result.timings.build_ms, 0.0);
   EXPECT_EQ(b.result.stats.bsp_cache, "hit");
@@ -86,7 +87,7 @@ TEST(Bsp, SecondCameraHitsTheCacheAndBuildsNothing) {
   EXPECT_NE(a.png, b.png);  // a different view of the same tree
   // Other BSP options shape another tree: a miss again.
   second["options"]["bsp"] = {{"w2", 8}};
-  EXPECT_EQ(render_request_text(second.dump(), context).result.stats.bsp_cache, "miss");
+  EXPECT_EQ(rr::testing::render_text(second.dump(), context).result.stats.bsp_cache, "miss");
   EXPECT_EQ(cache.stats().builds, 2u);
 }
 
@@ -98,7 +99,7 @@ TEST(Bsp, EightSimultaneousFirstRequestsBuildOnce) {
   std::vector<std::string> pngs(8);
   std::vector<std::thread> threads;
   for (size_t t = 0; t < pngs.size(); ++t) {
-    threads.emplace_back([&, t] { pngs[t] = render_request_text(text, RenderContext{&cache, nullptr, ""}).png; });
+    threads.emplace_back([&, t] { pngs[t] = rr::testing::render_text(text, RenderContext{&cache, nullptr, ""}).png; });
   }
   for (auto& th : threads) th.join();
   EXPECT_EQ(cache.stats().builds, 1u);

@@ -9,6 +9,7 @@
 #include "render/pipelines/painter_detail.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "render/scene_io/report_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -22,6 +23,14 @@
 
 namespace rr {
 namespace {
+
+// report_json of a report holding only these timings and stats, as text.
+std::string report_text(const StageTimings& timings, const RenderStats& stats) {
+  RenderReport report;
+  report.timings = timings;
+  report.stats = stats;
+  return report_json(report).dump();
+}
 
 using json = nlohmann::json;
 
@@ -340,7 +349,7 @@ TEST(Painter, StatsAreReported) {
   EXPECT_EQ(s.polygons, 51u);
   EXPECT_GT(s.polygons_drawn, s.polygons - s.polygons_culled);  // pieces are drawn one by one
   EXPECT_GT(s.fragments, 0u);
-  std::string j = timings_json(painted.result.timings, s);
+  std::string j = report_text(painted.result.timings, s);
   EXPECT_NE(j.find("\"painter\":{\"pairs_tested\":"), std::string::npos) << j;
   EXPECT_NE(j.find("\"budget_exhausted\":false"), std::string::npos) << j;
   // A scene that needs no split reports none, and mean never tests pairs.
@@ -367,7 +376,7 @@ TEST(Painter, ReachedWorkBoundIsReportedInTheStats) {
   json request = request_with(solids, {{"position", {0.4, 0.3, 4.0}}, {"target", {0.0, 0.0, 0.0}}}, 64, 48);
   Rendered painted = render(request, "painter", "newell");
   EXPECT_TRUE(painted.stats().painter_budget_exhausted) << painted.stats().painter_splits << " splits";
-  std::string j = timings_json(painted.result.timings, painted.stats());
+  std::string j = report_text(painted.result.timings, painted.stats());
   EXPECT_NE(j.find("\"budget_exhausted\":true"), std::string::npos) << j;
 }
 

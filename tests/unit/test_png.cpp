@@ -5,6 +5,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/png.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -84,7 +85,7 @@ Image rendered_example(const std::string& name, int width, int height) {
   nlohmann::json request = nlohmann::json::parse(testing::read_file(testing::examples_dir() / (name + ".json")));
   request["options"]["width"] = width;
   request["options"]["height"] = height;
-  return render_request_text(request.dump()).result.frame.image;
+  return rr::testing::render_text(request.dump()).result.frame.image;
 }
 
 void expect_round_trip(const Image& image, const std::string& what) {

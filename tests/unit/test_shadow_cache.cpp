@@ -6,6 +6,7 @@
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/shadow.hpp"
 #include "render/pipelines/shadow_cache.hpp"
+#include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -30,9 +31,9 @@ json shadowed(const std::string& stem, const std::string& fit) {
 }
 
 // The same frame rendered with no cache at all: its own shadow pass.
-EncodedRender uncached(const json& request) { return render_request_text(request.dump()); }
+rr::testing::TextRender uncached(const json& request) { return rr::testing::render_text(request.dump()); }
 
-void expect_same_frame(const EncodedRender& a, const EncodedRender& b) {
+void expect_same_frame(const rr::testing::TextRender& a, const rr::testing::TextRender& b) {
   EXPECT_EQ(a.result.frame.image.rgb, b.result.frame.image.rgb);
   EXPECT_EQ(a.result.frame.ids.ids, b.result.frame.ids.ids);
   EXPECT_EQ(a.png, b.png);
@@ -46,8 +47,8 @@ TEST(ShadowCache, SceneFitServesASecondCameraWithNoShadowPass) {
     json first = shadowed(stem, "scene");
     json second = first;
     second["camera"]["position"] = {1.0, 1.7, 1.0};
-    EncodedRender a = render_request_text(first.dump(), context);
-    EncodedRender b = render_request_text(second.dump(), context);
+    rr::testing::TextRender a = rr::testing::render_text(first.dump(), context);
+    rr::testing::TextRender b = rr::testing::render_text(second.dump(), context);
     EXPECT_EQ(a.result.stats.shadow_cache, "miss");
     EXPECT_EQ(a.result.stats.shadow_passes, 1u);
     EXPECT_FALSE(a.result.stats.shadow_skipped);
@@ -68,18 +69,18 @@ TEST(ShadowCache, ViewFitIsReusedOnlyForTheSameView) {
   ShadowCache cache(256u << 20);
   const RenderContext context{nullptr, nullptr, "", &cache};
   json request = shadowed("studio", "view");
-  EXPECT_EQ(render_request_text(request.dump(), context).result.stats.shadow_cache, "miss");
+  EXPECT_EQ(rr::testing::render_text(request.dump(), context).result.stats.shadow_cache, "miss");
   // Another shading mode and image size of the same aspect: the same maps.
   json same_view = request;
   same_view["options"]["shading"] = "gouraud";
   same_view["options"]["width"] = 480;
   same_view["options"]["height"] = 360;
-  EncodedRender hit = render_request_text(same_view.dump(), context);
+  rr::testing::TextRender hit = rr::testing::render_text(same_view.dump(), context);
   EXPECT_EQ(hit.result.stats.shadow_cache, "hit");
   expect_same_frame(hit, uncached(same_view));
   json moved = request;
   moved["camera"]["position"] = {1.0, 1.7, 1.0};
-  EXPECT_EQ(render_request_text(moved.dump(), context).result.stats.shadow_cache, "miss");
+  EXPECT_EQ(rr::testing::render_text(moved.dump(), context).result.stats.shadow_cache, "miss");
   EXPECT_EQ(cache.stats().builds, 2u);
 }
 
@@ -87,23 +88,23 @@ TEST(ShadowCache, AMovedLightMissesARecolouredOneHits) {
   ShadowCache cache(256u << 20);
   const RenderContext context{nullptr, nullptr, "", &cache};
   json request = shadowed("studio", "scene");
-  EXPECT_EQ(render_request_text(request.dump(), context).result.stats.shadow_cache, "miss");
+  EXPECT_EQ(rr::testing::render_text(request.dump(), context).result.stats.shadow_cache, "miss");
   // The pass reads a light's direction, not its colour or (non-zero) intensity.
   json recoloured = request;
   recoloured["scene"]["lights"][0]["color"] = "#ff8040";
   recoloured["scene"]["lights"][0]["intensity"] = 0.5;
-  EncodedRender hit = render_request_text(recoloured.dump(), context);
+  rr::testing::TextRender hit = rr::testing::render_text(recoloured.dump(), context);
   EXPECT_EQ(hit.result.stats.shadow_cache, "hit");
   expect_same_frame(hit, uncached(recoloured));
   json moved = request;
   moved["scene"]["lights"][0]["direction"] = {0.4, -1.0, -0.6};
-  EncodedRender miss = render_request_text(moved.dump(), context);
+  rr::testing::TextRender miss = rr::testing::render_text(moved.dump(), context);
   EXPECT_EQ(miss.result.stats.shadow_cache, "miss");
   expect_same_frame(miss, uncached(moved));
   // Map options enter the key too.
   json sharper = request;
   sharper["options"]["shadow"]["size"] = 2048;
-  EXPECT_EQ(render_request_text(sharper.dump(), context).result.stats.shadow_cache, "miss");
+  EXPECT_EQ(rr::testing::render_text(sharper.dump(), context).result.stats.shadow_cache, "miss");
   EXPECT_EQ(cache.stats().builds, 3u);
 }
 
@@ -112,7 +113,7 @@ TEST(ShadowCache, NoMapsWantedMeansNoLookup) {
   const RenderContext context{nullptr, nullptr, "", &cache};
   json request = shadowed("studio", "scene");
   request["options"]["shadows"] = false;
-  EncodedRender off = render_request_text(request.dump(), context);
+  rr::testing::TextRender off = rr::testing::render_text(request.dump(), context);
   EXPECT_EQ(off.result.stats.shadow_cache, "none");
   EXPECT_EQ(off.result.stats.shadow_passes, 0u);
   EXPECT_EQ(cache.stats().hits + cache.stats().misses, 0u);
@@ -121,15 +122,15 @@ TEST(ShadowCache, NoMapsWantedMeansNoLookup) {
 TEST(ShadowCache, EightSimultaneousFirstRequestsRunOnePass) {
   ShadowCache cache(256u << 20);
   const std::string text = shadowed("apartment", "scene").dump();
-  std::vector<EncodedRender> renders(8);
+  std::vector<rr::testing::TextRender> renders(8);
   std::vector<std::thread> threads;
   for (size_t t = 0; t < renders.size(); ++t) {
-    threads.emplace_back([&, t] { renders[t] = render_request_text(text, RenderContext{nullptr, nullptr, "", &cache}); });
+    threads.emplace_back([&, t] { renders[t] = rr::testing::render_text(text, RenderContext{nullptr, nullptr, "", &cache}); });
   }
   for (auto& th : threads) th.join();
   EXPECT_EQ(cache.stats().builds, 1u);
   size_t passes = 0;
-  for (const EncodedRender& r : renders) {
+  for (const rr::testing::TextRender& r : renders) {
     passes += r.result.stats.shadow_passes;
     EXPECT_EQ(r.png, renders[0].png);
   }

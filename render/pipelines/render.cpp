@@ -1,0 +1,52 @@
+// render() and prepare_scene() (see render.hpp): the frame from render_frame, the PNG from
+// encode_png in the request's mode, and the request's stage timings gathered into one report.
+#include "render/pipelines/render.hpp"
+
+#include "render/core/png.hpp"
+#include "render/core/timer.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"  // scene_id
+
+#include <algorithm>
+
+namespace rr {
+
+PreparedScene prepare_scene(Scene scene, const std::string& scene_pointer) {
+  PreparedScene out;
+  out.scene = std::move(scene);
+  Stopwatch clock;
+  out.soup = tessellate(out.scene.geometry);
+  out.tessellate_ms = clock.elapsed_ms();
+  out.static_id = scene_id(out.scene.geometry);
+  out.warnings = placement_warnings(out.scene, out.soup, {}, scene_pointer);
+  return out;
+}
+
+RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, const RenderContext& context) {
+  Stopwatch clock;
+  RenderContext frame_context = context;
+  if (frame_context.scene_id.empty()) frame_context.scene_id = scene.static_id;
+  RenderResult result = render_frame(scene.scene, scene.soup, view.camera, view.options, frame_context);
+  RenderOutcome out;
+  out.frame = std::move(result.frame);
+  RenderReport& report = out.report;
+  report.stats = std::move(result.stats);
+  report.timings = result.timings;
+  if (context.encode) {
+    check_cancel(context.cancel);
+    Stopwatch encode_clock;
+    out.png = encode_png(out.frame.image, view.options.png_compression, std::max(1u, context.threads));
+    report.timings.encode_ms = encode_clock.elapsed_ms();
+  }
+  report.timings.queue_ms = context.queue_ms;
+  report.timings.parse_ms = context.parse_ms;
+  report.timings.tessellate_ms = context.tessellate_ms;
+  report.timings.total_ms = context.before_ms + clock.elapsed_ms();
+  report.scene_id = frame_context.scene_id;
+  report.pipeline = view.options.pipeline;
+  report.width = out.frame.image.width;
+  report.height = out.frame.image.height;
+  return out;
+}
+
+}  // namespace rr

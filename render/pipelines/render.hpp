@@ -1,0 +1,46 @@
+// The one path from a parsed request to PNG bytes, used by the CLI, the service, bench-render, the
+// fuzz harness and the benches. In: the view (camera + options of a RenderRequest) and a
+// PreparedScene (parsed scene, its world-space tessellation, static id, placement warnings). Out: the
+// frame, the PNG in the requested mode and a typed report; JSON is written only at the boundary
+// (scene_io/report_json.hpp). A render is a pure function of its inputs and the context's caches.
+#pragma once
+
+#include "render/core/frame.hpp"
+#include "render/scene_io/placement.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rr {
+
+// What a scene becomes once, before any view of it is drawn; the scene store keeps these.
+struct PreparedScene {
+  Scene scene;
+  PolygonSoup soup;                        // world space, metres
+  std::string static_id;                   // scene_id(scene.geometry): X-Scene-Id and cache key
+  std::vector<PlacementWarning> warnings;
+  double tessellate_ms = 0.0;              // the time tessellation took
+};
+
+// Tessellates `scene` and computes its id and placement warnings. `scene_pointer` is where the scene
+// sits in the document the warnings' pointers refer to ("/scene" in a request, "" in a stored scene).
+PreparedScene prepare_scene(Scene scene, const std::string& scene_pointer = "/scene");
+
+struct RenderReport {
+  StageTimings timings;  // queue .. encode and total (stage_table)
+  RenderStats stats;
+  std::string scene_id;
+  PipelineKind pipeline = PipelineKind::zbuffer;
+  int width = 0, height = 0;
+};
+
+struct RenderOutcome {
+  Frame frame;
+  std::string png;  // in view.options.png_compression; empty when context.encode is false
+  RenderReport report;
+};
+
+// Draws `view` of `scene` and encodes it. Throws RenderCancelled when context.cancel expires.
+RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, const RenderContext& context = {});
+
+}  // namespace rr
