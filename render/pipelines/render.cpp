@@ -5,20 +5,20 @@
 #include "render/core/png.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/scene_io/scene_json.hpp"  // scene_id
+#include "render/core/scene_id.hpp"
 
 #include <algorithm>
 
 namespace rr {
 
-PreparedScene prepare_scene(Scene scene, const std::string& scene_pointer) {
+PreparedScene prepare_scene(Scene scene) {
   PreparedScene out;
   out.scene = std::move(scene);
   Stopwatch clock;
   out.soup = tessellate(out.scene.geometry);
   out.tessellate_ms = clock.elapsed_ms();
   out.static_id = scene_id(out.scene.geometry);
-  out.warnings = placement_warnings(out.scene, out.soup, {}, scene_pointer);
+  out.warnings = placement_warnings(out.scene, out.soup);
   return out;
 }
 

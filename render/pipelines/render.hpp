@@ -6,7 +6,7 @@
 #pragma once
 
 #include "render/core/frame.hpp"
-#include "render/scene_io/placement.hpp"
+#include "render/core/placement.hpp"
 
 #include <string>
 #include <vector>
@@ -22,9 +22,8 @@ struct PreparedScene {
   double tessellate_ms = 0.0;              // the time tessellation took
 };
 
-// Tessellates `scene` and computes its id and placement warnings. `scene_pointer` is where the scene
-// sits in the document the warnings' pointers refer to ("/scene" in a request, "" in a stored scene).
-PreparedScene prepare_scene(Scene scene, const std::string& scene_pointer = "/scene");
+// Tessellates `scene` and computes its id and placement warnings.
+PreparedScene prepare_scene(Scene scene);
 
 struct RenderReport {
   StageTimings timings;  // queue .. encode and total (stage_table)
