@@ -5,6 +5,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/png.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "render/core/scene_names.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -88,9 +89,9 @@ Image rendered_example(const std::string& name, int width, int height) {
 }
 
 void expect_round_trip(const Image& image, const std::string& what) {
-  for (const PngCompressionInfo& m : png_compression_table()) {
+  for (const auto& m : png_compression_names) {
     SCOPED_TRACE(what + ", compression " + m.name);
-    std::string png = encode_png(image, m.mode);
+    std::string png = encode_png(image, m.value);
     Image decoded = decode_png(png);
     ASSERT_EQ(decoded.width, image.width);
     ASSERT_EQ(decoded.height, image.height);
