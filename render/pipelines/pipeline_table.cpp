@@ -16,7 +16,7 @@
 namespace rr {
 
 namespace {
-constexpr std::array<PipelineInfo, 4> pipelines = {{
+constexpr auto pipelines = std::to_array<PipelineInfo>({
     {"zbuffer",
      "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
      draw_zbuffer, true},
@@ -33,7 +33,7 @@ constexpr std::array<PipelineInfo, 4> pipelines = {{
      "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
      "with exact shadow rays; the ground truth the others are measured against (slow).",
      draw_reference, false, false},
-}};
+});
 static_assert(pipelines.size() <= std::numeric_limits<decltype(PipelineId::index)>::max() + 1);
 }  // namespace
 

@@ -151,13 +151,13 @@ void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bo
   s.closed = r.boolean("closed", false);
 }
 
-constexpr std::array<SolidReader, 5> readers = {{
+constexpr auto readers = std::to_array<SolidReader>({
     {SolidType::box, read_box_or_pyramid},
     {SolidType::cylinder, read_cylinder},
     {SolidType::pyramid, read_box_or_pyramid},
     {SolidType::prism, read_prism},
     {SolidType::mesh, read_mesh},
-}};
+});
 
 }  // namespace
 
