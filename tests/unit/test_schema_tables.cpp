@@ -8,6 +8,7 @@
 #include "render/pipelines/pipeline_table.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "render/scene_io/scene_json_detail.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -63,6 +64,17 @@ TEST(SchemaTables, SceneTypesEqualTheTables) {
   EXPECT_EQ(discriminators(scene, "solid"), names_of(solid_table()));
   EXPECT_EQ(discriminators(scene, "light"), names_of(light_type_names));
   EXPECT_EQ(discriminators(scene, "opening"), names_of(opening_type_names));
+}
+
+// The parser has a reader for every solid type the tessellator knows (a missing one would read no
+// members at all and leave the type's defaults).
+TEST(SchemaTables, EverySolidTypeHasAReader) {
+  for (const SolidInfo& solid : solid_table()) {
+    int readers = 0;
+    for (const SolidReader& reader : solid_readers()) readers += reader.type == solid.value;
+    EXPECT_EQ(readers, 1) << solid.name;
+  }
+  EXPECT_EQ(solid_readers().size(), solid_table().size());
 }
 
 // The query parameters of GET /v1/scenes/{id}/render.png that list their values.
