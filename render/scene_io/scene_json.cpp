@@ -406,11 +406,10 @@ json canonical_floor(const Floor& f) {
 json canonical_opening(const Opening& o) {
   json out = {{"offset", num(o.offset)}, {"width", num(o.width)}, {"height", num(o.height)},
               {"color", rgb(o.color)}};
+  out["type"] = opening_type_names.name(o.type);
   if (o.type == OpeningType::door) {
-    out["type"] = "door";
     out["leaf"] = o.leaf;
   } else {
-    out["type"] = "window";
     out["sill"] = num(o.sill);
     out["opacity"] = num(o.opacity);
   }
@@ -462,19 +461,8 @@ void add_type_members(const Solid& s, json& out) {
   }
 }
 
-const char* solid_type_name(SolidType type) {
-  switch (type) {
-    case SolidType::box: return "box";
-    case SolidType::cylinder: return "cylinder";
-    case SolidType::pyramid: return "pyramid";
-    case SolidType::prism: return "prism";
-    case SolidType::mesh: return "mesh";
-  }
-  return "?";
-}
-
 json canonical_solid(const Solid& s) {
-  json out = {{"type", solid_type_name(s.type)}, {"color", rgb(s.color)},
+  json out = {{"type", solid_table().name(s.type)}, {"color", rgb(s.color)},
               {"material", material(s.material)}};
   if (s.type == SolidType::box || s.type == SolidType::cylinder || s.type == SolidType::pyramid) {
     out.update({{"center", vec(s.center)}, {"base", num(s.base)}, {"rotation_y", num(s.rotation_y_deg)}});
