@@ -107,7 +107,7 @@ struct ReferenceCache {
     const rr::PipelineInfo* reference = rr::find_pipeline("reference");
     if (!reference) throw std::runtime_error("this build has no `reference` pipeline");
     rr::RenderOptions r = options;
-    r.pipeline = reference->kind;
+    r.pipeline = rr::pipeline_id(*reference);
     return frames.emplace(key.dump(), rr::bench::time_render(scene, scene_id, r, 1, timeout_s)).first->second;
   }
 };

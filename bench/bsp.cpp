@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     RenderStats stats;
     for (int f = 0; f < frames; ++f) {
       RenderOptions o = r.options;
-      o.pipeline = PipelineKind::bsp;
+      o.pipeline = pipeline_id("bsp");
       RenderResult res = render_frame(r.scene, soup, r.camera, o);  // no cache: builds every frame
       build.push_back(res.timings.build_ms);
       traverse.push_back(res.timings.traverse_ms);
@@ -111,9 +111,9 @@ int main(int argc, char** argv) {
     std::vector<double> bsp_ms, z_ms;
     for (int f = 0; f < frames + 1; ++f) {
       RenderOptions o = r.options;
-      o.pipeline = PipelineKind::bsp;
+      o.pipeline = pipeline_id("bsp");
       double b = render_frame(r.scene, soup, r.camera, o, context).timings.total_ms;
-      o.pipeline = PipelineKind::zbuffer;
+      o.pipeline = pipeline_id("zbuffer");
       double z = render_frame(r.scene, soup, r.camera, o).timings.total_ms;
       if (f == 0) continue;  // the first bsp frame builds the tree
       bsp_ms.push_back(b);

@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
   // The example: sort and draw per key, from the pipeline's own stage timings.
   rr::RenderRequest request = rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/four_cylinders.json"));
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
-  request.options.pipeline = rr::PipelineKind::painter;
+  request.options.pipeline = rr::pipeline_id("painter");
   json example = {{"scene", "examples/four_cylinders.json"}, {"polygons", soup.polygons.size()},
                   {"width", request.options.width}, {"height", request.options.height}, {"frames", frames}};
   json per_key = json::object();
@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
   for (const char* name : {"tri_intersecting", "cubes_45_pyramid_cylinder"}) {
     rr::RenderRequest c = rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/" + name + ".json"));
     rr::PolygonSoup csoup = rr::tessellate(c.scene.geometry);
-    c.options.pipeline = rr::PipelineKind::painter;
+    c.options.pipeline = rr::pipeline_id("painter");
     c.options.painter_key = rr::PainterKey::newell;
     std::vector<double> sort, draw;
     rr::RenderStats stats;

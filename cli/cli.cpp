@@ -13,6 +13,7 @@
 #include "render/import/import_files.hpp"
 #include "render/core/png.hpp"
 #include "render/core/shading.hpp"
+#include "render/core/scene_names.hpp"
 #include "render/core/timer.hpp"
 #include "cli/bench_render.hpp"
 
@@ -457,18 +458,11 @@ nlohmann::json apply_bench_overrides(nlohmann::json request, const nlohmann::jso
   return request;
 }
 
-const char* shading_name(ShadingMode mode) {
-  for (const ShadingInfo& s : shading_table()) {
-    if (s.mode == mode) return s.name;
-  }
-  return "unknown";
-}
-
 // What bench-render can be asked for on this build: the benchmark script iterates these.
 void print_bench_modes() {
   nlohmann::ordered_json pipelines = nlohmann::ordered_json::array(), shadings = nlohmann::ordered_json::array();
   for (const PipelineInfo& p : pipeline_table()) pipelines.push_back(p.name);
-  for (const ShadingInfo& s : shading_table()) shadings.push_back(s.name);
+  for (const auto& s : shading_names) shadings.push_back(s.name);
   print_json_line(stdout, {{"pipelines", pipelines}, {"shadings", shadings}});
 }
 
@@ -517,7 +511,7 @@ int run_bench_render(std::span<const std::string> argv) {
     if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(report.last.frame.ids));
     nlohmann::ordered_json line = {{"source", from_obj ? "obj" : "request"}, {"input", input},
                                    {"pipeline", pipeline_info(request.options.pipeline).name},
-                                   {"shading", shading_name(request.options.shading)},
+                                   {"shading", shading_names.name(request.options.shading)},
                                    {"shadows", request.options.shadows},
                                    {"width", request.options.width}, {"height", request.options.height},
                                    {"polygons", soup.polygons.size()}, {"triangles", fan_triangle_count(soup)},

@@ -6,6 +6,10 @@
 #include "render/core/scene_id.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/pipelines/render.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/core/png.hpp"
+#include "render/core/scene_names.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,15 +27,15 @@ ParseLimits fuzz_limits() {
 Variant variant_of(std::string_view bytes) {
   uint64_t h = fnv1a(bytes);
   Variant v;
-  v.pipeline = PipelineKind(h % 3);
-  h /= 3;
-  v.shading = ShadingMode(h % 3);
-  h /= 3;
-  v.painter_key = PainterKey(h % 4);
-  h /= 4;
+  v.pipeline = pipeline_id(pipeline_table()[h % pipeline_table().size()]);
+  h /= pipeline_table().size();
+  v.shading = shading_names[h % shading_names.size()].value;
+  h /= shading_names.size();
+  v.painter_key = painter_key_names[h % painter_key_names.size()].value;
+  h /= painter_key_names.size();
   v.shadows = (h % 2) == 1;
   h /= 2;
-  v.png = PngCompression(h % 3);
+  v.png = png_compression_names[h % png_compression_names.size()].value;
   return v;
 }
 

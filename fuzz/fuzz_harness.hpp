@@ -23,7 +23,7 @@ ParseLimits fuzz_limits();
 // chosen from an FNV-1a hash of the bytes, so every input maps to one variant deterministically
 // and mutations spread over all of them.
 struct Variant {
-  PipelineKind pipeline = PipelineKind::zbuffer;
+  PipelineId pipeline;
   ShadingMode shading = ShadingMode::flat;
   PainterKey painter_key = PainterKey::mean;
   bool shadows = false;

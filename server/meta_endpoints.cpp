@@ -4,7 +4,7 @@
 // directory.
 #include "server/routes.hpp"
 
-#include "render/core/shading.hpp"
+#include "render/core/scene_names.hpp"
 #include "server/serve_command.hpp"
 #include "server/problem.hpp"
 
@@ -82,7 +82,7 @@ void handle_pipelines(ServiceState&, const Request&, Response& res, const RouteM
   nlohmann::json list = nlohmann::json::array();
   for (const PipelineInfo& p : pipeline_table()) list.push_back({{"name", p.name}, {"summary", p.summary}});
   nlohmann::json shading = nlohmann::json::array();
-  for (const ShadingInfo& s : shading_table()) shading.push_back(s.name);
+  for (const auto& s : shading_names) shading.push_back(s.name);
   send_json(res, {{"pipelines", list}, {"shading", shading}});
 }
 

@@ -23,7 +23,7 @@ std::string short_number(double v) {
 
 BenchConfig bsp_config(double w1, double w2, double w3, double epsilon) {
   BenchConfig c{"", "visibility", {}, {}};
-  c.options.pipeline = PipelineKind::bsp;
+  c.options.pipeline = pipeline_id("bsp");
   c.options.bsp.w1 = w1, c.options.bsp.w2 = w2, c.options.bsp.w3 = w3, c.options.bsp.epsilon = epsilon;
   c.label = "bsp w=" + short_number(w1) + "/" + short_number(w2) + "/" + short_number(w3) + " eps=" + short_number(epsilon);
   c.options_json = {{"pipeline", "bsp"}, {"bsp", {{"w1", w1}, {"w2", w2}, {"w3", w3}, {"epsilon", epsilon}}}};
@@ -54,7 +54,7 @@ std::vector<BenchConfig> make_configs(const BenchScene& scene) {
       {PainterKey::mean, "mean"}, {PainterKey::min, "min"}, {PainterKey::max, "max"}, {PainterKey::newell, "newell"}};
   for (const auto& [key, name] : keys) {
     BenchConfig c{std::string("painter-") + name, "visibility", {}, {{"pipeline", "painter"}, {"painter", {{"key", name}}}}};
-    c.options.pipeline = PipelineKind::painter;
+    c.options.pipeline = pipeline_id("painter");
     c.options.painter_key = key;
     configs.push_back(c);
   }

@@ -15,12 +15,6 @@ namespace rr {
 
 namespace {
 
-constexpr std::array<PngCompressionInfo, 3> modes = {{
-    {PngCompression::fast, "fast"},
-    {PngCompression::small, "small"},
-    {PngCompression::none, "none"},
-}};
-
 // Rows per deflate strip: large enough that the 32 KiB window restarting at each strip costs little
 // (about 1 % in size on rendered rooms), small enough that a 720-row frame gives every core work.
 constexpr int kStripRows = 48;
@@ -219,15 +213,6 @@ std::string encode_stored(const Image& image) {
 }
 
 }  // namespace
-
-std::span<const PngCompressionInfo> png_compression_table() { return modes; }
-
-const PngCompressionInfo* find_png_compression(std::string_view name) {
-  for (const PngCompressionInfo& m : modes) {
-    if (name == m.name) return &m;
-  }
-  return nullptr;
-}
 
 std::string encode_png(const Image& image, PngCompression mode, unsigned threads) {
   if (image.width <= 0 || image.height <= 0) throw std::runtime_error("PNG encoding failed: empty image");

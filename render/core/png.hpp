@@ -13,18 +13,9 @@
 #include "render/core/image.hpp"
 #include "render/core/scene.hpp"
 
-#include <span>
 #include <string>
-#include <string_view>
 
 namespace rr {
-
-struct PngCompressionInfo {
-  PngCompression mode;
-  const char* name;
-};
-std::span<const PngCompressionInfo> png_compression_table();
-const PngCompressionInfo* find_png_compression(std::string_view name);
 
 // `threads` = 0 uses the hardware concurrency; only `fast` uses more than one.
 std::string encode_png(const Image& image, PngCompression mode, unsigned threads = 0);

@@ -124,15 +124,23 @@ struct Camera {
   double far = 100.0;
 };
 
-enum class PipelineKind { zbuffer, painter, bsp, reference };  // one row each in pipeline.cpp's table
-enum class ShadingMode { flat, gouraud, phong };    // one row each in shading.cpp's table
+// A row of the pipeline table (render/pipelines/pipeline_table.cpp), which sits above this floor:
+// the default, row 0, is zbuffer. An index rather than an enum so that adding a pipeline is a row
+// there and no edit here; code that names a pipeline looks it up (pipeline_id("bsp")).
+struct PipelineId {
+  std::uint8_t index = 0;
+  friend constexpr bool operator==(PipelineId, PipelineId) = default;
+};
+
+// Every enum below has a name table in scene_names.hpp.
+enum class ShadingMode { flat, gouraud, phong };
 
 // Painter's sort key: mean / min (nearest vertex) / max view depth, or newell (mean order refined by
 // the Newell-Newell-Sancha tests, splitting polygons to break cycles).
 enum class PainterKey { mean, min, max, newell };
 
 // PNG encoder (png.hpp): fast (parallel zlib strips), small (stb_image_write, the reference), none.
-enum class PngCompression { fast, small, none };  // one row each in png.cpp's table
+enum class PngCompression { fast, small, none };
 
 // BSP walk (bsp.hpp): front to back with a coverage buffer that skips hidden subtrees (default), or
 // the classic back-to-front walk. Both give the same image; the option exists to compare them.
@@ -164,7 +172,7 @@ struct ShadowOptions {
 struct RenderOptions {
   int width = 640;
   int height = 480;
-  PipelineKind pipeline = PipelineKind::zbuffer;
+  PipelineId pipeline;
   ShadingMode shading = ShadingMode::flat;
   PainterKey painter_key = PainterKey::mean;
   BspOptions bsp;

@@ -7,7 +7,6 @@
 
 #include "render/core/shading_detail.hpp"
 
-#include <array>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -17,24 +16,6 @@ namespace rr {
 using shading_detail::ambient_irradiance;
 using shading_detail::FanPoint;
 using shading_detail::locate_in_fan;
-
-namespace {
-constexpr std::array<ShadingInfo, 3> shadings = {{
-    {ShadingMode::flat, "flat"},
-    {ShadingMode::gouraud, "gouraud"},
-    {ShadingMode::phong, "phong"},
-}};
-
-}  // namespace
-
-std::span<const ShadingInfo> shading_table() { return shadings; }
-
-const ShadingInfo* find_shading(std::string_view name) {
-  for (const ShadingInfo& s : shadings) {
-    if (name == s.name) return &s;
-  }
-  return nullptr;
-}
 
 LightTerms light_terms(const Light& light, const Material& material, Vec3 p, Vec3 n, Vec3 eye) {
   LightTerms t;

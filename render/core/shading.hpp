@@ -17,13 +17,6 @@
 
 namespace rr {
 
-struct ShadingInfo {
-  ShadingMode mode;
-  const char* name;
-};
-std::span<const ShadingInfo> shading_table();
-const ShadingInfo* find_shading(std::string_view name);
-
 // The reference model, in doubles. `n` is the unit normal on the side being lit.
 // One light at p, attenuated and unshadowed: its colour on the surface is
 // material.color * irradiance + specular. Zero when the light is behind n.

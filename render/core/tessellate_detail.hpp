@@ -1,4 +1,4 @@
-// Internal to the tessellator (tessellate.cpp, tessellate_walls.cpp); nothing else includes it.
+// Internal to the tessellator (tessellate*.cpp, solid_*.cpp); nothing else includes it.
 // Every element emits its faces through SoupBuilder, so orientation, degeneracy, ids and flags are
 // decided in one place. World space, metres, doubles; emitted polygons obey tessellate.hpp.
 #pragma once
@@ -42,6 +42,18 @@ Vec3 newell_vector(std::span<const Vec3> points);
 // +x, -x, +y, -y, +z, -z.
 void add_cuboid(SoupBuilder& out, Vec3 centre, Vec3 half_x, Vec3 half_y, Vec3 half_z,
                 uint32_t material, uint32_t object);
+
+// Plan geometry (tessellate_faces.cpp). rotation_y is counter-clockwise seen from above, i.e.
+// right-handed about +Y: +X turns to -Z.
+double cross2(Vec2 a, Vec2 b);
+Vec2 rotate_plan(Vec2 xz, double angle_rad);
+inline Vec3 plan_to_world(Vec2 xz, double y) { return {xz.x, y, xz.y}; }
+double twice_signed_area(std::span<const Vec2> p);  // of a plan polygon in (x, z)
+
+// One face of a solid: a convex planar face stays one polygon; otherwise it is ear-clipped into
+// triangles with consecutive ids (tessellate_faces.cpp). `shading` is per vertex, or empty.
+void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
+              Vec3 outward, uint32_t material, uint32_t object);
 
 // Walls with their joins, openings, door leaves and panes (tessellate_walls.cpp).
 void add_walls(SoupBuilder& out, const std::vector<Wall>& walls);

@@ -1,58 +1,13 @@
-// The pipeline table and render_frame. Adding a pipeline is one row here plus its own
-// file; everything that lists pipelines (validation, GET /v1/pipelines, tests, benchmarks) reads
-// this table.
+// The render entry point below render(): one frame of a tessellated scene through the pipeline its
+// table row (pipeline_table.cpp) names.
 #include "render/pipelines/pipeline.hpp"
 
-#include "render/pipelines/bsp.hpp"
 #include "render/core/frustum.hpp"
-#include "render/pipelines/painter.hpp"
-#include "render/pipelines/reference.hpp"
 #include "render/core/shadow.hpp"
 #include "render/pipelines/shadow_cache.hpp"
 #include "render/core/timer.hpp"
-#include "render/pipelines/zbuffer.hpp"
-
-#include <array>
-#include <cassert>
 
 namespace rr {
-
-namespace {
-constexpr std::array<PipelineInfo, 4> pipelines = {{
-    {PipelineKind::zbuffer, "zbuffer",
-     "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
-     draw_zbuffer},
-    {PipelineKind::painter, "painter",
-     "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
-     "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
-     draw_painter},
-    {PipelineKind::bsp, "bsp",
-     "A BSP tree of the static scene (built once, cached by scene id), walked back to front for the "
-     "camera with frustum and back-face culling; no depth buffer.",
-     draw_bsp},
-    {PipelineKind::reference, "reference",
-     "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
-     "with exact shadow rays; the ground truth the others are measured against (slow).",
-     draw_reference, false},
-}};
-}  // namespace
-
-std::span<const PipelineInfo> pipeline_table() { return pipelines; }
-
-const PipelineInfo* find_pipeline(std::string_view name) {
-  for (const PipelineInfo& p : pipelines) {
-    if (name == p.name) return &p;
-  }
-  return nullptr;
-}
-
-const PipelineInfo& pipeline_info(PipelineKind kind) {
-  for (const PipelineInfo& p : pipelines) {
-    if (p.kind == kind) return p;
-  }
-  assert(false && "every PipelineKind has a row in the table");
-  return pipelines[0];
-}
 
 RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Camera& camera,
                           const RenderOptions& options, const RenderContext& context) {
@@ -79,7 +34,7 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   result.stats.shadow_skipped = input.shadows == nullptr;
   // Whole objects outside the frustum are skipped before any per-polygon work (timed as traverse).
   ObjectsInView objects;
-  if (options.pipeline == PipelineKind::zbuffer || options.pipeline == PipelineKind::painter) {
+  if (pipeline.culls_objects) {
     Stopwatch cull_clock;
     objects = objects_in_view(soup, view);
     input.objects_in_view = &objects.visible;

@@ -1,29 +1,18 @@
 // The table of pipelines and render_frame, which draws one frame (render.hpp wraps it into the one
 // request path). Every pipeline shares the front end
 // (request -> polygons in world space -> camera) and is one function in its own file plus one row in
-// pipeline.cpp's table; validation, GET /v1/pipelines, the tests and the benchmarks iterate that
+// pipeline_table.cpp's table; validation, GET /v1/pipelines, the tests and the benchmarks iterate that
 // table. A render is a pure function of (scene, polygons, camera, options): no mutable globals.
 #pragma once
 
 #include "render/core/frame.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 
 #include <span>
 #include <string>
 #include <string_view>
 
 namespace rr {
-
-struct PipelineInfo {
-  PipelineKind kind;
-  const char* name;
-  const char* summary;
-  PipelineFn draw;
-  bool shadow_maps = true;  // render_frame runs the shadow-map pass for it (when shadows are on)
-};
-
-std::span<const PipelineInfo> pipeline_table();
-const PipelineInfo* find_pipeline(std::string_view name);
-const PipelineInfo& pipeline_info(PipelineKind kind);
 
 struct RenderResult {
   Frame frame;

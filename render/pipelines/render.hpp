@@ -29,7 +29,7 @@ struct RenderReport {
   StageTimings timings;  // queue .. encode and total (stage_table)
   RenderStats stats;
   std::string scene_id;
-  PipelineKind pipeline = PipelineKind::zbuffer;
+  PipelineId pipeline;  // a row of pipeline_table()
   int width = 0, height = 0;
 };
 

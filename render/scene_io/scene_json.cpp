@@ -6,10 +6,11 @@
 
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/json_reader.hpp"
+#include "render/scene_io/scene_json_detail.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/core/png.hpp"
 #include "render/scene_io/scene_checks.hpp"
-#include "render/core/shading.hpp"
+#include "render/core/scene_names.hpp"
+#include "render/core/solids.hpp"
 #include "render/core/tessellate.hpp"
 
 #include <algorithm>
@@ -23,19 +24,6 @@ using nlohmann::json;
 using Kind = InputError::Kind;
 
 namespace {
-
-// Ranges derived from the limits, shared by every reader.
-struct Bounds {
-  explicit Bounds(const ParseLimits& l)
-      : limits(l),
-        coordinate{-l.max_abs_coordinate, l.max_abs_coordinate},
-        length{0.0, l.max_abs_coordinate, true},
-        distance{0.0, l.max_abs_coordinate} {}
-  const ParseLimits& limits;
-  NumberRange coordinate;  // positions, centres, elevations, bases
-  NumberRange length;      // sizes, thickness, heights, radii: > 0
-  NumberRange distance;    // offsets and sills: >= 0
-};
 
 const NumberRange unit_interval{0.0, 1.0};
 const NumberRange intensity_range{0.0, FLT_MAX};  // stored as float
@@ -52,6 +40,23 @@ std::string read_type(const json& value, const std::string& pointer) {
   return it->get<std::string>();
 }
 
+// The row of `table` that a string value names, or an error at `pointer` listing every name.
+template <class Row>
+const Row& read_name(const json& value, const std::string& pointer, const NameTable<Row>& table) {
+  const Row* row = value.is_string() ? table.find(value.get_ref<const std::string&>()) : nullptr;
+  if (!row) throw_invalid(pointer, "must be one of: " + table.choices());
+  return *row;
+}
+
+// An optional member naming one row of `table`: its value, or `fallback` when the member is absent.
+template <class Row, class Value>
+Value read_choice(const ObjectReader& r, const char* key, Value fallback, const NameTable<Row>& table) {
+  const json* value = r.find(key);
+  return value ? read_name(*value, r.at(key), table).value : fallback;
+}
+
+}  // namespace
+
 MaterialParams read_material(const ObjectReader& owner) {
   MaterialParams out;
   const json* value = owner.find("material");
@@ -62,6 +67,8 @@ MaterialParams read_material(const ObjectReader& owner) {
   out.shininess = float(r.number("shininess", 32.0, NumberRange{1.0, 10000.0}));
   return out;
 }
+
+namespace {
 
 // --- floor -------------------------------------------------------------------------------------------
 
@@ -125,21 +132,20 @@ void check_opening_fits(const Opening& o, const Wall& wall, const std::string& p
 
 Opening read_opening(const json& value, const std::string& pointer, const Wall& wall,
                      const Bounds& b) {
-  std::string type = read_type(value, pointer);
+  read_type(value, pointer);
   Opening o;
-  if (type == "door") {
+  o.type = read_name(value.at("type"), pointer_append(pointer, "type"), opening_type_names).value;
+  if (o.type == OpeningType::door) {
     ObjectReader r(value, pointer, {"type", "id", "offset", "width", "height", "color", "leaf"});
-    o.type = OpeningType::door;
     o.id = r.string("id", "");
     o.offset = r.number("offset", b.distance);
     o.width = r.number("width", b.length);
     o.height = r.number("height", 2.0, b.length);
     o.color = r.color("color", hex("#8b5a2b"));
     o.leaf = r.boolean("leaf", true);
-  } else if (type == "window") {
+  } else {
     ObjectReader r(value, pointer,
                    {"type", "id", "offset", "width", "height", "sill", "color", "opacity"});
-    o.type = OpeningType::window;
     o.id = r.string("id", "");
     o.offset = r.number("offset", b.distance);
     o.width = r.number("width", b.length);
@@ -148,8 +154,6 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
     o.color = r.color("color", hex("#a8c8e8"));
     o.opacity = float(r.number("opacity", 0.35, unit_interval));
     o.leaf = false;  // a window has no leaf
-  } else {
-    throw_invalid(pointer_append(pointer, "type"), "must be \"door\" or \"window\"");
   }
   check_opening_fits(o, wall, pointer);
   return o;
@@ -185,160 +189,12 @@ Wall read_wall(const json& value, const std::string& pointer, const Bounds& b) {
 
 // --- solids ------------------------------------------------------------------------------------------
 
-// Above this many footprint points the O(n^2) simplicity test would cost more than a request should.
-constexpr size_t max_prism_points = 4096;
-
-void read_common(const ObjectReader& r, Solid& s) {
-  s.id = r.string("id", "");
-  s.color = r.color("color", Color{0.7f, 0.7f, 0.7f});  // the schema's default; the doc gives none
-  s.material = read_material(r);
-}
-
-void read_footprint(const ObjectReader& r, Solid& s, const Bounds& b) {
-  s.center = r.vec2("center", b.coordinate);
-  s.base = r.number("base", 0.0, b.coordinate);
-  s.rotation_y_deg = r.number("rotation_y", 0.0, NumberRange{});
-}
-
-void read_box_or_pyramid(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer,
-                 {"type", "id", "color", "material", "center", "base", "rotation_y", "size"});
-  read_common(r, s);
-  read_footprint(r, s, b);
-  s.size = r.vec3("size", b.length);
-}
-
-void read_cylinder(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, {"type", "id", "color", "material", "center", "base", "rotation_y",
-                                  "radius", "height", "segments", "smooth", "caps"});
-  read_common(r, s);
-  read_footprint(r, s, b);
-  s.radius = r.number("radius", b.length);
-  s.height = r.number("height", b.length);
-  NumberRange segments{3.0, double(b.limits.max_cylinder_segments)};
-  segments.kind_above = Kind::too_large;
-  s.segments = int(r.integer("segments", 32, segments));
-  s.smooth = r.boolean("smooth", true);
-  s.caps = r.boolean("caps", true);
-}
-
-void read_prism(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, {"type", "id", "color", "material", "points", "height", "base"});
-  read_common(r, s);
-  const json& points = r.array("points", true);
-  if (points.size() < 3) throw_invalid(r.at("points"), "must hold at least 3 points");
-  if (points.size() > max_prism_points) {
-    throw_too_large(r.at("points"), "must hold at most " + std::to_string(max_prism_points) + " points");
-  }
-  for (size_t i = 0; i < points.size(); ++i) {
-    s.points.push_back(read_vec2(points[i], pointer_append(r.at("points"), i), b.coordinate));
-  }
-  if (std::string problem = simple_polygon_problem(s.points); !problem.empty()) {
-    throw_invalid(r.at("points"), "must be a simple polygon: " + problem);
-  }
-  s.height = r.number("height", b.length);
-  s.base = r.number("base", 0.0, b.coordinate);
-}
-
-std::vector<uint32_t> read_face(const json& value, const std::string& pointer, size_t vertex_count) {
-  if (!value.is_array()) throw_invalid(pointer, "must be an array of vertex indices");
-  if (value.size() < 3) throw_invalid(pointer, "a face needs at least 3 vertices");
-  std::vector<uint32_t> face;
-  face.reserve(value.size());
-  for (size_t k = 0; k < value.size(); ++k) {
-    const json& index = value[k];
-    if (!index.is_number_integer()) throw_invalid(pointer_append(pointer, k), "must be an integer");
-    // Text parsing stores non-negative integers as unsigned; JSON built in code may use signed.
-    bool negative = !index.is_number_unsigned() && index.get<long long>() < 0;
-    if (negative || index.get<uint64_t>() >= vertex_count) {
-      throw_invalid(pointer_append(pointer, k), "vertex index out of range (the mesh has " +
-                                                    std::to_string(vertex_count) + " vertices)");
-    }
-    face.push_back(index.get<uint32_t>());
-  }
-  if (auto repeat = find_repeated_index(face)) {
-    throw_invalid(pointer_append(pointer, *repeat), "vertex " + std::to_string(face[*repeat]) +
-                                                        " appears twice in this face");
-  }
-  return face;
-}
-
-Vec3 read_scale(const ObjectReader& r, const Bounds& b) {
-  const json* value = r.find("scale");
-  if (!value) return Vec3{1.0};
-  // Positive only: a mirroring scale would turn closed meshes inside out.
-  if (value->is_number()) return Vec3{read_number(*value, r.at("scale"), b.length)};
-  if (!value->is_array()) throw_invalid(r.at("scale"), "must be a number or an array of 3 numbers");
-  return read_vec3(*value, r.at("scale"), b.length);
-}
-
-// Optional per-vertex shading normals (e.g. an OBJ's vn): one per vertex, each non-zero; stored unit.
-void read_mesh_normals(const ObjectReader& r, Solid& s) {
-  const json& normals = r.array("normals");
-  if (normals.empty()) return;
-  if (normals.size() != s.vertices.size()) {
-    throw_invalid(r.at("normals"), "must hold one normal per vertex (" + std::to_string(s.vertices.size()) +
-                                       "), not " + std::to_string(normals.size()));
-  }
-  s.normals.reserve(normals.size());
-  for (size_t i = 0; i < normals.size(); ++i) {
-    std::string at = pointer_append(r.at("normals"), i);
-    Vec3 n = read_vec3(normals[i], at, NumberRange{});
-    double length = glm::length(n);
-    if (!(length > 0.0) || !std::isfinite(length)) throw_invalid(at, "must be a non-zero vector");
-    s.normals.push_back(n / length);
-  }
-}
-
-void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, {"type", "id", "color", "material", "vertices", "faces", "position",
-                                  "scale", "rotation_y", "smooth", "closed", "normals"});
-  read_common(r, s);
-  const json& vertices = r.array("vertices", true);
-  const json& faces = r.array("faces", true);
-  // Every face is at least one polygon: refuse before spending memory on it.
-  if (faces.size() > b.limits.max_polygons) {
-    throw_too_large(r.at("faces"), "mesh has " + std::to_string(faces.size()) +
-                                       " faces; at most " + std::to_string(b.limits.max_polygons) +
-                                       " polygons are allowed");
-  }
-  s.vertices.reserve(vertices.size());
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    s.vertices.push_back(read_vec3(vertices[i], pointer_append(r.at("vertices"), i), b.coordinate));
-  }
-  s.faces.reserve(faces.size());
-  for (size_t j = 0; j < faces.size(); ++j) {
-    s.faces.push_back(read_face(faces[j], pointer_append(r.at("faces"), j), s.vertices.size()));
-  }
-  if (auto bad = find_bad_mesh_face(s.vertices, s.faces)) {
-    throw_invalid(pointer_append(r.at("faces"), bad->face), bad->problem);
-  }
-  read_mesh_normals(r, s);
-  s.position = r.vec3("position", Vec3{0.0}, b.coordinate);
-  s.scale = read_scale(r, b);
-  s.rotation_y_deg = r.number("rotation_y", 0.0, NumberRange{});
-  s.smooth = r.boolean("smooth", false);
-  s.closed = r.boolean("closed", false);
-}
-
 Solid read_solid(const json& value, const std::string& pointer, const Bounds& b) {
-  std::string type = read_type(value, pointer);
+  read_type(value, pointer);
   Solid s;
-  if (type == "box" || type == "pyramid") {
-    s.type = type == "box" ? SolidType::box : SolidType::pyramid;
-    read_box_or_pyramid(value, pointer, s, b);
-  } else if (type == "cylinder") {
-    s.type = SolidType::cylinder;
-    read_cylinder(value, pointer, s, b);
-  } else if (type == "prism") {
-    s.type = SolidType::prism;
-    read_prism(value, pointer, s, b);
-  } else if (type == "mesh") {
-    s.type = SolidType::mesh;
-    read_mesh(value, pointer, s, b);
-  } else {
-    throw_invalid(pointer_append(pointer, "type"),
-                  "must be one of \"box\", \"cylinder\", \"pyramid\", \"prism\", \"mesh\"");
+  s.type = read_name(value.at("type"), pointer_append(pointer, "type"), solid_table()).value;
+  for (const SolidReader& reader : solid_readers()) {
+    if (reader.type == s.type) reader.read(value, pointer, s, b);
   }
   return s;
 }
@@ -346,11 +202,11 @@ Solid read_solid(const json& value, const std::string& pointer, const Bounds& b)
 // --- lights and the scene ----------------------------------------------------------------------------
 
 Light read_light(const json& value, const std::string& pointer, const Bounds& b) {
-  std::string type = read_type(value, pointer);
+  read_type(value, pointer);
   Light light;
-  if (type == "directional") {
+  light.type = read_name(value.at("type"), pointer_append(pointer, "type"), light_type_names).value;
+  if (light.type == LightType::directional) {
     ObjectReader r(value, pointer, {"type", "id", "direction", "color", "intensity"});
-    light.type = LightType::directional;
     light.id = r.string("id", "");
     Vec3 direction = r.vec3("direction", Vec3{0.0, -1.0, 0.0}, b.coordinate);
     double length = glm::length(direction);  // 0 also when the squares underflow
@@ -358,17 +214,14 @@ Light read_light(const json& value, const std::string& pointer, const Bounds& b)
     light.direction = direction / length;
     light.color = r.color("color", hex("#ffffff"));
     light.intensity = float(r.number("intensity", 1.0, intensity_range));
-  } else if (type == "point") {
+  } else {
     ObjectReader r(value, pointer, {"type", "id", "position", "color", "intensity", "attenuation"});
-    light.type = LightType::point;
     light.id = r.string("id", "");
     light.position = r.vec3("position", b.coordinate);
     light.color = r.color("color", hex("#ffffff"));
     light.intensity = float(r.number("intensity", 1.0, intensity_range));
     light.attenuation = r.vec3("attenuation", Vec3{1.0, 0.0, 0.0}, NumberRange{0.0, DBL_MAX});
     if (light.attenuation == Vec3{0.0}) throw_invalid(r.at("attenuation"), "must not be all zero");
-  } else {
-    throw_invalid(pointer_append(pointer, "type"), "must be \"directional\" or \"point\"");
   }
   return light;
 }
@@ -443,35 +296,10 @@ Camera read_camera(const json& value, const std::string& pointer, const Bounds& 
   return c;
 }
 
-template <class Table>
-std::string table_names(const Table& table) {
-  std::string names;
-  for (const auto& row : table) names += (names.empty() ? "" : ", ") + std::string(row.name);
-  return names;
-}
-
-// One of `names` (index = enumerator), or an error at the member naming them all.
-template <class Enum, size_t N>
-Enum read_choice(ObjectReader& r, const char* key, Enum fallback, const std::array<std::string_view, N>& names) {
-  const json* value = r.find(key);
-  if (!value) return fallback;
-  for (size_t i = 0; i < N; ++i) {
-    if (value->is_string() && value->get_ref<const std::string&>() == names[i]) return Enum(i);
-  }
-  std::string list;
-  for (std::string_view name : names) list += (list.empty() ? "" : ", ") + std::string(name);
-  throw_invalid(r.at(key), "must be one of: " + list);
-}
-
-constexpr std::array<std::string_view, 4> painter_keys = {"mean", "min", "max", "newell"};
-
 PainterKey read_painter(const json& value, const std::string& pointer) {
   ObjectReader r(value, pointer, {"key"});
-  return read_choice(r, "key", PainterKey::mean, painter_keys);
+  return read_choice(r, "key", PainterKey::mean, painter_key_names);
 }
-
-constexpr std::array<std::string_view, 2> bsp_traversals = {"front_to_back", "back_to_front"};
-constexpr std::array<std::string_view, 2> shadow_fits = {"view", "scene"};
 
 BspOptions read_bsp(const json& value, const std::string& pointer) {
   ObjectReader r(value, pointer, {"w1", "w2", "w3", "epsilon", "max_candidates", "traversal"});
@@ -482,7 +310,7 @@ BspOptions read_bsp(const json& value, const std::string& pointer) {
   o.w3 = r.number("w3", o.w3, weight);
   o.epsilon = r.number("epsilon", o.epsilon, NumberRange{0.0, 1e-2});
   o.max_candidates = int(r.integer("max_candidates", o.max_candidates, NumberRange{1.0, 4096.0}));
-  o.traversal = read_choice(r, "traversal", o.traversal, bsp_traversals);
+  o.traversal = read_choice(r, "traversal", o.traversal, bsp_traversal_names);
   return o;
 }
 
@@ -496,20 +324,13 @@ ShadowOptions read_shadow(const json& value, const std::string& pointer) {
   if (o.pcf % 2 == 0) throw_invalid(r.at("pcf"), "must be 1, 3 or 5");
   o.bias = r.number("bias", o.bias, NumberRange{-100.0, 100.0});
   o.slope_bias = r.number("slope_bias", o.slope_bias, NumberRange{-100.0, 100.0});
-  o.fit = read_choice(r, "fit", o.fit, shadow_fits);
+  o.fit = read_choice(r, "fit", o.fit, shadow_fit_names);
   return o;
 }
 
 PngCompression read_png(const json& value, const std::string& pointer) {
   ObjectReader r(value, pointer, {"compression"});
-  PngCompression mode = PngCompression::fast;
-  if (const json* name = r.find("compression")) {
-    const PngCompressionInfo* info =
-        name->is_string() ? find_png_compression(name->get<std::string>()) : nullptr;
-    if (!info) throw_invalid(r.at("compression"), "must be one of: " + table_names(png_compression_table()));
-    mode = info->mode;
-  }
-  return mode;
+  return read_choice(r, "compression", PngCompression::fast, png_compression_names);
 }
 
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
@@ -526,15 +347,10 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
                                        " are allowed");
   }
   if (const json* name = r.find("pipeline")) {
-    const PipelineInfo* info = name->is_string() ? find_pipeline(name->get<std::string>()) : nullptr;
-    if (!info) throw_invalid(r.at("pipeline"), "must be one of: " + table_names(pipeline_table()));
-    o.pipeline = info->kind;
+    const PipelineInfo& row = read_name(*name, r.at("pipeline"), pipeline_table());
+    o.pipeline = pipeline_id(row);
   }
-  if (const json* name = r.find("shading")) {
-    const ShadingInfo* info = name->is_string() ? find_shading(name->get<std::string>()) : nullptr;
-    if (!info) throw_invalid(r.at("shading"), "must be one of: " + table_names(shading_table()));
-    o.shading = info->mode;
-  }
+  o.shading = read_choice(r, "shading", o.shading, shading_names);
   if (const json* painter = r.find("painter")) o.painter_key = read_painter(*painter, r.at("painter"));
   if (const json* bsp = r.find("bsp")) o.bsp = read_bsp(*bsp, r.at("bsp"));
   o.shadows = r.boolean("shadows", o.shadows);

@@ -1,10 +1,11 @@
 // Lighting golden images: every room example (an example with a floor and walls) x every pipeline
 // x every shading mode x shadows off/on, rendered at 320x240 and compared with
 // tests/golden/images/lighting/<example>.<pipeline>.<shading>.<shadows|no-shadows>.png with the
-// tolerance of support/golden.hpp. Iterating pipeline_table() and shading_table() means a new
+// tolerance of support/golden.hpp. Iterating pipeline_table() and shading_names means a new
 // pipeline or mode shows up here (and needs its goldens generated) without touching this file.
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/shading.hpp"
+#include "render/core/scene_names.hpp"
 #include "support/golden.hpp"
 #include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
@@ -41,7 +42,7 @@ std::vector<LightingCase> lighting_cases() {
   for (const auto& file : testing::example_files()) {
     if (!is_room(nlohmann::json::parse(testing::read_file(file)))) continue;
     for (const PipelineInfo& p : pipeline_table()) {
-      for (const ShadingInfo& s : shading_table()) {
+      for (const auto& s : shading_names) {
         for (bool shadows : {false, true}) cases.push_back({file.stem().string(), p.name, s.name, shadows});
       }
     }

@@ -4,6 +4,7 @@
 // what the same values written into the request mean, and --list naming the build's own tables.
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/shading.hpp"
+#include "render/core/scene_names.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -174,7 +175,7 @@ TEST(BenchRender, ListNamesTheBuildsTables) {
   ASSERT_EQ(list.status, 0) << list.err;
   std::vector<std::string> pipelines, shadings;
   for (const rr::PipelineInfo& p : rr::pipeline_table()) pipelines.push_back(p.name);
-  for (const rr::ShadingInfo& s : rr::shading_table()) shadings.push_back(s.name);
+  for (const auto& s : rr::shading_names) shadings.push_back(s.name);
   EXPECT_EQ(list.line["pipelines"].get<std::vector<std::string>>(), pipelines);
   EXPECT_EQ(list.line["shadings"].get<std::vector<std::string>>(), shadings);
 }

@@ -7,6 +7,10 @@
 //   limit     the schema accepts but the server refuses with 413: bounds on work that combine
 //             fields (floor cells nx * nz, polygons after tessellation), documented in docs/api.md.
 // Every example request in examples/ is added as a valid case by run.mjs.
+import { readFileSync } from "node:fs";
+
+const requestOptions = JSON.parse(readFileSync(new URL("../../schemas/request.schema.json", import.meta.url), "utf8"))
+  .$defs.options.properties;
 
 export const base = {
   scene: {
@@ -77,8 +81,10 @@ valid("mesh with per-axis scale", ["scene/solids/4/scale", [0.5, 1, 2]]);
 valid("no floor", ["scene/floor", undefined]);
 valid("shadows with tuning", ["options/shadows", true], ["options/shadow", { size: 256, pcf: 3, bias: 0.5 }]);
 valid("painter key", ["options/painter", { key: "newell" }]);
-for (const pipeline of ["zbuffer", "painter", "bsp", "reference"]) valid(`pipeline ${pipeline}`, ["options/pipeline", pipeline]);
-for (const shading of ["flat", "gouraud", "phong"]) valid(`shading ${shading}`, ["options/shading", shading]);
+// Every pipeline and shading mode the schema lists (tests/unit/test_schema_tables.cpp holds that list
+// to the C++ tables), so a new row is exercised here without an edit.
+for (const pipeline of requestOptions.pipeline.enum) valid(`pipeline ${pipeline}`, ["options/pipeline", pipeline]);
+for (const shading of requestOptions.shading.enum) valid(`shading ${shading}`, ["options/shading", shading]);
 valid("bsp weights", ["options/bsp", { w1: 2, w2: 8, w3: 0, epsilon: 0.001, max_candidates: 8 }]);
 valid("material on a solid", ["scene/solids/0/material", { specular: 0.5, specular_color: "#ffffff", shininess: 64 }]);
 

@@ -111,7 +111,7 @@ struct StressScene {
 
   Frame render(const std::string& pipeline, PainterKey key = PainterKey::mean) const {
     RenderOptions options = request.options;
-    options.pipeline = find_pipeline(pipeline)->kind;
+    options.pipeline = pipeline_id(pipeline);
     options.painter_key = key;
     return render_frame(request.scene, soup, request.camera, options).frame;
   }

@@ -25,7 +25,7 @@ json example(const std::string& stem, int width = 320, int height = 240) {
   return testing::example_request(stem, width, height);
 }
 
-RenderResult render(const RenderRequest& r, const PolygonSoup& soup, PipelineKind pipeline,
+RenderResult render(const RenderRequest& r, const PolygonSoup& soup, PipelineId pipeline,
                     const RenderContext& context = {}) {
   RenderOptions options = r.options;
   options.pipeline = pipeline;
@@ -43,8 +43,8 @@ TEST(Bsp, EveryExampleMatchesTheZbufferAwayFromEdges) {
     SCOPED_TRACE(file.stem().string());
     RenderRequest r = request_from_json(example(file.stem().string()));
     PolygonSoup soup = tessellate(r.scene.geometry);
-    RenderResult z = render(r, soup, PipelineKind::zbuffer);
-    RenderResult b = render(r, soup, PipelineKind::bsp);
+    RenderResult z = render(r, soup, pipeline_id("zbuffer"));
+    RenderResult b = render(r, soup, pipeline_id("bsp"));
     // Edges of either image: a fragment's cut edge snaps to the sub-pixel grid on its own, so a
     // pixel centre within ~1/400 pixel of a cut may flip (docs/bsp.md).
     testing::IdDiff d = testing::compare_ids(z.frame.ids, b.frame.ids, true);
@@ -57,12 +57,12 @@ TEST(Bsp, IntersectingScenesAreSplitAndExact) {
     SCOPED_TRACE(stem);
     RenderRequest r = request_from_json(example(stem, 640, 480));
     PolygonSoup soup = tessellate(r.scene.geometry);
-    RenderResult b = render(r, soup, PipelineKind::bsp);
+    RenderResult b = render(r, soup, pipeline_id("bsp"));
     EXPECT_GT(b.stats.bsp_splits, 0u);
     // Each split replaces one polygon by at most two (a sliver part of zero area is dropped).
     EXPECT_LE(b.stats.bsp_fragments, b.stats.bsp_input_polygons + b.stats.bsp_splits);
     EXPECT_GT(b.stats.bsp_fragments, b.stats.bsp_input_polygons);
-    testing::IdDiff d = testing::compare_ids(render(r, soup, PipelineKind::zbuffer).frame.ids, b.frame.ids, true);
+    testing::IdDiff d = testing::compare_ids(render(r, soup, pipeline_id("zbuffer")).frame.ids, b.frame.ids, true);
     EXPECT_EQ(d.interior, 0u) << d.edge << " edge pixels differ";
     EXPECT_GT(b.stats.bsp_nodes, 0u);
     EXPECT_GE(b.stats.bsp_depth, 2u);
@@ -119,8 +119,8 @@ TEST(Bsp, FarFromTheOriginAndSmallStaysExact) {
   r.camera.target = r.camera.target * scale + Vec3(shift);
   r.camera.near *= scale;
   r.camera.far *= scale;
-  RenderResult z = render(r, soup, PipelineKind::zbuffer);
-  RenderResult b = render(r, soup, PipelineKind::bsp);
+  RenderResult z = render(r, soup, pipeline_id("zbuffer"));
+  RenderResult b = render(r, soup, pipeline_id("bsp"));
   testing::IdDiff d = testing::compare_ids(z.frame.ids, b.frame.ids, true);
   EXPECT_EQ(d.interior, 0u) << d.edge << " edge pixels differ";
 
@@ -167,8 +167,8 @@ TEST(Bsp, ConvexRoomMakesADeepChainWithoutRecursion) {
   BspTree tree = build_bsp(soup, r.options.bsp);
   EXPECT_EQ(tree.splits, 0u);
   EXPECT_GE(tree.depth, size_t(segments) / 2);
-  testing::IdDiff d = testing::compare_ids(render(r, soup, PipelineKind::zbuffer).frame.ids,
-                                           render(r, soup, PipelineKind::bsp).frame.ids);
+  testing::IdDiff d = testing::compare_ids(render(r, soup, pipeline_id("zbuffer")).frame.ids,
+                                           render(r, soup, pipeline_id("bsp")).frame.ids);
   EXPECT_EQ(d.interior, 0u);
 }
 
@@ -187,8 +187,8 @@ TEST(Bsp, SeededRandomTrianglesMatchTheZbuffer) {
                     {"options", {{"width", 96}, {"height", 72}}}};
     RenderRequest r = request_from_json(request);
     PolygonSoup soup = tessellate(r.scene.geometry);
-    testing::IdDiff d = testing::compare_ids(render(r, soup, PipelineKind::zbuffer).frame.ids,
-                                             render(r, soup, PipelineKind::bsp).frame.ids, true);
+    testing::IdDiff d = testing::compare_ids(render(r, soup, pipeline_id("zbuffer")).frame.ids,
+                                             render(r, soup, pipeline_id("bsp")).frame.ids, true);
     EXPECT_EQ(d.interior, 0u) << d.edge << " edge pixels differ";
   }
 }

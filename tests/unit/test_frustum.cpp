@@ -87,7 +87,7 @@ TEST(Frustum, EyeLevelApartmentReportsCulledObjects) {
   RenderResult result = render_frame(r.scene, soup, r.camera, r.options);
   EXPECT_GT(result.stats.objects_culled, 0u);
   EXPECT_LT(result.stats.objects_culled, soup.objects.size());
-  r.options.pipeline = PipelineKind::bsp;
+  r.options.pipeline = pipeline_id("bsp");
   EXPECT_EQ(render_frame(r.scene, soup, r.camera, r.options).stats.objects_culled, 0u) << "bsp culls subtrees";
 }
 

@@ -5,6 +5,8 @@
 // example (the other seeds), so fuzzing reaches the renderer rather than stopping at validation.
 #include "fuzz/fuzz_harness.hpp"
 #include "render/core/image.hpp"
+#include "render/core/scene_names.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -36,13 +38,13 @@ std::vector<fs::path> replay_files() {
 // painter every sort key too. PNG modes rotate with the index (they all decode alike).
 std::vector<fuzz::Variant> all_variants() {
   std::vector<fuzz::Variant> variants;
-  for (int p = 0; p < 3; ++p) {
-    for (int s = 0; s < 3; ++s) {
+  for (const PipelineInfo& pipeline : pipeline_table()) {
+    for (const auto& shading : shading_names) {
       for (int shadows = 0; shadows < 2; ++shadows) {
-        int keys = PipelineKind(p) == PipelineKind::painter ? 4 : 1;
-        for (int k = 0; k < keys; ++k) {
-          fuzz::Variant v{PipelineKind(p), ShadingMode(s), PainterKey(k), shadows == 1,
-                          PngCompression(variants.size() % 3)};
+        size_t keys = std::string_view(pipeline.name) == "painter" ? painter_key_names.size() : 1;
+        for (size_t k = 0; k < keys; ++k) {
+          fuzz::Variant v{pipeline_id(pipeline), shading.value, painter_key_names[k].value, shadows == 1,
+                          png_compression_names[variants.size() % png_compression_names.size()].value};
           variants.push_back(v);
         }
       }

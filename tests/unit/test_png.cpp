@@ -6,6 +6,7 @@
 #include "render/core/png.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/render_helpers.hpp"
+#include "render/core/scene_names.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -89,9 +90,9 @@ Image rendered_example(const std::string& name, int width, int height) {
 }
 
 void expect_round_trip(const Image& image, const std::string& what) {
-  for (const PngCompressionInfo& m : png_compression_table()) {
+  for (const auto& m : png_compression_names) {
     SCOPED_TRACE(what + ", compression " + m.name);
-    std::string png = encode_png(image, m.mode);
+    std::string png = encode_png(image, m.value);
     Image decoded = decode_png(png);
     ASSERT_EQ(decoded.width, image.width);
     ASSERT_EQ(decoded.height, image.height);

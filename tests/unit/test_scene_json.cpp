@@ -4,6 +4,7 @@
 #include "render/core/scene_id.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -77,7 +78,7 @@ TEST(SceneJson, EmptyRequestGetsDocumentedDefaults) {
   EXPECT_EQ(r.camera.far, 100.0);
   EXPECT_EQ(r.options.width, 640);
   EXPECT_EQ(r.options.height, 480);
-  EXPECT_EQ(r.options.pipeline, PipelineKind::zbuffer);
+  EXPECT_EQ(r.options.pipeline, pipeline_id("zbuffer"));
   EXPECT_EQ(r.options.shading, ShadingMode::flat);
   // Empty members behave as absent ones.
   RenderRequest empty_members = parse_request(R"({"scene":{},"camera":{},"options":{}})");

@@ -5,6 +5,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/shading.hpp"
+#include "render/core/scene_names.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,7 @@ TEST(Threads, EveryExampleAndModeIsByteIdenticalForOneTwoAndEightThreads) {
     j["options"]["width"] = 250;  // 4 x 3 tiles, the last column and row partial
     j["options"]["height"] = 170;
     for (const PipelineInfo& pipeline : pipeline_table()) {
-      for (const ShadingInfo& shading : shading_table()) {
+      for (const auto& shading : shading_names) {
         for (bool shadows : {false, true}) {
           j["options"]["pipeline"] = pipeline.name;
           j["options"]["shading"] = shading.name;

@@ -10,6 +10,7 @@
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/shadow.hpp"
+#include "render/core/scene_names.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -66,7 +67,7 @@ TEST(Visibility, MatchesPerFragmentZBufferingOnEveryExampleAndMode) {
     j["options"]["width"] = 300;
     j["options"]["height"] = 200;
     j["options"]["pipeline"] = "zbuffer";
-    for (const ShadingInfo& shading : shading_table()) {
+    for (const auto& shading : shading_names) {
       for (bool shadows : {false, true}) {
         j["options"]["shading"] = shading.name;
         j["options"]["shadows"] = shadows;

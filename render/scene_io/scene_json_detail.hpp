@@ -1,0 +1,40 @@
+// Internal to the request reader (scene_json.cpp, solid_readers.cpp); nothing else includes it.
+// Shared ranges and readers, and the table of solid readers: one row per solid type, keyed by the
+// type of render/core/solids.hpp's table, reading the members that type has (JSON -> Solid).
+#pragma once
+
+#include "render/core/scene.hpp"
+#include "render/scene_io/json_reader.hpp"
+#include "render/scene_io/scene_json.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <span>
+#include <string>
+
+namespace rr {
+
+// Ranges derived from the limits, shared by every reader.
+struct Bounds {
+  explicit Bounds(const ParseLimits& l)
+      : limits(l),
+        coordinate{-l.max_abs_coordinate, l.max_abs_coordinate},
+        length{0.0, l.max_abs_coordinate, true},
+        distance{0.0, l.max_abs_coordinate} {}
+  const ParseLimits& limits;
+  NumberRange coordinate;  // positions, centres, elevations, bases
+  NumberRange length;      // sizes, thickness, heights, radii: > 0
+  NumberRange distance;    // offsets and sills: >= 0
+};
+
+
+MaterialParams read_material(const ObjectReader& owner);  // the optional "material" member
+
+struct SolidReader {
+  SolidType type;
+  // Reads every member of `value` but "type" (already read into s.type) into `s`.
+  void (*read)(const nlohmann::json& value, const std::string& pointer, Solid& s, const Bounds& b);
+};
+std::span<const SolidReader> solid_readers();  // a row for every row of solid_table()
+
+}  // namespace rr
