@@ -6,7 +6,7 @@
 // --out. The classic reference: 4.1 s to build the 240-quad tree, 2 ms to traverse it.
 #include "render/pipelines/bsp.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/core/scene_id.hpp"
+#include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/timer.hpp"
 
@@ -81,13 +81,16 @@ int main(int argc, char** argv) {
 
   {  // four cylinders: build, traverse, draw
     RenderRequest r = example("four_cylinders", 640, 480);
-    PolygonSoup soup = tessellate(r.scene.geometry);
+    const PreparedScene scene = prepare_scene(r.scene);
+    const PolygonSoup& soup = scene.soup;
+    RenderContext no_png;
+    no_png.encode = false;  // frames up to the image, as bench-render measures them
     std::vector<double> build, traverse, draw, total;
     RenderStats stats;
     for (int f = 0; f < frames; ++f) {
-      RenderOptions o = r.options;
-      o.pipeline = pipeline_id("bsp");
-      RenderResult res = render_frame(r.scene, soup, r.camera, o);  // no cache: builds every frame
+      RenderRequest view = r;
+      view.options.pipeline = pipeline_id("bsp");
+      RenderReport res = render(view, scene, no_png).report;  // no cache: builds every frame
       build.push_back(res.timings.build_ms);
       traverse.push_back(res.timings.traverse_ms);
       draw.push_back(res.timings.shade_ms + res.timings.raster_ms);
@@ -105,16 +108,19 @@ int main(int argc, char** argv) {
 
   {  // bsp (warm cache) against zbuffer on the apartment at 1280x720
     RenderRequest r = example("apartment", 1280, 720);
-    PolygonSoup soup = tessellate(r.scene.geometry);
+    const PreparedScene scene = prepare_scene(r.scene);
     BspCache cache(256u << 20);
-    RenderContext context{&cache, nullptr, scene_id(r.scene.geometry)};
+    RenderContext context{&cache, nullptr, scene.static_id};
+    context.encode = false;
+    RenderContext no_cache;
+    no_cache.encode = false;
     std::vector<double> bsp_ms, z_ms;
     for (int f = 0; f < frames + 1; ++f) {
-      RenderOptions o = r.options;
-      o.pipeline = pipeline_id("bsp");
-      double b = render_frame(r.scene, soup, r.camera, o, context).timings.total_ms;
-      o.pipeline = pipeline_id("zbuffer");
-      double z = render_frame(r.scene, soup, r.camera, o).timings.total_ms;
+      RenderRequest view = r;
+      view.options.pipeline = pipeline_id("bsp");
+      double b = render(view, scene, context).report.timings.total_ms;
+      view.options.pipeline = pipeline_id("zbuffer");
+      double z = render(view, scene, no_cache).report.timings.total_ms;
       if (f == 0) continue;  // the first bsp frame builds the tree
       bsp_ms.push_back(b);
       z_ms.push_back(z);

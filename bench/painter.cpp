@@ -6,6 +6,7 @@
 // classic reference: 12 ms for the painter's sort of the 240 quads.
 #include "render/pipelines/painter.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/timer.hpp"
 
@@ -104,7 +105,10 @@ int main(int argc, char** argv) {
 
   // The example: sort and draw per key, from the pipeline's own stage timings.
   rr::RenderRequest request = rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/four_cylinders.json"));
-  rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
+  const rr::PreparedScene scene = rr::prepare_scene(request.scene);
+  const rr::PolygonSoup& soup = scene.soup;
+  rr::RenderContext no_png;
+  no_png.encode = false;  // frames up to the image, as bench-render measures them
   request.options.pipeline = rr::pipeline_id("painter");
   json example = {{"scene", "examples/four_cylinders.json"}, {"polygons", soup.polygons.size()},
                   {"width", request.options.width}, {"height", request.options.height}, {"frames", frames}};
@@ -116,7 +120,7 @@ int main(int argc, char** argv) {
     std::vector<double> sort, raster, shade, draw, total;
     rr::RenderStats stats;
     for (int f = 0; f < frames + 2; ++f) {
-      rr::RenderResult r = rr::render_frame(request.scene, soup, request.camera, request.options);
+      const rr::RenderReport r = rr::render(request, scene, no_png).report;
       if (f < 2) continue;  // warm-up
       sort.push_back(r.timings.sort_ms);
       raster.push_back(r.timings.raster_ms);
@@ -141,13 +145,14 @@ int main(int argc, char** argv) {
   std::printf("newell on scenes that need splits (median of %d frames):\n", frames);
   for (const char* name : {"tri_intersecting", "cubes_45_pyramid_cylinder"}) {
     rr::RenderRequest c = rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/" + name + ".json"));
-    rr::PolygonSoup csoup = rr::tessellate(c.scene.geometry);
+    const rr::PreparedScene cscene = rr::prepare_scene(c.scene);
+    const rr::PolygonSoup& csoup = cscene.soup;
     c.options.pipeline = rr::pipeline_id("painter");
     c.options.painter_key = rr::PainterKey::newell;
     std::vector<double> sort, draw;
     rr::RenderStats stats;
     for (int f = 0; f < frames; ++f) {
-      rr::RenderResult r = rr::render_frame(c.scene, csoup, c.camera, c.options);
+      const rr::RenderReport r = rr::render(c, cscene, no_png).report;
       sort.push_back(r.timings.sort_ms);
       draw.push_back(r.timings.raster_ms + r.timings.shade_ms);
       stats = r.stats;
