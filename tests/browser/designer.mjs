@@ -5,8 +5,8 @@
 // Plan and image positions come from window.roomrenderDesigner (worldToPlan, viewToPage); the
 // request is read back after each step with request(). Waits are on idle() (no render in flight),
 // never on fixed sleeps, so a loaded machine only makes them slower.
-import { runScenario, assert } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, imageSummary, openEmpty, drawRoom } from "./designer_support.mjs";
+import { runScenario, assert, imageSummary } from "./support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom } from "./designer_support.mjs";
 
 const [binary, outDir, scenario, screenshotPath] = process.argv.slice(2);
 

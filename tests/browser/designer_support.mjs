@@ -1,6 +1,6 @@
 // Steps shared by the designer's browser tests (designer.mjs, sharing.mjs): the page's hooks
-// (window.roomrenderDesigner), clicks and drags in the plan by world coordinates, a summary of the
-// image on screen, and the empty 5 m × 4 m room drawn with the wall tool.
+// (window.roomrenderDesigner), clicks and drags in the plan by world coordinates, and the empty
+// 5 m × 4 m room drawn with the wall tool.
 import { assert } from "./support.mjs";
 
 export const hooks = (page, name, ...args) => page.evaluate(([n, a]) => window.roomrenderDesigner[n](...a), [name, args]);
@@ -21,27 +21,6 @@ export async function dragPlan(page, from, to, steps = 8) {
   await page.mouse.down();
   for (let i = 1; i <= steps; i++) await page.mouse.move(a.x + ((b.x - a.x) * i) / steps, a.y + ((b.y - a.y) * i) / steps);
   await page.mouse.up();
-}
-
-// The image on screen: size, distinct colours and a hash of its pixels.
-export function imageSummary(page) {
-  return page.evaluate(() => {
-    const img = document.querySelector('[data-testid="view"]');
-    const canvas = document.createElement("canvas");
-    canvas.width = img.naturalWidth;
-    canvas.height = img.naturalHeight;
-    const ctx = canvas.getContext("2d");
-    ctx.drawImage(img, 0, 0);
-    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
-    const colours = new Set();
-    let hash = 2166136261;
-    for (let i = 0; i < data.length; i += 4) {
-      const c = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
-      colours.add(c);
-      hash = Math.imul(hash ^ c, 16777619) >>> 0;
-    }
-    return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
-  });
 }
 
 // Opens the page, waits for its first render, and starts an empty scene with "New".

@@ -6,8 +6,8 @@
 // repository, as bench/ finds it) and is skipped when that is absent.
 import fs from "node:fs";
 import path from "node:path";
-import { runScenario, assert, skip, repoRoot, httpRequest, serverHas } from "./support.mjs";
-import { hooks, idle, request, clickPlan, imageSummary, openEmpty, drawRoom } from "./designer_support.mjs";
+import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
+import { hooks, idle, request, clickPlan, openEmpty, drawRoom } from "./designer_support.mjs";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
 
@@ -27,12 +27,19 @@ async function waitForNewRender(page, seq) {
   await idle(page);
 }
 
+// The example selector follows the editor's text a moment after it changes (the controls read the
+// text debounced), so it is waited for rather than read at once.
+async function expectExample(page, value, message) {
+  await page.waitForFunction((v) => document.getElementById("example").value === v, value, { timeout: 5000 })
+    .catch(() => assert(false, message));
+}
+
 const scenarios = {
   // Save stores the scene; the permalink opened in a new page gives the same request and the same
   // PNG bytes, and the image URL answers those bytes too. The example selector says "(custom)".
   async designer_permalink({ page, server, context }) {
     await openEmpty(page, server);
-    assert(await page.inputValue("#example") === "", "after New the example selector says (custom)");
+    await expectExample(page, "", "after New the example selector says (custom)");
     await drawRoom(page);
     await page.click('[data-tool="furniture"]');
     await page.click('[data-item="chair"]');
@@ -61,7 +68,7 @@ const scenarios = {
     assert(same(before, after), `the link gives the same request:\n${JSON.stringify(sorted(before))}\n${JSON.stringify(sorted(after))}`);
     const pngAfter = await hooks(other, "png");
     assert(pngAfter === pngBefore, `and the same PNG bytes (${pngBefore.length} / ${pngAfter.length} base64 characters)`);
-    assert(await other.inputValue("#example") === "", "a linked scene is (custom) too");
+    await expectExample(other, "", "a linked scene is (custom) too");
 
     const res = await httpRequest(imageUrl);
     assert(res.status === 200 && res.headers["content-type"] === "image/png", `the image URL answers a PNG: ${res.status}`);
@@ -78,7 +85,7 @@ const scenarios = {
     assert(/0123456789abcdef/.test(message) && /no such scene/.test(message), `the page says the scene is unknown: ${message}`);
     await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
     await idle(page);
-    assert(await page.inputValue("#example") === "apartment", "and loads the default example instead");
+    await expectExample(page, "apartment", "and loads the default example instead");
 
     // A wall without an end parses as JSON but is no scene: storing it is refused, with the reason.
     const broken = await request(page);
@@ -124,7 +131,7 @@ const scenarios = {
     assert(text.length < 1e6 && kept >= 60, `the editor holds a small text: ${text.length} characters, ${kept} meshes kept out`);
     assert(renders.length >= 1 && renders.every((x) => x.path !== "/v1/render" && x.bytes < 10000),
       `renders go by scene id, with small bodies: ${JSON.stringify(renders)}`);
-    assert(await page.inputValue("#example") === "", "the selector says (custom)");
+    await expectExample(page, "", "the selector says (custom)");
 
     // A point light in the middle of the room: the scene is stored again (meshes put back) and renders.
     seq = await renderSeq(page);

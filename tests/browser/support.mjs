@@ -140,3 +140,25 @@ export async function runScenario(name, { binary, outDir, precheck }, body) {
 export function assert(condition, message) {
   if (!condition) throw new Error(`assertion failed: ${message}`);
 }
+
+// An image on the page (the 3D view unless `selector` names another), summarised: its size, the
+// number of distinct colours and a hash of its pixels.
+export function imageSummary(page, selector = '[data-testid="view"]') {
+  return page.evaluate((sel) => {
+    const img = document.querySelector(sel);
+    const canvas = document.createElement("canvas");
+    canvas.width = img.naturalWidth;
+    canvas.height = img.naturalHeight;
+    const ctx = canvas.getContext("2d");
+    ctx.drawImage(img, 0, 0);
+    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const colours = new Set();
+    let hash = 2166136261;
+    for (let i = 0; i < data.length; i += 4) {
+      const c = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
+      colours.add(c);
+      hash = Math.imul(hash ^ c, 16777619) >>> 0;
+    }
+    return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
+  }, selector);
+}

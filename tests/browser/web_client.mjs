@@ -5,7 +5,7 @@
 // person sees is what is checked: the image's pixels, the bars of the chart, the messages at the
 // fields, the files the download buttons save.
 import fs from "node:fs";
-import { runScenario, serverHas, httpRequest, skip, assert, repoRoot } from "./support.mjs";
+import { runScenario, serverHas, httpRequest, skip, assert, repoRoot, imageSummary } from "./support.mjs";
 
 const [binary, outDir, scenario, screenshotPath] = process.argv.slice(2);
 
@@ -28,27 +28,6 @@ async function open(page, server, example) {
     seq = await waitForRender(page, seq);
   }
   return seq;
-}
-
-// The image's pixels, summarised: size, number of distinct colours and a hash.
-function imageSummary(page, selector) {
-  return page.evaluate((sel) => {
-    const img = document.querySelector(sel);
-    const canvas = document.createElement("canvas");
-    canvas.width = img.naturalWidth;
-    canvas.height = img.naturalHeight;
-    const ctx = canvas.getContext("2d");
-    ctx.drawImage(img, 0, 0);
-    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
-    const colours = new Set();
-    let hash = 2166136261;
-    for (let i = 0; i < data.length; i += 4) {
-      const c = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
-      colours.add(c);
-      hash = Math.imul(hash ^ c, 16777619) >>> 0;
-    }
-    return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
-  }, selector);
 }
 
 async function download(page, button) {
