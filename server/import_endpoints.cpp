@@ -30,7 +30,7 @@ double number_param(const Request& req, const std::string& name, double fallback
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value) || value < lo || value > hi) {
     throw HttpError(400, "The query parameter " + name + " must be a number in [" + std::to_string(lo) + ", " +
                              std::to_string(hi) + "].",
-                    {{"", "not a number in range: \"" + text + "\"", name}});
+                    {{"", "not a number in range: \"" + quote_input(text) + "\"", name}});
   }
   return value;
 }

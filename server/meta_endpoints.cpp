@@ -48,7 +48,7 @@ std::vector<std::string> list_names(const fs::path& dir, const std::string& suff
 void send_file(Response& res, const fs::path& dir, const std::string& name, const std::string& suffix,
                const std::string& content_type, const std::string& what) {
   auto text = read_text_file(dir / (name + suffix));
-  if (!text) throw HttpError(404, "There is no " + what + " named '" + name + "'.");
+  if (!text) throw HttpError(404, "There is no " + what + " named '" + quote_input(name) + "'.");
   res.set_header("Cache-Control", "no-cache");
   res.set_content(*text, content_type);
 }

@@ -276,7 +276,8 @@ json view_from_query(const Request& req) {
       if (name == p.name) param = &p;
     }
     if (!param) {
-      throw HttpError(400, "Unknown query parameter '" + name + "'.", {{"", "unknown query parameter", name}});
+      throw HttpError(400, "Unknown query parameter '" + quote_input(name) + "'.",
+                      {{"", "unknown query parameter", quote_input(name)}});
     }
     if (req.get_param_value_count(name) > 1) bad_parameter(*param, "is given more than once");
     view[json::json_pointer(param->pointer)] = parse_param(*param, value);

@@ -61,7 +61,7 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
   auto scene = read_scene_body(state, req);
   if (scene->id != match.params.at(0)) {
     throw HttpError(422, "Scene ids are content hashes: this scene's id is " + scene->id + ", not " +
-                             match.params[0] + "; PUT it at " + scene_location(scene->id) + " (or POST it to /v1/scenes).",
+                             quote_input(match.params[0]) + "; PUT it at " + scene_location(scene->id) + " (or POST it to /v1/scenes).",
                     {{"", "content hashes to " + scene->id}});
   }
   store_and_answer(state, res, scene);

@@ -24,7 +24,7 @@ namespace {
 // Parses one `f` token's index (1-based, or negative from the end) against `count` defined so far.
 uint32_t resolve_index(std::string_view field, size_t count, const char* what, size_t line) {
   std::optional<long long> raw = parse_long(field);
-  if (!raw) throw_at_line(Kind::malformed, line, std::string(what) + " index '" + std::string(field) + "' is not an integer");
+  if (!raw) throw_at_line(Kind::malformed, line, std::string(what) + " index '" + quote_input(field) + "' is not an integer");
   const long long signed_count = static_cast<long long>(count);
   long long index = *raw > 0 ? *raw - 1 : signed_count + *raw;
   if (*raw == 0 || index < 0 || index >= signed_count) {
@@ -42,7 +42,7 @@ Vec3 parse_vector(const std::vector<std::string_view>& fields, size_t line, cons
   for (int k = 0; k < 3; ++k) {
     std::optional<double> value = parse_double(fields[size_t(k) + 1]);
     if (!value) {
-      throw_at_line(Kind::invalid, line, std::string(what) + " coordinate '" + std::string(fields[size_t(k) + 1]) +
+      throw_at_line(Kind::invalid, line, std::string(what) + " coordinate '" + quote_input(fields[size_t(k) + 1]) +
                                              "' is not a finite number");
     }
     // The mesh keeps file units; the request refuses coordinates beyond 1e6.

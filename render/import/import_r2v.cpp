@@ -67,7 +67,7 @@ Plan parse_plan(std::string_view text) {
     for (int k = 0; k < 4; ++k) {
       auto v = parse_double(fields[size_t(k)]);
       if (!v || std::abs(*v) > 1e6) {
-        throw_at_line(Kind::malformed, n, "coordinate '" + std::string(fields[size_t(k)]) + "' is not a number");
+        throw_at_line(Kind::malformed, n, "coordinate '" + quote_input(fields[size_t(k)]) + "' is not a number");
       }
       c[k] = *v;
     }

@@ -70,7 +70,7 @@ double number_attribute(const Sh3dElement& e, const char* name, double fallback)
   pugi::xml_attribute a = e.node.attribute(name);
   if (!a) return fallback;
   std::optional<double> value = parse_double(a.as_string());
-  if (!value || std::abs(*value) > 1e8) throw_attribute(e, name, "'" + std::string(a.as_string()) + "' is not a number");
+  if (!value || std::abs(*value) > 1e8) throw_attribute(e, name, "'" + quote_input(a.as_string()) + "' is not a number");
   return *value;
 }
 
@@ -97,7 +97,7 @@ const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h) {
   auto it = h.levels.find(a.as_string());
   if (it == h.levels.end()) {
     throw InputError(InputError::Kind::invalid, e.pointer,
-                     "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" + a.as_string() +
+                     "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" + quote_input(a.as_string()) +
                          "', which the home does not define");
   }
   return it->second.visible ? &it->second : nullptr;

@@ -14,7 +14,7 @@ std::string label(ElementRef element, const Scene& scene, std::string_view scene
   const std::string* id = nullptr;
   if (element.kind == ElementKind::wall && element.index < g.walls.size()) id = &g.walls[element.index].id;
   if (element.kind == ElementKind::solid && element.index < g.solids.size()) id = &g.solids[element.index].id;
-  return !id || id->empty() ? pointer : pointer + " (\"" + *id + "\")";
+  return !id || id->empty() ? pointer : pointer + " (\"" + quote_input(*id) + "\")";
 }
 
 }  // namespace

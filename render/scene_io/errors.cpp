@@ -1,11 +1,35 @@
 // JSON Pointer building for InputError (RFC 6901): a reference token escapes '~' as "~0" and '/' as
 // "~1". '~' is replaced first in spirit: each character is escaped on its own, so "~1" in a key
-// becomes "~01" and reads back as the original two characters.
+// becomes "~01" and reads back as the original two characters. Long client text is cut here too
+// (quote_input), since pointers and messages quoting it go into answers.
 #include "render/scene_io/errors.hpp"
 
 namespace rr {
 
-std::string pointer_append(const std::string& pointer, const std::string& token) {
+size_t quoted_input_length(std::string_view text) {
+  if (text.size() <= max_quoted_input_bytes) return text.size();
+  size_t cut = max_quoted_input_bytes;
+  // Back off continuation bytes (10xxxxxx) so the cut falls before a lead byte; a UTF-8 sequence
+  // has at most 3 of them, and invalid text stops the walk after that many.
+  for (int step = 0; step < 3 && cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80; ++step) {
+    --cut;
+  }
+  return cut;
+}
+
+std::string truncation_marker(size_t total_bytes) {
+  return "\u2026(" + std::to_string(total_bytes) + " bytes)";
+}
+
+std::string quote_input(std::string_view text) {
+  size_t keep = quoted_input_length(text);
+  std::string out(text.substr(0, keep));
+  if (keep < text.size()) out += truncation_marker(text.size());
+  return out;
+}
+
+std::string pointer_append(const std::string& pointer, const std::string& raw_token) {
+  const std::string token = quote_input(raw_token);
   std::string out;
   out.reserve(pointer.size() + token.size() + 1);
   out += pointer;

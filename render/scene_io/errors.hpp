@@ -3,8 +3,10 @@
 // behind validation assumes valid input and does not throw these.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace rr {
 
@@ -25,7 +27,23 @@ class InputError : public std::runtime_error {
   std::string pointer_;
 };
 
-// Appends a reference token to a JSON Pointer, escaping '~' and '/' as RFC 6901 requires.
+// Client text quoted in an error (a key, an enum value, a query parameter, a pointer token) is cut
+// to this many bytes, so an answer stays small whatever the request held (docs/api.md, "Errors").
+inline constexpr size_t max_quoted_input_bytes = 64;
+
+// How many leading bytes of `text` an error quotes: all of it when it fits, else at most
+// max_quoted_input_bytes ending on a UTF-8 character boundary.
+size_t quoted_input_length(std::string_view text);
+
+// What follows a cut quote: "…(4194304 bytes)", the length of the whole text.
+std::string truncation_marker(size_t total_bytes);
+
+// `text` as an error quotes it: whole, or its first bytes (quoted_input_length) + truncation_marker.
+std::string quote_input(std::string_view text);
+
+// Appends a reference token to a JSON Pointer, escaping '~' and '/' as RFC 6901 requires. A token
+// longer than max_quoted_input_bytes is cut by quote_input first: these pointers only name places
+// in errors and warnings, and the marker shows that the pointer no longer resolves.
 std::string pointer_append(const std::string& pointer, const std::string& token);
 std::string pointer_append(const std::string& pointer, size_t index);
 

@@ -86,10 +86,18 @@ double read_number(const json& value, const std::string& pointer, const NumberRa
 long long read_integer(const json& value, const std::string& pointer, const NumberRange& range) {
   // JSON Schema's "integer": any number with a zero fractional part, so 2.0 is accepted too and
   // the server agrees with the published schema.
+  // Every integer member of a request is read here, so 16 and 16.0 mean the same everywhere.
   if (!value.is_number()) throw_invalid(pointer, "must be an integer");
   double v = value.get<double>();
-  if (!std::isfinite(v) || v != std::floor(v)) throw_invalid(pointer, "must be an integer");
-  check_range(v, pointer, range);  // ranges used here lie well inside +-2^53
+  if (!std::isfinite(v) || v != std::floor(v)) {
+    throw_invalid(pointer, "must be an integer (got " + format_number(v) + ")");
+  }
+  check_range(v, pointer, range);
+  // Outside +-2^62 a double cannot be cast to long long safely; no integer member comes near it.
+  constexpr double cast_limit = 4611686018427387904.0;
+  if (v < -cast_limit || v > cast_limit) {
+    throw InputError(range.kind_above, pointer, "must be at most " + format_number(range.hi));
+  }
   return value.is_number_integer() ? value.get<long long>() : static_cast<long long>(v);
 }
 

@@ -4,9 +4,12 @@
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rr {
@@ -19,7 +22,9 @@ namespace {
 // parent is not modified while one of its children is open.
 class BoundedBuilder {
  public:
-  BoundedBuilder(json& root, size_t max_depth) : root_(root), max_depth_(max_depth) {}
+  // `nul_at`: the offset of the first NUL byte in the text, where parsing was cut (npos: none).
+  BoundedBuilder(json& root, size_t max_depth, size_t nul_at)
+      : root_(root), max_depth_(max_depth), nul_at_(nul_at) {}
 
   bool null() { return add(json(nullptr)); }
   bool boolean(bool v) { return add(json(v)); }
@@ -50,7 +55,16 @@ class BoundedBuilder {
   // Syntax errors, invalid UTF-8, and numbers that overflow a double (nlohmann 3.11 reports those
   // itself). The pointer is "": text that is not JSON has no reliable location in a JSON tree.
   bool parse_error(size_t position, const std::string& /*last_token*/, const json::exception& ex) {
+    // Running out of text where the NUL cut it is the NUL's fault, not a truncated body's.
+    if (nul_at_ != std::string::npos && position > nul_at_) fail_at_nul();
     fail("", "invalid JSON at byte " + std::to_string(position) + ": " + printable_reason(ex.what()));
+  }
+
+  // Byte offsets count from 1, as nlohmann's positions in the other syntax errors do.
+  [[noreturn]] void fail_at_nul() const {
+    fail("", "invalid JSON at byte " + std::to_string(nul_at_ + 1) +
+                 ": a NUL byte (JSON text may hold nothing but whitespace after its value, and no raw "
+                 "control characters inside it)");
   }
 
  private:
@@ -62,12 +76,33 @@ class BoundedBuilder {
   // nlohmann's message without its "[json.exception.parse_error.101] " prefix, and with bytes outside
   // printable ASCII spelled \xNN: it quotes the offending text, which may be invalid UTF-8, and the
   // detail must be safe to put into a JSON problem body.
+  // The quoted token ("last read: '...'") can be a whole multi-megabyte string, so it is cut as
+  // quote_input would cut it before it is escaped.
   static std::string printable_reason(const std::string& what) {
-    size_t start = 0;
-    if (auto end = what.find("] "); what.starts_with("[json.") && end != std::string::npos) start = end + 2;
+    std::string_view reason = what;
+    if (auto end = reason.find("] "); reason.starts_with("[json.") && end != std::string::npos) {
+      reason.remove_prefix(end + 2);
+    }
+    constexpr std::string_view quote_open = "last read: '";
+    size_t token_start = reason.find(quote_open);
+    if (token_start == std::string_view::npos) return printable(reason);
+    token_start += quote_open.size();
+    // nlohmann appends "; expected ..." after the token on some errors; the token itself may hold "'".
+    size_t token_end = reason.rfind("'; expected");
+    if (token_end == std::string_view::npos || token_end < token_start) token_end = reason.rfind('\'');
+    if (token_end == std::string_view::npos || token_end < token_start) token_end = reason.size();
+    std::string_view token = reason.substr(token_start, token_end - token_start);
+    size_t keep = quoted_input_length(token);
+    std::string out = printable(reason.substr(0, token_start)) + printable(token.substr(0, keep));
+    if (keep < token.size()) out += truncation_marker(token.size());
+    return out + printable(reason.substr(token_end));
+  }
+
+  // Bytes outside printable ASCII spelled \xNN.
+  static std::string printable(std::string_view text) {
     std::string out;
-    for (size_t i = start; i < what.size(); ++i) {
-      auto byte = static_cast<unsigned char>(what[i]);
+    for (char c : text) {
+      auto byte = static_cast<unsigned char>(c);
       if (byte >= 0x20 && byte < 0x7f) {
         out += char(byte);
       } else {
@@ -140,15 +175,21 @@ class BoundedBuilder {
 
   json& root_;
   size_t max_depth_;
+  size_t nul_at_;
   std::vector<Frame> stack_;
 };
 
 }  // namespace
 
 json parse_json_text(std::string_view text, const ParseLimits& limits) {
+  // nlohmann's lexer takes a NUL byte for the end of input, so "{}\0{...}" would parse as "{}" and
+  // drop the rest. JSON has no place for a raw NUL (strings must escape it), so the text is parsed
+  // up to the first NUL and the NUL itself is then the error, whatever precedes it.
+  size_t nul = text.find('\0');
   json root;
-  BoundedBuilder builder(root, limits.max_depth);
-  json::sax_parse(text.begin(), text.end(), &builder);  // strict: trailing text is an error
+  BoundedBuilder builder(root, limits.max_depth, nul);
+  json::sax_parse(text.begin(), text.begin() + std::ptrdiff_t(std::min(nul, text.size())), &builder);
+  if (nul != std::string_view::npos) builder.fail_at_nul();
   return root;
 }
 

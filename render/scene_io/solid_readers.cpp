@@ -76,15 +76,13 @@ std::vector<uint32_t> read_face(const json& value, const std::string& pointer, s
   std::vector<uint32_t> face;
   face.reserve(value.size());
   for (size_t k = 0; k < value.size(); ++k) {
-    const json& index = value[k];
-    if (!index.is_number_integer()) throw_invalid(pointer_append(pointer, k), "must be an integer");
-    // Text parsing stores non-negative integers as unsigned; JSON built in code may use signed.
-    bool negative = !index.is_number_unsigned() && index.get<long long>() < 0;
-    if (negative || index.get<uint64_t>() >= vertex_count) {
+    // The bounds are wide so that an index past the mesh gets the message that names its size.
+    long long index = read_integer(value[k], pointer_append(pointer, k), NumberRange{-1e15, 1e15});
+    if (index < 0 || static_cast<unsigned long long>(index) >= vertex_count) {
       throw_invalid(pointer_append(pointer, k), "vertex index out of range (the mesh has " +
                                                     std::to_string(vertex_count) + " vertices)");
     }
-    face.push_back(index.get<uint32_t>());
+    face.push_back(static_cast<uint32_t>(index));
   }
   if (auto repeat = find_repeated_index(face)) {
     throw_invalid(pointer_append(pointer, *repeat), "vertex " + std::to_string(face[*repeat]) +

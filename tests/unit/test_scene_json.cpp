@@ -273,6 +273,43 @@ TEST(SceneJsonErrors, IntegersMayBeSpelledWithAZeroFraction) {
                Kind::invalid, "/scene/solids/0/segments", "must be an integer");
 }
 
+// Every integer member, not just one: they are all read by read_integer.
+TEST(SceneJsonErrors, EveryIntegerMemberAcceptsAZeroFraction) {
+  RenderRequest r = parse_request(R"({"scene":{"version":1.0,"floor":{"cells":[2.0,3.0]},
+      "solids":[{"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0.0,1.0,2.0]]}]},
+      "options":{"width":320.0,"height":240.0,"bsp":{"max_candidates":8.0},
+                 "shadow":{"size":512.0,"pcf":3.0}}})");
+  EXPECT_EQ(r.scene.geometry.floor.cells_x, 2);
+  EXPECT_EQ(r.scene.geometry.floor.cells_z, 3);
+  EXPECT_EQ(r.scene.geometry.solids.at(0).faces.at(0), (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(r.options.width, 320);
+  EXPECT_EQ(r.options.height, 240);
+  EXPECT_EQ(r.options.bsp.max_candidates, 8);
+  EXPECT_EQ(r.options.shadow.size, 512);
+  EXPECT_EQ(r.options.shadow.pcf, 3);
+  // The same request spelled with plain integers is the same scene.
+  RenderRequest plain = parse_request(R"({"scene":{"version":1,"floor":{"cells":[2,3]},
+      "solids":[{"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2]]}]},
+      "options":{"width":320,"height":240,"bsp":{"max_candidates":8},"shadow":{"size":512,"pcf":3}}})");
+  EXPECT_EQ(scene_id(plain.scene.geometry), scene_id(r.scene.geometry));
+}
+
+TEST(SceneJsonErrors, FractionalIntegersNameTheirPointerAndValue) {
+  const std::string mesh = R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1.5,2]]})";
+  expect_error(one_solid(mesh), Kind::invalid, "/scene/solids/0/faces/0/1", "must be an integer (got 1.5)");
+  expect_error(R"({"options":{"width":16.5}})", Kind::invalid, "/options/width", "must be an integer (got 16.5)");
+  expect_error(R"({"scene":{"floor":{"cells":[2,2.25]}}})", Kind::invalid, "/scene/floor/cells/1",
+               "must be an integer");
+  expect_error(R"({"options":{"shadow":{"pcf":3.0000001}}})", Kind::invalid, "/options/shadow/pcf",
+               "must be an integer");
+  // Out-of-range exact integers keep their own messages, whichever way they are spelled.
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,3.0]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0/2", "out of range");
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,1e300]]})"),
+               Kind::invalid, "/scene/solids/0/faces/0/2", "at most");
+  expect_error(R"({"options":{"width":1e300}})", Kind::too_large, "/options/width", "at most");
+}
+
 // --- semantic rules ------------------------------------------------------------------------------------
 
 TEST(SceneJsonRules, OpeningMustFitItsWall) {
@@ -453,6 +490,25 @@ TEST(SceneJsonMalformed, SyntaxErrorsReportTheByteOffset) {
   expect_error(R"({"a":1,})", Kind::malformed, "", "byte");
 }
 
+// nlohmann's lexer ends its input at a NUL byte; the parser must not let that hide what follows.
+TEST(SceneJsonMalformed, NothingButWhitespaceAfterTheValue) {
+  using namespace std::string_literals;
+  const std::string after_nul = "{}\0{\"options\":{\"width\":100000}}"s;
+  ASSERT_EQ(after_nul.size(), 31u);
+  expect_error(after_nul, Kind::malformed, "", "byte 3: a NUL byte");
+  expect_error("{}\0"s, Kind::malformed, "", "byte 3: a NUL byte");
+  expect_error("{} \n\t\0  "s, Kind::malformed, "", "byte 6: a NUL byte");
+  // A NUL inside the text is the error too, not the end of input it would otherwise look like.
+  expect_error("{\"scene\":\0}"s, Kind::malformed, "", "byte 10: a NUL byte");
+  expect_error("{\"a\0\":1}"s, Kind::malformed, "", "NUL");
+  // An earlier syntax error is still the one reported.
+  expect_error("{x\0}"s, Kind::malformed, "", "byte 2: parse error");
+  // Other trailing bytes, and trailing whitespace is fine.
+  expect_error("{}x", Kind::malformed, "", "byte 3");
+  expect_error("{}\x01", Kind::malformed, "", "byte 3");
+  EXPECT_NO_THROW(parse_request("{} \r\n\t "));
+}
+
 TEST(SceneJsonMalformed, InvalidUtf8) {
   Failure f = failure_of("{\"scene\":{\"walls\":[{\"id\":\"caf\xE9\"}]}}");
   EXPECT_EQ(f.kind, Kind::malformed);
@@ -463,6 +519,65 @@ TEST(SceneJsonMalformed, InvalidUtf8) {
 }
 
 // --- pointers ------------------------------------------------------------------------------------------
+
+// --- quoting client text in errors ---------------------------------------------------------------------
+
+TEST(QuoteInput, ShortTextIsQuotedWhole) {
+  EXPECT_EQ(quote_input(""), "");
+  EXPECT_EQ(quote_input(std::string(64, 'k')), std::string(64, 'k'));
+}
+
+TEST(QuoteInput, LongTextIsCutVisiblyAtACharacterBoundary) {
+  EXPECT_EQ(quote_input(std::string(65, 'k')), std::string(64, 'k') + "\u2026(65 bytes)");
+  // Byte 64 is the second byte of a two-byte character: the cut falls before that character.
+  std::string two_byte = "a";
+  for (int i = 0; i < 100; ++i) two_byte += "\u00e9";
+  std::string expected = "a";
+  for (int i = 0; i < 31; ++i) expected += "\u00e9";
+  EXPECT_EQ(quote_input(two_byte), expected + "\u2026(201 bytes)");
+  // Three- and four-byte characters, at every alignment: the kept text is whole characters.
+  for (const std::string character : {"\u20ac", "\U0001F600"}) {
+    for (size_t pad = 0; pad < 4; ++pad) {
+      std::string text(pad, 'p');
+      for (int i = 0; i < 40; ++i) text += character;
+      std::string quoted = quote_input(text);
+      size_t kept = quoted.find("\u2026(");
+      ASSERT_NE(kept, std::string::npos);
+      EXPECT_LE(kept, 64u);
+      EXPECT_GT(kept, 64u - character.size());
+      EXPECT_EQ((kept - pad) % character.size(), 0u) << "cut inside a character, pad " << pad;
+      EXPECT_NO_THROW((void)json(quoted).dump()) << "not valid UTF-8";
+    }
+  }
+}
+
+TEST(QuoteInput, PointersCutLongTokens) {
+  EXPECT_EQ(pointer_append("/scene", std::string(100, 'x')), "/scene/" + std::string(64, 'x') + "\u2026(100 bytes)");
+  // Cut first, then escaped: the marker holds no '/' or '~' to escape.
+  std::string escaped_slashes;
+  for (int i = 0; i < 64; ++i) escaped_slashes += "~1";
+  EXPECT_EQ(pointer_append("", std::string(70, '/')), "/" + escaped_slashes + "\u2026(70 bytes)");
+}
+
+TEST(QuoteInput, ErrorsQuoteAtMost64BytesOfTheRequest) {
+  const std::string key(1 << 20, 'k');
+  Failure unknown = failure_of(R"({"scene":{")" + key + R"(":1}})");
+  EXPECT_EQ(unknown.kind, Kind::invalid);
+  EXPECT_EQ(unknown.pointer, "/scene/" + std::string(64, 'k') + "\u2026(1048576 bytes)");
+  EXPECT_LT(unknown.detail.size(), 512u) << unknown.detail.substr(0, 200);
+  Failure duplicate = failure_of(R"({"camera":{")" + key + R"(":1,")" + key + R"(":1}})");
+  EXPECT_EQ(duplicate.kind, Kind::malformed);
+  EXPECT_EQ(duplicate.pointer, "/camera/" + std::string(64, 'k') + "\u2026(1048576 bytes)");
+  Failure value = failure_of(R"({"options":{"pipeline":")" + key + R"("}})");
+  EXPECT_EQ(value.pointer, "/options/pipeline");
+  EXPECT_LT(value.detail.size(), 512u) << value.detail.substr(0, 200);
+  // A syntax error quotes the token it stopped in: an unterminated megabyte string.
+  Failure syntax = failure_of(R"({"scene":{")" + key);
+  EXPECT_EQ(syntax.kind, Kind::malformed);
+  EXPECT_LT(syntax.detail.size(), 512u) << syntax.detail.substr(0, 200);
+  EXPECT_NE(syntax.detail.find("\u2026("), std::string::npos) << syntax.detail.substr(0, 200);
+  EXPECT_NO_THROW((void)json(syntax.detail).dump());
+}
 
 TEST(JsonPointer, AppendEscapesTildeAndSlash) {
   EXPECT_EQ(pointer_append("", "a/b~c"), "/a~1b~0c");
