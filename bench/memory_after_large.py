@@ -28,7 +28,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CONFIGS = {
     "trim off": ({}, ["--trim-after-ms", "-1"]),
     "defaults (trim after 100 ms)": ({}, []),
-    "MALLOC_ARENA_MAX=2, trim off": ({"MALLOC_ARENA_MAX": "2"}, ["--trim-after-ms", "-1"]),
+    "MALLOC_ARENA_MAX=2 and trim off": ({"MALLOC_ARENA_MAX": "2"}, ["--trim-after-ms", "-1"]),
     "trim after every render": ({}, ["--trim-after-ms", "0"]),
 }
 

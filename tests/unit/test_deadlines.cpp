@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <random>
 
 namespace rr {
@@ -42,6 +43,7 @@ double overshoot_ms(std::chrono::milliseconds budget, Fn&& work) {
   }
   const double late_ms = std::chrono::duration<double, std::milli>(Clock::now() - token.deadline).count();
   EXPECT_TRUE(cancelled) << "finished " << -late_ms << " ms before its deadline";
+  std::printf("[deadline] RenderCancelled %.1f ms after a deadline of %lld ms\n", late_ms, (long long)budget.count());
   return late_ms;
 }
 
