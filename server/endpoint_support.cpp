@@ -9,6 +9,10 @@
 
 #include <cstdio>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace rr::server {
 
 namespace {
@@ -19,6 +23,33 @@ int level_rank(const std::string& level) {
   if (level == "error") return 3;
   return 4;  // off
 }
+
+// Gives free heap pages back to the OS when the work it times (from start(), so not the queue wait)
+// ran at least `threshold_ms`: glibc
+// keeps what a large render freed (its arenas grow per thread and shrink only from the top), so a
+// burst of heavy renders would otherwise leave the process hundreds of MiB above its idle size.
+// Declared before the render slot, it trims after the slot is released and also when the work
+// threw (a render cancelled at its deadline has allocated as much as one that finished).
+class TrimAfterLargeWork {
+ public:
+  explicit TrimAfterLargeWork(int threshold_ms) : threshold_ms_(threshold_ms) {}
+  TrimAfterLargeWork(const TrimAfterLargeWork&) = delete;
+  TrimAfterLargeWork& operator=(const TrimAfterLargeWork&) = delete;
+  ~TrimAfterLargeWork() {
+#if defined(__GLIBC__)
+    if (started_ && threshold_ms_ >= 0 && clock_.elapsed_ms() >= double(threshold_ms_)) malloc_trim(0);
+#endif
+  }
+  void start() {
+    clock_ = Stopwatch();
+    started_ = true;
+  }
+
+ private:
+  int threshold_ms_;
+  bool started_ = false;
+  Stopwatch clock_;
+};
 
 }  // namespace
 
@@ -85,6 +116,7 @@ void require_admission(ServiceState& state, RenderGate::Admission admission) {
 }
 
 void with_render_slot(ServiceState& state, const std::function<void(const CancelToken&, SlotClock&)>& work) {
+  TrimAfterLargeWork trim(state.config.trim_after_work_ms);
   CancelToken token;
   token.deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(state.config.render_timeout_ms);
   Stopwatch queue;
@@ -92,6 +124,7 @@ void with_render_slot(ServiceState& state, const std::function<void(const Cancel
   const double queue_ms = queue.elapsed_ms();
   require_admission(state, slot.admission());
   if (state.config.on_render_admitted) state.config.on_render_admitted();
+  trim.start();
   SlotClock total;
   total.queue_ms = queue_ms;
   try {

@@ -34,6 +34,9 @@ struct ServerConfig {
   int render_timeout_ms = 10'000;  // deadline per render, counted from arrival at the gate
   int retry_after_s = 1;           // Retry-After sent with 503
   int drain_timeout_ms = 10'000;   // on SIGTERM: how long in-flight renders may still run
+  // After a render slot's work ran at least this long, free heap pages go back to the OS
+  // (malloc_trim); -1: never. Short renders skip it: they free little and the walk is not free.
+  int trim_after_work_ms = 100;
   std::filesystem::path web_dir;       // holds index.html, served at GET /
   std::filesystem::path examples_dir;  // holds <name>.json, served under /examples/
   std::filesystem::path schemas_dir;   // holds *.schema.json and openapi.json

@@ -66,6 +66,8 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.retry_after_s = int(parse_integer(v, s, 0, 3600)); }},
   {"--drain-timeout-ms", "on SIGTERM, how long in-flight renders may finish (default 10000)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.drain_timeout_ms = int(parse_integer(v, s, 0, int_max)); }},
+  {"--trim-after-ms", "after a render that worked this long, return free heap to the OS; -1: never (default 100)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.trim_after_work_ms = int(parse_integer(v, s, -1, int_max)); }},
   {"--max-body-bytes", "largest request body (default 8388608)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.max_body_bytes = size_t(parse_integer(v, s, 1, big)); }},
   {"--max-import-bytes", "largest file POSTed to /v1/import/{format} (default 67108864)",

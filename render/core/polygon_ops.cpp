@@ -135,7 +135,8 @@ void points_on_edge(const PolygonSoup& soup, const GroupVertices& group, Vec3 a,
 
 }  // namespace
 
-void close_t_junctions(PolygonSoup& fragments, double epsilon) {
+void close_t_junctions(PolygonSoup& fragments, double epsilon, const CancelToken* cancel) {
+  CancelMeter meter(cancel, 16384);  // units: vertices grouped or edges searched
   // Fragments grouped by source id; only groups of two or more can have T-junctions.
   std::vector<std::pair<uint32_t, uint32_t>> by_id;  // (id, polygon index)
   by_id.reserve(fragments.polygons.size());
@@ -151,6 +152,7 @@ void close_t_junctions(PolygonSoup& fragments, double epsilon) {
       for (size_t j = k; j < end; ++j) {
         const Polygon& f = fragments.polygons[by_id[j].second];
         group_of[by_id[j].second] = int32_t(groups.size());
+        meter.add(f.vertex_count);
         for (uint32_t v = f.first_vertex; v < f.first_vertex + f.vertex_count; ++v) g.by_x.push_back({fragments.positions[v].x, v});
       }
       std::sort(g.by_x.begin(), g.by_x.end());
@@ -171,6 +173,7 @@ void close_t_junctions(PolygonSoup& fragments, double epsilon) {
       out.positions.push_back(fragments.positions[first + j]);
       out.normals.push_back(fragments.normals[first + j]);
       if (group_of[i] < 0) continue;
+      meter.add(1 + on_edge.size());
       const Vec3 a = fragments.positions[first + j], b = fragments.positions[first + (j + 1) % n];
       // A vertex of this very fragment is never strictly inside one of its own (convex) edges.
       points_on_edge(fragments, groups[size_t(group_of[i])], a, b, std::max(epsilon, 1e-12 * glm::length(b - a)), on_edge);

@@ -5,6 +5,7 @@
 // are interpolated along the cut edge.
 #pragma once
 
+#include "render/core/cancel.hpp"
 #include "render/core/tessellate.hpp"
 
 #include <span>
@@ -50,6 +51,6 @@ SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const
 // lies on an edge's interior (within `epsilon` of it) is inserted into that edge, copied bit for
 // bit, so both sides of every seam have the same vertices. Polygons stay in order and convex (the
 // inserted vertices are on their edges); a polygon with no sibling is untouched.
-void close_t_junctions(PolygonSoup& fragments, double epsilon);
+void close_t_junctions(PolygonSoup& fragments, double epsilon, const CancelToken* cancel = nullptr);
 
 }  // namespace rr

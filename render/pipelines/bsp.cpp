@@ -32,11 +32,17 @@ void for_each_sample(size_t n, size_t want, Fn&& fn) {
   for (size_t k = 0; k < want; ++k) fn(k * n / want);
 }
 
+// The build checks its token once per this many polygon classifications (a triangle's takes tens of
+// nanoseconds, a split a few times that): well under a millisecond between checks even at the root
+// of a 10^5-polygon soup, where one node's splitter choice alone is 10^4+ classifications.
+constexpr size_t kClassificationsPerCheck = 16384;
+
 Plane choose_splitter(const PolygonSoup& soup, const std::vector<uint32_t>& polygons,
-                      const BspOptions& options, double epsilon) {
+                      const BspOptions& options, double epsilon, CancelMeter& meter) {
   double best_score = std::numeric_limits<double>::infinity();
   Plane best = plane_of(soup.polygons[polygons[0]]);
   for_each_sample(polygons.size(), size_t(options.max_candidates), [&](size_t c) {
+    meter.add(std::min(polygons.size(), kScoreSample));
     const Plane plane = plane_of(soup.polygons[polygons[c]]);
     double front = 0, back = 0, splits = 0, coplanar = 0;
     for_each_sample(polygons.size(), kScoreSample, [&](size_t i) {
@@ -89,9 +95,13 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
   tree.fragments.positions.reserve(soup.positions.size());
   tree.fragments.normals.reserve(soup.normals.size());
   tree.fragments.polygons.reserve(soup.polygons.size());
+  CancelMeter meter(cancel, kClassificationsPerCheck);
   std::vector<uint32_t> all;
   all.reserve(soup.polygons.size());
-  for (const Polygon& p : soup.polygons) all.push_back(append_polygon(tree.fragments, soup, p));
+  for (const Polygon& p : soup.polygons) {
+    meter.add(1);
+    all.push_back(append_polygon(tree.fragments, soup, p));
+  }
   if (all.empty()) {
     tree.build_ms = clock.elapsed_ms();
     return tree;
@@ -101,21 +111,21 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
   std::vector<Work> stack;
   tree.nodes.emplace_back();
   stack.push_back({0, std::move(all), 1});
-  size_t processed = 0;
   while (!stack.empty()) {
-    if ((++processed & 1023) == 0) check_cancel(cancel);
     Work work = std::move(stack.back());
     stack.pop_back();
     tree.depth = std::max(tree.depth, work.depth);
-    const Plane plane = choose_splitter(frags, work.polygons, options, tree.epsilon);
+    const Plane plane = choose_splitter(frags, work.polygons, options, tree.epsilon, meter);
     std::vector<uint32_t> front, back;
     const uint32_t first = uint32_t(tree.node_polygons.size());
     for (uint32_t index : work.polygons) {
+      meter.add(1);
       switch (classify_polygon(frags.points(frags.polygons[index]), plane, tree.epsilon)) {
         case PlaneSide::on: tree.node_polygons.push_back(index); break;
         case PlaneSide::front: front.push_back(index); break;
         case PlaneSide::back: back.push_back(index); break;
         case PlaneSide::spanning: {
+          meter.add(4);  // a split writes two new polygons
           SplitResult parts = split_polygon(frags, frags.polygons[index], plane, tree.epsilon, frags);
           ++tree.splits;
           if (parts.front >= 0) front.push_back(uint32_t(parts.front));
@@ -150,15 +160,19 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
   // node order, so the tree's memory and its fragment count are what is drawn.
   PolygonSoup compact = make_fragment_soup(soup);
   compact.polygons.reserve(tree.node_polygons.size());
-  for (uint32_t& index : tree.node_polygons) index = append_polygon(compact, frags, frags.polygons[index]);
+  for (uint32_t& index : tree.node_polygons) {
+    meter.add(1);
+    index = append_polygon(compact, frags, frags.polygons[index]);
+  }
   tree.fragments = std::move(compact);
   // Splits leave T-junctions between a polygon's fragments; close them so the seams rasterize
   // without cracks (docs/accuracy.md, "Specks").
-  close_t_junctions(tree.fragments, tree.epsilon);
+  close_t_junctions(tree.fragments, tree.epsilon, cancel);
 
   // Bounds bottom-up: children always have larger indices than their parent.
   for (size_t i = tree.nodes.size(); i-- > 0;) {
     BspNode& node = tree.nodes[i];
+    meter.add(1 + node.count);
     node.lo = Vec3(std::numeric_limits<double>::infinity());
     node.hi = -node.lo;
     for (uint32_t k = node.first; k < node.first + node.count; ++k) {

@@ -287,6 +287,12 @@ class Newell {
 
   // The first item still in the list that P may hide, or `none`. Resumes where P's last scan
   // stopped: pairs already shown safe stay safe (geometry does not change; pieces are new items).
+  // One pair test: counted against the work bound, and the deadline checked every 16k of them, since
+  // one search can scan a long cell list (the cursor keeps its place, but a cancel ends the sort).
+  void count_check() {
+    if ((++checks_ & 16383) == 0) check_cancel(input_.context.cancel);
+  }
+
   int32_t find_conflict(uint32_t p) {
     Cursor& c = cursor_[p];
     if (!c.started) {
@@ -305,7 +311,7 @@ class Newell {
       const std::vector<GridEntry>& list = grid_[cell];
       for (; c.entry < list.size(); ++c.entry) {
         const GridEntry& e = list[c.entry];
-        ++checks_;
+        count_check();
         if (e.dmax <= near_limit) continue;  // the depth-extent test, from the entry alone
         const uint32_t q = e.item;
         if (q >= c.base) break;  // cell lists grow in index order; newer items are checked below
@@ -320,7 +326,7 @@ class Newell {
       if (q == p || !alive_[q]) continue;
       const CellRange& s = cells_[q];
       if (s.x1 < r.x0 || r.x1 < s.x0 || s.y1 < r.y0 || r.y1 < s.y0) continue;  // no shared cell
-      ++checks_;
+      count_check();
       if (!may_draw_before(p, q)) return int32_t(q);
     }
     return none;

@@ -70,7 +70,9 @@ ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
   rs.screen_begin.assign(soup.polygons.size() + 1, 0);
   std::vector<uint32_t> visible;
   DrawScratch scratch;
+  CancelMeter meter(input.context.cancel, 4096);  // units: polygons projected
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
+    meter.add(1);
     rs.screen_begin[i] = uint32_t(rs.screen_xy.size());
     const Polygon& poly = soup.polygons[i];
     if (is_back_facing(poly, input.view.eye) || !project_polygon(input.view, soup, poly, scratch)) continue;
@@ -80,6 +82,7 @@ ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
   rs.screen_begin[soup.polygons.size()] = uint32_t(rs.screen_xy.size());
   stats.polygons_drawn = visible.size();
   stats.polygons_culled = soup.polygons.size() - visible.size();
+  check_cancel(input.context.cancel);
   rs.view_bvh = build_polygon_bvh(soup, visible);
   rs.shadows = input.options.shadows && !input.scene.lights.empty();
   if (rs.shadows) {

@@ -37,6 +37,9 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
     Stopwatch encode_clock;
     out.png = encode_png(out.frame.image, view.options.png_compression, std::max(1u, context.threads));
     report.timings.encode_ms = encode_clock.elapsed_ms();
+    // An encode that crossed the deadline is still late: the caller answers it as cancelled, never as
+    // a success that arrived after the time it promised.
+    check_cancel(context.cancel);
   }
   report.timings.queue_ms = context.queue_ms;
   report.timings.parse_ms = context.parse_ms;

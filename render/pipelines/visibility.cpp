@@ -224,7 +224,10 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
   out.translucent_rects.clear();
   DrawScratch scratch;
   std::vector<int32_t> sx, sy;
+  // Units: polygons projected plus tile bins written (a large triangle lands in many bins).
+  CancelMeter meter(input.context.cancel, 8192);
   for (uint32_t i : opaque) {
+    meter.add(1);
     if (!project_polygon(input.view, input.soup, input.soup.polygons[i], scratch)) continue;
     ++stats.polygons_drawn;
     stats.triangles += scratch.screen.size() - 2;
@@ -247,10 +250,12 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
       out.triangles.push_back(t);
       for (int ty = py0 / tile_size; ty <= py1 / tile_size; ++ty) {
         for (int tx = px0 / tile_size; tx <= px1 / tile_size; ++tx) out.bins[size_t(ty * out.tiles_x + tx)].push_back(index);
+        meter.add(size_t(px1 / tile_size - px0 / tile_size + 1));
       }
     }
   }
   for (uint32_t i : translucent) {
+    meter.add(1);
     if (!project_polygon(input.view, input.soup, input.soup.polygons[i], scratch)) continue;
     ++stats.polygons_drawn;
     stats.triangles += scratch.screen.size() - 2;
@@ -279,6 +284,8 @@ void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const 
     covered[worker] += resolve_tile(vis, tile, tile_rect(vis, tile, width, height), b);
   });
   timings.raster_ms += clock.lap_ms();
+  // The tile workers do not throw; the deadline is checked between the two passes over the tiles.
+  check_cancel(input.context.cancel);
 
   std::vector<ShadeWorker> workers(threads);
   for (ShadeWorker& w : workers) w.shader = std::make_unique<SurfaceShader>(shader, &w.lights);

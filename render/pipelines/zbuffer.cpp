@@ -30,7 +30,9 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   Stopwatch clock;
   SurfaceShader shader(input, soup);
   std::vector<uint32_t> opaque, translucent;
+  CancelMeter meter(input.context.cancel, 4096);  // units: polygons prepared
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
+    meter.add(1);
     const Polygon& poly = soup.polygons[i];
     if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly)) continue;
     shader.prepare(i);
@@ -47,6 +49,7 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   bin_polygons(input, opaque, translucent, vis, stats);
   stats.polygons_culled = soup.polygons.size() - stats.polygons_drawn;  // back-facing or off-view
   timings.raster_ms += clock.lap_ms();
+  check_cancel(input.context.cancel);
   draw_visibility(input, vis, shader, input.context.threads, frame, stats, timings);
 }
 
