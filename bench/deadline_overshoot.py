@@ -21,30 +21,9 @@ import subprocess
 import sys
 import time
 
+from bench_server import resident_mib, start_server
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-
-def start_server(binary, extra):
-    server = subprocess.Popen([binary, "serve", "--port", "0", "--log-requests", "0", *extra],
-                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    line = server.stdout.readline()
-    try:
-        port = json.loads(line)["port"]
-    except (ValueError, KeyError):
-        server.kill()
-        sys.exit(f"the server did not announce its port: {line!r}")
-    return server, port
-
-
-def resident_mib(port):
-    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
-    conn.request("GET", "/metrics")
-    text = conn.getresponse().read().decode()
-    conn.close()
-    for line in text.splitlines():
-        if line.startswith("process_resident_memory_bytes"):
-            return float(line.split()[-1]) / 2**20
-    return float("nan")
 
 
 def soup_request(triangles, edge, seed):

@@ -23,6 +23,8 @@ import sys
 import threading
 import time
 
+from bench_server import resident_mib, start_server
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 CONFIGS = {
@@ -33,30 +35,14 @@ CONFIGS = {
 }
 
 
-def start_server(binary, env_extra, flags):
-    env = dict(os.environ, **env_extra)
-    server = subprocess.Popen([binary, "serve", "--port", "0", "--log-requests", "0",
-                               "--max-body-bytes", str(64 << 20), "--render-timeout-ms", "120000", *flags],
-                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env=env)
-    line = server.stdout.readline()
-    try:
-        port = json.loads(line)["port"]
-    except (ValueError, KeyError):
-        server.kill()
-        sys.exit(f"the server did not announce its port: {line!r}")
-    return server, port
+def start_large_server(binary, env_extra, flags):
+    return start_server(binary, ["--max-body-bytes", str(64 << 20), "--render-timeout-ms", "120000", *flags],
+                        env_extra)
 
 
-def resident_mib(port):
+def settled_resident_mib(port):
     time.sleep(0.5)  # let the answering thread finish its trim
-    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
-    conn.request("GET", "/metrics")
-    text = conn.getresponse().read().decode()
-    conn.close()
-    for line in text.splitlines():
-        if line.startswith("process_resident_memory_bytes"):
-            return float(line.split()[-1]) / 2**20
-    return float("nan")
+    return resident_mib(port)
 
 
 def post(port, body):
@@ -84,20 +70,20 @@ def boxes_request(count, shade):
 
 
 def measure(binary, name, env_extra, flags, large, burst, small_body, small_count):
-    server, port = start_server(binary, env_extra, flags)
+    server, port = start_large_server(binary, env_extra, flags)
     try:
         for _ in range(3):
             post(port, small_body)
-        base = resident_mib(port)
+        base = settled_resident_mib(port)
         status, large_ms = post(port, large[0])
-        after_large = resident_mib(port)
+        after_large = settled_resident_mib(port)
         results = []
         threads = [threading.Thread(target=lambda b=b: results.append(post(port, b))) for b in large[1:1 + burst]]
         for t in threads:
             t.start()
         for t in threads:
             t.join()
-        after_burst = resident_mib(port)
+        after_burst = settled_resident_mib(port)
         small_ms = [post(port, small_body)[1] for _ in range(small_count)]
         statuses = sorted({status, *(s for s, _ in results)})
         print(f"{name:32s} {base:8.0f} {after_large:12.0f} {after_burst:12.0f} {large_ms:9.0f} "

@@ -25,6 +25,8 @@ import sys
 import tempfile
 import time
 
+from bench_server import start_server
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -38,18 +40,6 @@ def server_timing(header):
             if key == "dur":
                 stages[name] = float(value)
     return stages
-
-
-def start_server(binary):
-    server = subprocess.Popen([binary, "serve", "--port", "0", "--log-requests", "0"],
-                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    line = server.stdout.readline()
-    try:
-        port = json.loads(line)["port"]
-    except (ValueError, KeyError):
-        server.kill()
-        sys.exit(f"the server did not announce its port: {line!r}")
-    return server, port
 
 
 def cli_render(binary, request_path, png_path):
