@@ -9,10 +9,6 @@
 
 #include <cstdio>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 namespace rr::server {
 
 namespace {
@@ -28,17 +24,18 @@ int level_rank(const std::string& level) {
 // ran at least `threshold_ms`: glibc
 // keeps what a large render freed (its arenas grow per thread and shrink only from the top), so a
 // burst of heavy renders would otherwise leave the process hundreds of MiB above its idle size.
-// Declared before the render slot, it trims after the slot is released and also when the work
-// threw (a render cancelled at its deadline has allocated as much as one that finished).
+// Declared before the render slot, it asks for the trim when the slot is released, also when the
+// work threw (a render cancelled at its deadline has allocated as much as one that finished); the
+// trim itself runs after the answer is written (log_request), so no client waits for it.
 class TrimAfterLargeWork {
  public:
   explicit TrimAfterLargeWork(int threshold_ms) : threshold_ms_(threshold_ms) {}
   TrimAfterLargeWork(const TrimAfterLargeWork&) = delete;
   TrimAfterLargeWork& operator=(const TrimAfterLargeWork&) = delete;
   ~TrimAfterLargeWork() {
-#if defined(__GLIBC__)
-    if (started_ && threshold_ms_ >= 0 && clock_.elapsed_ms() >= double(threshold_ms_)) malloc_trim(0);
-#endif
+    if (started_ && threshold_ms_ >= 0 && clock_.elapsed_ms() >= double(threshold_ms_)) {
+      request_context().trim_heap_after_response = true;
+    }
   }
   void start() {
     clock_ = Stopwatch();

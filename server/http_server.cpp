@@ -14,6 +14,10 @@
 #include <nlohmann/json.hpp>
 #include <sys/socket.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>  // malloc_trim
+#endif
+
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -200,6 +204,10 @@ void log_request(ServiceState& state, const Request& req, const Response& res) {
     if (!context.cache.empty()) line["cache"] = context.cache;
     state.log("info", std::move(line));
   }
+#if defined(__GLIBC__)
+  // httplib calls the logger after the response is written, so the trim delays no answer.
+  if (context.trim_heap_after_response) malloc_trim(0);
+#endif
   context = RequestContext{};
 }
 

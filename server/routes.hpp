@@ -71,6 +71,7 @@ struct RequestContext {
   std::string scene_id;
   std::string pipeline;
   std::string cache;
+  bool trim_heap_after_response = false;  // a large render ran: give free heap back once answered
 };
 RequestContext& request_context();
 
