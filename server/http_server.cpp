@@ -57,22 +57,10 @@ void send_problem(Response& res, int status, std::string_view detail, HeaderList
   send_problem(res, Problem{status, make_problem(status, "", detail), std::move(headers)});
 }
 
-// Ends the connection once `res` (already holding its body) is written. A request refused before
-// its body was read leaves that body on the socket, where httplib would take it for the next
-// request. httplib 0.11 decides keep-alive from the request before routing, but drops a connection
-// whose content provider reports failure; so the body is handed over through a provider that writes
-// all of it and then reports failure.
-void close_after_response(Response& res) {
-  auto body = std::make_shared<std::string>(std::move(res.body));
-  res.body.clear();
-  std::string type = res.get_header_value("Content-Type");
-  res.headers.erase("Content-Type");
-  res.set_header("Connection", "close");
-  res.set_content_provider(body->size(), type, [body](size_t offset, size_t length, httplib::DataSink& sink) {
-    sink.write(body->data() + offset, length);
-    return false;
-  });
-}
+// Ends the connection once `res` is written. A request refused before its body was read leaves that
+// body on the socket, where it must not be taken for the next request. httplib decides keep-alive
+// from the request alone; the connection front reads this header of the answer and closes.
+void close_after_response(Response& res) { res.set_header("Connection", "close"); }
 
 // httplib parses Range itself and would cut our answers to the requested bytes (also with status
 // 200, and also problem bodies); and it adds REMOTE_ADDR and friends as headers *after* any the
@@ -318,10 +306,7 @@ std::unique_ptr<RequestProcessor> make_server(ServiceState& state, std::shared_p
   server->set_pre_routing_handler(screen);
   // A request whose body the front did not read keeps its Expect header: answer it from the head.
   server->set_expect_100_continue_handler([screen](const Request& req, Response& res) {
-    if (screen(req, res) == HandlerResponse::Unhandled) return 100;
-    // httplib writes this early answer without deriving Content-Length from the provider.
-    if (!res.has_header("Content-Length")) res.set_header("Content-Length", std::to_string(res.content_length_));
-    return res.status;
+    return screen(req, res) == HandlerResponse::Unhandled ? 100 : res.status;
   });
   server->set_exception_handler([&state](const Request& req, Response& res, std::exception_ptr error) {
     answer_exception(state, req, res, error);
@@ -375,6 +360,13 @@ std::string front_refusal(ServiceState& state, int status, std::string_view deta
   return head + "\r\n" + body;
 }
 
+// True when the answer's head says "Connection: close" (close_after_response, or httplib's own).
+bool answer_closes(std::string_view answer) {
+  std::string_view head = answer.substr(0, answer.find("\r\n\r\n"));
+  return head.find("\r\nConnection: close\r\n") != std::string_view::npos ||
+         head.ends_with("\r\nConnection: close");
+}
+
 FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontRequest& request) {
   FrontAnswer answer;
   MemoryStream stream(request, answer.bytes);
@@ -384,7 +376,7 @@ FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontR
     answer.bytes = front_refusal(state, 400, "The request could not be read.", true);
     whole = false;
   }
-  answer.close = !whole || client_closes || request.last;
+  answer.close = !whole || client_closes || request.last || answer_closes(answer.bytes);
   answer.then = trim_heap_if_pending;
   return answer;
 }
