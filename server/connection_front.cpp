@@ -397,6 +397,8 @@ struct ConnectionFront::Loop {
       FrontRequest request;
       request.bytes = c.in.substr(0, need);
       c.in.erase(0, need);
+      // A large body's buffer is not kept for the connection's next request.
+      if (c.in.capacity() > 2 * read_chunk) c.in.shrink_to_fit();
       reset_scan(c);
       release_budget(c);
       dispatch(c, std::move(request), now);
@@ -514,7 +516,7 @@ struct ConnectionFront::Loop {
         return;
       }
     }
-    c.out.clear();
+    c.out = std::string();  // releases a large answer's buffer
     c.out_sent = 0;
     if (c.phase == Phase::writing) {
       answered(c, now);

@@ -181,6 +181,9 @@ HandlerResponse screen_request(const std::vector<Route>& routes, const ServerCon
 // been handed to the front, so the trim delays no answer.
 thread_local bool heap_trim_pending = false;
 
+// Requests at least this large return their freed heap to the OS after the answer, like long renders.
+constexpr size_t large_request_bytes = 1u << 20;
+
 void trim_heap_if_pending() {
   if (!heap_trim_pending) return;
   heap_trim_pending = false;
@@ -377,6 +380,8 @@ FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontR
     whole = false;
   }
   answer.close = !whole || client_closes || request.last || answer_closes(answer.bytes);
+  // Each worker thread has its own malloc arena, which keeps what a large body's parse freed.
+  if (request.bytes.size() >= large_request_bytes) heap_trim_pending = true;
   answer.then = trim_heap_if_pending;
   return answer;
 }
