@@ -1,14 +1,14 @@
-// Holding under hostile clients (issue 19): slow, idle, flooding and malformed traffic against the
-// real server on loopback, one test per failure the issue lists. Each test runs its attack, sends a
+// Holding under hostile clients: slow, idle, flooding and malformed traffic against the real server
+// on loopback, one test per kind of attack. Each test runs its attack, sends a
 // normal render on a new connection while the attack runs and expects it answered within 10 s (a
 // generous cap so sanitizer builds pass; the tight bounds live in the attack benchmark), then checks
 // the status the attack itself got. Every socket is non-blocking and every loop has a time cap, so
 // nothing here can hang.
 //
-// The settings are the connection front's (contract of issue 19, branch `front`); the new
-// ServerConfig fields are set in front_config() below and nowhere else.
+// The connection front's settings (server/connection_front.hpp) are set in front_config() below and
+// nowhere else.
 //
-// Two failures of the issue are covered elsewhere: bytes after the JSON text (a NUL included) in
+// Two more attacks are covered elsewhere: bytes after the JSON text (a NUL included) in
 // test_malformed_input.cpp NulAfterTheJsonTextIsRefused, and error answers quoting at most 64 bytes
 // of a 4 MB unknown key in HugeUnknownKeyIsNotEchoed.
 #include "server_fixture.hpp"
@@ -38,10 +38,8 @@ using namespace rr::testing;
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-// ===== The connection front's settings (issue 19 contract) ===================================
-// Every ServerConfig field the front adds is named here and nowhere else in this file, so a rename
-// when `front` lands is one edit. The defaults are the contract's, except the two deadlines, which
-// are short so the tests run in seconds.
+// ===== The connection front's settings ========================================================
+// The defaults are the service's, except the deadlines, which are short so the tests run in seconds.
 struct FrontSettings {
   int header_timeout_ms = 1000;
   int body_timeout_ms = 1000;
@@ -51,9 +49,9 @@ struct FrontSettings {
   size_t max_header_count = 100;
   size_t max_header_bytes = 65'536;
   size_t max_request_line_bytes = 8192;
-  size_t max_pending_requests = 0;  // 0: as many as there are request workers
+  int max_pending_requests = -1;  // -1: as many as there are request workers
   size_t max_buffered_body_bytes = 512u << 20;
-  int keep_alive_timeout_s = 1;  // an existing field; the contract keeps it
+  int keep_alive_timeout_s = 1;
 };
 
 rr::server::ServerConfig front_config(const FrontSettings& front = {}) {
@@ -559,7 +557,7 @@ TEST(Hostile, FloodOfKeepAliveRendersIsShedWithQuick503sAndNoneUnanswered) {
   }
   std::this_thread::sleep_for(500ms);
   {  // The victims, on new connections: /livez and a render are answered, each 200 or shed with 503 +
-     // Retry-After (the contract does not exempt /livez from max_pending_requests). No ASSERT here:
+     // Retry-After (/livez is not exempt from max_pending_requests). No ASSERT here:
      // returning early would destroy the joinable client threads.
     auto start = Clock::now();
     auto live = victim_client(server).Get("/livez");
