@@ -860,7 +860,7 @@ def markdown(all_results):
            f"(from the request's last byte), nothing unanswered (window + {GRACE_S:.0f} s), "
            f"peak RSS growth < {GOAL_RSS_MIB:.0f} MiB. n/a: nothing to judge (no 503 seen, or /metrics unreachable).", ""]
     for label, run in all_results.items():
-        out += [f"## {label}", "", f"binary `{run.get('binary')}` ({run.get('commit', '?')}), {run.get('when')}, "
+        out += [f"## {label}", "", f"binary `{run.get('binary')}` (its tree at {run.get('commit', '?')}), {run.get('when')}, "
                 f"{run.get('seconds')} s per attack, load {run.get('load')}", "",
                 "| attack | victim median / max | victim statuses | attack's answers | 503 p50 / p99 | "
                 "RSS before / peak / after | unanswered | victim | 503 p99 | none unanswered | RSS | expectation |",
