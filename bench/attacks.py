@@ -438,7 +438,9 @@ def attack_slow_headers(port, stop_at, ctx):
 
 def attack_idle_keepalive(port, stop_at, ctx):
     r = slow_sockets(port, ctx.idle, request_bytes("GET", "/livez"), b"", 1.0, stop_at, read_first=True)
-    r["expect"] = (r["answers"].get("200", 0) == ctx.idle, f"{ctx.idle} x /livez 200")
+    # 503 is a legitimate answer to 200 requests arriving at once (load shedding); silence is not.
+    answered = r["answers"].get("200", 0) + r["answers"].get("503", 0)
+    r["expect"] = (answered == ctx.idle, f"all {ctx.idle} /livez answered 200 or 503")
     return r
 
 
@@ -510,21 +512,19 @@ def attack_flood(port, stop_at, ctx):
         note += f"; 200 first byte p50 {percentile(lat200, 50):.0f} ms"
     total = sum(answers.values())
     return {"answers": answers, "unanswered": unanswered[0], "lat503": lat503, "note": note,
-            "expect": (unanswered[0] == 0 and total > 0, "every render answered (200 or fast 503)")}
+            "expect": (unanswered[0] == 0 and total > 0, "every render answered")}
 
 
-def attack_long_request_line(port, stop_at, ctx):
+def one_long_request_line(port, stop_at, ctx):
+    """One connection sending the line; returns (outcome, bytes sent, seconds)."""
     total = ctx.long_line_mib << 20
     chunk = b"a" * (1 << 16)
-    answers = collections.Counter()
     sent = 0
     started = now()
     try:
         sock = connect(port, timeout=2.0)
     except OSError:
-        answers["connect failed"] += 1
-        return {"answers": answers, "unanswered": 0, "lat503": [], "note": "",
-                "expect": (False, "414 or close before the whole line")}
+        return "connect failed", 0, now() - started
     sock.setblocking(False)
     sel = selectors.DefaultSelector()
     sel.register(sock, selectors.EVENT_READ | selectors.EVENT_WRITE)
@@ -571,12 +571,31 @@ def attack_long_request_line(port, stop_at, ctx):
     finally:
         sel.close()
         sock.close()
-    answers[outcome] += 1
-    mib = sent / 2**20
-    ok = not outcome.startswith("all sent") and not outcome.startswith("still") and mib < 1
-    return {"answers": answers, "unanswered": 0, "lat503": [],
-            "note": f"{mib:.1f} MiB of {ctx.long_line_mib} MiB taken in {now() - started:.1f} s",
-            "expect": (ok, "414/close within the first MiB")}
+    return outcome, sent, now() - started
+
+
+def attack_long_request_line(port, stop_at, ctx):
+    """Repeats the line on new connections until the window ends (main takes ~5 s for one)."""
+    total = ctx.long_line_mib << 20
+    answers, sents, times, oks = collections.Counter(), [], [], []
+    while now() < stop_at:
+        outcome, sent, seconds = one_long_request_line(port, stop_at, ctx)
+        answers[outcome] += 1
+        sents.append(sent)
+        times.append(seconds)
+        # "sent" counts what loopback's socket buffers swallowed too (a few MiB), not only what
+        # the server read, so the expectation is the 414 before the whole line, not a byte count.
+        # (A line cut short by the window's end is no verdict, unless it is the only one.)
+        if outcome != "still sending at window end" or not oks:
+            oks.append(outcome.startswith("answered 414") and sent < total)
+        if outcome == "connect failed":
+            time.sleep(0.05)
+    note = f"{len(sents)} lines"
+    if sents:
+        note += (f"; max {max(sents) / 2**20:.1f} MiB of {ctx.long_line_mib} MiB sent (incl. socket buffers), "
+                 f"max {max(times):.1f} s each")
+    return {"answers": answers, "unanswered": 0, "lat503": [], "note": note,
+            "expect": (bool(oks) and all(oks), "414 before the whole line")}
 
 
 def repeat(stop_at, make, describe):
