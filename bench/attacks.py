@@ -20,7 +20,8 @@ While an attack runs, a victim thread sends, every 0.5 s on a NEW connection, a 
   pipelined          two requests in one write (expect two answers, in order, no idle wait)
   connection_flood   up to 5000 connections opened as fast as possible, never sending
 
-The malformed-input attacks repeat back to back, one at a time, for the whole window. Per attack
+The malformed-input attacks (the long request line included) repeat back to back, one at a time,
+on new connections, for the whole window. Per attack
 it reports the victim's latency (median, max) and statuses, the attack's own answers, the latency
 of every 503 from the request's last byte written to the answer's first byte (p50, p99), RSS
 before (after two warm-up renders) / peak during / after (1 s after the attack stops), and
