@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Attack benchmark (issue 19): does the server stay reachable, bounded and exact under hostile clients?
+"""Attack benchmark: does the server stay reachable, bounded and exact under hostile clients?
 
 Runs each attack below against the real server, one after another, for --seconds each (default 8),
 with a fresh `roomrender serve` per attack (started on a free loopback port by bench_server.py), or,
