@@ -573,24 +573,26 @@ struct ConnectionFront::Loop {
 
   void run_worker() {
     for (;;) {
-      Job job;
+      uint64_t id = 0;
+      FrontAnswer result;
       {
         std::unique_lock lock(jobs_mutex);
         jobs_ready.wait(lock, [this] { return workers_stop || !jobs.empty(); });
         if (jobs.empty()) return;
-        job = std::move(jobs.front());
+        Job job = std::move(jobs.front());
         jobs.pop_front();
-      }
-      FrontAnswer result;
-      try {
-        result = answer(job.request);
-      } catch (...) {
-        result = FrontAnswer{refusal(500, "The server failed to answer this request.", true), true, nullptr};
-      }
+        lock.unlock();
+        id = job.id;
+        try {
+          result = answer(job.request);
+        } catch (...) {
+          result = FrontAnswer{refusal(500, "The server failed to answer this request.", true), true, nullptr};
+        }
+      }  // the request's bytes are freed before `then`, which may return free memory to the OS
       auto then = std::move(result.then);
       {
         std::lock_guard lock(done_mutex);
-        done.push_back({job.id, std::move(result)});
+        done.push_back({id, std::move(result)});
       }
       wake();
       if (then) then();
