@@ -308,7 +308,10 @@ struct ConnectionFront::Loop {
     Connection* oldest = nullptr;
     if (in_phase[size_t(phase)] == 0) return nullptr;
     for (auto& [id, c] : connections) {
-      if (c->phase == phase && (!oldest || c->since < oldest->since)) oldest = c.get();
+      // Connections accepted in one turn share `since`; the lower id was accepted first.
+      if (c->phase == phase && (!oldest || std::pair(c->since, c->id) < std::pair(oldest->since, oldest->id))) {
+        oldest = c.get();
+      }
     }
     return oldest;
   }
