@@ -1,18 +1,21 @@
 // The HTTP service (see http_server.hpp). cpp-httplib 0.11.4 from Debian is a compiled library: its
-// CPPHTTPLIB_* macros change nothing here, so every limit is a runtime setter or our own code. A
-// request passes screen_request first (route, method, Accept and body framing, before any body byte
-// is read), then dispatch() calls its route's handler; handlers just throw, and answer_exception
-// turns whatever went wrong into problem+json. One log line and the metrics per request come from
-// the logger, which httplib calls after writing every response.
+// CPPHTTPLIB_* macros change nothing here, and its thread-per-connection server lets one slow or
+// idle client hold a thread, so its listener is not used. Our connection front owns the sockets and
+// hands each complete request, as bytes, to httplib's request processing on an in-memory stream
+// (Server::process_request, reached through a subclass). A request passes screen_request first
+// (route, method, Accept and body framing, before any body byte is read), then dispatch() calls its
+// route's handler; handlers just throw, and answer_exception turns whatever went wrong into
+// problem+json. One log line and the metrics per request come from the logger, which httplib calls
+// after writing every response.
 #include "server/http_server.hpp"
 
+#include "server/connection_front.hpp"
 #include "server/http_util.hpp"
 #include "server/problem.hpp"
 #include "server/routes.hpp"
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
-#include <sys/socket.h>
 
 #if defined(__GLIBC__)
 #include <malloc.h>  // malloc_trim
@@ -21,6 +24,7 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cstring>
 #include <stdexcept>
 
 #ifndef ROOMRENDER_SOURCE_DIR
@@ -53,22 +57,10 @@ void send_problem(Response& res, int status, std::string_view detail, HeaderList
   send_problem(res, Problem{status, make_problem(status, "", detail), std::move(headers)});
 }
 
-// Ends the connection once `res` (already holding its body) is written. A request refused before
-// its body was read leaves that body on the socket, where httplib would take it for the next
-// request. httplib 0.11 decides keep-alive from the request before routing, but drops a connection
-// whose content provider reports failure; so the body is handed over through a provider that writes
-// all of it and then reports failure.
-void close_after_response(Response& res) {
-  auto body = std::make_shared<std::string>(std::move(res.body));
-  res.body.clear();
-  std::string type = res.get_header_value("Content-Type");
-  res.headers.erase("Content-Type");
-  res.set_header("Connection", "close");
-  res.set_content_provider(body->size(), type, [body](size_t offset, size_t length, httplib::DataSink& sink) {
-    sink.write(body->data() + offset, length);
-    return false;
-  });
-}
+// Ends the connection once `res` is written. A request refused before its body was read leaves that
+// body on the socket, where it must not be taken for the next request. httplib decides keep-alive
+// from the request alone; the connection front reads this header of the answer and closes.
+void close_after_response(Response& res) { res.set_header("Connection", "close"); }
 
 // httplib parses Range itself and would cut our answers to the requested bytes (also with status
 // 200, and also problem bodies); and it adds REMOTE_ADDR and friends as headers *after* any the
@@ -185,6 +177,21 @@ HandlerResponse screen_request(const std::vector<Route>& routes, const ServerCon
   return HandlerResponse::Handled;
 }
 
+// Set by the logger when a request's work was large; the worker trims the heap once the answer has
+// been handed to the front, so the trim delays no answer.
+thread_local bool heap_trim_pending = false;
+
+// Requests at least this large return their freed heap to the OS after the answer, like long renders.
+constexpr size_t large_request_bytes = 1u << 20;
+
+void trim_heap_if_pending() {
+  if (!heap_trim_pending) return;
+  heap_trim_pending = false;
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
 void log_request(ServiceState& state, const Request& req, const Response& res) {
   RequestContext& context = request_context();
   // Requests httplib refused before screening (a broken request line) have no route or start.
@@ -204,10 +211,7 @@ void log_request(ServiceState& state, const Request& req, const Response& res) {
     if (!context.cache.empty()) line["cache"] = context.cache;
     state.log("info", std::move(line));
   }
-#if defined(__GLIBC__)
-  // httplib calls the logger after the response is written, so the trim delays no answer.
-  if (context.trim_heap_after_response) malloc_trim(0);
-#endif
+  heap_trim_pending = heap_trim_pending || context.trim_heap_after_response;
   context = RequestContext{};
 }
 
@@ -228,36 +232,68 @@ HandlerResponse fill_error_body(const Request&, Response& res) {
   return HandlerResponse::Handled;
 }
 
-void configure_limits(httplib::Server& server, const ServerConfig& config, std::shared_ptr<int> listen_socket) {
-  // Backstop only: screen_request rejects large bodies before httplib would read them.
+// httplib's request processing, reachable: process_request is protected in 0.11.
+class RequestProcessor : public httplib::Server {
+ public:
+  bool process(httplib::Stream& stream, bool close_connection, bool& connection_closed) {
+    return process_request(stream, close_connection, connection_closed, nullptr);
+  }
+};
+
+// One complete request as httplib's input, its answer collected as bytes. Reading past the request
+// gives 0 (end of stream), so a handler never waits for a client.
+class MemoryStream final : public httplib::Stream {
+ public:
+  MemoryStream(const FrontRequest& request, std::string& out) : request_(request), out_(out) {}
+  bool is_readable() const override { return true; }
+  bool is_writable() const override { return true; }
+  ssize_t read(char* ptr, size_t size) override {
+    size_t n = std::min(size, request_.bytes.size() - offset_);
+    std::memcpy(ptr, request_.bytes.data() + offset_, n);
+    offset_ += n;
+    return ssize_t(n);
+  }
+  ssize_t write(const char* ptr, size_t size) override {
+    out_.append(ptr, size);
+    return ssize_t(size);
+  }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override {
+    ip = request_.remote_ip;
+    port = request_.remote_port;
+  }
+  void get_local_ip_and_port(std::string& ip, int& port) const override {
+    ip = request_.local_ip;
+    port = request_.local_port;
+  }
+  socket_t socket() const override { return INVALID_SOCKET; }
+
+ private:
+  const FrontRequest& request_;
+  std::string& out_;
+  size_t offset_ = 0;
+};
+
+void configure_limits(httplib::Server& server, const ServerConfig& config) {
+  // Backstop only: the front and screen_request refuse large bodies before they are read.
   server.set_payload_max_length(std::max(config.max_body_bytes, config.max_import_bytes));
-  server.set_read_timeout(config.read_timeout_s, 0);
-  server.set_write_timeout(config.write_timeout_s, 0);
-  // httplib keeps a connection's thread while it waits for the next request: bounding the wait and
-  // the requests per connection keeps idle clients from pinning every thread for long.
+  // httplib advertises these in its Keep-Alive header; the front enforces them.
   server.set_keep_alive_timeout(config.keep_alive_timeout_s);
   server.set_keep_alive_max_count(config.keep_alive_max_requests);
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
-  // httplib's default sets SO_REUSEPORT, which lets a second server bind the same port and take
-  // half the connections; SO_REUSEADDR alone still allows a quick restart. The socket is remembered
-  // so start() can raise the listen backlog after bind.
-  server.set_socket_options([listen_socket](socket_t sock) {
-    int yes = 1;
-    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    *listen_socket = sock;
-  });
-  // A fixed pool of connection threads; renders inside them are bounded by the gate.
-  server.new_task_queue = [threads = connection_threads(config)] { return new httplib::ThreadPool(threads); };
 }
 
-std::unique_ptr<httplib::Server> make_server(ServiceState& state, std::shared_ptr<int> listen_socket) {
-  auto server = std::make_unique<httplib::Server>();
-  configure_limits(*server, state.config, listen_socket);
+std::shared_ptr<std::vector<Route>> make_routes(const ServerConfig& config) {
   auto routes = std::make_shared<std::vector<Route>>();
-  for (std::vector<Route> list : {render_routes(), scene_routes(), import_routes(state.config), meta_routes(state.config)}) {
+  for (std::vector<Route> list : {render_routes(), scene_routes(), import_routes(config), meta_routes(config)}) {
     routes->insert(routes->end(), list.begin(), list.end());
   }
   for (Route& r : *routes) r.regex = std::regex(r.pattern);
+  return routes;
+}
+
+std::unique_ptr<RequestProcessor> make_server(ServiceState& state, std::shared_ptr<std::vector<Route>> routes) {
+  auto server = std::make_unique<RequestProcessor>();
+  configure_limits(*server, state.config);
   // httplib only dispatches: screening already chose the route.
   auto dispatch = [&state](const Request& req, Response& res) {
     const RequestContext& context = request_context();
@@ -271,13 +307,9 @@ std::unique_ptr<httplib::Server> make_server(ServiceState& state, std::shared_pt
     return screen_request(*routes, state.config, req, res);
   };
   server->set_pre_routing_handler(screen);
-  // curl sends "Expect: 100-continue" for larger bodies; answer a request we would reject at once
-  // instead of inviting its body.
+  // A request whose body the front did not read keeps its Expect header: answer it from the head.
   server->set_expect_100_continue_handler([screen](const Request& req, Response& res) {
-    if (screen(req, res) == HandlerResponse::Unhandled) return 100;
-    // httplib writes this early answer without deriving Content-Length from the provider.
-    if (!res.has_header("Content-Length")) res.set_header("Content-Length", std::to_string(res.content_length_));
-    return res.status;
+    return screen(req, res) == HandlerResponse::Unhandled ? 100 : res.status;
   });
   server->set_exception_handler([&state](const Request& req, Response& res, std::exception_ptr error) {
     answer_exception(state, req, res, error);
@@ -285,6 +317,93 @@ std::unique_ptr<httplib::Server> make_server(ServiceState& state, std::shared_pt
   server->set_error_handler(httplib::Server::HandlerWithResponse(fill_error_body));
   server->set_logger([&state](const Request& req, const Response& res) { log_request(state, req, res); });
   return server;
+}
+
+// The target's path, percent-decoded as httplib decodes it before routing.
+std::string decoded_path(std::string_view target) {
+  target = target.substr(0, target.find('?'));
+  std::string path;
+  for (size_t i = 0; i < target.size(); ++i) {
+    unsigned value = 0;
+    if (target[i] == '%' && i + 2 < target.size() &&
+        std::from_chars(target.data() + i + 1, target.data() + i + 3, value, 16).ptr == target.data() + i + 3) {
+      path += char(value);
+      i += 2;
+    } else {
+      path += target[i];
+    }
+  }
+  return path;
+}
+
+// The largest body the route of (method, target) takes, as screen_body_headers will judge it; 0 for
+// a route that takes none or a path with no route (its answer then comes from the head alone).
+uint64_t route_body_limit(const std::vector<Route>& routes, const ServerConfig& config, std::string_view method,
+                          std::string_view target) {
+  const std::string path = decoded_path(target);
+  for (const Route& r : routes) {
+    if (r.method != method || r.consumes.empty() || !std::regex_match(path, r.regex)) continue;
+    return r.max_body_bytes ? r.max_body_bytes : config.max_body_bytes;
+  }
+  return 0;
+}
+
+// The answers the front gives without a worker (408, 414, 431, 503), as whole HTTP responses.
+std::string front_refusal(ServiceState& state, int status, std::string_view detail, bool close) {
+  std::string body = make_problem(status, "", detail);
+  std::string head = "HTTP/1.1 " + std::to_string(status) + " " + std::string(status_title(status)) + "\r\n" +
+                     "Content-Type: " + problem_content_type + "\r\nContent-Length: " + std::to_string(body.size()) +
+                     "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n";
+  if (status == 503) head += "Retry-After: " + std::to_string(state.config.retry_after_s) + "\r\n";
+  if (close) head += "Connection: close\r\n";
+  state.metrics.record_request("unmatched", "", status, 0.0);
+  if (state.config.log_requests) {
+    state.log("info", {{"event", "refused"}, {"status", status}, {"detail", std::string(detail)}});
+  }
+  return head + "\r\n" + body;
+}
+
+// True when the answer's head says "Connection: close" (close_after_response, or httplib's own).
+bool answer_closes(std::string_view answer) {
+  std::string_view head = answer.substr(0, answer.find("\r\n\r\n"));
+  return head.find("\r\nConnection: close\r\n") != std::string_view::npos ||
+         head.ends_with("\r\nConnection: close");
+}
+
+FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontRequest& request) {
+  FrontAnswer answer;
+  MemoryStream stream(request, answer.bytes);
+  bool client_closes = false;
+  bool whole = server.process(stream, request.last, client_closes);
+  if (answer.bytes.empty()) {  // httplib gave up before writing anything (no request line at all)
+    answer.bytes = front_refusal(state, 400, "The request could not be read.", true);
+    whole = false;
+  }
+  answer.close = !whole || client_closes || request.last || answer_closes(answer.bytes);
+  // Each worker thread has its own malloc arena, which keeps what a large body's parse freed.
+  if (request.bytes.size() >= large_request_bytes) heap_trim_pending = true;
+  answer.then = trim_heap_if_pending;
+  return answer;
+}
+
+FrontConfig front_config(const ServerConfig& c) {
+  FrontConfig f;
+  f.bind = c.bind;
+  f.port = c.port;
+  f.listen_backlog = c.listen_backlog;
+  f.workers = request_workers(c);
+  f.max_pending = max_pending_requests(c);
+  f.max_connections = c.max_connections;
+  f.max_idle_connections = c.max_idle_connections;
+  f.keep_alive_timeout = std::chrono::seconds(c.keep_alive_timeout_s);
+  f.header_timeout = std::chrono::milliseconds(c.header_timeout_ms);
+  f.body_timeout = std::chrono::milliseconds(c.body_timeout_ms);
+  f.write_timeout = std::chrono::seconds(c.write_timeout_s);
+  f.min_transfer_rate = c.min_transfer_rate;
+  f.max_buffered_body_bytes = c.max_buffered_body_bytes;
+  f.max_requests_per_connection = c.keep_alive_max_requests;
+  f.head_limits = {c.max_request_line_bytes, c.max_header_bytes, c.max_header_count};
+  return f;
 }
 
 }  // namespace
@@ -312,19 +431,22 @@ size_t render_queue_length(const ServerConfig& config) {
   return 4 * render_workers(config);
 }
 
-size_t connection_threads(const ServerConfig& config) {
-  // Every admitted or queued render holds its connection's thread; the 8 beyond those answer
-  // health checks, metrics, 503s and idle keep-alive connections.
+size_t request_workers(const ServerConfig& config) {
+  // Every admitted or queued render holds a worker; the 8 beyond those answer health checks,
+  // metrics, stored scenes and 503s while renders run.
   if (config.threads > 0) return size_t(config.threads);
   return render_workers(config) + render_queue_length(config) + 8;
 }
 
-size_t worker_threads(const ServerConfig& config) { return connection_threads(config); }
+size_t max_pending_requests(const ServerConfig& config) {
+  if (config.max_pending_requests >= 0) return std::max<size_t>(1, size_t(config.max_pending_requests));
+  return request_workers(config);
+}
 
 std::string config_json(const ServerConfig& c) {
   const ParseLimits& l = c.limits;
   nlohmann::ordered_json j = {
-      {"bind", c.bind}, {"port", c.port}, {"threads", connection_threads(c)},
+      {"bind", c.bind}, {"port", c.port}, {"threads", request_workers(c)},
       {"render_workers", render_workers(c)}, {"render_threads", render_threads(c)},
       {"render_queue", render_queue_length(c)},
       {"render_timeout_ms", c.render_timeout_ms}, {"trim_after_work_ms", c.trim_after_work_ms},
@@ -339,8 +461,13 @@ std::string config_json(const ServerConfig& c) {
       {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
       {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
       {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},
-      {"read_timeout_s", c.read_timeout_s}, {"write_timeout_s", c.write_timeout_s},
+      {"max_connections", c.max_connections}, {"max_idle_connections", c.max_idle_connections},
       {"keep_alive_timeout_s", c.keep_alive_timeout_s}, {"keep_alive_max_requests", c.keep_alive_max_requests},
+      {"header_timeout_ms", c.header_timeout_ms}, {"body_timeout_ms", c.body_timeout_ms},
+      {"write_timeout_s", c.write_timeout_s}, {"min_transfer_rate", c.min_transfer_rate},
+      {"max_request_line_bytes", c.max_request_line_bytes}, {"max_header_bytes", c.max_header_bytes},
+      {"max_header_count", c.max_header_count}, {"max_pending_requests", max_pending_requests(c)},
+      {"max_buffered_body_bytes", c.max_buffered_body_bytes},
       {"listen_backlog", c.listen_backlog}, {"log_level", c.log_level}, {"log_requests", c.log_requests}};
   return j.dump();
 }
@@ -354,42 +481,36 @@ void Service::start() {
   state_ = std::make_unique<ServiceState>(config_);
   size_t loaded = state_->scenes.load();
   if (!config_.data_dir.empty()) state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
-  auto listen_socket = std::make_shared<int>(-1);
-  server_ = make_server(*state_, listen_socket);
-  int bound = config_.port == 0 ? server_->bind_to_any_port(config_.bind)
-              : server_->bind_to_port(config_.bind, config_.port) ? config_.port
-                                                                  : -1;
-  if (bound < 0) {
-    throw std::runtime_error("cannot listen on " + config_.bind + ":" + std::to_string(config_.port));
-  }
-  // httplib listens with a backlog of 5; calling listen() again on a listening socket changes it.
-  if (*listen_socket >= 0 && ::listen(*listen_socket, config_.listen_backlog) != 0) {
-    throw std::runtime_error("cannot raise the listen backlog");
-  }
-  port_ = bound;
-  thread_ = std::thread([this] {
-    server_->listen_after_bind();
-    loop_exited_ = true;
-  });
-  // Until the accept loop runs, Server::stop() would do nothing and stop() would then wait forever.
-  while (!server_->is_running() && !loop_exited_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  if (loop_exited_) {
-    thread_.join();
-    throw std::runtime_error("the accept loop on port " + std::to_string(port_) + " stopped at once");
-  }
+  auto routes = make_routes(config_);
+  auto server = make_server(*state_, routes);
+  RequestProcessor& processor = *server;
+  ServiceState& state = *state_;
+  front_ = std::make_unique<ConnectionFront>(
+      front_config(config_),
+      [routes, &state](std::string_view method, std::string_view target) {
+        return route_body_limit(*routes, state.config, method, target);
+      },
+      [&processor, &state](FrontRequest& request) { return answer_request(processor, state, request); },
+      [&state](int status, std::string_view detail, bool close) { return front_refusal(state, status, detail, close); });
+  server_ = std::move(server);
+  port_ = front_->bind();
+  const ConnectionFront& front = *front_;
+  state_->front_stats = [&front] { return front.stats(); };
+  front_->start();
 }
 
 DrainReport Service::stop() {
   DrainReport report;
-  if (stopped_ || !server_ || !thread_.joinable()) return report;
+  if (stopped_ || !front_) return report;
   stopped_ = true;
   auto begin = Clock::now();
   state_->draining = true;
-  state_->gate.close();  // new renders get 503; queued and running ones go on
-  server_->stop();       // no new connections; open ones close after their current request
+  state_->gate.close();     // new renders get 503; queued and running ones go on
+  front_->stop_accepting(); // no new connections; idle ones close, open ones after their answer
   report.drained = state_->gate.wait_idle(begin + std::chrono::milliseconds(config_.drain_timeout_ms));
   if (!report.drained) state_->gate.abort();  // cancelled renders answer 503
-  thread_.join();
+  // Answers still being written get the write timeout, then whatever is left is closed.
+  front_->finish(Clock::now() + std::chrono::seconds(config_.write_timeout_s));
   report.seconds = std::chrono::duration<double>(Clock::now() - begin).count();
   return report;
 }

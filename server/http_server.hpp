@@ -1,4 +1,5 @@
-// The HTTP service: ServerConfig -> routes and limits on an httplib::Server -> listen on a thread.
+// The HTTP service: ServerConfig -> routes on an httplib::Server -> a connection front that owns the
+// sockets (server/connection_front.hpp) and hands complete requests to httplib on worker threads.
 // The route table (server/routes.hpp) lists every endpoint; docs/api.md and schemas/openapi.json
 // describe them. Every error is an RFC 9457 problem+json body (server/problem.hpp); requests whose
 // headers already rule them out are answered before their body is read.
@@ -21,13 +22,14 @@ class Server;
 namespace rr::server {
 
 struct ServiceState;
+class ConnectionFront;
 
 // Every setting of `roomrender serve` (flags and ROOMRENDER_* variables in server/serve_command.cpp,
 // table in docs/api.md). Sizes in bytes, times as named.
 struct ServerConfig {
   std::string bind = "127.0.0.1";
   int port = 8080;  // 0: any free port, reported by Service::port()
-  int threads = 0;  // connection threads; 0: render_workers + render_queue + 8 (see connection_threads)
+  int threads = 0;  // request worker threads; 0: render_workers + render_queue + 8 (see request_workers)
   int render_workers = 0;  // renders running at once; 0: the number of cores
   int render_threads = 0;  // threads drawing one render's tiles; 0: the number of cores
   int render_queue = -1;   // renders waiting for a slot; -1: 4 per render worker
@@ -49,11 +51,22 @@ struct ServerConfig {
   size_t shadow_cache_bytes = 256u << 20;  // shadow maps of static scenes (render/pipelines/shadow_cache.hpp)
   size_t scene_store_bytes = 256u << 20;
   size_t scene_store_entries = 1000;
-  int read_timeout_s = 5;
-  int write_timeout_s = 10;
-  int keep_alive_timeout_s = 3;  // an idle connection holds a thread at most this long
+  // Connections (server/connection_front.hpp). Deadlines are totals, not per read: a client that
+  // sends one byte at a time gets no more time than one that sends nothing.
+  size_t max_connections = 4096;       // beyond: close the oldest idle, else the oldest unfinished head, else 503
+  size_t max_idle_connections = 512;   // idle keep-alive connections kept; beyond: the oldest is closed
+  int keep_alive_timeout_s = 5;        // an idle keep-alive connection is closed after this
   size_t keep_alive_max_requests = 100;
-  int listen_backlog = 1024;     // httplib 0.11 listens with 5; raised after bind
+  int header_timeout_ms = 10'000;      // the whole request head, from accept or from its first byte; then 408
+  int body_timeout_ms = 20'000;        // the whole body: this plus Content-Length / min_transfer_rate; then 408
+  int write_timeout_s = 10;            // the whole answer: this plus its size / min_transfer_rate; then closed
+  size_t min_transfer_rate = 256u << 10;  // bytes per second granted on top of the body and write timeouts
+  size_t max_request_line_bytes = 8192;   // longer: 414; also the cap on one header line (431)
+  size_t max_header_bytes = 64u << 10;    // the whole head; larger: 431
+  size_t max_header_count = 100;          // more header fields: 431
+  int max_pending_requests = -1;          // complete requests waiting for a worker; -1: request_workers
+  size_t max_buffered_body_bytes = 512u << 20;  // bodies being received at once; beyond: 503
+  int listen_backlog = 1024;
   bool log_requests = true;      // one JSON line per request (level info)
   std::string log_level = "info";  // info, warn, error or off
   // Where log lines go (one JSON object per line, no newline); null: stderr. Tests capture them.
@@ -70,8 +83,8 @@ ServerConfig default_server_config();
 size_t render_workers(const ServerConfig& config);
 unsigned render_threads(const ServerConfig& config);
 size_t render_queue_length(const ServerConfig& config);
-size_t connection_threads(const ServerConfig& config);
-size_t worker_threads(const ServerConfig& config);  // = connection_threads (older name)
+size_t request_workers(const ServerConfig& config);
+size_t max_pending_requests(const ServerConfig& config);
 
 // The effective configuration as one JSON object (printed once at start).
 std::string config_json(const ServerConfig& config);
@@ -95,17 +108,16 @@ class Service {
   void start();
   int port() const { return port_; }
   const ServerConfig& config() const { return config_; }
-  // Graceful stop: readiness fails, no new connections are accepted, renders in flight get up to
-  // drain_timeout_ms to finish (then they are cancelled and answer 503), and open connections
-  // close after their current request. Idempotent.
+  // Graceful stop: readiness fails, no new connections are accepted, idle ones close, renders in
+  // flight get up to drain_timeout_ms to finish (then they are cancelled and answer 503), and open
+  // connections close after their current answer is written. Idempotent.
   DrainReport stop();
 
  private:
   ServerConfig config_;
   std::unique_ptr<ServiceState> state_;
   std::unique_ptr<httplib::Server> server_;
-  std::thread thread_;
-  std::atomic<bool> loop_exited_{false};
+  std::unique_ptr<ConnectionFront> front_;
   int port_ = 0;
   bool stopped_ = false;
 };

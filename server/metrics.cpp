@@ -70,6 +70,25 @@ void cache_samples(std::string& out, const char* cache, const CacheStats& s) {
   sample(out, "roomrender_cache_entries", l, double(s.entries));
 }
 
+void connection_samples(std::string& out, const FrontStats& s) {
+  header(out, "roomrender_connections", "gauge", "Open client connections by state.");
+  const std::pair<const char*, size_t> states[] = {
+      {"reading", s.reading}, {"processing", s.processing}, {"writing", s.writing}, {"idle", s.idle}};
+  for (const auto& [name, count] : states) sample(out, "roomrender_connections", label("state", name), double(count));
+  header(out, "roomrender_requests_pending", "gauge", "Complete requests waiting for a worker.");
+  sample(out, "roomrender_requests_pending", "", double(s.pending));
+  header(out, "roomrender_connections_accepted_total", "counter", "Connections accepted.");
+  sample(out, "roomrender_connections_accepted_total", "", double(s.accepted));
+  header(out, "roomrender_connections_closed_total", "counter",
+         "Connections the server closed on its own (deadlines, caps), by reason.");
+  for (size_t i = 0; i < size_t(CloseReason::count); ++i) {
+    sample(out, "roomrender_connections_closed_total", label("reason", close_reason_name(CloseReason(i))),
+           double(s.closed[i]));
+  }
+  header(out, "roomrender_shed_total", "counter", "503 answers the connection front gave without a worker.");
+  sample(out, "roomrender_shed_total", "", double(s.shed));
+}
+
 void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   header(out, "roomrender_renders_in_flight", "gauge", "Renders (and scene parses) running now.");
   sample(out, "roomrender_renders_in_flight", "", double(snap.gate.running));
@@ -87,6 +106,7 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   cache_samples(out, "bsp", snap.bsp_cache);
   cache_samples(out, "shadow", snap.shadow_cache);
   cache_samples(out, "scenes", snap.scene_store);
+  connection_samples(out, snap.connections);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);
   header(out, "roomrender_build_info", "gauge", "Build information; the value is always 1.");

@@ -6,6 +6,7 @@
 
 #include "render/core/lru_cache.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "server/connection_front.hpp"
 #include "server/render_gate.hpp"
 
 #include <map>
@@ -34,6 +35,7 @@ struct MetricsSnapshot {
   CacheStats scene_store;
   double resident_bytes = 0.0;  // this process's RSS, from /proc/self/statm
   std::string version;
+  FrontStats connections;
 };
 
 class Metrics {

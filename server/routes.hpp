@@ -41,6 +41,7 @@ struct ServiceState {
   SceneStore scenes;
   Metrics metrics;
   std::atomic<bool> draining{false};
+  std::function<FrontStats()> front_stats;  // the connection front's counts, set once it exists
 };
 
 struct RouteMatch {

@@ -1,0 +1,102 @@
+// The service's connection front: one epoll thread owns the listening socket, every client
+// connection, every read and write, and every deadline and cap; a fixed pool of worker threads gets
+// only complete requests (head and whole body, as bytes) and gives back complete answers (bytes).
+// A slow or idle client therefore holds a connection record of a few hundred bytes, never a thread.
+// What a request means is not decided here: the `answer` callback (cpp-httplib on an in-memory
+// stream, server/http_server.cpp) parses, routes and answers; `refusal` formats the answers the
+// front gives itself (408, 414, 431, 503).
+#pragma once
+
+#include "server/request_head.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace rr::server {
+
+struct FrontConfig {
+  std::string bind = "127.0.0.1";
+  int port = 8080;  // 0: any free port
+  int listen_backlog = 1024;
+  size_t workers = 8;           // threads running `answer`
+  size_t max_pending = 8;       // complete requests waiting for a worker; beyond: 503
+  size_t max_connections = 4096;
+  size_t max_idle_connections = 512;
+  std::chrono::milliseconds keep_alive_timeout{5000};
+  std::chrono::milliseconds header_timeout{10000};
+  std::chrono::milliseconds body_timeout{20000};  // plus length / min_transfer_rate
+  std::chrono::milliseconds write_timeout{10000}; // plus length / min_transfer_rate
+  uint64_t min_transfer_rate = 256u << 10;        // bytes per second
+  uint64_t max_buffered_body_bytes = 512ull << 20;
+  size_t max_requests_per_connection = 100;
+  HeadLimits head_limits;
+};
+
+// A complete request handed to a worker.
+struct FrontRequest {
+  std::string bytes;  // head and body; with head_only, the head alone
+  // The body was not read: the head already rules the request out (too large, chunked). The answer
+  // must come from the head alone, and the connection closes after it.
+  bool head_only = false;
+  bool last = false;  // the connection closes after this answer (draining, request count)
+  std::string remote_ip, local_ip;
+  int remote_port = 0, local_port = 0;
+};
+
+struct FrontAnswer {
+  std::string bytes;   // a whole HTTP response
+  bool close = false;  // close the connection once it is written
+  // Runs on the worker after the answer was handed to the front (work that must not delay it).
+  std::function<void()> then;
+};
+
+// Why the front closed a connection itself (a label of roomrender_connections_closed_total).
+enum class CloseReason { header_timeout, body_timeout, idle_timeout, idle_evicted, head_evicted, write_timeout,
+                         refused, count };
+std::string_view close_reason_name(CloseReason reason);
+
+struct FrontStats {
+  size_t reading = 0, processing = 0, writing = 0, idle = 0;  // open connections by state
+  size_t pending = 0;                                         // requests waiting for a worker
+  uint64_t accepted = 0;
+  uint64_t closed[size_t(CloseReason::count)] = {};
+  uint64_t shed = 0;  // 503s given by the front (pending queue, buffered body bytes, connection cap)
+};
+
+class ConnectionFront {
+ public:
+  using BodyLimit = std::function<uint64_t(std::string_view method, std::string_view target)>;
+  using Answer = std::function<FrontAnswer(FrontRequest&)>;
+  // The whole response for a refusal the front makes itself; `close` says the connection closes.
+  using Refusal = std::function<std::string(int status, std::string_view detail, bool close)>;
+
+  // `body_limit` gives the largest body the request's route takes (0: none); a larger announced
+  // body is not read, the head goes to `answer` alone.
+  ConnectionFront(FrontConfig config, BodyLimit body_limit, Answer answer, Refusal refusal);
+  ~ConnectionFront();
+  ConnectionFront(const ConnectionFront&) = delete;
+  ConnectionFront& operator=(const ConnectionFront&) = delete;
+
+  // Binds and listens; returns the port. Throws std::runtime_error when it cannot.
+  int bind();
+  // Starts the event thread and the workers.
+  void start();
+  // Closes the listening socket and idle connections; requests already arriving are still read and
+  // answered with "Connection: close".
+  void stop_accepting();
+  // Waits until every connection has closed or `until`, closes the rest, joins every thread.
+  void finish(std::chrono::steady_clock::time_point until);
+  FrontStats stats() const;
+
+ private:
+  struct Loop;
+  std::unique_ptr<Loop> loop_;
+};
+
+}  // namespace rr::server
