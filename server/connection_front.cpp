@@ -358,6 +358,7 @@ struct ConnectionFront::Loop {
   // ---- reading ----
 
   void on_readable(Connection& c, Clock::time_point now) {
+    if (c.phase == Phase::processing || c.phase == Phase::writing) return;
     ssize_t n = ::recv(c.fd, scratch, sizeof scratch, 0);
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
     if (n <= 0) {
@@ -491,6 +492,9 @@ struct ConnectionFront::Loop {
   void write_answer(Connection& c, std::string bytes, bool close, Clock::time_point now) {
     c.close_after_write = c.close_after_write || close;
     set_phase(c, Phase::writing, now);
+    // No reading while an answer is written: a client that sends without reading would otherwise
+    // grow `in` for as long as it likes.
+    set_interest(c, 0);
     set_deadline(c, now + transfer_allowance(config.write_timeout, bytes.size() + c.out.size(), config.min_transfer_rate));
     send_bytes(c, std::move(bytes));
   }
