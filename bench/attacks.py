@@ -874,7 +874,7 @@ def counter_text(d, limit=6):
 
 
 def markdown(all_results):
-    out = ["# Attack benchmark (issue 19)", "",
+    out = ["# Attack benchmark: hostile clients against the real server", "",
            "Written by `bench/attacks.py`; loopback; RSS in MiB from /metrics; latencies in ms. "
            f"Goals: victim 200 within {GOAL_VICTIM_S:.0f} s (flood: 200 or 503), 503 p99 ≤ {GOAL_503_P99_MS:.0f} ms "
            f"(from the request's last byte), nothing unanswered (window + {GRACE_S:.0f} s), "
