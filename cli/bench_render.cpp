@@ -1,11 +1,20 @@
-// bench-render's frame loop and report (see bench_render.hpp).
+// bench-render: the command (its own flags; the request flags are request_flags.hpp's, as render's
+// are), the frame loop and the report (see bench_render.hpp and cli.hpp).
 #include "cli/bench_render.hpp"
 
+#include "cli/args.hpp"
+#include "cli/cli.hpp"
+#include "cli/request_flags.hpp"
+#include "render/core/png.hpp"
+#include "render/core/scene_names.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/report_json.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 namespace rr::cli {
 
@@ -79,6 +88,80 @@ size_t fan_triangle_count(const PolygonSoup& soup) {
   size_t triangles = 0;
   for (const Polygon& p : soup.polygons) triangles += p.vertex_count - 2;
   return triangles;
+}
+
+namespace {
+
+// What bench-render can be asked for on this build: the benchmark script iterates these.
+void print_bench_modes() {
+  nlohmann::ordered_json pipelines = nlohmann::ordered_json::array(), shadings = nlohmann::ordered_json::array();
+  for (const PipelineInfo& p : pipeline_table()) pipelines.push_back(p.name);
+  for (const auto& s : shading_names) shadings.push_back(s.name);
+  print_json_line(stdout, {{"pipelines", pipelines}, {"shadings", shadings}});
+}
+
+// bench-render's own flags (everything but the request flags) into `run`; throws UsageError.
+BenchRun bench_run(const ParsedArgs& args) {
+  BenchRun run;
+  if (auto v = flag(args, "--frames")) run.frames = parse_int(*v, "--frames", 1, 100000);
+  if (auto v = flag(args, "--warmup")) run.warmup = parse_int(*v, "--warmup", 0, 100000);
+  run.threads = std::max(1u, std::thread::hardware_concurrency());
+  if (auto v = flag(args, "--threads")) run.threads = unsigned(parse_int(*v, "--threads", 1, 64));
+  if (auto v = flag(args, "--bsp-cache")) run.bsp_cache = parse_switch_flag(*v, "--bsp-cache", "on", "off");
+  if (auto v = flag(args, "--shadow-cache")) run.shadow_cache = parse_switch_flag(*v, "--shadow-cache", "on", "off");
+  return run;
+}
+
+}  // namespace
+
+int run_bench_render(std::span<const std::string> argv) {
+  if (std::find(argv.begin(), argv.end(), "--list") != argv.end()) return print_bench_modes(), 0;
+  ParsedArgs args;
+  BenchRun run;
+  RequestPatch patch;
+  try {
+    args = parse_args(argv, with_request_flags({"--request", "--obj", "--scale", "--bsp-cache", "--shadow-cache",
+                                                "--frames", "--warmup", "--out", "--ids", "--threads"}));
+    if (args.help) return std::printf("usage: %s\n\n%s", bench_synopsis, request_flags_help().c_str()), 0;
+    if (!args.positional.empty()) throw UsageError("unexpected argument " + args.positional[0]);
+    if (flag(args, "--request").has_value() == flag(args, "--obj").has_value()) {
+      throw UsageError("give exactly one of --request FILE and --obj FILE");
+    }
+    if (flag(args, "--scale") && !flag(args, "--obj")) throw UsageError("--scale goes with --obj");
+    if (auto scale = flag(args, "--scale")) parse_scale(*scale);
+    check_one_stdout(args, {"--out", "--ids"});
+    run = bench_run(args);
+    patch = request_patch(args);
+  } catch (const UsageError& e) {
+    return usage_failure(bench_synopsis, e.what());
+  }
+  return run_reporting_errors(
+      [&] {
+        // --obj goes through the OBJ importer (groups become mesh solids in file order), so polygon id k
+        // is the k-th `f` line when groups do not interleave and no face needed repair (docs/import.md).
+        const bool from_obj = flag(args, "--obj").has_value();
+        std::string input = from_obj ? *flag(args, "--obj") : *flag(args, "--request");
+        std::string text = from_obj ? imported_request_text(input, ImportFormat::obj, import_options(args, patch))
+                                    : read_input(input);
+        RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch));
+        const PreparedScene scene = prepare_scene(std::move(request.scene));
+        BenchReport report = bench_frames(request, scene, run);
+        if (auto out = flag(args, "--out")) {
+          write_output(*out, encode_png(report.last.frame.image, request.options.png_compression, run.threads));
+        }
+        if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(report.last.frame.ids));
+        nlohmann::ordered_json line = {{"source", from_obj ? "obj" : "request"}, {"input", input},
+                                       {"pipeline", pipeline_info(request.options.pipeline).name},
+                                       {"shading", shading_names.name(request.options.shading)},
+                                       {"shadows", request.options.shadows},
+                                       {"width", request.options.width}, {"height", request.options.height},
+                                       {"polygons", scene.soup.polygons.size()},
+                                       {"triangles", fan_triangle_count(scene.soup)},
+                                       {"setup_ms", std::round(scene.tessellate_ms * 1000.0) / 1000.0}};
+        line.update(bench_report_json(report, run));
+        print_json_line(line_stream(args, {"--out", "--ids"}), line);
+      },
+      patch.flag_by_pointer);
 }
 
 }  // namespace rr::cli

@@ -12,6 +12,12 @@
 
 namespace rr::cli {
 
+inline constexpr const char* bench_synopsis =
+    "roomrender bench-render (--request FILE | --obj FILE) [REQUEST FLAGS] [--bsp-cache on|off]\n"
+    "                 [--shadow-cache on|off] [--frames K] [--warmup N] [--threads N] [--out FILE.png|-]\n"
+    "                 [--ids FILE|-]   (a file of - is stdout; the JSON line then goes to stderr)\n"
+    "  roomrender bench-render --list";
+
 struct BenchRun {
   int frames = 10;  // timed frames, >= 1
   int warmup = 1;   // untimed frames first: page faults of the first framebuffers, cold caches

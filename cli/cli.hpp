@@ -1,7 +1,8 @@
 // The roomrender subcommands behind cli/main.cpp: render (request -> PNG, ids, timings line),
 // export (request -> Wavefront OBJ of the tessellated scene) and serve (the HTTP service). Each takes
 // the arguments after its name and returns the exit code: 0 ok, 1 failed, 2 usage error. Machine
-// output is one JSON line: results on stdout, errors on stderr as {"error": ..., "pointer": ...}.
+// output is one JSON line: results on stdout (stderr when a file argument of - takes stdout), errors
+// on stderr as {"error": ..., "pointer": ...}.
 #pragma once
 
 #include "render/core/tessellate.hpp"
