@@ -1,7 +1,8 @@
 // A render whose BSP build runs past the server's deadline is answered 504 soon after the deadline
 // (the build checks it every few thousand classifications, not every few thousand nodes), and the
-// server renders normally right after. Bounds are the deadline plus a second, for sanitizer builds;
-// bench/deadline_overshoot.py measures the overshoot itself.
+// server renders normally right after. The bound is the deadline plus 3 s, for sanitizer builds and a
+// loaded machine (the whole build takes far longer); bench/deadline_overshoot.py measures the
+// overshoot itself.
 #include "server_fixture.hpp"
 
 #include <chrono>
@@ -47,7 +48,7 @@ TEST(DeadlineBsp, LongBuildIs504SoonAfterTheDeadlineThenTheServerRenders) {
   const double answered_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent).count();
   json problem = expect_problem(res, 504);
   EXPECT_NE(problem.value("detail", "").find("deadline of 500 ms"), std::string::npos) << problem;
-  EXPECT_LT(answered_ms, 500.0 + 1000.0);
+  EXPECT_LT(answered_ms, 500.0 + 3000.0);
   std::printf("[deadline] 504 after %.0f ms with a deadline of 500 ms\n", answered_ms);
 
   auto normal = client.Post("/v1/render", small_request, "application/json");
