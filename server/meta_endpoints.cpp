@@ -167,8 +167,8 @@ RouteHandler index_handler(fs::path dir) {
 }
 
 // The API page (clients/web/docs): Redoc, served from here, drawing /v1/schemas/openapi.json. The
-// policy keeps it from loading anything from elsewhere (Redoc links its logo from a CDN); Redoc
-// styles with inline <style> elements and searches in a worker it makes from a blob.
+// web build empties the one CDN URL of Redoc's bundle, and the policy refuses any other origin;
+// Redoc styles with inline <style> elements and searches in a worker it makes from a blob.
 RouteHandler docs_handler(fs::path dir) {
   return [dir](ServiceState&, const Request&, Response& res, const RouteMatch&) {
     auto text = read_text_file(dir / "docs" / "index.html");
@@ -208,7 +208,8 @@ std::vector<Route> meta_routes(const ServerConfig& config) {
        {"application/schema+json", "application/json"}, schema_handler(config.schemas_dir)},
       {"GET", "/", "/", {}, {"text/html"}, index_handler(config.web_dir)},
       {"GET", "/docs", "/docs", {}, {"text/html"}, docs_handler(config.web_dir)},
-      {"GET", "/docs/{file}", "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)", {}, {}, docs_asset_handler(config.web_dir)},
+      {"GET", "/docs/{file}", "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)", {}, {},
+       docs_asset_handler(config.web_dir)},
       {"GET", "/examples/", "/examples/?", {}, json_answer, examples_list_handler(config.examples_dir)},
       {"GET", "/examples/{name}.json", "/examples/([a-z0-9_]+)\\.json", {}, json_answer,
        example_handler(config.examples_dir)},
