@@ -42,12 +42,8 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# ajv for the schema test, from its lockfile, once (node_modules is not committed).
-schema_dir="$(cd "$(dirname "$0")/.." && pwd)/tests/schema"
-if [ "$mode" = all ] && [ ! -f "$schema_dir/node_modules/ajv/package.json" ]; then
-  echo "install-deps: npm ci in tests/schema"
-  (cd "$schema_dir" && npm ci --no-audit --no-fund --loglevel=error)
-fi
+# ajv and swagger-parser for the schema tests, from their lockfile, once (node_modules is not committed).
+if [ "$mode" = all ]; then "$(dirname "$0")/../tests/schema/npm-ci-if-needed.sh"; fi
 
 # The web client's npm packages (esbuild, CodeMirror, playwright-core), from its lockfile, once.
 if [ "$mode" = all ]; then "$(dirname "$0")/../clients/web/npm-ci-if-needed.sh"; fi

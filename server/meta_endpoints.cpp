@@ -1,5 +1,6 @@
 // Endpoints about the service rather than a render: health (livez, readyz, healthz), metrics, the
-// pipeline table, the OpenAPI document and JSON Schemas, the web page and the bundled examples.
+// pipeline table, the OpenAPI document and JSON Schemas, the web page, the API page (/docs) and the
+// bundled examples.
 // Files are served only by names that match a strict pattern, so a name can never leave its
 // directory.
 #include "server/routes.hpp"
@@ -90,7 +91,37 @@ void handle_pipelines(ServiceState&, const Request&, Response& res, const RouteM
 const std::regex schema_name("[a-z0-9_-]+");
 const std::regex example_name("[a-z0-9_]+");
 
+// The document's $refs are relative to its file, which sits beside the schemas: right as it is at
+// /v1/schemas/openapi.json, but from /openapi.json they would resolve to /request.schema.json. So
+// that URL serves it with each relative reference made an absolute path under /v1/schemas/.
+void make_refs_absolute(nlohmann::ordered_json& node) {
+  if (node.is_array()) {
+    for (auto& item : node) make_refs_absolute(item);
+  } else if (node.is_object()) {
+    for (auto& [key, value] : node.items()) {
+      if (key != "$ref" || !value.is_string()) {
+        make_refs_absolute(value);
+        continue;
+      }
+      const std::string ref = value.get<std::string>();
+      const bool relative = !ref.starts_with('/') && !ref.starts_with('#') && ref.find(':') == std::string::npos;
+      if (relative) value = "/v1/schemas/" + ref;
+    }
+  }
+}
+
 RouteHandler openapi_handler(fs::path dir) {
+  return [dir](ServiceState&, const Request&, Response& res, const RouteMatch&) {
+    auto text = read_text_file(dir / "openapi.json");
+    if (!text) throw HttpError(404, "There is no document named 'openapi'.");
+    nlohmann::ordered_json document = nlohmann::ordered_json::parse(*text);  // keeps the authored order
+    make_refs_absolute(document);
+    res.set_header("Cache-Control", "no-cache");
+    res.set_content(document.dump(2), "application/json");
+  };
+}
+
+RouteHandler openapi_file_handler(fs::path dir) {
   return [dir](ServiceState&, const Request&, Response& res, const RouteMatch&) {
     send_file(res, dir, "openapi", ".json", "application/json", "document");
   };
@@ -135,6 +166,30 @@ RouteHandler index_handler(fs::path dir) {
   };
 }
 
+// The API page (clients/web/docs): Redoc, served from here, drawing /v1/schemas/openapi.json. The
+// web build empties the one CDN URL of Redoc's bundle, and the policy refuses any other origin;
+// Redoc styles with inline <style> elements and searches in a worker it makes from a blob.
+RouteHandler docs_handler(fs::path dir) {
+  return [dir](ServiceState&, const Request&, Response& res, const RouteMatch&) {
+    auto text = read_text_file(dir / "docs" / "index.html");
+    if (!text) throw HttpError(404, "The API page is not installed on this server.");
+    res.set_header("Content-Security-Policy",
+                   "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; "
+                   "img-src 'self' data:; worker-src blob:");
+    res.set_header("Cache-Control", "no-cache");
+    res.set_content(*text, "text/html; charset=utf-8");
+  };
+}
+
+// The page's files, by name: the pattern admits only these two.
+RouteHandler docs_asset_handler(fs::path dir) {
+  return [dir](ServiceState&, const Request&, Response& res, const RouteMatch& match) {
+    const std::string& name = match.params.at(0);
+    const char* type = name.ends_with(".js") ? "text/javascript; charset=utf-8" : "text/plain; charset=utf-8";
+    send_file(res, dir / "docs", name, "", type, "file of the API page");
+  };
+}
+
 }  // namespace
 
 std::vector<Route> meta_routes(const ServerConfig& config) {
@@ -146,10 +201,15 @@ std::vector<Route> meta_routes(const ServerConfig& config) {
       {"GET", "/metrics", "/metrics", {}, {"text/plain"}, handle_metrics},
       {"GET", "/v1/pipelines", "/v1/pipelines", {}, json_answer, handle_pipelines},
       {"GET", "/openapi.json", "/openapi\\.json", {}, json_answer, openapi_handler(config.schemas_dir)},
+      {"GET", "/v1/schemas/openapi.json", "/v1/schemas/openapi\\.json", {}, json_answer,
+       openapi_file_handler(config.schemas_dir)},
       {"GET", "/v1/schemas", "/v1/schemas/?", {}, json_answer, schema_list_handler(config.schemas_dir)},
       {"GET", "/v1/schemas/{name}.json", "/v1/schemas/([a-z0-9_-]+)\\.schema\\.json", {},
        {"application/schema+json", "application/json"}, schema_handler(config.schemas_dir)},
       {"GET", "/", "/", {}, {"text/html"}, index_handler(config.web_dir)},
+      {"GET", "/docs", "/docs", {}, {"text/html"}, docs_handler(config.web_dir)},
+      {"GET", "/docs/{file}", "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)", {}, {},
+       docs_asset_handler(config.web_dir)},
       {"GET", "/examples/", "/examples/?", {}, json_answer, examples_list_handler(config.examples_dir)},
       {"GET", "/examples/{name}.json", "/examples/([a-z0-9_]+)\\.json", {}, json_answer,
        example_handler(config.examples_dir)},

@@ -60,14 +60,30 @@ std::string label(const char* name, std::string_view value) {
   return std::string(name) + "=\"" + escape_label(value) + "\"";
 }
 
-void cache_samples(std::string& out, const char* cache, const CacheStats& s) {
-  const std::string l = label("cache", cache);
-  sample(out, "roomrender_cache_hits_total", l, double(s.hits));
-  sample(out, "roomrender_cache_misses_total", l, double(s.misses));
-  sample(out, "roomrender_cache_evictions_total", l, double(s.evictions));
-  sample(out, "roomrender_cache_bytes", l, double(s.bytes));
-  sample(out, "roomrender_cache_budget_bytes", l, double(s.budget_bytes));
-  sample(out, "roomrender_cache_entries", l, double(s.entries));
+// One row per cache family. Prometheus wants all samples of a family together after its HELP and
+// TYPE, so the caches are the inner loop, not the outer one.
+struct CacheFamily {
+  const char* name;
+  const char* type;
+  const char* help;
+  size_t CacheStats::*field;
+};
+const CacheFamily cache_families[] = {
+    {"roomrender_cache_hits_total", "counter", "Cache lookups that found their value.", &CacheStats::hits},
+    {"roomrender_cache_misses_total", "counter", "Cache lookups that did not.", &CacheStats::misses},
+    {"roomrender_cache_evictions_total", "counter", "Entries evicted to stay within budget.", &CacheStats::evictions},
+    {"roomrender_cache_bytes", "gauge", "Bytes held (approximate).", &CacheStats::bytes},
+    {"roomrender_cache_budget_bytes", "gauge", "Byte budget.", &CacheStats::budget_bytes},
+    {"roomrender_cache_entries", "gauge", "Entries held.", &CacheStats::entries},
+};
+
+void cache_samples(std::string& out, const MetricsSnapshot& snap) {
+  const std::pair<const char*, const CacheStats*> caches[] = {
+      {"bsp", &snap.bsp_cache}, {"shadow", &snap.shadow_cache}, {"scenes", &snap.scene_store}};
+  for (const CacheFamily& family : cache_families) {
+    header(out, family.name, family.type, family.help);
+    for (const auto& [cache, stats] : caches) sample(out, family.name, label("cache", cache), double(stats->*family.field));
+  }
 }
 
 void connection_samples(std::string& out, const FrontStats& s) {
@@ -97,15 +113,7 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   header(out, "roomrender_render_slots", "gauge", "Render concurrency (slots) and queue length.");
   sample(out, "roomrender_render_slots", label("kind", "concurrency"), double(snap.gate.concurrency));
   sample(out, "roomrender_render_slots", label("kind", "queue"), double(snap.gate.queue_limit));
-  header(out, "roomrender_cache_hits_total", "counter", "Cache lookups that found their value.");
-  header(out, "roomrender_cache_misses_total", "counter", "Cache lookups that did not.");
-  header(out, "roomrender_cache_evictions_total", "counter", "Entries evicted to stay within budget.");
-  header(out, "roomrender_cache_bytes", "gauge", "Bytes held (approximate).");
-  header(out, "roomrender_cache_budget_bytes", "gauge", "Byte budget.");
-  header(out, "roomrender_cache_entries", "gauge", "Entries held.");
-  cache_samples(out, "bsp", snap.bsp_cache);
-  cache_samples(out, "shadow", snap.shadow_cache);
-  cache_samples(out, "scenes", snap.scene_store);
+  cache_samples(out, snap);
   connection_samples(out, snap.connections);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);

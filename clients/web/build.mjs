@@ -1,9 +1,11 @@
 // Builds the web page: esbuild bundles src/main.js with the npm packages it imports, and the bundle
 // and src/style.css are inlined into src/index.html, written to index.html (the one file the server
-// serves at /). The output is committed so `roomrender serve` needs no node; `--check` rebuilds in
-// memory and fails when the committed index.html differs (a CTest test runs it).
-//   node build.mjs            write index.html
-//   node build.mjs --check    exit 1 if index.html is not what the sources build to
+// serves at /). Also copies Redoc's standalone bundle and its licence from node_modules into docs/,
+// beside docs/index.html, the API page the server serves at /docs. The outputs are committed so
+// `roomrender serve` needs no node; `--check` rebuilds in memory and fails when a committed output
+// differs (a CTest test runs it).
+//   node build.mjs            write index.html and docs/redoc.standalone.js*
+//   node build.mjs --check    exit 1 if they are not what the sources and packages build to
 import * as esbuild from "esbuild";
 import fs from "node:fs";
 import path from "node:path";
@@ -51,16 +53,37 @@ export async function buildPage() {
     .replace("</body>", () => `<!--\n${text}\n-->\n</body>`);
 }
 
-const outFile = path.join(here, "index.html");
-const html = await buildPage();
+// Redoc's one fetch from elsewhere: the logo beside "API docs by Redocly", from its CDN. Emptied, the
+// image fails at once and Redoc drops it (its onError), so the page asks no other host for anything.
+const redocLogo = "https://cdn.redoc.ly/redoc/logo-mini.svg";
+function withoutCdn(text) {
+  const uses = text.split(redocLogo).length - 1;
+  if (uses !== 1) throw new Error(`redoc.standalone.js names ${redocLogo} ${uses} times, not once: look at it again`);
+  return text.replace(redocLogo, "");
+}
+
+// The API page loads Redoc as a file of its own: a megabyte of script that a browser caches, and that
+// an inline <script> could not hold (it contains "<!--").
+const vendored = [
+  { out: "docs/redoc.standalone.js", text: withoutCdn(read("node_modules/redoc/bundles/redoc.standalone.js")) },
+  { out: "docs/redoc.standalone.js.LICENSE.txt", text: read("node_modules/redoc/bundles/redoc.standalone.js.LICENSE.txt") },
+];
+const outputs = [{ out: "index.html", text: await buildPage() }, ...vendored];
+
 if (process.argv.includes("--check")) {
-  const committed = fs.existsSync(outFile) ? fs.readFileSync(outFile, "utf8") : "";
-  if (committed !== html) {
-    console.error("clients/web/index.html is not what clients/web/src builds to: run `npm run build` in clients/web and commit it.");
-    process.exit(1);
+  let stale = 0;
+  for (const { out, text } of outputs) {
+    const file = path.join(here, out);
+    const committed = fs.existsSync(file) ? fs.readFileSync(file, "utf8") : "";
+    if (committed === text) continue;
+    console.error(`clients/web/${out} is not what clients/web builds to: run \`npm run build\` in clients/web and commit it.`);
+    stale += 1;
   }
-  console.log(`clients/web/index.html is up to date (${html.length} bytes).`);
+  if (stale) process.exit(1);
+  console.log(`clients/web outputs are up to date (${outputs.map((o) => `${o.out} ${o.text.length} bytes`).join(", ")}).`);
 } else {
-  fs.writeFileSync(outFile, html);
-  console.log(`wrote clients/web/index.html (${html.length} bytes)`);
+  for (const { out, text } of outputs) {
+    fs.writeFileSync(path.join(here, out), text);
+    console.log(`wrote clients/web/${out} (${text.length} bytes)`);
+  }
 }

@@ -2,7 +2,8 @@
 // the real server. Every example request must validate; over the corpus (corpus.mjs) the server
 // must accept exactly what the schema accepts, except the listed semantic rules a schema cannot
 // state, which the schema accepts and the server refuses with 422. Answers are validated too: JSON
-// renders, problem bodies, stored-scene receipts. OpenAPI references must resolve.
+// renders, problem bodies, stored-scene receipts. OpenAPI references must resolve, and the document's
+// request examples must be accepted.
 //   node run.mjs BUILD/roomrender REPOSITORY_ROOT
 import Ajv2020 from "ajv/dist/2020.js";
 import { spawn } from "node:child_process";
@@ -16,7 +17,8 @@ if (!binary || !repo) {
   process.exit(2);
 }
 
-const ID = "https://roomrender.example/schemas/";
+// Each schema's $id is its file name, so relative $refs resolve beside it, on disk and on a server.
+const ID = "";
 // strict mode refuses schemas that are ambiguous or use unknown keywords; allowUnionTypes permits
 // type arrays; the content* keywords are annotations in 2020-12.
 const ajv = new Ajv2020({ strict: true, allowUnionTypes: true });
@@ -158,6 +160,32 @@ for (const ref of new Set(refs)) {
   const resolved = match && ajv.getSchema(`${ID}${match[1]}.schema.json${match[2] || ""}`);
   check(Boolean(resolved), `OpenAPI $ref ${ref} resolves to a served schema`);
   if (match) check((await send("GET", `/v1/schemas/${match[1]}.schema.json`)).status === 200, `${ref} is served`);
+}
+
+// --- the OpenAPI document's request examples are accepted --------------------------------------
+// The examples openapi.json shows (and /docs with it) are sent as they are; an import example is
+// named by the {format} it is for, and PUT's {id} is the one POST gave the same scene.
+const document = JSON.parse(readFileSync(`${repo}/schemas/openapi.json`, "utf8"));
+const storedIds = [];
+for (const [path, item] of Object.entries(document.paths)) {
+  for (const [method, op] of Object.entries(item)) {
+    for (const [type, media] of Object.entries(op.requestBody?.content || {})) {
+      for (const [name, example] of Object.entries(media.examples || {})) {
+        let url = path.replace("{format}", name);
+        if (url.includes("{id}")) url = url.replace("{id}", storedIds.at(-1) || "0000000000000000");
+        const json = type.endsWith("json");
+        const res = await fetch(origin + url, {
+          method: method.toUpperCase(),
+          headers: { "Content-Type": type },
+          body: json ? JSON.stringify(example.value) : example.value,
+        });
+        const body = await res.arrayBuffer();
+        check(res.ok, `openapi example ${name} of ${method.toUpperCase()} ${path} (${type}) is accepted`,
+              `${res.status} ${Buffer.from(body).toString("utf8").slice(0, 300)}`);
+        if (res.ok && path === "/v1/scenes" && method === "post") storedIds.push(JSON.parse(Buffer.from(body).toString("utf8")).id);
+      }
+    }
+  }
 }
 
 server.kill("SIGTERM");
