@@ -147,7 +147,7 @@ int run_reporting_errors(const std::function<void()>& work) {
     work();
     return 0;
   } catch (const InputError& e) {
-    print_json_line(stderr, {{"error", e.what()}, {"pointer", e.pointer()}});
+    print_json_line(stderr, {{"error", e.summary()}, {"pointer", e.pointer()}});
   } catch (const std::exception& e) {
     print_json_line(stderr, {{"error", e.what()}, {"pointer", nullptr}});
   }
