@@ -174,7 +174,7 @@ int run_reporting_errors(const std::function<void()>& work, const FlagByPointer&
     work();
     return 0;
   } catch (const InputError& e) {
-    nlohmann::ordered_json line = {{"error", e.what()}, {"pointer", e.pointer()}};
+    nlohmann::ordered_json line = {{"error", e.summary()}, {"pointer", e.pointer()}};
     if (auto name = flag_for(flag_by_pointer, e.pointer())) line["flag"] = *name;
     print_json_line(stderr, line);
   } catch (const std::exception& e) {

@@ -15,11 +15,12 @@ std::string_view status_title(int status) {
     case 408: return "Request Timeout";
     case 409: return "Conflict";
     case 411: return "Length Required";
-    case 413: return "Content Too Large";
+    // httplib writes the status line with the RFC 7231 names for 413 and 422, so titles use them too.
+    case 413: return "Payload Too Large";
     case 414: return "URI Too Long";
     case 415: return "Unsupported Media Type";
     case 416: return "Range Not Satisfiable";
-    case 422: return "Unprocessable Content";
+    case 422: return "Unprocessable Entity";
     case 429: return "Too Many Requests";
     case 431: return "Request Header Fields Too Large";
     case 500: return "Internal Server Error";
@@ -31,7 +32,7 @@ std::string_view status_title(int status) {
 }
 
 std::string make_problem(int status, std::string_view title, std::string_view detail,
-                         const std::vector<FieldError>& errors) {
+                         const std::vector<FieldError>& errors, bool errors_truncated) {
   nlohmann::json body = {
       {"type", "about:blank"},
       {"title", title.empty() ? status_title(status) : title},
@@ -46,6 +47,7 @@ std::string make_problem(int status, std::string_view title, std::string_view de
       list.push_back(std::move(entry));
     }
     body["errors"] = std::move(list);
+    if (errors_truncated) body["errors_truncated"] = true;
   }
   // `replace` keeps a stray invalid UTF-8 byte in a message from turning into a second error.
   return body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -75,7 +77,10 @@ int status_for(InputError::Kind kind) {
 
 Problem problem_from_input_error(const InputError& error) {
   int status = status_for(error.kind());
-  return {status, make_problem(status, "", error.what(), {{error.pointer(), error.what()}})};
+  std::vector<FieldError> errors;
+  errors.reserve(error.errors().size());
+  for (const FieldProblem& e : error.errors()) errors.push_back({e.pointer, e.detail});
+  return {status, make_problem(status, "", error.summary(), errors, error.truncated())};
 }
 
 Problem internal_error_problem() {

@@ -47,13 +47,15 @@ class HttpError : public std::runtime_error {
   HeaderList headers_;
 };
 
-// The HTTP reason phrase for a status ("Unprocessable Content" for 422), or "Error" when unknown.
+// The HTTP reason phrase for a status, as the status line gives it ("Unprocessable Entity" for 422),
+// or "Error" when unknown.
 std::string_view status_title(int status);
 
 // A problem+json body with type "about:blank" and, when `title` is empty, the status's reason phrase
-// as its title (RFC 9457 section 4.2.1 asks for exactly that pairing).
+// as its title (RFC 9457 section 4.2.1 asks for exactly that pairing). `errors_truncated` says that
+// more errors were found than `errors` lists.
 std::string make_problem(int status, std::string_view title, std::string_view detail,
-                         const std::vector<FieldError>& errors = {});
+                         const std::vector<FieldError>& errors = {}, bool errors_truncated = false);
 
 // A problem for a bare HTTP status that no handler explained (httplib's own rejections: a broken
 // request line, a target too long, ...), with a generic detail.
@@ -62,7 +64,8 @@ Problem status_problem(int status);
 // The status an input error maps to: malformed 400, invalid 422, too_large 413.
 int status_for(InputError::Kind kind);
 
-// The problem answering an InputError: its message as detail and one FieldError at its pointer.
+// The problem answering an InputError: its summary (the first error's pointer and message, and how
+// many more) as detail, one FieldError per error, and errors_truncated when the list was cut.
 Problem problem_from_input_error(const InputError& error);
 
 // The problem answering any other exception: 500 with a fixed detail, never the exception's text

@@ -75,7 +75,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   try {
     parsed = request_from_json(nlohmann::json{{"scene", document}}, limits);
   } catch (const InputError& e) {
-    throw InputError(e.kind(), scene_document_pointer(e.pointer()), e.what());
+    throw e.with_pointers(scene_document_pointer);
   }
   auto out = std::make_shared<StoredScene>();
   out->text = document.dump();

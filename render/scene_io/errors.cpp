@@ -1,10 +1,29 @@
-// JSON Pointer building for InputError (RFC 6901): a reference token escapes '~' as "~0" and '/' as
-// "~1". '~' is replaced first in spirit: each character is escaped on its own, so "~1" in a key
-// becomes "~01" and reads back as the original two characters. Long client text is cut here too
-// (quote_input), since pointers and messages quoting it go into answers.
+// InputError's one-line summary, and JSON Pointer building for it (RFC 6901): a reference token
+// escapes '~' as "~0" and '/' as "~1". '~' is replaced first in spirit: each character is escaped on
+// its own, so "~1" in a key becomes "~01" and reads back as the original two characters. Long client
+// text is cut here too (quote_input), since pointers and messages quoting it go into answers.
 #include "render/scene_io/errors.hpp"
 
 namespace rr {
+
+InputError::InputError(Kind kind, std::vector<FieldProblem> errors, bool truncated)
+    : std::runtime_error(errors.empty() ? std::string() : errors.front().detail),
+      kind_(kind),
+      errors_(errors.empty() ? std::vector<FieldProblem>{FieldProblem{}} : std::move(errors)),
+      truncated_(truncated) {}
+
+std::string InputError::summary() const {
+  const FieldProblem& first = errors_.front();
+  std::string out = first.pointer.empty() ? first.detail : first.pointer + ": " + first.detail;
+  const size_t more = errors_.size() - 1;
+  if (truncated_) {
+    out += " (and " + std::to_string(more) + " more listed; the list stops at " +
+           std::to_string(errors_.size()) + ")";
+  } else if (more > 0) {
+    out += " (and " + std::to_string(more) + (more == 1 ? " more error)" : " more errors)");
+  }
+  return out;
+}
 
 size_t quoted_input_length(std::string_view text) {
   if (text.size() <= max_quoted_input_bytes) return text.size();

@@ -7,8 +7,19 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace rr {
+
+// One problem at one place: a JSON Pointer into the input and what is wrong there.
+struct FieldProblem {
+  std::string pointer;
+  std::string detail;
+};
+
+// An invalid input lists at most this many problems; reading stops at the next one (docs/api.md,
+// "Errors"), so a request with thousands of bad elements costs and answers no more than this.
+inline constexpr size_t max_listed_errors = 100;
 
 class InputError : public std::runtime_error {
  public:
@@ -18,13 +29,33 @@ class InputError : public std::runtime_error {
     too_large,  // exceeds a documented limit on size or work: HTTP 413
   };
   InputError(Kind kind, std::string pointer, const std::string& detail)
-      : std::runtime_error(detail), kind_(kind), pointer_(std::move(pointer)) {}
+      : InputError(kind, std::vector<FieldProblem>{FieldProblem{std::move(pointer), detail}}, false) {}
+  // Several problems in the order they were found; `truncated` when max_listed_errors cut the list.
+  // The first one is pointer() and what(), so a reader that wants one error reads those.
+  InputError(Kind kind, std::vector<FieldProblem> errors, bool truncated);
+
   Kind kind() const { return kind_; }
-  const std::string& pointer() const { return pointer_; }
+  const std::string& pointer() const { return errors_.front().pointer; }
+  const std::vector<FieldProblem>& errors() const { return errors_; }
+  bool truncated() const { return truncated_; }
+
+  // One line naming the first problem's place: "/scene/walls/2/height: must be greater than 0 (and
+  // 2 more errors)". A problem at "" (the whole input) is told by its detail alone.
+  std::string summary() const;
+
+  // The same problems with every pointer passed through `map` (a request's pointers told in terms
+  // of another document).
+  template <class Map>
+  InputError with_pointers(Map map) const {
+    std::vector<FieldProblem> moved = errors_;
+    for (FieldProblem& e : moved) e.pointer = map(e.pointer);
+    return InputError(kind_, std::move(moved), truncated_);
+  }
 
  private:
   Kind kind_;
-  std::string pointer_;
+  std::vector<FieldProblem> errors_;  // never empty
+  bool truncated_;
 };
 
 // Client text quoted in an error (a key, an enum value, a query parameter, a pointer token) is cut

@@ -121,9 +121,25 @@ const json& expect_array(const json& value, const std::string& pointer) {
   return value;
 }
 
-ObjectReader::ObjectReader(const json& value, std::string pointer,
+void ErrorList::add(std::string pointer, std::string detail) {
+  if (errors_.size() == max_listed_errors) {
+    truncated_ = true;
+    throw Full{};
+  }
+  errors_.push_back({std::move(pointer), std::move(detail)});
+}
+
+void ErrorList::add(const InputError& error) {
+  for (const FieldProblem& e : error.errors()) add(e.pointer, e.detail);
+}
+
+void ErrorList::throw_if_any() const {
+  if (!errors_.empty()) throw InputError(InputError::Kind::invalid, errors_, truncated_);
+}
+
+ObjectReader::ObjectReader(const json& value, std::string pointer, ErrorList& errors,
                            std::span<const std::string_view> allowed_keys)
-    : object_(value), pointer_(std::move(pointer)) {
+    : object_(value), pointer_(std::move(pointer)), errors_(errors) {
   if (!value.is_object()) throw_invalid(pointer_, "must be an object");
   for (const auto& [key, member] : value.items()) {
     if (std::find(allowed_keys.begin(), allowed_keys.end(), key) != allowed_keys.end()) continue;
@@ -131,7 +147,7 @@ ObjectReader::ObjectReader(const json& value, std::string pointer,
     for (std::string_view allowed : allowed_keys) {
       expected += (expected.empty() ? "" : ", ") + std::string(allowed);
     }
-    throw_invalid(pointer_append(pointer_, key), "unknown key (expected one of: " + expected + ")");
+    errors_.add(pointer_append(pointer_, key), "unknown key (expected one of: " + expected + ")");
   }
 }
 
@@ -146,55 +162,66 @@ const json& ObjectReader::require(std::string_view key) const {
   return *member;
 }
 
-double ObjectReader::number(std::string_view key, double fallback, const NumberRange& range) const {
+template <class T, class Read>
+T ObjectReader::optional(std::string_view key, T fallback, Read read) const {
   const json* member = find(key);
-  return member ? read_number(*member, at(key), range) : fallback;
+  if (!member) return fallback;
+  T out = fallback;
+  errors_.attempt([&] { out = read(*member, at(key)); });
+  return out;
+}
+
+template <class T, class Read>
+T ObjectReader::required(std::string_view key, Read read) const {
+  T out{};
+  errors_.attempt([&] { out = read(require(key), at(key)); });
+  return out;
+}
+
+double ObjectReader::number(std::string_view key, double fallback, const NumberRange& range) const {
+  return optional(key, fallback, [&](const json& v, const std::string& p) { return read_number(v, p, range); });
 }
 
 double ObjectReader::number(std::string_view key, const NumberRange& range) const {
-  return read_number(require(key), at(key), range);
+  return required<double>(key, [&](const json& v, const std::string& p) { return read_number(v, p, range); });
 }
 
 long long ObjectReader::integer(std::string_view key, long long fallback, const NumberRange& range) const {
-  const json* member = find(key);
-  return member ? read_integer(*member, at(key), range) : fallback;
+  return optional(key, fallback, [&](const json& v, const std::string& p) { return read_integer(v, p, range); });
 }
 
 bool ObjectReader::boolean(std::string_view key, bool fallback) const {
-  const json* member = find(key);
-  if (!member) return fallback;
-  if (!member->is_boolean()) throw_invalid(at(key), "must be true or false");
-  return member->get<bool>();
+  return optional(key, fallback, [](const json& v, const std::string& p) {
+    if (!v.is_boolean()) throw_invalid(p, "must be true or false");
+    return v.get<bool>();
+  });
 }
 
 std::string ObjectReader::string(std::string_view key, const std::string& fallback) const {
-  const json* member = find(key);
-  if (!member) return fallback;
-  if (!member->is_string()) throw_invalid(at(key), "must be a string");
-  return member->get<std::string>();
+  return optional(key, fallback, [](const json& v, const std::string& p) {
+    if (!v.is_string()) throw_invalid(p, "must be a string");
+    return v.get<std::string>();
+  });
 }
 
 Vec2 ObjectReader::vec2(std::string_view key, Vec2 fallback, const NumberRange& range) const {
-  const json* member = find(key);
-  return member ? read_vec2(*member, at(key), range) : fallback;
+  return optional(key, fallback, [&](const json& v, const std::string& p) { return read_vec2(v, p, range); });
 }
 
 Vec2 ObjectReader::vec2(std::string_view key, const NumberRange& range) const {
-  return read_vec2(require(key), at(key), range);
+  return required<Vec2>(key, [&](const json& v, const std::string& p) { return read_vec2(v, p, range); });
 }
 
 Vec3 ObjectReader::vec3(std::string_view key, Vec3 fallback, const NumberRange& range) const {
-  const json* member = find(key);
-  return member ? read_vec3(*member, at(key), range) : fallback;
+  return optional(key, fallback, [&](const json& v, const std::string& p) { return read_vec3(v, p, range); });
 }
 
 Vec3 ObjectReader::vec3(std::string_view key, const NumberRange& range) const {
-  return read_vec3(require(key), at(key), range);
+  return required<Vec3>(key, [&](const json& v, const std::string& p) { return read_vec3(v, p, range); });
 }
 
 Color ObjectReader::color(std::string_view key, Color fallback) const {
-  const json* member = find(key);
-  return member ? read_color(*member, at(key)) : fallback;
+  return optional(key, fallback, [](const json& v, const std::string& p) { return read_color(v, p); });
 }
 
 const json& ObjectReader::array(std::string_view key, bool required) const {

@@ -1,7 +1,8 @@
 // Parsed JSON -> RenderRequest (docs/scene-format.md): one reader per element, each checking keys,
 // types and ranges as it goes and applying the documented defaults, then the semantic rules (openings
-// inside their wall, planar mesh faces, simple prism footprints, a usable camera). The first error is
-// thrown as an InputError with the JSON Pointer of the offending value.
+// inside their wall, planar mesh faces, simple prism footprints, a usable camera). Invalid members and
+// elements are gathered in an ErrorList and reading goes on, so the one InputError thrown at the end
+// lists every independent problem; a rule that combines members runs only when they read cleanly.
 #include "render/scene_io/scene_json.hpp"
 
 #include "render/scene_io/errors.hpp"
@@ -51,20 +52,21 @@ const Row& read_name(const json& value, const std::string& pointer, const NameTa
 // An optional member naming one row of `table`: its value, or `fallback` when the member is absent.
 template <class Row, class Value>
 Value read_choice(const ObjectReader& r, const char* key, Value fallback, const NameTable<Row>& table) {
-  const json* value = r.find(key);
-  return value ? read_name(*value, r.at(key), table).value : fallback;
+  Value out = fallback;
+  r.member(key, [&](const json& value, const std::string& pointer) { out = read_name(value, pointer, table).value; });
+  return out;
 }
 
 }  // namespace
 
 MaterialParams read_material(const ObjectReader& owner) {
   MaterialParams out;
-  const json* value = owner.find("material");
-  if (!value) return out;
-  ObjectReader r(*value, owner.at("material"), {"specular", "specular_color", "shininess"});
-  out.specular = float(r.number("specular", 0.0, unit_interval));
-  out.specular_color = r.color("specular_color", out.specular_color);
-  out.shininess = float(r.number("shininess", 32.0, NumberRange{1.0, 10000.0}));
+  owner.member("material", [&](const json& value, const std::string& pointer) {
+    ObjectReader r(value, pointer, owner.errors(), {"specular", "specular_color", "shininess"});
+    out.specular = float(r.number("specular", 0.0, unit_interval));
+    out.specular_color = r.color("specular_color", out.specular_color);
+    out.shininess = float(r.number("shininess", 32.0, NumberRange{1.0, 10000.0}));
+  });
   return out;
 }
 
@@ -90,23 +92,23 @@ void read_cells(const ObjectReader& r, Floor& floor, const ParseLimits& limits) 
 }
 
 Floor read_floor(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer,
+  ObjectReader r(value, pointer, b.errors,
                  {"id", "origin", "cells", "cell_size", "elevation", "colors", "material"});
   Floor floor;
   floor.id = r.string("id", "");
   floor.origin = r.vec2("origin", Vec2{0.0, 0.0}, b.coordinate);
-  read_cells(r, floor, b.limits);
+  b.errors.attempt([&] { read_cells(r, floor, b.limits); });
   floor.cell_size = r.number("cell_size", 1.0, b.length);
   floor.elevation = r.number("elevation", 0.0, b.coordinate);
-  if (const json* colors = r.find("colors")) {
-    expect_array(*colors, r.at("colors"));
-    if (colors->size() < 2) throw_invalid(r.at("colors"), "must hold at least 2 colours");
-    for (size_t i = 0; i < colors->size(); ++i) {
-      floor.colors.push_back(read_color((*colors)[i], pointer_append(r.at("colors"), i)));
-    }
-  } else {
-    floor.colors = {hex("#d9d4c7"), hex("#8c8579")};
-  }
+  floor.colors = {hex("#d9d4c7"), hex("#8c8579")};
+  r.member("colors", [&](const json& colors, const std::string& at) {
+    expect_array(colors, at);
+    if (colors.size() < 2) throw_invalid(at, "must hold at least 2 colours");
+    floor.colors.clear();
+    for_each_element(colors, at, b.errors, [&](const json& c, const std::string& p) {
+      floor.colors.push_back(read_color(c, p));
+    });
+  });
   floor.material = read_material(r);
   return floor;
 }
@@ -116,27 +118,35 @@ Floor read_floor(const json& value, const std::string& pointer, const Bounds& b)
 // Tolerance for an opening reaching exactly to its wall's end or top (the brief's 1e-9 m).
 constexpr double fit_tolerance_m = 1e-9;
 
-void check_opening_fits(const Opening& o, const Wall& wall, const std::string& pointer) {
+// Told in the opening's own terms: a door stands on the wall's base (it has no sill), a window
+// starts at its sill.
+void check_opening_fits(const Opening& o, const Wall& wall, const std::string& pointer, ErrorList& errors) {
+  const bool door = o.type == OpeningType::door;
+  const std::string what = door ? "door" : "window";
   double length = glm::length(wall.end - wall.start);
   if (o.offset + o.width > length + fit_tolerance_m) {
-    throw_invalid(pointer, "opening extends past the end of its wall (offset + width = " +
-                               format_number(o.offset + o.width) + " m > length " +
-                               format_number(length) + " m)");
+    errors.add(pointer, what + " extends past the end of its wall (offset + width = " +
+                            format_number(o.offset + o.width) + " m > length " + format_number(length) + " m)");
   }
-  if (o.sill + o.height > wall.height + fit_tolerance_m) {
-    throw_invalid(pointer, "opening extends above its wall (sill + height = " +
-                               format_number(o.sill + o.height) + " m > wall height " +
-                               format_number(wall.height) + " m)");
+  if (o.sill + o.height <= wall.height + fit_tolerance_m) return;
+  if (door) {
+    errors.add(pointer, "door is taller than its wall (height " + format_number(o.height) +
+                            " m > wall height " + format_number(wall.height) + " m)");
+  } else {
+    errors.add(pointer, "window extends above its wall (sill + height = " + format_number(o.sill + o.height) +
+                            " m > wall height " + format_number(wall.height) + " m)");
   }
 }
 
-Opening read_opening(const json& value, const std::string& pointer, const Wall& wall,
+// `wall_read`: the wall's own members read cleanly, so the opening can be checked against them.
+Opening read_opening(const json& value, const std::string& pointer, const Wall& wall, bool wall_read,
                      const Bounds& b) {
   read_type(value, pointer);
   Opening o;
   o.type = read_name(value.at("type"), pointer_append(pointer, "type"), opening_type_names).value;
+  const size_t errors_before = b.errors.size();
   if (o.type == OpeningType::door) {
-    ObjectReader r(value, pointer, {"type", "id", "offset", "width", "height", "color", "leaf"});
+    ObjectReader r(value, pointer, b.errors, {"type", "id", "offset", "width", "height", "color", "leaf"});
     o.id = r.string("id", "");
     o.offset = r.number("offset", b.distance);
     o.width = r.number("width", b.length);
@@ -144,7 +154,7 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
     o.color = r.color("color", hex("#8b5a2b"));
     o.leaf = r.boolean("leaf", true);
   } else {
-    ObjectReader r(value, pointer,
+    ObjectReader r(value, pointer, b.errors,
                    {"type", "id", "offset", "width", "height", "sill", "color", "opacity"});
     o.id = r.string("id", "");
     o.offset = r.number("offset", b.distance);
@@ -155,34 +165,39 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
     o.opacity = float(r.number("opacity", 0.35, unit_interval));
     o.leaf = false;  // a window has no leaf
   }
-  check_opening_fits(o, wall, pointer);
+  if (wall_read && b.errors.size() == errors_before) check_opening_fits(o, wall, pointer, b.errors);
   return o;
 }
 
 Wall read_wall(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer, {"id", "start", "end", "thickness", "height", "base", "color",
-                                  "openings", "material"});
+  const size_t errors_before = b.errors.size();
+  ObjectReader r(value, pointer, b.errors, {"id", "start", "end", "thickness", "height", "base", "color",
+                                            "openings", "material"});
   Wall wall;
   wall.id = r.string("id", "");
   wall.start = r.vec2("start", b.coordinate);
   wall.end = r.vec2("end", b.coordinate);
   // Joins treat end points within 1e-6 m as one point, so a shorter wall has no direction.
-  if (glm::length(wall.end - wall.start) <= 1e-6) {
-    throw_invalid(r.at("end"), "must be more than 1e-6 m from start");
+  if (b.errors.size() == errors_before && glm::length(wall.end - wall.start) <= 1e-6) {
+    b.errors.add(r.at("end"), "must be more than 1e-6 m from start");
   }
   wall.thickness = r.number("thickness", 0.15, b.length);
   wall.height = r.number("height", 2.5, b.length);
   wall.base = r.number("base", 0.0, b.coordinate);
   wall.color = r.color("color", hex("#e6e1d6"));
   wall.material = read_material(r);
-  const json& openings = r.array("openings");
-  for (size_t i = 0; i < openings.size(); ++i) {
-    wall.openings.push_back(read_opening(openings[i], pointer_append(r.at("openings"), i), wall, b));
-  }
+  const bool wall_read = b.errors.size() == errors_before;
+  r.member("openings", [&](const json& openings, const std::string& at) {
+    expect_array(openings, at);
+    for_each_element(openings, at, b.errors, [&](const json& o, const std::string& p) {
+      wall.openings.push_back(read_opening(o, p, wall, wall_read, b));
+    });
+  });
+  // Indices into wall.openings are indices into the request only when every opening was read.
+  if (b.errors.size() != errors_before) return wall;
   if (auto overlap = find_overlapping_openings(wall.openings)) {
-    throw_invalid(pointer_append(r.at("openings"), overlap->second),
-                  "opening overlaps opening " + std::to_string(overlap->first) +
-                      " of the same wall along its length");
+    b.errors.add(pointer_append(r.at("openings"), overlap->second),
+                 "opening overlaps opening " + std::to_string(overlap->first) + " of the same wall along its length");
   }
   return wall;
 }
@@ -205,57 +220,65 @@ Light read_light(const json& value, const std::string& pointer, const Bounds& b)
   read_type(value, pointer);
   Light light;
   light.type = read_name(value.at("type"), pointer_append(pointer, "type"), light_type_names).value;
+  const size_t errors_before = b.errors.size();
   if (light.type == LightType::directional) {
-    ObjectReader r(value, pointer, {"type", "id", "direction", "color", "intensity"});
+    ObjectReader r(value, pointer, b.errors, {"type", "id", "direction", "color", "intensity"});
     light.id = r.string("id", "");
     Vec3 direction = r.vec3("direction", Vec3{0.0, -1.0, 0.0}, b.coordinate);
     double length = glm::length(direction);  // 0 also when the squares underflow
-    if (!(length > 0.0)) throw_invalid(r.at("direction"), "must not be the zero vector");
-    light.direction = direction / length;
+    if (b.errors.size() == errors_before && !(length > 0.0)) {
+      b.errors.add(r.at("direction"), "must not be the zero vector");
+    }
+    light.direction = length > 0.0 ? direction / length : Vec3{0.0, -1.0, 0.0};
     light.color = r.color("color", hex("#ffffff"));
     light.intensity = float(r.number("intensity", 1.0, intensity_range));
   } else {
-    ObjectReader r(value, pointer, {"type", "id", "position", "color", "intensity", "attenuation"});
+    ObjectReader r(value, pointer, b.errors, {"type", "id", "position", "color", "intensity", "attenuation"});
     light.id = r.string("id", "");
     light.position = r.vec3("position", b.coordinate);
     light.color = r.color("color", hex("#ffffff"));
     light.intensity = float(r.number("intensity", 1.0, intensity_range));
     light.attenuation = r.vec3("attenuation", Vec3{1.0, 0.0, 0.0}, NumberRange{0.0, DBL_MAX});
-    if (light.attenuation == Vec3{0.0}) throw_invalid(r.at("attenuation"), "must not be all zero");
+    if (light.attenuation == Vec3{0.0}) b.errors.add(r.at("attenuation"), "must not be all zero");
   }
   return light;
 }
 
-Ambient read_ambient(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"color", "intensity"});
+Ambient read_ambient(const json& value, const std::string& pointer, ErrorList& errors) {
+  ObjectReader r(value, pointer, errors, {"color", "intensity"});
   Ambient ambient;
   ambient.color = r.color("color", hex("#ffffff"));
   ambient.intensity = float(r.number("intensity", 0.2, intensity_range));
   return ambient;
 }
 
-// Reads r[key] as an array and appends one element per entry.
+// Reads r[key] as an array and appends one element per entry that reads.
 template <class T>
 void read_list(const ObjectReader& r, const char* key, const Bounds& b, std::vector<T>& out,
                T (*read)(const json&, const std::string&, const Bounds&)) {
-  const json& items = r.array(key);
-  out.reserve(items.size());
-  for (size_t i = 0; i < items.size(); ++i) out.push_back(read(items[i], pointer_append(r.at(key), i), b));
+  r.member(key, [&](const json& items, const std::string& pointer) {
+    expect_array(items, pointer);
+    out.reserve(items.size());
+    for_each_element(items, pointer, b.errors, [&](const json& item, const std::string& p) {
+      out.push_back(read(item, p, b));
+    });
+  });
 }
 
 Scene read_scene(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer,
+  ObjectReader r(value, pointer, b.errors,
                  {"version", "background", "ambient", "floor", "walls", "solids", "lights"});
-  if (r.find("version") && r.integer("version", 1, NumberRange{}) != 1) {
-    throw_invalid(r.at("version"), "must be 1 (the only format version)");
+  const size_t errors_before = b.errors.size();
+  if (r.integer("version", 1, NumberRange{}) != 1 && b.errors.size() == errors_before) {
+    b.errors.add(r.at("version"), "must be 1 (the only format version)");
   }
   Scene scene;
   scene.background = r.color("background", hex("#000000"));
-  if (const json* ambient = r.find("ambient")) scene.ambient = read_ambient(*ambient, r.at("ambient"));
-  if (const json* floor = r.find("floor")) {
+  r.member("ambient", [&](const json& v, const std::string& p) { scene.ambient = read_ambient(v, p, b.errors); });
+  r.member("floor", [&](const json& v, const std::string& p) {
     scene.geometry.has_floor = true;
-    scene.geometry.floor = read_floor(*floor, r.at("floor"), b);
-  }
+    scene.geometry.floor = read_floor(v, p, b);
+  });
   read_list(r, "walls", b, scene.geometry.walls, read_wall);
   read_list(r, "solids", b, scene.geometry.solids, read_solid);
   read_list(r, "lights", b, scene.lights, read_light);
@@ -278,31 +301,35 @@ void check_view(const ObjectReader& r, const Camera& c) {
 }
 
 Camera read_camera(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer, {"position", "target", "up", "fov_y", "near", "far"});
+  ObjectReader r(value, pointer, b.errors, {"position", "target", "up", "fov_y", "near", "far"});
+  const size_t errors_before = b.errors.size();
   Camera c;
   c.position = r.vec3("position", c.position, b.coordinate);
   c.target = r.vec3("target", c.target, b.coordinate);
   c.up = r.vec3("up", c.up, b.coordinate);
   c.fov_y_deg = r.number("fov_y", c.fov_y_deg, NumberRange{1.0, 170.0, true, true});
+  const size_t errors_before_near = b.errors.size();
   c.near = r.number("near", c.near, b.length);
-  c.far = r.number("far", c.far, NumberRange{c.near, DBL_MAX, true});
+  // far is judged against the near the client gave; when that was refused, only far's own range.
+  const double far_above = b.errors.size() == errors_before_near ? c.near : 0.0;
+  c.far = r.number("far", c.far, NumberRange{far_above, DBL_MAX, true});
+  if (b.errors.size() != errors_before) return c;  // the rules below combine members
   double ratio_limit = b.limits.max_far_over_near;
   if (c.far / c.near > ratio_limit) {
-    throw_invalid(r.at("far"), "far / near = " + format_number(c.far / c.near) +
-                                   " exceeds " + format_number(ratio_limit) +
-                                   " (depth precision would be lost)");
+    b.errors.add(r.at("far"), "far / near = " + format_number(c.far / c.near) + " exceeds " +
+                                  format_number(ratio_limit) + " (depth precision would be lost)");
   }
-  check_view(r, c);
+  b.errors.attempt([&] { check_view(r, c); });
   return c;
 }
 
-PainterKey read_painter(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"key"});
+PainterKey read_painter(const json& value, const std::string& pointer, ErrorList& errors) {
+  ObjectReader r(value, pointer, errors, {"key"});
   return read_choice(r, "key", PainterKey::mean, painter_key_names);
 }
 
-BspOptions read_bsp(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"w1", "w2", "w3", "epsilon", "max_candidates", "traversal"});
+BspOptions read_bsp(const json& value, const std::string& pointer, ErrorList& errors) {
+  ObjectReader r(value, pointer, errors, {"w1", "w2", "w3", "epsilon", "max_candidates", "traversal"});
   BspOptions o;
   const NumberRange weight{-1e6, 1e6};
   o.w1 = r.number("w1", o.w1, weight);
@@ -314,27 +341,27 @@ BspOptions read_bsp(const json& value, const std::string& pointer) {
   return o;
 }
 
-ShadowOptions read_shadow(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"size", "pcf", "bias", "slope_bias", "fit"});
+ShadowOptions read_shadow(const json& value, const std::string& pointer, ErrorList& errors) {
+  ObjectReader r(value, pointer, errors, {"size", "pcf", "bias", "slope_bias", "fit"});
   ShadowOptions o;
   NumberRange size{64.0, 4096.0};
   size.kind_above = Kind::too_large;
   o.size = int(r.integer("size", o.size, size));
   o.pcf = int(r.integer("pcf", o.pcf, NumberRange{1.0, 5.0}));
-  if (o.pcf % 2 == 0) throw_invalid(r.at("pcf"), "must be 1, 3 or 5");
+  if (o.pcf % 2 == 0) errors.add(r.at("pcf"), "must be 1, 3 or 5");
   o.bias = r.number("bias", o.bias, NumberRange{-100.0, 100.0});
   o.slope_bias = r.number("slope_bias", o.slope_bias, NumberRange{-100.0, 100.0});
   o.fit = read_choice(r, "fit", o.fit, shadow_fit_names);
   return o;
 }
 
-PngCompression read_png(const json& value, const std::string& pointer) {
-  ObjectReader r(value, pointer, {"compression"});
+PngCompression read_png(const json& value, const std::string& pointer, ErrorList& errors) {
+  ObjectReader r(value, pointer, errors, {"compression"});
   return read_choice(r, "compression", PngCompression::fast, png_compression_names);
 }
 
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer,
+  ObjectReader r(value, pointer, b.errors,
                  {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
@@ -346,34 +373,46 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
                                        " pixels; at most " + std::to_string(b.limits.max_pixels) +
                                        " are allowed");
   }
-  if (const json* name = r.find("pipeline")) {
-    const PipelineInfo& row = read_name(*name, r.at("pipeline"), pipeline_table());
-    o.pipeline = pipeline_id(row);
-  }
+  r.member("pipeline", [&](const json& name, const std::string& p) {
+    o.pipeline = pipeline_id(read_name(name, p, pipeline_table()));
+  });
   o.shading = read_choice(r, "shading", o.shading, shading_names);
-  if (const json* painter = r.find("painter")) o.painter_key = read_painter(*painter, r.at("painter"));
-  if (const json* bsp = r.find("bsp")) o.bsp = read_bsp(*bsp, r.at("bsp"));
+  r.member("painter", [&](const json& v, const std::string& p) { o.painter_key = read_painter(v, p, b.errors); });
+  r.member("bsp", [&](const json& v, const std::string& p) { o.bsp = read_bsp(v, p, b.errors); });
   o.shadows = r.boolean("shadows", o.shadows);
-  if (const json* shadow = r.find("shadow")) o.shadow = read_shadow(*shadow, r.at("shadow"));
-  if (const json* png = r.find("png")) o.png_compression = read_png(*png, r.at("png"));
+  r.member("shadow", [&](const json& v, const std::string& p) { o.shadow = read_shadow(v, p, b.errors); });
+  r.member("png", [&](const json& v, const std::string& p) { o.png_compression = read_png(v, p, b.errors); });
   return o;
+}
+
+RenderRequest read_request(const json& request, const Bounds& b) {
+  // A body that is not an object stops here: nothing else in it can be read.
+  ObjectReader r(request, "", b.errors, {"scene", "camera", "options"});
+  RenderRequest out;
+  r.member("scene", [&](const json& v, const std::string& p) { out.scene = read_scene(v, p, b); });
+  // Checked after validation (the estimate assumes valid geometry) but before anything is built.
+  const size_t estimate = b.errors.size() == 0 ? estimate_polygon_count(out.scene.geometry) : 0;
+  if (estimate > b.limits.max_polygons) {
+    throw_too_large("/scene", "scene would have about " + std::to_string(estimate) +
+                                  " polygons; at most " + std::to_string(b.limits.max_polygons) +
+                                  " are allowed");
+  }
+  r.member("camera", [&](const json& v, const std::string& p) { out.camera = read_camera(v, p, b); });
+  r.member("options", [&](const json& v, const std::string& p) { out.options = read_options(v, p, b); });
+  return out;
 }
 
 }  // namespace
 
 RenderRequest request_from_json(const json& request, const ParseLimits& limits) {
-  ObjectReader r(request, "", {"scene", "camera", "options"});
-  Bounds b(limits);
+  ErrorList errors;
   RenderRequest out;
-  if (const json* scene = r.find("scene")) out.scene = read_scene(*scene, r.at("scene"), b);
-  // Checked after validation (the estimate assumes valid geometry) but before anything is built.
-  if (size_t estimate = estimate_polygon_count(out.scene.geometry); estimate > limits.max_polygons) {
-    throw_too_large("/scene", "scene would have about " + std::to_string(estimate) +
-                                  " polygons; at most " + std::to_string(limits.max_polygons) +
-                                  " are allowed");
+  try {
+    errors.attempt([&] { out = read_request(request, Bounds(limits, errors)); });
+  } catch (const ErrorList::Full&) {
+    // The list holds max_listed_errors problems and is marked truncated: answer with what it has.
   }
-  if (const json* camera = r.find("camera")) out.camera = read_camera(*camera, r.at("camera"), b);
-  if (const json* options = r.find("options")) out.options = read_options(*options, r.at("options"), b);
+  errors.throw_if_any();
   return out;
 }
 

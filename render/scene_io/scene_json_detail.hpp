@@ -14,25 +14,37 @@
 
 namespace rr {
 
-// Ranges derived from the limits, shared by every reader.
+// Ranges derived from the limits, shared by every reader, and the request's list of problems.
 struct Bounds {
-  explicit Bounds(const ParseLimits& l)
+  Bounds(const ParseLimits& l, ErrorList& e)
       : limits(l),
+        errors(e),
         coordinate{-l.max_abs_coordinate, l.max_abs_coordinate},
         length{0.0, l.max_abs_coordinate, true},
         distance{0.0, l.max_abs_coordinate} {}
   const ParseLimits& limits;
+  ErrorList& errors;
   NumberRange coordinate;  // positions, centres, elevations, bases
   NumberRange length;      // sizes, thickness, heights, radii: > 0
   NumberRange distance;    // offsets and sills: >= 0
 };
 
 
+// Runs read(items[i], pointer of i) for each element of an array, adding what it throws to `errors`,
+// so one bad element does not hide the next.
+template <class Read>
+void for_each_element(const nlohmann::json& items, const std::string& pointer, ErrorList& errors, Read&& read) {
+  for (size_t i = 0; i < items.size(); ++i) {
+    errors.attempt([&] { read(items[i], pointer_append(pointer, i)); });
+  }
+}
+
 MaterialParams read_material(const ObjectReader& owner);  // the optional "material" member
 
 struct SolidReader {
   SolidType type;
-  // Reads every member of `value` but "type" (already read into s.type) into `s`.
+  // Reads every member of `value` but "type" (already read into s.type) into `s`, adding invalid
+  // members to b.errors; throws when it cannot read on.
   void (*read)(const nlohmann::json& value, const std::string& pointer, Solid& s, const Bounds& b);
 };
 std::span<const SolidReader> solid_readers();  // a row for every row of solid_table()

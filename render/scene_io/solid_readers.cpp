@@ -1,6 +1,8 @@
 // JSON -> Solid, one reader per solid type and one row each in the table at the end; the geometry
 // of each type is in render/core/solid_<name>.cpp. Every reader checks its keys (a member another
-// type has is an unknown key here), types and ranges, and applies the schema's defaults.
+// type has is an unknown key here), types and ranges, and applies the schema's defaults. Invalid
+// members and array elements go to b.errors and reading goes on; a rule over several members (a
+// simple footprint, planar faces) runs only when those members read cleanly.
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_checks.hpp"
 #include "render/scene_io/scene_json_detail.hpp"
@@ -31,7 +33,7 @@ void read_footprint(const ObjectReader& r, Solid& s, const Bounds& b) {
 }
 
 void read_box_or_pyramid(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer,
+  ObjectReader r(value, pointer, b.errors,
                  {"type", "id", "color", "material", "center", "base", "rotation_y", "size"});
   read_common(r, s);
   read_footprint(r, s, b);
@@ -39,8 +41,8 @@ void read_box_or_pyramid(const json& value, const std::string& pointer, Solid& s
 }
 
 void read_cylinder(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, {"type", "id", "color", "material", "center", "base", "rotation_y",
-                                  "radius", "height", "segments", "smooth", "caps"});
+  ObjectReader r(value, pointer, b.errors, {"type", "id", "color", "material", "center", "base", "rotation_y",
+                                            "radius", "height", "segments", "smooth", "caps"});
   read_common(r, s);
   read_footprint(r, s, b);
   s.radius = r.number("radius", b.length);
@@ -53,18 +55,23 @@ void read_cylinder(const json& value, const std::string& pointer, Solid& s, cons
 }
 
 void read_prism(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, {"type", "id", "color", "material", "points", "height", "base"});
+  ObjectReader r(value, pointer, b.errors, {"type", "id", "color", "material", "points", "height", "base"});
   read_common(r, s);
-  const json& points = r.array("points", true);
-  if (points.size() < 3) throw_invalid(r.at("points"), "must hold at least 3 points");
-  if (points.size() > max_prism_points) {
-    throw_too_large(r.at("points"), "must hold at most " + std::to_string(max_prism_points) + " points");
-  }
-  for (size_t i = 0; i < points.size(); ++i) {
-    s.points.push_back(read_vec2(points[i], pointer_append(r.at("points"), i), b.coordinate));
-  }
-  if (std::string problem = simple_polygon_problem(s.points); !problem.empty()) {
-    throw_invalid(r.at("points"), "must be a simple polygon: " + problem);
+  const size_t errors_before = b.errors.size();
+  b.errors.attempt([&] {
+    const json& points = r.array("points", true);
+    if (points.size() < 3) throw_invalid(r.at("points"), "must hold at least 3 points");
+    if (points.size() > max_prism_points) {
+      throw_too_large(r.at("points"), "must hold at most " + std::to_string(max_prism_points) + " points");
+    }
+    for_each_element(points, r.at("points"), b.errors, [&](const json& point, const std::string& p) {
+      s.points.push_back(read_vec2(point, p, b.coordinate));
+    });
+  });
+  if (b.errors.size() == errors_before) {
+    if (std::string problem = simple_polygon_problem(s.points); !problem.empty()) {
+      b.errors.add(r.at("points"), "must be a simple polygon: " + problem);
+    }
   }
   s.height = r.number("height", b.length);
   s.base = r.number("base", 0.0, b.coordinate);
@@ -101,6 +108,7 @@ Vec3 read_scale(const ObjectReader& r, const Bounds& b) {
 }
 
 // Optional per-vertex shading normals (e.g. an OBJ's vn): one per vertex, each non-zero; stored unit.
+// Called once the vertices have read cleanly, so their count is the client's.
 void read_mesh_normals(const ObjectReader& r, Solid& s) {
   const json& normals = r.array("normals");
   if (normals.empty()) return;
@@ -109,19 +117,17 @@ void read_mesh_normals(const ObjectReader& r, Solid& s) {
                                        "), not " + std::to_string(normals.size()));
   }
   s.normals.reserve(normals.size());
-  for (size_t i = 0; i < normals.size(); ++i) {
-    std::string at = pointer_append(r.at("normals"), i);
-    Vec3 n = read_vec3(normals[i], at, NumberRange{});
+  for_each_element(normals, r.at("normals"), r.errors(), [&](const json& value, const std::string& at) {
+    Vec3 n = read_vec3(value, at, NumberRange{});
     double length = glm::length(n);
     if (!(length > 0.0) || !std::isfinite(length)) throw_invalid(at, "must be a non-zero vector");
     s.normals.push_back(n / length);
-  }
+  });
 }
 
-void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, {"type", "id", "color", "material", "vertices", "faces", "position",
-                                  "scale", "rotation_y", "smooth", "closed", "normals"});
-  read_common(r, s);
+// Vertices, faces and normals: each element is checked on its own; the rules over the whole mesh
+// (planar faces, one normal per vertex) run only when every vertex and face has read.
+void read_mesh_geometry(const ObjectReader& r, Solid& s, const Bounds& b) {
   const json& vertices = r.array("vertices", true);
   const json& faces = r.array("faces", true);
   // Every face is at least one polygon: refuse before spending memory on it.
@@ -130,20 +136,30 @@ void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bo
                                        " faces; at most " + std::to_string(b.limits.max_polygons) +
                                        " polygons are allowed");
   }
+  const size_t errors_before = b.errors.size();
   s.vertices.reserve(vertices.size());
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    s.vertices.push_back(read_vec3(vertices[i], pointer_append(r.at("vertices"), i), b.coordinate));
-  }
+  for_each_element(vertices, r.at("vertices"), b.errors, [&](const json& v, const std::string& at) {
+    s.vertices.push_back(read_vec3(v, at, b.coordinate));
+  });
+  // A face's indices are checked against the client's vertex count, even when a vertex was refused.
   s.faces.reserve(faces.size());
-  for (size_t j = 0; j < faces.size(); ++j) {
-    s.faces.push_back(read_face(faces[j], pointer_append(r.at("faces"), j), s.vertices.size()));
-  }
+  for_each_element(faces, r.at("faces"), b.errors, [&](const json& f, const std::string& at) {
+    s.faces.push_back(read_face(f, at, vertices.size()));
+  });
+  if (b.errors.size() != errors_before) return;
   if (auto bad = find_bad_mesh_face(s.vertices, s.faces)) {
     throw_invalid(pointer_append(r.at("faces"), bad->face), bad->problem);
   }
   read_mesh_normals(r, s);
+}
+
+void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
+  ObjectReader r(value, pointer, b.errors, {"type", "id", "color", "material", "vertices", "faces", "position",
+                                            "scale", "rotation_y", "smooth", "closed", "normals"});
+  read_common(r, s);
+  b.errors.attempt([&] { read_mesh_geometry(r, s, b); });
   s.position = r.vec3("position", Vec3{0.0}, b.coordinate);
-  s.scale = read_scale(r, b);
+  b.errors.attempt([&] { s.scale = read_scale(r, b); });
   s.rotation_y_deg = r.number("rotation_y", 0.0, NumberRange{});
   s.smooth = r.boolean("smooth", false);
   s.closed = r.boolean("closed", false);

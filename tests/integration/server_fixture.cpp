@@ -84,6 +84,8 @@ json expect_problem(const httplib::Result& res, int status) {
   EXPECT_EQ(problem.value("status", 0), status);
   EXPECT_EQ(problem.value("type", ""), "about:blank");
   EXPECT_TRUE(problem.contains("title") && problem.contains("detail"));
+  // type about:blank: the title is the reason phrase the status line carries (RFC 9457 4.2.1).
+  EXPECT_EQ(problem.value("title", ""), res->reason) << res->body;
   return problem;
 }
 

@@ -316,11 +316,12 @@ TEST(SceneJsonRules, OpeningMustFitItsWall) {
   expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1},
                                      {"type":"window","offset":4.2,"width":1})"),
                Kind::invalid, "/scene/walls/0/openings/1",
-               "opening extends past the end of its wall (offset + width = 5.2 m > length 5 m)");
+               "window extends past the end of its wall (offset + width = 5.2 m > length 5 m)");
   expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"sill":1.5,"height":1.2})"),
-               Kind::invalid, "/scene/walls/0/openings/0", "above its wall");
+               Kind::invalid, "/scene/walls/0/openings/0", "window extends above its wall (sill + height");
   expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"height":2.6})"),
-               Kind::invalid, "/scene/walls/0/openings/0", "above its wall");
+               Kind::invalid, "/scene/walls/0/openings/0",
+               "door is taller than its wall (height 2.6 m > wall height 2.5 m)");
   // Exactly reaching the end and the top is allowed.
   EXPECT_NO_THROW(parse_request(wall_with_openings(
       R"({"type":"window","offset":4,"width":1,"sill":1.3,"height":1.2})")));
