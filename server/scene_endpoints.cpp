@@ -41,21 +41,29 @@ std::string rfc3339(Clock::time_point t) {
 
 json time_or_null(const std::optional<Clock::time_point>& t) { return t ? json(rfc3339(*t)) : json(nullptr); }
 
-std::shared_ptr<const StoredScene> read_scene_body(ServiceState& state, const Request& req) {
+// The scene of a body, and where it sits in the body ("" for a scene document, "/scene" in a whole
+// request), so errors and warnings point into what the client sent.
+struct SceneBody {
   std::shared_ptr<const StoredScene> scene;
+  std::string pointer;
+};
+
+SceneBody read_scene_body(ServiceState& state, const Request& req) {
+  SceneBody out;
   with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
     json body = parse_body(state, req);
     if (!body.is_object() || !body.contains("scene")) {
-      scene = prepare_scene(body, state.config.limits);
+      out.scene = prepare_scene(body, state.config.limits);
       return;
     }
-    try {  // a whole render request: its camera and options are not stored
-      scene = prepare_scene(body["scene"], state.config.limits);
+    out.pointer = "/scene";  // a whole render request: its camera and options are not stored
+    try {
+      out.scene = prepare_scene(body["scene"], state.config.limits);
     } catch (const InputError& e) {
-      throw InputError(e.kind(), "/scene" + e.pointer(), e.what());
+      throw InputError(e.kind(), out.pointer + e.pointer(), e.what());
     }
   });
-  return scene;
+  return out;
 }
 
 [[noreturn]] void throw_store_full(ServiceState& state) {
@@ -69,10 +77,10 @@ std::shared_ptr<const StoredScene> read_scene_body(ServiceState& state, const Re
                   {{"", "scene store full"}});
 }
 
-void answer_stored(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
-  json body = store_scene(state, res, scene);
+void answer_stored(ServiceState& state, Response& res, const SceneBody& sent) {
+  json body = store_scene(state, res, sent.scene);
   json warnings = json::array();
-  for (const WarningText& w : describe(scene->warnings, scene->scene, "")) {
+  for (const WarningText& w : describe(sent.scene->warnings, sent.scene->scene, sent.pointer)) {
     warnings.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
   }
   body["warnings"] = std::move(warnings);
@@ -84,13 +92,14 @@ void handle_post_scene(ServiceState& state, const Request& req, Response& res, c
 }
 
 void handle_put_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = read_scene_body(state, req);
+  SceneBody sent = read_scene_body(state, req);
+  const std::shared_ptr<const StoredScene>& scene = sent.scene;
   if (scene->id != match.params.at(0)) {
     throw HttpError(422, "Scene ids are content hashes: this scene's id is " + scene->id + ", not " +
                              quote_input(match.params[0]) + "; PUT it at " + scene_location(scene->id) + " (or POST it to /v1/scenes).",
-                    {{"", "content hashes to " + scene->id}});
+                    {{sent.pointer, "content hashes to " + scene->id}});
   }
-  answer_stored(state, res, scene);
+  answer_stored(state, res, sent);
 }
 
 void handle_get_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {

@@ -118,6 +118,8 @@ TEST_F(StoreTest, PostTakesAWholeRequestAndStoresItsScene) {
   auto put = client().Put(("/v1/scenes/" + created["id"].get<std::string>()).c_str(), request.dump(), "application/json");
   ASSERT_TRUE(put);
   EXPECT_EQ(put->status, 200) << put->body;
+  ASSERT_FALSE(created["warnings"].empty()) << "studio's lamp touches its pole";
+  for (const json& w : created["warnings"]) EXPECT_TRUE(w["pointer"].get<std::string>().starts_with("/scene/")) << w;
 
   json bad = json::parse(small_request);
   bad["scene"]["solids"][0]["size"] = {1, -1, 1};
