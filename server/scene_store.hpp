@@ -5,9 +5,10 @@
 // Stored means kept: a store at its budget (entries or approximate bytes) refuses new scenes rather
 // than evict acknowledged ones; only an operator's retention (ttl, time since last access) removes
 // them. Each scene has owners (one reference each); it goes when the last reference is dropped.
-// With a data directory every scene is also a file <dir>/scenes/<id>.json and its owners and
-// creation time <dir>/scene-meta/<id>.json, each written to a temporary file, fsynced and renamed
-// (a crash leaves the old state or the new, never a torn file); start-up loads them back.
+// With a data directory every scene is also a file <dir>/scenes/<id>.json and, unless its only owner
+// is "" and no retention is set, its owners and creation time <dir>/scene-meta/<id>.json, each
+// written to a temporary file, fsynced and renamed (a crash leaves the old state or the new, never a
+// torn file); start-up loads them back.
 #pragma once
 
 #include "render/core/lru_cache.hpp"  // CacheStats
