@@ -402,7 +402,9 @@ std::string front_refusal(ServiceState& state, int status, std::string_view deta
   std::string body = make_problem(status, "", detail);
   std::string head = "HTTP/1.1 " + std::to_string(status) + " " + std::string(status_title(status)) + "\r\n" +
                      "Content-Type: " + problem_content_type + "\r\nContent-Length: " + std::to_string(body.size()) +
-                     "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n";
+                     "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n"
+                     // Refused unread, so nothing happened: any page may see why (and when to retry).
+                     "Access-Control-Allow-Origin: *\r\nAccess-Control-Expose-Headers: Retry-After\r\n";
   if (status == 503) head += "Retry-After: " + std::to_string(state.config.retry_after_s) + "\r\n";
   if (close) head += "Connection: close\r\n";
   state.metrics.record_request("unmatched", "", status, 0.0);

@@ -121,6 +121,14 @@ TEST_F(Cors, SimpleReadsAnswerEveryOriginAlsoOnErrors) {
   EXPECT_EQ(invalid->get_header_value("Access-Control-Allow-Origin"), "*");
 }
 
+// Answers the connection front gives on its own (here 414) carry the header too.
+TEST_F(Cors, RefusalsOfTheConnectionFrontAnswerEveryOrigin) {
+  std::string answer = raw_exchange(server_->port(), "GET /" + std::string(10000, 'a') +
+                                                         " HTTP/1.1\r\nHost: x\r\nOrigin: " + other + "\r\n\r\n");
+  EXPECT_TRUE(answer.starts_with("HTTP/1.1 414")) << answer.substr(0, 200);
+  EXPECT_NE(answer.find("\r\nAccess-Control-Allow-Origin: *\r\n"), std::string::npos) << answer.substr(0, 400);
+}
+
 TEST_F(Cors, WritesFromAnotherOriginAreRefused) {
   json scene = scene_with_box_at(1.0);
   auto refused = server_->client().Post("/v1/scenes", {{"Origin", other}}, scene.dump(), "application/json");
