@@ -55,8 +55,9 @@ ServiceState::ServiceState(const ServerConfig& c)
       gate(render_workers(c), render_queue_length(c)),
       bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
       shadow_cache(c.shadow_cache_bytes),
-      scenes({c.scene_store_entries, c.scene_store_bytes, c.data_dir, c.limits},
-             [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }) {}
+      scenes({c.scene_store_entries, c.scene_store_bytes, c.data_dir, c.limits, std::chrono::seconds(c.scene_ttl_s)},
+             [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
+      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 
 void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {
   if (level_rank(level) < level_rank(config.log_level)) return;

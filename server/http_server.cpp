@@ -47,6 +47,8 @@ constexpr const char* success_headers[] = {"Server-Timing", "X-Scene-Id",      "
 
 void send_problem(Response& res, const Problem& problem) {
   for (const char* name : success_headers) res.headers.erase(name);
+  // The CORS headers screening set stay, so a page can read the problem; Vary went with the rest.
+  if (request_context().vary_origin) res.set_header("Vary", "Origin");
   res.status = problem.status;
   for (const auto& [name, value] : problem.headers) res.set_header(name, value);
   res.set_header("Cache-Control", "no-store");
@@ -158,16 +160,62 @@ bool screen_body_headers(const Route& route, const ServerConfig& config, const R
   return true;
 }
 
+// OPTIONS: a CORS preflight (with Access-Control-Request-Method) gets 204 and the allow headers or a
+// refusal; a plain OPTIONS gets 204 with Allow. The context's route is the path's first, for the log.
+void answer_options(const std::vector<Route>& routes, const AccessPolicy& policy, const Request& req, Response& res) {
+  std::vector<RouteMethod> methods;
+  for (const Route& r : routes) {
+    if (!std::regex_match(req.path, r.regex)) continue;
+    if (methods.empty()) request_context().route = &r;
+    methods.push_back({r.method, r.access});
+  }
+  if (methods.empty()) return send_problem(res, 404, "There is no resource at this path.");
+  if (!req.has_header("Access-Control-Request-Method")) {
+    std::string allow = "OPTIONS";
+    for (const RouteMethod& m : methods) allow += ", " + m.method + (m.method == "GET" ? ", HEAD" : "");
+    res.set_header("Allow", allow);
+    res.status = 204;
+    return;
+  }
+  Preflight preflight = answer_preflight(policy, req, methods);
+  if (preflight.refusal) {
+    request_context().vary_origin = true;
+    return send_problem(res, preflight.refusal->status, preflight.refusal->detail, preflight.refusal->headers);
+  }
+  for (const auto& [name, value] : preflight.headers) res.set_header(name, value);
+  res.status = 204;
+}
+
+// CORS (which origins may make this call) and, for writes on a server with tokens, the bearer token.
+// Returns false after answering 403 or 401.
+bool screen_access(const Route& route, const AccessPolicy& policy, const Request& req, Response& res) {
+  RequestContext& context = request_context();
+  const bool write = is_write(route.access, req);
+  for (const auto& [name, value] : cors_headers(policy, req, write)) res.set_header(name, value);
+  context.vary_origin = write;
+  std::optional<Refusal> refusal = screen_origin(policy, req, write);
+  if (!refusal && (write || route.access == Access::owner_read)) refusal = screen_token(policy, req, context.owner);
+  if (!refusal) return true;
+  send_problem(res, refusal->status, refusal->detail, refusal->headers);
+  return false;
+}
+
 // Runs before httplib reads the body (and before it answers "100 Continue").
-HandlerResponse screen_request(const std::vector<Route>& routes, const ServerConfig& config, const Request& req,
+HandlerResponse screen_request(const std::vector<Route>& routes, const ServiceState& state, const Request& req,
                                Response& res) {
   RequestContext& context = request_context();
   context = RequestContext{};
   context.start = Clock::now();
   context.active = true;
   sanitize_request(req);
+  if (req.method == "OPTIONS") {
+    answer_options(routes, state.access, req, res);
+    if (req.has_header("Content-Length") || req.has_header("Transfer-Encoding")) close_after_response(res);
+    return HandlerResponse::Handled;
+  }
   const Route* route = screen_route(routes, req, res);
-  if (route && screen_accept(*route, req, res) && screen_body_headers(*route, config, req, res)) {
+  if (route && screen_access(*route, state.access, req, res) && screen_accept(*route, req, res) &&
+      screen_body_headers(*route, state.config, req, res)) {
     return HandlerResponse::Unhandled;
   }
   // A GET or HEAD without body framing has nothing left on the socket; anything else may.
@@ -209,6 +257,7 @@ void log_request(ServiceState& state, const Request& req, const Response& res) {
     if (!context.scene_id.empty()) line["scene_id"] = context.scene_id;
     if (!context.pipeline.empty()) line["pipeline"] = context.pipeline;
     if (!context.cache.empty()) line["cache"] = context.cache;
+    if (!context.owner.empty()) line["owner"] = context.owner;  // the token's name; tokens are never logged
     state.log("info", std::move(line));
   }
   heap_trim_pending = heap_trim_pending || context.trim_heap_after_response;
@@ -304,7 +353,7 @@ std::unique_ptr<RequestProcessor> make_server(ServiceState& state, std::shared_p
   server->Put(".*", dispatch);
   server->Delete(".*", dispatch);
   auto screen = [routes, &state](const Request& req, Response& res) {
-    return screen_request(*routes, state.config, req, res);
+    return screen_request(*routes, state, req, res);
   };
   server->set_pre_routing_handler(screen);
   // A request whose body the front did not read keeps its Expect header: answer it from the head.
@@ -353,7 +402,9 @@ std::string front_refusal(ServiceState& state, int status, std::string_view deta
   std::string body = make_problem(status, "", detail);
   std::string head = "HTTP/1.1 " + std::to_string(status) + " " + std::string(status_title(status)) + "\r\n" +
                      "Content-Type: " + problem_content_type + "\r\nContent-Length: " + std::to_string(body.size()) +
-                     "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n";
+                     "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n"
+                     // Refused unread, so nothing happened: any page may see why (and when to retry).
+                     "Access-Control-Allow-Origin: *\r\nAccess-Control-Expose-Headers: Retry-After\r\n";
   if (status == 503) head += "Retry-After: " + std::to_string(state.config.retry_after_s) + "\r\n";
   if (close) head += "Connection: close\r\n";
   state.metrics.record_request("unmatched", "", status, 0.0);
@@ -459,6 +510,8 @@ std::string config_json(const ServerConfig& c) {
       {"bsp_cache_bytes", c.bsp_cache_bytes}, {"bsp_cache_entries", c.bsp_cache_entries},
       {"shadow_cache_bytes", c.shadow_cache_bytes},
       {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
+      {"scene_ttl_s", c.scene_ttl_s}, {"cors_origins", c.cors_origins},
+      {"api_token_file", c.api_token_file.string()}, {"allow_listing", c.allow_listing},
       {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
       {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},
       {"max_connections", c.max_connections}, {"max_idle_connections", c.max_idle_connections},
@@ -481,6 +534,12 @@ void Service::start() {
   state_ = std::make_unique<ServiceState>(config_);
   size_t loaded = state_->scenes.load();
   if (!config_.data_dir.empty()) state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
+  const TokenTable& tokens = state_->access.tokens;
+  // Said once at start, so an operator sees an open server for what it is.
+  const bool loopback = config_.bind == "127.0.0.1" || config_.bind == "::1" || config_.bind == "localhost";
+  state_->log(tokens.empty() && !loopback ? "warn" : "info",
+              {{"event", "write_access"}, {"writes", tokens.empty() ? "open" : "token"}, {"tokens", tokens.size()},
+               {"cors_origins", config_.cors_origins}, {"listing", !tokens.empty() || config_.allow_listing}});
   auto routes = make_routes(config_);
   auto server = make_server(*state_, routes);
   RequestProcessor& processor = *server;

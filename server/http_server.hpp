@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace httplib {
 class Server;
@@ -51,6 +52,12 @@ struct ServerConfig {
   size_t shadow_cache_bytes = 256u << 20;  // shadow maps of static scenes (render/pipelines/shadow_cache.hpp)
   size_t scene_store_bytes = 256u << 20;
   size_t scene_store_entries = 1000;
+  int scene_ttl_s = 0;                 // stored scenes go this long after their last access; 0: kept
+  // Access (server/access.hpp). Reads are open to every origin; writes come from these origins (or
+  // the server's own pages) only, and need a bearer token from this file when one is given.
+  std::vector<std::string> cors_origins;
+  std::filesystem::path api_token_file;  // empty: writes are open to anyone who reaches the port
+  bool allow_listing = false;            // GET /v1/scenes on a server without tokens
   // Connections (server/connection_front.hpp). Deadlines are totals, not per read: a client that
   // sends one byte at a time gets no more time than one that sends nothing.
   size_t max_connections = 4096;       // beyond: close the oldest idle, else the oldest unfinished head, else 503

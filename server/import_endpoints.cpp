@@ -57,24 +57,11 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
     send_json(res, imported.request);
     return;
   }
-  request_context().scene_id = scene->static_id;
-  SceneStore::PutResult result = state.scenes.put(scene);
-  if (result == SceneStore::PutResult::too_large) {
-    throw HttpError(413, "The imported scene takes about " + std::to_string(scene->bytes) +
-                             " bytes stored; the scene store holds at most " +
-                             std::to_string(state.scenes.config().max_bytes) + ".");
-  }
-  if (result == SceneStore::PutResult::conflict) {
-    throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).");
-  }
-  const std::string location = "/v1/scenes/" + scene->id;
-  res.set_header("Location", location);
-  res.set_header("X-Scene-Id", scene->static_id);
-  send_json(res,
-            {{"id", scene->id}, {"location", location}, {"scene_id", scene->static_id},
-             {"created", result == SceneStore::PutResult::created}, {"camera", imported.request.at("camera")},
-             {"options", imported.request.at("options")}, {"warnings", warnings}},
-            result == SceneStore::PutResult::created ? 201 : 200);
+  json body = store_scene(state, res, scene);
+  body["camera"] = imported.request.at("camera");
+  body["options"] = imported.request.at("options");
+  body["warnings"] = warnings;
+  send_json(res, body, body["created"] == true ? 201 : 200);
 }
 
 }  // namespace
@@ -86,6 +73,7 @@ std::vector<Route> import_routes(const ServerConfig& config) {
                                           "model/obj"};
   Route route{"POST", "/v1/import/{format}", "/v1/import/([a-z0-9]+)", files, {"application/json"}, handle_import};
   route.max_body_bytes = config.max_import_bytes;
+  route.access = Access::write_when_stored;
   return {route};
 }
 

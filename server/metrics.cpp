@@ -114,6 +114,10 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   sample(out, "roomrender_render_slots", label("kind", "concurrency"), double(snap.gate.concurrency));
   sample(out, "roomrender_render_slots", label("kind", "queue"), double(snap.gate.queue_limit));
   cache_samples(out, snap);
+  // The scene store keeps what it stored (507 when full), so its fill against both budgets matters;
+  // the byte budget is roomrender_cache_budget_bytes{cache="scenes"} above.
+  header(out, "roomrender_scene_store_max_entries", "gauge", "Most scenes the store holds; beyond, storing answers 507.");
+  sample(out, "roomrender_scene_store_max_entries", "", double(snap.scene_store.max_entries));
   connection_samples(out, snap.connections);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);

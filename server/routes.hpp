@@ -7,6 +7,7 @@
 
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/timer.hpp"
+#include "server/access.hpp"
 #include "server/http_server.hpp"
 #include "server/metrics.hpp"
 #include "server/render_gate.hpp"
@@ -39,6 +40,7 @@ struct ServiceState {
   BspCache bsp_cache;
   ShadowCache shadow_cache;
   SceneStore scenes;
+  AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
   std::atomic<bool> draining{false};
   std::function<FrontStats()> front_stats;  // the connection front's counts, set once it exists
@@ -60,6 +62,7 @@ struct Route {
   RouteHandler handler;
   std::regex regex = {};
   size_t max_body_bytes = 0;  // 0: ServerConfig::max_body_bytes
+  Access access = Access::read;  // which origins may call it, and whether it needs a token
 };
 
 // Per request, on the thread that handles it from screening to the log line (httplib runs one
@@ -72,6 +75,8 @@ struct RequestContext {
   std::string scene_id;
   std::string pipeline;
   std::string cache;
+  bool vary_origin = false;  // the answer depends on Origin (writes): error answers keep Vary: Origin
+  std::string owner;  // the token's owner name on a server with tokens (never the token itself)
   bool trim_heap_after_response = false;  // a large render ran: give free heap back once answered
 };
 RequestContext& request_context();
@@ -87,6 +92,10 @@ void send_json(httplib::Response& res, const nlohmann::json& body, int status = 
 bool answer_not_modified(const httplib::Request& req, httplib::Response& res, const std::string& etag);
 // The request body as JSON, parsed with the configured depth bound (InputError -> 400).
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
+// Stores `scene` for the caller (request_context().owner) and answers its id: sets Location and
+// X-Scene-Id, returns {id, location, scene_id, created, expires} for the caller to complete and send
+// (201 when created, else 200). Throws HttpError 409, 413 (larger than the store) or 507 (store full).
+nlohmann::json store_scene(ServiceState& state, httplib::Response& res, const std::shared_ptr<const StoredScene>& scene);
 // Throws HttpError 503 (+ Retry-After) unless `admission` is admitted.
 void require_admission(ServiceState& state, RenderGate::Admission admission);
 // A stopwatch started on admission, and how long the request waited for its slot (the `queue` stage).

@@ -1,7 +1,9 @@
 // Stored scenes: POST /v1/scenes (the server names it), PUT /v1/scenes/{id} (the client names it,
-// and the name must be the content's hash), GET and DELETE /v1/scenes/{id}. Bodies are scene
-// documents (scene.schema.json); errors point into them ("/walls/0/end"). Storing parses and
-// tessellates, so it holds a render slot like a render does.
+// and the name must be the content's hash), GET and DELETE /v1/scenes/{id}, and GET /v1/scenes (a
+// page of stored scenes, newest first). Bodies are scene documents (scene.schema.json) or whole
+// render requests, whose "scene" is stored (a scene document has no "scene" member, so the two never
+// mix up); errors point into the body as sent. Storing parses and tessellates, so it holds a render
+// slot like a render does. Writes and listing are screened for origin and token before they get here.
 #include "server/routes.hpp"
 
 #include "render/core/timer.hpp"
@@ -10,6 +12,10 @@
 
 #include <httplib.h>
 
+#include <charconv>
+#include <ctime>
+#include <stdexcept>
+
 namespace rr::server {
 
 namespace {
@@ -17,54 +23,83 @@ namespace {
 using httplib::Request;
 using httplib::Response;
 using nlohmann::json;
+using Clock = SceneStore::Clock;
 
 std::string scene_location(const std::string& id) { return "/v1/scenes/" + id; }
 
-std::shared_ptr<const StoredScene> read_scene_body(ServiceState& state, const Request& req) {
-  std::shared_ptr<const StoredScene> scene;
-  with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
-    scene = prepare_scene(parse_body(state, req), state.config.limits);
-  });
-  return scene;
+// "2026-12-02T04:00:00.123Z" (RFC 3339, UTC).
+std::string rfc3339(Clock::time_point t) {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
+  std::time_t seconds = std::time_t(ms / 1000);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char text[40];
+  size_t n = std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
+  std::snprintf(text + n, sizeof text - n, ".%03dZ", int(ms % 1000));
+  return text;
 }
 
-void store_and_answer(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
-  request_context().scene_id = scene->static_id;
-  SceneStore::PutResult result = state.scenes.put(scene);
-  if (result == SceneStore::PutResult::conflict) {
-    throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
-                    {{"", "content differs from the stored scene with this id"}});
-  }
-  if (result == SceneStore::PutResult::too_large) {
-    throw HttpError(413, "The stored form of this scene takes about " + std::to_string(scene->bytes) +
-                             " bytes; the scene store holds at most " +
-                             std::to_string(state.scenes.config().max_bytes) + ".",
-                    {{"", "scene too large to store"}});
-  }
+json time_or_null(const std::optional<Clock::time_point>& t) { return t ? json(rfc3339(*t)) : json(nullptr); }
+
+// The scene of a body, and where it sits in the body ("" for a scene document, "/scene" in a whole
+// request), so errors and warnings point into what the client sent.
+struct SceneBody {
+  std::shared_ptr<const StoredScene> scene;
+  std::string pointer;
+};
+
+SceneBody read_scene_body(ServiceState& state, const Request& req) {
+  SceneBody out;
+  with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
+    json body = parse_body(state, req);
+    if (!body.is_object() || !body.contains("scene")) {
+      out.scene = prepare_scene(body, state.config.limits);
+      return;
+    }
+    out.pointer = "/scene";  // a whole render request: its camera and options are not stored
+    try {
+      out.scene = prepare_scene(body["scene"], state.config.limits);
+    } catch (const InputError& e) {
+      throw InputError(e.kind(), out.pointer + e.pointer(), e.what());
+    }
+  });
+  return out;
+}
+
+[[noreturn]] void throw_store_full(ServiceState& state) {
+  CacheStats fill = state.scenes.stats();
+  throw HttpError(507,
+                  "The scene store is full: it holds " + std::to_string(fill.entries) + " scenes of at most " +
+                      std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) + " bytes of at most " +
+                      std::to_string(fill.budget_bytes) +
+                      ". Stored scenes are kept, not evicted: delete scenes you no longer need, or ask the "
+                      "operator to raise --scene-store-entries or --scene-store-bytes.",
+                  {{"", "scene store full"}});
+}
+
+void answer_stored(ServiceState& state, Response& res, const SceneBody& sent) {
+  json body = store_scene(state, res, sent.scene);
   json warnings = json::array();
-  for (const WarningText& w : describe(scene->warnings, scene->scene, "")) {
+  for (const WarningText& w : describe(sent.scene->warnings, sent.scene->scene, sent.pointer)) {
     warnings.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
   }
-  res.set_header("Location", scene_location(scene->id));
-  res.set_header("X-Scene-Id", scene->static_id);
-  send_json(res,
-            {{"id", scene->id}, {"location", scene_location(scene->id)}, {"scene_id", scene->static_id},
-             {"created", result == SceneStore::PutResult::created}, {"warnings", warnings}},
-            result == SceneStore::PutResult::created ? 201 : 200);
+  body["warnings"] = std::move(warnings);
+  send_json(res, body, body["created"] == true ? 201 : 200);
 }
 
 void handle_post_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
-  store_and_answer(state, res, read_scene_body(state, req));
+  answer_stored(state, res, read_scene_body(state, req));
 }
 
 void handle_put_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = read_scene_body(state, req);
+  SceneBody sent = read_scene_body(state, req);
+  const std::shared_ptr<const StoredScene>& scene = sent.scene;
   if (scene->id != match.params.at(0)) {
     throw HttpError(422, "Scene ids are content hashes: this scene's id is " + scene->id + ", not " +
                              quote_input(match.params[0]) + "; PUT it at " + scene_location(scene->id) + " (or POST it to /v1/scenes).",
-                    {{"", "content hashes to " + scene->id}});
+                    {{sent.pointer, "content hashes to " + scene->id}});
   }
-  store_and_answer(state, res, scene);
+  answer_stored(state, res, sent);
 }
 
 void handle_get_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
@@ -77,25 +112,101 @@ void handle_get_scene(ServiceState& state, const Request& req, Response& res, co
   res.set_content(scene->text, "application/json");
 }
 
+// With tokens, a delete drops the caller's reference only; the scene goes with the last one.
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  if (!state.scenes.erase(match.params.at(0))) {
-    throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
+  std::optional<std::string> owner;
+  if (!state.access.tokens.empty()) owner = request_context().owner;
+  const std::string& id = match.params.at(0);
+  switch (state.scenes.release(id, owner)) {
+    case SceneStore::ReleaseResult::not_found: throw HttpError(404, "There is no stored scene " + id + ".");
+    case SceneStore::ReleaseResult::not_owner:
+      throw HttpError(403, "The scene " + id + " is stored, but not by this token's owner; only an owner can "
+                           "drop its reference.");
+    case SceneStore::ReleaseResult::removed:
+    case SceneStore::ReleaseResult::reference_dropped: res.status = 204;
   }
-  res.status = 204;
+}
+
+size_t limit_param(const Request& req) {
+  constexpr size_t fallback = 100, most = 1000;
+  if (!req.has_param("limit")) return fallback;
+  const std::string text = req.get_param_value("limit");
+  size_t value = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || value < 1 || value > most) {
+    throw HttpError(400, "The query parameter limit must be an integer in [1, " + std::to_string(most) + "].",
+                    {{"", "not an integer in range: \"" + quote_input(text) + "\"", "limit"}});
+  }
+  return value;
+}
+
+// Ids act as capabilities (whoever knows one may render it), so listing them is per owner with
+// tokens and off on an open server unless the operator turns it on.
+void handle_list_scenes(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
+  const bool tokens = !state.access.tokens.empty();
+  if (!tokens && !state.access.allow_listing) {
+    throw HttpError(403, "Listing stored scenes is off on this server: stored ids act as capabilities. The "
+                         "operator turns it on with --allow-listing 1, or gives tokens (--api-token-file).");
+  }
+  const size_t limit = limit_param(req);
+  const std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
+  SceneStore::Page page;
+  try {
+    page = state.scenes.list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
+  } catch (const std::invalid_argument&) {
+    throw HttpError(400, "The query parameter cursor must be the \"next\" of an earlier page.",
+                    {{"", "not a cursor: \"" + quote_input(cursor) + "\"", "cursor"}});
+  }
+  json scenes = json::array();
+  for (const SceneStore::Listed& s : page.scenes) {
+    scenes.push_back({{"id", s.id}, {"location", scene_location(s.id)},
+                      {"created", rfc3339(Clock::time_point(std::chrono::microseconds(s.created_us)))},
+                      {"expires", time_or_null(s.expires)}, {"bytes", s.bytes}});
+  }
+  json next = nullptr;
+  if (page.next_cursor) next = "/v1/scenes?limit=" + std::to_string(limit) + "&cursor=" + *page.next_cursor;
+  res.set_header("Cache-Control", "no-store");
+  send_json(res, {{"scenes", scenes}, {"next", next}});
 }
 
 }  // namespace
+
+json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
+  request_context().scene_id = scene->static_id;
+  SceneStore::PutResult result = state.scenes.put(scene, request_context().owner);
+  switch (result) {
+    case SceneStore::PutResult::conflict:
+      throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
+                      {{"", "content differs from the stored scene with this id"}});
+    case SceneStore::PutResult::too_large:
+      throw HttpError(413, "The stored form of this scene takes about " + std::to_string(scene->bytes) +
+                               " bytes; the scene store holds at most " +
+                               std::to_string(state.scenes.config().max_bytes) + ".",
+                      {{"", "scene too large to store"}});
+    case SceneStore::PutResult::full: throw_store_full(state);
+    case SceneStore::PutResult::created:
+    case SceneStore::PutResult::existed: break;
+  }
+  res.set_header("Location", scene_location(scene->id));
+  res.set_header("X-Scene-Id", scene->static_id);
+  return {{"id", scene->id}, {"location", scene_location(scene->id)}, {"scene_id", scene->static_id},
+          {"created", result == SceneStore::PutResult::created}, {"expires", time_or_null(state.scenes.expiry_from_now())}};
+}
 
 std::vector<Route> scene_routes() {
   const std::vector<std::string> json_body = {"application/json"};
   const std::vector<std::string> json_answer = {"application/json"};
   const char* one = "/v1/scenes/([0-9a-f]{16})";
-  return {
+  std::vector<Route> routes = {
       {"POST", "/v1/scenes", "/v1/scenes", json_body, json_answer, handle_post_scene},
       {"PUT", "/v1/scenes/{id}", one, json_body, json_answer, handle_put_scene},
       {"GET", "/v1/scenes/{id}", one, {}, json_answer, handle_get_scene},
       {"DELETE", "/v1/scenes/{id}", one, {}, {}, handle_delete_scene},
+      {"GET", "/v1/scenes", "/v1/scenes", {}, json_answer, handle_list_scenes},
   };
+  for (Route& r : routes) r.access = r.method == "GET" ? Access::read : Access::write;
+  routes.back().access = Access::owner_read;
+  return routes;
 }
 
 }  // namespace rr::server

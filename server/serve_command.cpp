@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <thread>
+#include <vector>
 
 namespace rr::server {
 
@@ -46,6 +47,27 @@ long long parse_integer(const std::string& text, const std::string& what, long l
                      "], not '" + text + "'");
   }
   return value;
+}
+
+// "https://a.example, http://localhost:5173" -> each origin as a browser sends it (scheme://host[:port]).
+std::vector<std::string> parse_origins(const std::string& text, const std::string& what) {
+  std::vector<std::string> origins;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = std::min(text.find(',', begin), text.size());
+    std::string origin = text.substr(begin, end - begin);
+    origin.erase(0, origin.find_first_not_of(' '));
+    origin.erase(origin.find_last_not_of(' ') + 1);
+    begin = end + 1;
+    if (origin.empty()) continue;
+    size_t scheme = origin.find("://");
+    if (origin != "*" && (scheme == std::string::npos || scheme == 0 || origin.size() == scheme + 3 ||
+                          origin.find('/', scheme + 3) != std::string::npos)) {
+      throw UsageError(what + ": '" + origin + "' is not an origin (scheme://host[:port], no path) or *");
+    }
+    origins.push_back(origin);
+  }
+  return origins;
 }
 
 constexpr long long int_max = std::numeric_limits<int>::max();
@@ -95,6 +117,14 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.scene_store_bytes = size_t(parse_integer(v, s, 0, big)); }},
   {"--scene-store-entries", "most stored scenes (default 1000)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.scene_store_entries = size_t(parse_integer(v, s, 0, big)); }},
+  {"--scene-ttl", "seconds a stored scene is kept after its last access; 0: until deleted (default 0)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.scene_ttl_s = int(parse_integer(v, s, 0, int_max)); }},
+  {"--cors-origins", "comma-separated origins (https://app.example.com) whose pages may write; * for any (default: none)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.cors_origins = parse_origins(v, s); }},
+  {"--api-token-file", "file of bearer tokens, one per line as name:token; writes then need one (default: none, writes open)",
+   [](ServerConfig& c, const std::string& v, const std::string&) { c.api_token_file = v; }},
+  {"--allow-listing", "1: GET /v1/scenes lists every stored scene on a server without tokens (default 0)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.allow_listing = parse_integer(v, s, 0, 1) == 1; }},
   {"--data-dir", "directory where stored scenes persist (default: none, memory only)",
    [](ServerConfig& c, const std::string& v, const std::string&) { c.data_dir = v; }},
   {"--web-dir", "directory holding index.html (default: the source tree's clients/web)",

@@ -334,7 +334,7 @@ TEST_F(ApiTest, LivenessReadinessAndHealth) {
 
 TEST_F(ApiTest, EveryMethodOutsideTheTableIs405WithAllow) {
   expect_problem_with(client().Put("/v1/render", small_request, "application/json"), 405, "Allow", "POST");
-  expect_problem_with(client().Delete("/v1/scenes"), 405, "Allow", "POST");
+  expect_problem_with(client().Delete("/v1/scenes"), 405, "Allow", "POST, GET, HEAD");
   expect_problem_with(client().Post("/v1/scenes/0123456789abcdef", "{}", "application/json"), 405, "Allow",
                       "PUT, GET, HEAD, DELETE");
 }

@@ -1,8 +1,9 @@
 // Stored scenes over real HTTP: content-addressed ids (POST names, PUT must match), canonical GET
 // with conditional 304, DELETE, renders of a stored scene equal to the inline render byte for byte
 // (POST with {camera, options} and GET render.png with query parameters), query parameter errors
-// naming the parameter, the LRU bound, and persistence across a restart with a data directory
-// (including the crash leftovers start-up must cope with).
+// naming the parameter, whole render requests stored by their scene, the size bound, and persistence
+// across a restart with a data directory (including the crash leftovers start-up must cope with).
+// A full store (507) and retention: test_store_full.cpp.
 #include "server_fixture.hpp"
 
 #include <filesystem>
@@ -105,6 +106,29 @@ TEST_F(StoreTest, DeleteRemovesTheScene) {
   expect_problem(client().Post(("/v1/scenes/" + id + "/render").c_str(), "{}", "application/json"), 404);
 }
 
+// What examples/ holds (a whole render request) stores its scene; errors point into the request.
+TEST_F(StoreTest, PostTakesAWholeRequestAndStoresItsScene) {
+  json request = json::parse(read_file(source_dir() / "examples" / "studio.json"));
+  json created = store(*server_, request);
+  ASSERT_TRUE(created.contains("id")) << created;
+  auto got = client().Get(("/v1/scenes/" + created["id"].get<std::string>()).c_str());
+  ASSERT_TRUE(got);
+  EXPECT_EQ(json::parse(got->body), request["scene"]);
+  EXPECT_EQ(store(*server_, request["scene"], 200)["id"], created["id"]) << "the bare scene is the same scene";
+  auto put = client().Put(("/v1/scenes/" + created["id"].get<std::string>()).c_str(), request.dump(), "application/json");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(put->status, 200) << put->body;
+  ASSERT_FALSE(created["warnings"].empty()) << "studio's lamp touches its pole";
+  for (const json& w : created["warnings"]) EXPECT_TRUE(w["pointer"].get<std::string>().starts_with("/scene/")) << w;
+
+  json bad = json::parse(small_request);
+  bad["scene"]["solids"][0]["size"] = {1, -1, 1};
+  json problem = expect_problem(client().Post("/v1/scenes", bad.dump(), "application/json"), 422);
+  EXPECT_EQ(problem["errors"][0]["pointer"], "/scene/solids/0/size/1") << problem;
+  json not_object = expect_problem(client().Post("/v1/scenes", R"({"scene": [1]})", "application/json"), 422);
+  EXPECT_EQ(not_object["errors"][0]["pointer"], "/scene") << not_object;
+}
+
 TEST_F(StoreTest, InvalidSceneErrorsPointIntoTheDocument) {
   json scene = small_scene();
   scene["solids"][0]["size"] = {1, -1, 1};
@@ -192,21 +216,6 @@ TEST_F(StoreTest, QueryParameterErrorsNameTheParameter) {
   check("shadow_size=1000000000", 413, "shadow_size", "/options/shadow/size");
 }
 
-TEST(StoreBounds, LeastRecentlyUsedSceneIsEvicted) {
-  rr::server::ServerConfig config = test_server_config();
-  config.scene_store_entries = 2;
-  TestServer server(config);
-  std::string a = store(server, scene_with_box_at(1.0))["id"];
-  std::string b = store(server, scene_with_box_at(1.1))["id"];
-  ASSERT_TRUE(server.client().Get(("/v1/scenes/" + a).c_str()));  // a is now the most recent
-  std::string c = store(server, scene_with_box_at(1.2))["id"];
-  EXPECT_EQ(server.client().Get(("/v1/scenes/" + a).c_str())->status, 200);
-  expect_problem(server.client().Get(("/v1/scenes/" + b).c_str()), 404);
-  EXPECT_EQ(server.client().Get(("/v1/scenes/" + c).c_str())->status, 200);
-  EXPECT_EQ(server.metric("roomrender_cache_evictions_total", {"cache=\"scenes\""}), 1.0);
-  EXPECT_EQ(server.metric("roomrender_cache_entries", {"cache=\"scenes\""}), 2.0);
-}
-
 TEST(StoreBounds, SceneLargerThanTheWholeBudgetIs413) {
   rr::server::ServerConfig config = test_server_config();
   config.scene_store_bytes = 4096;
@@ -259,18 +268,6 @@ TEST(StorePersistence, StartUpRemovesTornWritesAndSkipsMismatchedFiles) {
   size_t skipped = 0;
   for (const json& line : log.lines()) skipped += line.value("event", "") == "scene_file_skipped";
   EXPECT_EQ(skipped, 1u);
-}
-
-TEST(StorePersistence, EvictionDeletesTheFile) {
-  fs::path dir = fresh_dir("store_evict");
-  rr::server::ServerConfig config = test_server_config();
-  config.data_dir = dir;
-  config.scene_store_entries = 1;
-  TestServer server(config);
-  std::string a = store(server, scene_with_box_at(3.0))["id"];
-  std::string b = store(server, scene_with_box_at(3.1))["id"];
-  EXPECT_FALSE(fs::exists(dir / "scenes" / (a + ".json")));
-  EXPECT_TRUE(fs::exists(dir / "scenes" / (b + ".json")));
 }
 
 }  // namespace
