@@ -76,11 +76,14 @@ for (const [path, item] of Object.entries(openapi.paths)) {
     for (const [type, media] of Object.entries(content)) {
       if (!type.endsWith("json")) continue;
       check(withExamples.some(([t]) => t === type), `${where}: ${type} has an example`);
-      const validate = media.schema?.$ref && ajv.getSchema(media.schema.$ref);
-      check(Boolean(validate), `${where}: ${type} schema ${media.schema?.$ref} is a schema file`);
+      // A body is one schema file, or oneOf several (POST /v1/scenes: a scene or a whole request).
+      const refs = media.schema?.oneOf ? media.schema.oneOf.map((s) => s.$ref) : [media.schema?.$ref];
+      const validators = refs.map((ref) => ref && ajv.getSchema(ref));
+      check(validators.every(Boolean), `${where}: ${type} schema ${refs.join(" | ")} is schema files`);
       for (const [name, example] of Object.entries(media.examples || {})) {
-        check(validate && validate(example.value), `${where}: example ${name} matches ${media.schema.$ref}`,
-              validate ? ajv.errorsText(validate.errors) : "");
+        const matching = validators.filter((validate) => validate && validate(example.value));
+        check(matching.length === 1, `${where}: example ${name} matches exactly one of ${refs.join(" | ")}`,
+              `${matching.length} match`);
       }
     }
   }
