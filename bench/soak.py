@@ -15,8 +15,8 @@ already running). Each connection cycles through a fixed mix, valid and invalid:
 
 A sampler reads process_resident_memory_bytes from /metrics once a second on a connection of its own.
 Reported: for the 30 s after a 30 s warm-up and for the last 30 s of the run, the throughput
-(answers/s), the p99 and median latency (request written -> answer read), and the RSS at the end of
-each window, with the change from the first window to the last (goal: each within 10 %); the count
+(answers/s), the p99 and median latency (request written -> answer read), the RSS at the end of
+each window, and apart the renders answered 200 (rate, p99) and the 503s, with the change from the first window to the last (goal: each within 10 %); the count
 of each status per request kind, answers other than expected (503s from load shedding counted
 apart) and connection errors. Results go to bench/results/soak.json (under --label) and
 bench/results/soak.md. Standard library only (http.client): one client process, so at high rates the
@@ -133,11 +133,16 @@ def percentile(values, p):
 
 def window(records, samples, start, end):
     """Throughput, latencies and the last RSS sample of [start, end) (times relative to the run)."""
-    lat = [r[1] for r in records if start <= r[0] < end]
+    inside = [r for r in records if start <= r[0] < end]
+    lat = [r[1] for r in inside]
+    rendered = [r[1] for r in inside if r[2].startswith("render") and r[3] == 200]
     rss = [m for t, m in samples if t < end]
     return {"from_s": start, "to_s": end, "answers": len(lat), "per_s": len(lat) / (end - start),
             "p99_ms": percentile(lat, 99) * 1000 if lat else None,
             "median_ms": statistics.median(lat) * 1000 if lat else None,
+            "renders_per_s": len(rendered) / (end - start),
+            "render_p99_ms": percentile(rendered, 99) * 1000 if rendered else None,
+            "shed_503": sum(1 for r in inside if r[3] == 503),
             "rss_mib": rss[-1] if rss else None}
 
 
@@ -187,10 +192,11 @@ def markdown(results):
         out += [f"## {label}", "",
                 f"{run['binary']}, {run['when']}, {run['connections']} connections, {run['seconds']:.0f} s "
                 f"({run['warmup']:.0f} s warm-up), load {run['load']}", "",
-                "| window | answers/s | median ms | p99 ms | RSS MiB |", "|---|---|---|---|---|",
-                f"| {a['from_s']:.0f}–{a['to_s']:.0f} s | {a['per_s']:.0f} | {fmt(a['median_ms'])} | {fmt(a['p99_ms'])} | {fmt(a['rss_mib'])} |",
-                f"| {e['from_s']:.0f}–{e['to_s']:.0f} s | {e['per_s']:.0f} | {fmt(e['median_ms'])} | {fmt(e['p99_ms'])} | {fmt(e['rss_mib'])} |",
-                f"| change | {pct(c['per_s'])} | | {pct(c['p99_ms'])} | {pct(c['rss_mib'])} |", "",
+                "| window | answers/s | median ms | p99 ms | RSS MiB | renders (200)/s | render p99 ms | 503s |",
+                "|---|---|---|---|---|---|---|---|",
+                *[f"| {w['from_s']:.0f}–{w['to_s']:.0f} s | {w['per_s']:.0f} | {fmt(w['median_ms'])} | {fmt(w['p99_ms'])} | "
+                  f"{fmt(w['rss_mib'])} | {w['renders_per_s']:.0f} | {fmt(w['render_p99_ms'])} | {w['shed_503']} |" for w in (a, e)],
+                f"| change | {pct(c['per_s'])} | | {pct(c['p99_ms'])} | {pct(c['rss_mib'])} | | | |", "",
                 f"Flat within {GOAL_DRIFT * 100:.0f} %: **{'yes' if s['flat'] else 'no'}**. {s['total']} answers; "
                 f"other than expected: {s['unexpected']}; 503 (shed): {s['shed_503']}; connection errors: {s['errors']}; "
                 f"/metrics reads failed: {run['metrics_failures']}.", "",
