@@ -4,7 +4,7 @@
 # build-asan/ at -O1 with debug info, then runs ctest there. Exits non-zero when a test fails or when
 # any sanitizer report was written, by a test binary or by a server or CLI a test started (whose exit
 # status a test may not look at): every report goes to build-asan/sanitizer-reports/ and is printed.
-# Extra arguments go to ctest (e.g. -R unit).
+# Extra arguments go to ctest (e.g. -R unit); TARGETS="a b" builds only those targets (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="${JOBS:-$(nproc)}"
@@ -19,7 +19,8 @@ mkdir -p "$reports"
 # is written to $reports/{asan,ubsan}.PID.
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:log_path=$reports/asan${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$reports/ubsan${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
-cmake --build build-asan -j"$jobs"
+# shellcheck disable=SC2086  # TARGETS is a list of target names
+cmake --build build-asan -j"$jobs" ${TARGETS:+--target $TARGETS}
 # Left out: ImportApi.RealInteriorsRenderWithEveryPipeline renders 331k-polygon interiors at 1280x720
 # with every pipeline; the cold BSP build alone exceeds its 120 s render deadline at -O1 under ASan.
 # That is speed, not memory safety: the same code paths run sanitized on small scenes everywhere else.
