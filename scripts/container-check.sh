@@ -11,12 +11,17 @@
 #      import stored with store=1, the stored scene rendered by id, /metrics, the health check;
 #   5. SIGTERM, a second start of the same container, and the stored scene still there (the data
 #      directory is the image's VOLUME, written by the image's user).
+#   6. with --attacks, bench/attacks.py against the image's server (second start; its attacks share
+#      that one server), its table merged under the label "container" into bench/results/attacks.md
+#      (about 3 minutes more; .ci/run leaves it out).
 # Prints the image size, the time from starting the container to the first successful render and
 # one PASS/FAIL line per check; exits 1 if any check fails.
-# Usage: scripts/container-check.sh [IMAGE_TAG]        (needs root; installs podman, buildah,
+# Usage: scripts/container-check.sh [--attacks] [IMAGE_TAG]   (needs root; installs podman, buildah,
 #        debootstrap, curl, python3-yaml idempotently)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+attacks=""
+if [ "${1:-}" = --attacks ]; then attacks=1; shift; fi
 tag="${1:-localhost/roomrender:check}"
 base_dir="${ROOMRENDER_BASE_DIR:-/var/tmp/roomrender-base}"
 port="${ROOMRENDER_CHECK_PORT:-18080}"
@@ -252,6 +257,17 @@ if [ -n "$id" ]; then
   got=$(fetch "/v1/scenes/$id/render.png?width=320&height=240")
   [ "${got%% *}" = 200 ] && is_png "$work/out" && pass "after a restart GET /v1/scenes/$id/render.png -> $got, PNG" ||
     fail "after a restart GET /v1/scenes/$id/render.png -> $got"
+fi
+
+# The hostile-client benchmark against the image's own binary (built in the image's build stage from
+# the same sources as build/roomrender, so the same code, though not the same bytes).
+if [ -n "$attacks" ]; then
+  echo "container-check: image binary sha256 $(buildah run --isolation chroot "$ctr" -- sha256sum /usr/local/bin/roomrender | cut -c1-16)…"
+  if python3 bench/attacks.py --port "$port" --label container; then
+    pass "bench/attacks.py against the image's server (table: bench/results/attacks.md, label container)"
+  else
+    fail "bench/attacks.py against the image's server"
+  fi
 fi
 stop_server "$log2"
 

@@ -241,6 +241,33 @@ const scenarios = {
     await page.waitForSelector(".cm-inline-warning");
   },
 
+  // Server notes that arrive after the editor's last lint run (a slow server; here the page's render
+  // answer is held back 1.5 s, well past the 250 ms lint delay) are drawn at once, with no keystroke.
+  async late_server_notes({ page, server }) {
+    let seq = await open(page, server, "studio");
+    const request = await requestInPage(page);
+    request.scene.solids.push({ type: "box", id: "through_the_wall", center: [3, 0], size: [1, 1, 1], color: "#ff0000" });
+    await pasteRequest(page, JSON.stringify(request, null, 2));
+    let held = 0;
+    await page.route("**/v1/render", async (route) => {
+      const response = await route.fetch();
+      held += 1;
+      await new Promise((done) => setTimeout(done, 1500));
+      await route.fulfill({ response });
+    });
+    await page.keyboard.press("Control+Enter");
+    seq = await waitForRender(page, seq);
+    assert(held >= 1, "the render answer was held back");
+    const pointer = `/scene/solids/${request.scene.solids.length - 1}`;
+    const item = await page.$(`#warning-list li.warning:has(.pointer:text-is("${pointer}"))`);
+    assert(item, `a placement warning names the box (${pointer})`);
+    const detail = (await item.textContent()).replace(pointer, "").trim();
+    await item.$eval(".pointer", (b) => b.click());  // scrolls the editor to the box; edits nothing
+    const shown = await page.waitForFunction((d) => [...document.querySelectorAll(".cm-inline-warning")]
+      .some((e) => e.textContent.includes(d)), detail, { timeout: 5000 }).then(() => true, () => false);
+    assert(shown, `the box's warning is written at its line without a keystroke: ${detail}`);
+  },
+
   // A Sweet Home 3D file goes through the server's importer into the editor, and renders.
   async import_file({ page, server }) {
     let seq = await open(page, server);
