@@ -116,14 +116,23 @@ milliseconds transfer_allowance(milliseconds base, uint64_t bytes, uint64_t rate
   return base + milliseconds(rate ? bytes * 1000 / rate : 0);
 }
 
+// Descriptors kept free of client connections: the listening socket, epoll, eventfd, and the files
+// workers open (stored scenes, schemas, the web page).
+constexpr size_t reserved_descriptors = 128;
+
 // There must be a descriptor for every connection the front may hold; the soft limit is often 1024.
-void raise_descriptor_limit(size_t connections) {
+// Raises it as far as the hard limit allows and returns how many connections fit.
+size_t raise_descriptor_limit(size_t connections) {
   rlimit limit{};
-  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return;
-  rlim_t wanted = rlim_t(connections) + 256;
-  if (limit.rlim_cur >= wanted) return;
-  limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? wanted : std::min(wanted, limit.rlim_max);
-  setrlimit(RLIMIT_NOFILE, &limit);
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return connections;
+  rlim_t wanted = rlim_t(connections + reserved_descriptors);
+  if (limit.rlim_cur < wanted) {
+    limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? wanted : std::min(wanted, limit.rlim_max);
+    setrlimit(RLIMIT_NOFILE, &limit);
+    getrlimit(RLIMIT_NOFILE, &limit);
+  }
+  if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= wanted) return connections;
+  return size_t(std::max<rlim_t>(limit.rlim_cur, 2 * reserved_descriptors) - reserved_descriptors);
 }
 
 }  // namespace
@@ -182,7 +191,8 @@ struct ConnectionFront::Loop {
   // ---- listening ----
 
   int bind_and_listen() {
-    raise_descriptor_limit(config.max_connections);
+    // Past the descriptor limit accept() would fail instead of evicting: the cap follows the limit.
+    config.max_connections = raise_descriptor_limit(config.max_connections);
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
     hints.ai_socktype = SOCK_STREAM;
@@ -769,6 +779,8 @@ void ConnectionFront::finish(std::chrono::steady_clock::time_point until) {
   for (std::thread& worker : loop_->workers) worker.join();
   loop_->workers.clear();
 }
+
+size_t ConnectionFront::max_connections() const { return loop_->config.max_connections; }
 
 FrontStats ConnectionFront::stats() const {
   std::lock_guard lock(loop_->stats_mutex);

@@ -83,8 +83,10 @@ class ConnectionFront {
   ConnectionFront(const ConnectionFront&) = delete;
   ConnectionFront& operator=(const ConnectionFront&) = delete;
 
-  // Binds and listens; returns the port. Throws std::runtime_error when it cannot.
+  // Binds and listens; returns the port. Throws std::runtime_error when it cannot. Lowers the
+  // connection cap to what the process's descriptor limit allows (see max_connections()).
   int bind();
+  size_t max_connections() const;
   // Starts the event thread and the workers.
   void start();
   // Closes the listening socket and idle connections; requests already arriving are still read and

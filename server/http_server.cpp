@@ -553,6 +553,11 @@ void Service::start() {
       [&state](int status, std::string_view detail, bool close) { return front_refusal(state, status, detail, close); });
   server_ = std::move(server);
   port_ = front_->bind();
+  if (front_->max_connections() < config_.max_connections) {
+    state_->log("warn", {{"event", "connection_cap_lowered"}, {"max_connections", front_->max_connections()},
+                         {"configured", config_.max_connections},
+                         {"reason", "the open-file limit (ulimit -n) leaves no room for more"}});
+  }
   const ConnectionFront& front = *front_;
   state_->front_stats = [&front] { return front.stats(); };
   front_->start();
