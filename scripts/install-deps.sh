@@ -43,7 +43,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # ajv and swagger-parser for the schema tests, from their lockfile, once (node_modules is not committed).
-if [ "$mode" = all ]; then "$(dirname "$0")/../tests/schema/npm-ci-if-needed.sh"; fi
+if [ "$mode" = all ]; then "$(dirname "$0")/npm-ci-if-needed.sh" "$(dirname "$0")/../tests/schema"; fi
 
 # The web client's npm packages (esbuild, CodeMirror, playwright-core), from its lockfile, once.
-if [ "$mode" = all ]; then "$(dirname "$0")/../clients/web/npm-ci-if-needed.sh"; fi
+if [ "$mode" = all ]; then "$(dirname "$0")/npm-ci-if-needed.sh" "$(dirname "$0")/../clients/web"; fi

@@ -7,5 +7,5 @@ set -euo pipefail
 binary="$(realpath "$1")"
 repo="$(realpath "$2")"
 cd "$(dirname "$0")"
-./npm-ci-if-needed.sh
+../../scripts/npm-ci-if-needed.sh .
 exec node run.mjs "$binary" "$repo"
