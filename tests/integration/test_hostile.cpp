@@ -617,6 +617,17 @@ TEST(Hostile, RequestLineWithoutNewlineIs414BeforeItIsReadWhole) {
   EXPECT_GE(early, 1) << "every 414 came only after the whole 1 MiB was sent";
 }
 
+// Lets the attack's streams finish and expects each refused with `status` and a problem body.
+void expect_every_stream_refused(StreamAttack& attack, int status) {
+  auto& streams = attack.join();
+  attack.finish(Clock::now() + 3s);
+  for (size_t i = 0; i < streams.size(); ++i) {
+    RawConn& c = *streams[i].conn;
+    ASSERT_EQ(c.status(), status) << "connection " << i << ": " << c.received().substr(0, 200);
+    expect_raw_problem(c.answers()[0], status);
+  }
+}
+
 // Request heads with `count` header fields `X-Flood-<i>: v`.
 std::string many_headers(size_t count) {
   std::string headers;
@@ -631,13 +642,7 @@ TEST(Hostile, TenThousandHeadersOnARenderAre431) {
                       4s);
   std::this_thread::sleep_for(200ms);
   expect_render_answered(server, "renders with 10,000 headers");
-  auto& streams = attack.join();
-  attack.finish(Clock::now() + 3s);
-  for (size_t i = 0; i < streams.size(); ++i) {
-    RawConn& c = *streams[i].conn;
-    ASSERT_EQ(c.status(), 431) << "connection " << i << ": " << c.received().substr(0, 200);
-    expect_raw_problem(c.answers()[0], 431);
-  }
+  expect_every_stream_refused(attack, 431);
 }
 
 // 6b. 100,000 header fields on GET /livez: 431, a render answered meanwhile.
@@ -647,13 +652,7 @@ TEST(Hostile, HundredThousandHeadersOnLivezAre431) {
                       200ms, 16384, 4s);
   std::this_thread::sleep_for(200ms);
   expect_render_answered(server, "GET /livez with 100,000 headers");
-  auto& streams = attack.join();
-  attack.finish(Clock::now() + 3s);
-  for (size_t i = 0; i < streams.size(); ++i) {
-    RawConn& c = *streams[i].conn;
-    ASSERT_EQ(c.status(), 431) << "connection " << i << ": " << c.received().substr(0, 200);
-    expect_raw_problem(c.answers()[0], 431);
-  }
+  expect_every_stream_refused(attack, 431);
 }
 
 // 7a. A head of 20 lines of 6,000 bytes (120 kB; few fields, each line under 8192 bytes) is larger
@@ -665,13 +664,7 @@ TEST(Hostile, HeadLargerThanMaxHeaderBytesIs431) {
   StreamAttack attack(server.port(), render_request_bytes(small_request, headers), 16, 100ms, 16384, 4s);
   std::this_thread::sleep_for(200ms);
   expect_render_answered(server, "heads of 120 kB");
-  auto& streams = attack.join();
-  attack.finish(Clock::now() + 3s);
-  for (size_t i = 0; i < streams.size(); ++i) {
-    RawConn& c = *streams[i].conn;
-    ASSERT_EQ(c.status(), 431) << "connection " << i << ": " << c.received().substr(0, 200);
-    expect_raw_problem(c.answers()[0], 431);
-  }
+  expect_every_stream_refused(attack, 431);
 }
 
 // 7b. One header line of 10,000 bytes, longer than max_request_line_bytes (8192), in a head well
@@ -682,13 +675,7 @@ TEST(Hostile, HeaderLineLongerThanMaxRequestLineBytesIs431) {
   StreamAttack attack(server.port(), render_request_bytes(small_request, header), 16, 100ms, 4096, 4s);
   std::this_thread::sleep_for(200ms);
   expect_render_answered(server, "10 kB header lines");
-  auto& streams = attack.join();
-  attack.finish(Clock::now() + 3s);
-  for (size_t i = 0; i < streams.size(); ++i) {
-    RawConn& c = *streams[i].conn;
-    ASSERT_EQ(c.status(), 431) << "connection " << i << ": " << c.received().substr(0, 200);
-    expect_raw_problem(c.answers()[0], 431);
-  }
+  expect_every_stream_refused(attack, 431);
 }
 
 // 10. Two renders pipelined in one write (64x48, then 32x24) get two answers, in order, within 2 s
