@@ -2,7 +2,8 @@
 // camera, lights and near/far together): every pipeline sees the same polygon at every pixel off
 // the untransformed reference's id edges, no value anywhere is NaN or infinite, the BSP build
 // terminates and its fragments conserve each polygon's area to 1e-9 relative (moved or scaled; both
-// at once is bounded by the input's own rounding, see below).
+// at once is bounded by the input's own rounding, see below); with shadows on, every pipeline's
+// shadow mask is the one it has at the origin, off shadow edges.
 #include "render/pipelines/bsp.hpp"
 #include "stress/stress_support.hpp"
 
@@ -70,6 +71,57 @@ void check_placements(const json& request, const std::string& what) {
         const Frame f = moved.render(pipeline, key);
         const VisibilityError e = visibility_error(truth.ids, f.ids);
         EXPECT_EQ(e.non_edge_differing, 0u) << pipeline << ": " << e.non_edge_differing << " non-edge pixels differ";
+      }
+    }
+  }
+}
+
+// Pixels whose shadow mask differs between a and b, away from a's shadow edges (a 4-neighbour
+// with another mask).
+size_t mask_differences_off_edges(const Frame& a, const Frame& b) {
+  const int w = a.image.width, h = a.image.height;
+  size_t count = 0;
+  for (int y = 1; y + 1 < h; ++y) {
+    for (int x = 1; x + 1 < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      const uint8_t m = a.shadow_mask[i];
+      const bool edge = a.shadow_mask[i - 1] != m || a.shadow_mask[i + 1] != m || a.shadow_mask[i - size_t(w)] != m ||
+                        a.shadow_mask[i + size_t(w)] != m;
+      count += !edge && b.shadow_mask[i] != m;
+    }
+  }
+  return count;
+}
+
+Frame render_shadowed(const StressScene& s, const char* pipeline) {
+  RenderOptions options = s.request.options;
+  options.pipeline = pipeline_id(pipeline);
+  options.painter_key = PainterKey::newell;
+  options.shadows = true;
+  RenderContext context;
+  context.shadow_mask = true;
+  return render_frame(s.request.scene, s.soup, s.request.camera, options, context).frame;
+}
+
+// With shadows from the room's directional light and a point light, every pipeline's shadow mask
+// (its shadow map, or the reference's exact rays) is the same at every offset as at the origin.
+TEST(StressTransform, RoomKeepsItsShadowsWhenMoved) {
+  const auto seeds = testing::test_seeds(3200, 2);
+  for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
+    std::mt19937 rng(seed);
+    json request = random_room(rng);
+    request["scene"]["lights"].push_back({{"type", "point"}, {"position", {1.0, 2.2, 1.0}}});
+    const StressScene base(request);
+    for (const char* pipeline : {"reference", "zbuffer", "bsp", "painter"}) {
+      const Frame origin = render_shadowed(base, pipeline);
+      for (double offset : kOffsets) {
+        if (offset == 0.0) continue;
+        SCOPED_TRACE("room " + seed_note(seed) + ", " + pipeline + ", moved by " + std::to_string(offset) + " m");
+        StressScene moved(request);
+        moved.place(1.0, Vec3(offset, 0.5 * offset, -offset));
+        const Frame f = render_shadowed(moved, pipeline);
+        EXPECT_EQ(visibility_error(origin.ids, f.ids).non_edge_differing, 0u);
+        EXPECT_EQ(mask_differences_off_edges(origin, f), 0u);
       }
     }
   }
