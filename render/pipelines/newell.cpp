@@ -67,6 +67,7 @@ struct Cursor {
 
 struct GridEntry {
   uint32_t item;
+  uint32_t plane_group;  // the item's Polygon::plane_group (in what would be padding)
   double dmax;  // the item's farthest view depth, for the depth-extent test
 };
 
@@ -169,8 +170,9 @@ class Newell {
     alive_.push_back(1);
     mark_.push_back(0);
     cursor_.push_back({});
+    const uint32_t group = polygon_of(i).plane_group;
     for (int y = r.y0; y <= r.y1; ++y) {
-      for (int x = r.x0; x <= r.x1; ++x) grid_[size_t(y) * size_t(nx_) + size_t(x)].push_back({i, it.dmax});
+      for (int x = r.x0; x <= r.x1; ++x) grid_[size_t(y) * size_t(nx_) + size_t(x)].push_back({i, group, it.dmax});
     }
   }
 
@@ -310,9 +312,8 @@ class Newell {
       c.seen = c.base;
     }
     const CellRange r = cells_[p];
-    // Q farthest below this: 1. P entirely farther; not for a plane group's polygon, whose order
-    // with its group is by id (same_plane).
-    const double near_limit = polygon_of(p).plane_group ? -INFINITY : items_[p].dmin + eps_;
+    const double near_limit = items_[p].dmin + eps_;  // Q farthest below this: 1. P entirely farther
+    const uint32_t group = polygon_of(p).plane_group;
     const uint32_t width = uint32_t(r.x1 - r.x0 + 1), count = width * uint32_t(r.y1 - r.y0 + 1);
     for (; c.cell < count; ++c.cell, c.entry = 0) {
       const int cx = r.x0 + int(c.cell % width), cy = r.y0 + int(c.cell / width);
@@ -323,7 +324,8 @@ class Newell {
       for (; c.entry < list.size(); ++c.entry) {
         const GridEntry& e = list[c.entry];
         count_check();
-        if (e.dmax <= near_limit) continue;  // the depth-extent test, from the entry alone
+        // The depth-extent test, from the entry alone; not within P's plane group, ordered by id.
+        if (e.dmax <= near_limit && (group == 0 || e.plane_group != group)) continue;
         const uint32_t q = e.item;
         if (q >= c.base) break;  // cell lists grow in index order; newer items are checked below
         if (q == p || !alive_[q]) continue;
