@@ -7,7 +7,6 @@
 #include "render/core/coplanar.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cfloat>
 #include <cmath>
 #include <numeric>
@@ -20,10 +19,22 @@ constexpr double normal_cell = 1e-4;    // coplanar polygons' computed normals d
 constexpr double offset_cell = 1e-4;    // of the scene diagonal
 constexpr double near_boundary = 0.01;  // of a cell: the value enters the neighbouring cell too
 
+// A polygon under one cell key; the key is hashed to 64 bits, so that sorting moves 16 bytes and
+// compares one word. Two cells sharing a hash (a chance of about cells² / 2^65 per soup) add
+// candidate pairs, which are checked anyway, and are swept in the first one's in-plane axes.
 struct Entry {
-  std::array<int64_t, 4> key;
+  uint64_t cell;
   uint32_t polygon;
 };
+
+uint64_t cell_hash(const int64_t (&c)[4]) {
+  uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (int64_t v : c) {
+    h ^= uint64_t(v) + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+  }
+  return h ^ (h >> 31);
+}
 
 struct Extent {
   double u0, u1, v0, v1;
@@ -69,7 +80,10 @@ void add_entries(const Polygon& p, uint32_t index, const GroupingFrame& f, std::
     for (int i0 = 0; i0 < count[0]; ++i0)
       for (int i1 = 0; i1 < count[1]; ++i1)
         for (int i2 = 0; i2 < count[2]; ++i2)
-          for (int i3 = 0; i3 < count[3]; ++i3) out.push_back({{c[0][i0], c[1][i1], c[2][i2], c[3][i3]}, index});
+          for (int i3 = 0; i3 < count[3]; ++i3) {
+            const int64_t key[4] = {c[0][i0], c[1][i1], c[2][i2], c[3][i3]};
+            out.push_back({cell_hash(key), index});
+          }
   }
 }
 
@@ -86,11 +100,11 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i) {
 }
 
 // Pairs of one cell's polygons whose extents along the in-plane axes u, v overlap.
-void join_cell(const PolygonSoup& soup, std::span<const Entry> cell, const GroupingFrame& f, std::vector<uint32_t>& parent) {
+void join_cell(const PolygonSoup& soup, std::span<const Entry> cell, const GroupingFrame& f, std::vector<uint32_t>& parent,
+               std::vector<std::pair<Extent, uint32_t>>& items) {
   const int drop = dominant_axis(soup.polygons[cell[0].polygon].normal);
   const int u = (drop + 1) % 3, v = (drop + 2) % 3;
-  std::vector<std::pair<Extent, uint32_t>> items;
-  items.reserve(cell.size());
+  items.clear();
   for (const Entry& e : cell) {
     Extent x{INFINITY, -INFINITY, INFINITY, -INFINITY};
     for (const Vec3& q : soup.points(soup.polygons[e.polygon])) {
@@ -158,13 +172,14 @@ void assign_plane_groups(PolygonSoup& soup) {
   entries.reserve(n + n / 8);
   for (uint32_t i = 0; i < n; ++i) add_entries(soup.polygons[i], i, f, entries);
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return a.key != b.key ? a.key < b.key : a.polygon < b.polygon;
+    return a.cell != b.cell ? a.cell < b.cell : a.polygon < b.polygon;
   });
   std::vector<uint32_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0u);
+  std::vector<std::pair<Extent, uint32_t>> items;  // one cell's polygons, reused
   for (size_t begin = 0, end = 0; begin < entries.size(); begin = end) {
-    while (end < entries.size() && entries[end].key == entries[begin].key) ++end;
-    if (end - begin > 1) join_cell(soup, std::span<const Entry>(entries.data() + begin, end - begin), f, parent);
+    while (end < entries.size() && entries[end].cell == entries[begin].cell) ++end;
+    if (end - begin > 1) join_cell(soup, std::span<const Entry>(entries.data() + begin, end - begin), f, parent, items);
   }
   // Number the sets with two or more polygons by their lowest index (roots are the lowest).
   std::vector<uint32_t> size(n, 0), group(n, 0);
