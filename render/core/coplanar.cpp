@@ -1,9 +1,7 @@
-// Plane groups (see coplanar.hpp). Candidate pairs come from hashing each polygon's plane — its unit
-// normal, signed so that the largest component is positive, and its distance from the scene's
-// centre, both in coarse cells, entered in the neighbouring cell too when a value lies near a cell
-// boundary — then sweeping each cell's polygons along one in-plane axis. A candidate pair joins a
-// group when each polygon's vertices are within the tolerance of the other's plane and their
-// interiors overlap (separating axes). Cost: a sort of the soup plus the pairs whose boxes overlap.
+// Plane groups (see coplanar.hpp): each polygon's plane (normal signed so its largest component is
+// positive, distance from the scene's centre) is hashed in coarse cells, entered in the neighbouring
+// cell too near a boundary; each cell is swept along one in-plane axis, and a pair joins a group when
+// each lies within the tolerance of the other's plane and their interiors overlap (separating axes).
 #include "render/core/coplanar.hpp"
 
 #include <algorithm>
