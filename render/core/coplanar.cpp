@@ -13,9 +13,12 @@ namespace rr {
 
 namespace {
 
-constexpr double normal_cell = 1e-4;    // coplanar polygons' computed normals differ far less
-constexpr double offset_cell = 1e-4;    // of the scene diagonal
-constexpr double near_boundary = 0.01;  // of a cell: the value enters the neighbouring cell too
+// Coplanar polygons' normals differ by about the tolerance over their size (2e-5 for a polygon of
+// 5e-6 of the scene diagonal), their offsets from the centre by that times the diagonal: cells of
+// 1e-3, with values within 2 % of a cell boundary entered in both cells, cover that.
+constexpr double normal_cell = 1e-3;
+constexpr double offset_cell = 1e-3;    // of the scene diagonal
+constexpr double near_boundary = 0.02;  // of a cell: the value enters the neighbouring cell too
 
 // A polygon under one cell key; the key is hashed to 64 bits, so that sorting moves 16 bytes and
 // compares one word. Two cells sharing a hash (a chance of about cells² / 2^65 per soup) add
@@ -43,10 +46,11 @@ int dominant_axis(Vec3 n) {
   return a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
 }
 
-// The cells of one key component: its own, and the neighbour whose boundary is near.
+// The cells of one key component: its own, and the neighbour whose boundary is near. Cells are
+// centred on integers, so that the 0 and ±1 components of axis-aligned normals sit mid-cell.
 int cells_of(double x, int64_t out[2]) {
-  const double f = std::floor(x);
-  const double r = x - f;
+  const double f = std::floor(x + 0.5);
+  const double r = x + 0.5 - f;
   out[0] = int64_t(f);
   if (r >= near_boundary && r <= 1.0 - near_boundary) return 1;
   out[1] = r < near_boundary ? out[0] - 1 : out[0] + 1;

@@ -99,6 +99,29 @@ TEST(Coplanar, OverlappingSquaresFormOneGroupAndTheirOwnHalvesDoNot) {
   for (const Polygon& p : tessellate(request_from_json(lifted).scene.geometry).polygons) EXPECT_EQ(p.plane_group, 0u);
 }
 
+// The same squares built 10^7 m from the origin (the coordinate limit), where doubles are 1.9e-9 m
+// apart and each triangle's computed plane differs from the others' in far more than the last bits.
+json two_squares_moved(Vec3 offset) {
+  json request = two_squares();
+  for (json& solid : request["scene"]["solids"]) {
+    for (json& v : solid["vertices"]) {
+      for (int k = 0; k < 3; ++k) v[k] = v[k].get<double>() + offset[k];
+    }
+  }
+  for (const char* key : {"position", "target"}) {
+    for (int k = 0; k < 3; ++k) request["camera"][key][k] = request["camera"][key][k].get<double>() + offset[k];
+  }
+  return request;
+}
+
+TEST(Coplanar, OverlappingSquaresFarFromTheOriginStillFormOneGroup) {
+  const json request = two_squares_moved(Vec3(7e6, 1e3, -9.9e6));
+  const PolygonSoup soup = tessellate(request_from_json(request).scene.geometry);
+  ASSERT_EQ(soup.polygons.size(), 4u);
+  for (const Polygon& p : soup.polygons) EXPECT_EQ(p.plane_group, 1u) << "polygon " << p.id;
+  expect_exact(request, "two squares near 1e7 m");
+}
+
 TEST(Coplanar, OverlappingSquaresOfDifferentTriangulationsShowTheLowerIdEverywhere) {
   const json request = two_squares();
   const testing::SceneRender truth = render_with(request, {{"pipeline", "reference"}});
