@@ -97,8 +97,8 @@ bool parse_switch_flag(const std::string& text, const std::string& what, const c
 double parse_scale(const std::string& text) {
   char* end = nullptr;
   double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !(value >= 1e-9 && value <= 1e6)) {
-    throw UsageError("--scale must be a number in [1e-9, 1e6] (metres per file unit), not '" + text + "'");
+  if (text.empty() || end != text.c_str() + text.size() || !(value >= 1e-9 && value <= 1e7)) {
+    throw UsageError("--scale must be a number in [1e-9, 1e7] (metres per file unit), not '" + text + "'");
   }
   return value;
 }

@@ -1,5 +1,5 @@
 // The one place GLM is included and configured. World and view space use doubles (scenes may sit
-// 1e6 m from the origin); colours and shading normals use floats.
+// 1e7 m from the origin); colours and shading normals use floats.
 #pragma once
 
 #define GLM_FORCE_SILENT_WARNINGS

@@ -1,6 +1,7 @@
 // Static geometry -> PolygonSoup: the polygon builder, the floor and the solids (walls live in
 // tessellate_walls.cpp, each solid type's faces in its solid_<name>.cpp). World space, metres, doubles. Ids are indices, in the order of
 // docs/scene-format.md "Polygon ids"; every polygon is convex, planar, CCW seen from its front.
+#include "render/core/coplanar.hpp"
 #include "render/core/solids.hpp"
 #include "render/core/tessellate_detail.hpp"
 
@@ -147,7 +148,9 @@ PolygonSoup tessellate(const StaticGeometry& geometry) {
   if (geometry.has_floor) add_floor(out, geometry.floor);
   detail::add_walls(out, geometry.walls);
   for (size_t i = 0; i < geometry.solids.size(); ++i) add_solid(out, geometry.solids[i], i);
-  return out.take();
+  PolygonSoup soup = out.take();
+  assign_plane_groups(soup);
+  return soup;
 }
 
 size_t estimate_polygon_count(const StaticGeometry& geometry) {

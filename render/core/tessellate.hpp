@@ -40,6 +40,7 @@ struct Polygon {
   uint32_t material = 0;      // into PolygonSoup::materials
   uint32_t object = 0;        // into PolygonSoup::objects
   uint32_t flags = 0;         // PolygonFlags
+  uint32_t plane_group = 0;   // > 0: overlaps a polygon in its own plane (coplanar.hpp); 0: none
   Vec3 normal{0.0, 1.0, 0.0};  // unit, outward
   double offset = 0.0;         // plane: dot(normal, p) == offset
 };

@@ -56,9 +56,9 @@ std::optional<long long> parse_long(std::string_view field) {
 
 double resolve_scale(const ImportOptions& options, ImportFormat format) {
   if (options.scale == 0.0) return import_format_info(format).default_scale;
-  // 1e6 keeps a unit-sized file inside the coordinate limit; below 1e-9 nothing would be visible.
-  if (!std::isfinite(options.scale) || options.scale < 1e-9 || options.scale > 1e6) {
-    throw InputError(Kind::invalid, "/scale", "scale must be a number in [1e-9, 1e6] metres per unit");
+  // 1e7 keeps a unit-sized file inside the coordinate limit; below 1e-9 nothing would be visible.
+  if (!std::isfinite(options.scale) || options.scale < 1e-9 || options.scale > 1e7) {
+    throw InputError(Kind::invalid, "/scale", "scale must be a number in [1e-9, 1e7] metres per unit");
   }
   return options.scale;
 }

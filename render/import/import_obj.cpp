@@ -45,8 +45,8 @@ Vec3 parse_vector(const std::vector<std::string_view>& fields, size_t line, cons
       throw_at_line(Kind::invalid, line, std::string(what) + " coordinate '" + quote_input(fields[size_t(k) + 1]) +
                                              "' is not a finite number");
     }
-    // The mesh keeps file units; the request refuses coordinates beyond 1e6.
-    if (std::abs(*value) > 1e6) throw_at_line(Kind::invalid, line, std::string(what) + " coordinate exceeds 1e6");
+    // The mesh keeps file units; the request refuses coordinates beyond 1e7.
+    if (std::abs(*value) > 1e7) throw_at_line(Kind::invalid, line, std::string(what) + " coordinate exceeds 1e7");
     v[k] = *value;
   }
   return v;

@@ -66,7 +66,7 @@ Plan parse_plan(std::string_view text) {
     double c[4];
     for (int k = 0; k < 4; ++k) {
       auto v = parse_double(fields[size_t(k)]);
-      if (!v || std::abs(*v) > 1e6) {
+      if (!v || std::abs(*v) > 1e7) {
         throw_at_line(Kind::malformed, n, "coordinate '" + quote_input(fields[size_t(k)]) + "' is not a number");
       }
       c[k] = *v;

@@ -37,10 +37,11 @@ void for_each_sample(size_t n, size_t want, Fn&& fn) {
 // of a 10^5-polygon soup, where one node's splitter choice alone is 10^4+ classifications.
 constexpr size_t kClassificationsPerCheck = 16384;
 
-Plane choose_splitter(const PolygonSoup& soup, const std::vector<uint32_t>& polygons,
-                      const BspOptions& options, double epsilon, CancelMeter& meter) {
+// The splitter: the chosen polygon's index in `soup`.
+uint32_t choose_splitter(const PolygonSoup& soup, const std::vector<uint32_t>& polygons,
+                         const BspOptions& options, double epsilon, CancelMeter& meter) {
   double best_score = std::numeric_limits<double>::infinity();
-  Plane best = plane_of(soup.polygons[polygons[0]]);
+  uint32_t best = polygons[0];
   for_each_sample(polygons.size(), size_t(options.max_candidates), [&](size_t c) {
     meter.add(std::min(polygons.size(), kScoreSample));
     const Plane plane = plane_of(soup.polygons[polygons[c]]);
@@ -54,7 +55,7 @@ Plane choose_splitter(const PolygonSoup& soup, const std::vector<uint32_t>& poly
       }
     });
     double score = options.w1 * std::abs(front - back) + options.w2 * splits + options.w3 * coplanar;
-    if (score < best_score) best_score = score, best = plane;  // ties: the first candidate
+    if (score < best_score) best_score = score, best = polygons[c];  // ties: the first candidate
   });
   return best;
 }
@@ -115,12 +116,17 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
     Work work = std::move(stack.back());
     stack.pop_back();
     tree.depth = std::max(tree.depth, work.depth);
-    const Plane plane = choose_splitter(frags, work.polygons, options, tree.epsilon, meter);
+    const uint32_t splitter = choose_splitter(frags, work.polygons, options, tree.epsilon, meter);
+    const Plane plane = plane_of(frags.polygons[splitter]);
+    const uint32_t group = frags.polygons[splitter].plane_group;
     std::vector<uint32_t> front, back;
     const uint32_t first = uint32_t(tree.node_polygons.size());
     for (uint32_t index : work.polygons) {
       meter.add(1);
-      switch (classify_polygon(frags.points(frags.polygons[index]), plane, tree.epsilon)) {
+      // The splitter's plane group stays in its node whatever the band, so that ties there are
+      // decided by id (below), as the reference decides them.
+      const bool same_plane = group != 0 && frags.polygons[index].plane_group == group;
+      switch (same_plane ? PlaneSide::on : classify_polygon(frags.points(frags.polygons[index]), plane, tree.epsilon)) {
         case PlaneSide::on: tree.node_polygons.push_back(index); break;
         case PlaneSide::front: front.push_back(index); break;
         case PlaneSide::back: back.push_back(index); break;
@@ -147,6 +153,10 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
       (front.empty() ? back : front).pop_back();
       tree.nodes[size_t(work.node)].count = 1;
     }
+    // Drawn back to front, the last of a node's polygons wins an overlap: highest id first, so the
+    // lowest id wins ties as in the reference (docs/accuracy.md, "Ties"); front to back the reverse.
+    std::stable_sort(tree.node_polygons.begin() + first, tree.node_polygons.end(),
+                     [&](uint32_t a, uint32_t b) { return frags.polygons[a].id > frags.polygons[b].id; });
     for (auto* side : {&back, &front}) {
       if (side->empty()) continue;
       int32_t child = int32_t(tree.nodes.size());

@@ -67,6 +67,7 @@ struct Cursor {
 
 struct GridEntry {
   uint32_t item;
+  uint32_t plane_group;  // the item's Polygon::plane_group (in what would be padding)
   double dmax;  // the item's farthest view depth, for the depth-extent test
 };
 
@@ -131,7 +132,7 @@ class Newell {
         continue;
       }
       const uint32_t q = uint32_t(found);
-      const bool q_may_go_first = items_[q].dmin >= items_[p].dmax - eps_ ||
+      const bool q_may_go_first = same_plane(p, q) || items_[q].dmin >= items_[p].dmax - eps_ ||
                                   side_range(q, p).hi <= eps_ || side_range(p, q).lo >= -eps_;
       if (q_may_go_first && mark_[q] != epoch_) {
         mark_[q] = epoch_;
@@ -169,8 +170,9 @@ class Newell {
     alive_.push_back(1);
     mark_.push_back(0);
     cursor_.push_back({});
+    const uint32_t group = polygon_of(i).plane_group;
     for (int y = r.y0; y <= r.y1; ++y) {
-      for (int x = r.x0; x <= r.x1; ++x) grid_[size_t(y) * size_t(nx_) + size_t(x)].push_back({i, it.dmax});
+      for (int x = r.x0; x <= r.x1; ++x) grid_[size_t(y) * size_t(nx_) + size_t(x)].push_back({i, group, it.dmax});
     }
   }
 
@@ -272,14 +274,23 @@ class Newell {
     return !separated_by_edges(pa, na) && !separated_by_edges(pb, nb);
   }
 
+  // One plane group (Polygon::plane_group): where the two overlap the lower id must show, so it is
+  // drawn last, whatever the depths of the two triangulations of one plane say.
+  bool same_plane(uint32_t p, uint32_t q) const {
+    const uint32_t group = polygon_of(p).plane_group;
+    return group != 0 && group == polygon_of(q).plane_group;
+  }
+
   // True when P may be drawn before Q: nothing of Q that P overlaps on screen lies behind P.
   bool may_draw_before(uint32_t p, uint32_t q) {
     const SortItem& P = items_[p];
     const SortItem& Q = items_[q];
-    if (P.dmin >= Q.dmax - eps_) return true;  // 1. P entirely farther
+    const bool coplanar = same_plane(p, q);
+    if (!coplanar && P.dmin >= Q.dmax - eps_) return true;  // 1. P entirely farther
     ++order_.pairs_tested;
     if (P.x1 <= Q.x0 || Q.x1 <= P.x0) return true;  // 2. x extents
     if (P.y1 <= Q.y0 || Q.y1 <= P.y0) return true;  // 3. y extents
+    if (coplanar) return polygon_of(p).id >= polygon_of(q).id || !projections_overlap(p, q);
     if (side_range(p, q).hi <= eps_) return true;   // 4. P behind Q's plane
     if (side_range(q, p).lo >= -eps_) return true;  // 5. Q in front of P's plane
     return !projections_overlap(p, q);              // 6. projections
@@ -302,6 +313,7 @@ class Newell {
     }
     const CellRange r = cells_[p];
     const double near_limit = items_[p].dmin + eps_;  // Q farthest below this: 1. P entirely farther
+    const uint32_t group = polygon_of(p).plane_group;
     const uint32_t width = uint32_t(r.x1 - r.x0 + 1), count = width * uint32_t(r.y1 - r.y0 + 1);
     for (; c.cell < count; ++c.cell, c.entry = 0) {
       const int cx = r.x0 + int(c.cell % width), cy = r.y0 + int(c.cell / width);
@@ -312,7 +324,8 @@ class Newell {
       for (; c.entry < list.size(); ++c.entry) {
         const GridEntry& e = list[c.entry];
         count_check();
-        if (e.dmax <= near_limit) continue;  // the depth-extent test, from the entry alone
+        // The depth-extent test, from the entry alone; not within P's plane group, ordered by id.
+        if (e.dmax <= near_limit && (group == 0 || e.plane_group != group)) continue;
         const uint32_t q = e.item;
         if (q >= c.base) break;  // cell lists grow in index order; newer items are checked below
         if (q == p || !alive_[q]) continue;

@@ -6,6 +6,7 @@
 // thread, so the image does not depend on the thread count.
 #include "render/pipelines/reference.hpp"
 
+#include "render/core/coplanar.hpp"
 #include "render/core/draw.hpp"
 #include "render/pipelines/reference_detail.hpp"
 #include "render/core/timer.hpp"
@@ -98,6 +99,7 @@ ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
     rs.scene_size = glm::length(scene_box.hi - scene_box.lo);
     rs.scene_magnitude = std::max(glm::length(scene_box.lo), glm::length(scene_box.hi));
   }
+  rs.coplanar_tolerance = coplanar_tolerance(soup);
   rs.world_from_clip = glm::inverse(input.view.clip_from_world);
   return rs;
 }
@@ -107,6 +109,15 @@ bool nearer(double depth, uint32_t id, double best_depth, uint32_t best_id) {
   const double tolerance = reference_depth_tie * std::max(depth, best_depth);
   if (std::abs(depth - best_depth) <= tolerance) return id < best_id;
   return depth < best_depth;
+}
+
+// The opaque hits' order: polygons of one plane group (coplanar.hpp) tie whatever their computed
+// depths, since two triangulations of one plane give depths that differ in the last bits; others as
+// nearer().
+bool nearer_opaque(const PolygonSoup& soup, double depth, uint32_t i, double best_depth, uint32_t best) {
+  const uint32_t group = soup.polygons[i].plane_group;
+  if (group != 0 && group == soup.polygons[best].plane_group) return i < best;
+  return nearer(depth, i, best_depth, best);
 }
 
 PixelHits cast_pixel(const ReferenceScene& rs, int x, int y, std::vector<Hit>& translucent) {
@@ -130,9 +141,12 @@ PixelHits cast_pixel(const ReferenceScene& rs, int x, int y, std::vector<Hit>& t
     const Hit hit{i, t, t * depth_per_t};
     if (poly.flags & polygon_translucent) {
       translucent.push_back(hit);
-    } else if (out.opaque.polygon == background_id || nearer(hit.depth, i, out.opaque.depth, out.opaque.polygon)) {
+    } else if (out.opaque.polygon == background_id || nearer_opaque(soup, hit.depth, i, out.opaque.depth, out.opaque.polygon)) {
       out.opaque = hit;
-      t_limit = t * (1.0 + 4.0 * reference_depth_tie);  // still visit ties
+      // Still visit ties: by depth, and the rest of the hit's plane group, up to the group's
+      // tolerance either side of its plane along this ray.
+      const double group_slack = poly.plane_group ? 2.0 * rs.coplanar_tolerance / std::abs(denom) : 0.0;
+      t_limit = t * (1.0 + 4.0 * reference_depth_tie) + group_slack;
     }
     return false;
   });

@@ -36,8 +36,22 @@ struct Buffers {
   uint32_t* visible = nullptr; // its position in the tile's bin, or no_triangle
 };
 
+// Pass 1 of one span of a triangle of plane group `group`: a pixel whose visible triangle lies in the
+// same group keeps it whatever the depths say, because it was drawn earlier and so has the lower id
+// (docs/accuracy.md, "Ties"); other pixels take the depth test.
+void resolve_grouped_span(const VisibilityInput& vis, const std::vector<uint32_t>& bin, uint32_t group, uint32_t j,
+                          double z0, double dz_dx, int n, float* depth, uint32_t* visible) {
+  for (int i = 0; i < n; ++i) {
+    const float z = float(z0 + double(i) * dz_dx);
+    const uint32_t v = visible[i];
+    const bool same_plane = v != no_triangle && vis.slot_groups[vis.triangles[bin[v]].slot] == group;
+    if (!same_plane && z > depth[i]) depth[i] = z, visible[i] = j;
+  }
+}
+
 // Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading.
-size_t resolve_triangle(const BinnedTriangle& t, uint32_t j, const PixelRect& r, const Buffers& b) {
+size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>& bin, const BinnedTriangle& t,
+                        uint32_t j, const PixelRect& r, const Buffers& b) {
   TriangleSetup s;
   if (!setup_binned(t, s)) return 0;
   const int px0 = std::max(r.x0, s.px0), px1 = std::min(r.x1 - 1, s.px1);
@@ -49,6 +63,7 @@ size_t resolve_triangle(const BinnedTriangle& t, uint32_t j, const PixelRect& r,
     dz_dx += double(s.step_x[k]) * s.inv_area * w[k];
   }
   int64_t e_row[3] = {s.edge(0, px0, py0), s.edge(1, px0, py0), s.edge(2, px0, py0)};
+  const uint32_t group = vis.slot_groups[t.slot];
   size_t covered = 0;
   for (int y = py0; y <= py1; ++y) {
     int64_t first, last = px1 - px0;
@@ -60,6 +75,12 @@ size_t resolve_triangle(const BinnedTriangle& t, uint32_t j, const PixelRect& r,
       float* depth = b.depth + at;
       uint32_t* visible = b.visible + at;
       const int n = int(last - first + 1);
+      if (group != 0) {
+        resolve_grouped_span(vis, bin, group, j, z0, dz_dx, n, depth, visible);
+        covered += size_t(n);
+        for (int k = 0; k < 3; ++k) e_row[k] += s.step_y[k];
+        continue;
+      }
       for (int i = 0; i < n; ++i) {  // branch-free so that it vectorizes
         const float z = float(z0 + double(i) * dz_dx);
         const bool nearer = z > depth[i];
@@ -81,7 +102,7 @@ size_t resolve_tile(const VisibilityInput& vis, size_t tile, const PixelRect& r,
   }
   size_t covered = 0;
   const std::vector<uint32_t>& bin = vis.bins[tile];
-  for (uint32_t j = 0; j < bin.size(); ++j) covered += resolve_triangle(vis.triangles[bin[j]], j, r, b);
+  for (uint32_t j = 0; j < bin.size(); ++j) covered += resolve_triangle(vis, bin, vis.triangles[bin[j]], j, r, b);
   return covered;
 }
 
@@ -219,6 +240,7 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
   out.bins.resize(size_t(out.tiles_x) * size_t(out.tiles_y));
   for (auto& bin : out.bins) bin.clear();
   out.polygons.clear();
+  out.slot_groups.clear();
   out.triangles.clear();
   out.translucent.clear();
   out.translucent_rects.clear();
@@ -233,6 +255,7 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
     stats.triangles += scratch.screen.size() - 2;
     const uint32_t slot = uint32_t(out.polygons.size());
     out.polygons.push_back(i);
+    out.slot_groups.push_back(input.soup.polygons[i].plane_group);
     sx.resize(scratch.screen.size()), sy.resize(scratch.screen.size());
     for (size_t v = 0; v < scratch.screen.size(); ++v) {
       sx[v] = int32_t(snap_to_subpixel(scratch.screen[v].x)), sy[v] = int32_t(snap_to_subpixel(scratch.screen[v].y));

@@ -28,6 +28,7 @@ struct BinnedTriangle {
 
 struct VisibilityInput {
   std::vector<uint32_t> polygons;     // soup index of each projected opaque polygon, in draw order
+  std::vector<uint32_t> slot_groups;  // its plane group (Polygon::plane_group), 0 for none
   std::vector<BinnedTriangle> triangles;
   std::vector<std::vector<uint32_t>> bins;  // per tile, row-major: triangle indices in draw order
   std::vector<uint32_t> translucent;  // soup indices, far to near

@@ -21,7 +21,7 @@ struct ParseLimits {
   size_t max_polygons = 2'000'000;      // after tessellation, estimated before it runs
   int max_cylinder_segments = 1024;
   long long max_floor_cells = 1'000'000;
-  double max_abs_coordinate = 1e6;      // metres, every position-like number
+  double max_abs_coordinate = 1e7;      // metres, every position-like number (national grids reach 1e7)
   double max_far_over_near = 1e7;
 };
 

@@ -138,7 +138,7 @@ TEST_F(LimitsTest, InputBoundsAnswerAtTheField) {
   EXPECT_EQ(refused_at(R"({"scene": {"solids": [{"type": "cylinder", "center": [0, 0], "radius": 1,
             "height": 1, "segments": 1000000}]}})", 413), "/scene/solids/0/segments");
   EXPECT_EQ(refused_at(R"({"scene": {"floor": {"cells": [100000, 100000]}}})", 413), "/scene/floor/cells");
-  EXPECT_EQ(refused_at(R"({"scene": {"walls": [{"start": [0, 0], "end": [2000000, 0]}]}})", 422),
+  EXPECT_EQ(refused_at(R"({"scene": {"walls": [{"start": [0, 0], "end": [20000000, 0]}]}})", 422),
             "/scene/walls/0/end/0");
   EXPECT_EQ(refused_at(R"({"camera": {"fov_y": 1}})", 422), "/camera/fov_y");
   EXPECT_EQ(refused_at(R"({"camera": {"fov_y": 170}})", 422), "/camera/fov_y");

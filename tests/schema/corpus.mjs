@@ -164,7 +164,7 @@ semantic("far not beyond near", ["camera/near", 5], ["camera/far", 4]);
 semantic("far / near above 1e7", ["camera/near", 0.00001], ["camera/far", 1000]);
 semantic("camera target at its position", ["camera/target", [4, 3, 5]]);
 semantic("up parallel to the view", ["camera/position", [0, 5, 0]], ["camera/target", [0, 0, 0]]);
-semantic("coordinate beyond 1e6 m", ["scene/solids/0/center", [2000000, 0]]);
+semantic("coordinate beyond 1e7 m", ["scene/solids/0/center", [20000000, 0]]);
 semantic("non-planar mesh face", ["scene/solids/4/vertices/3", [0, 0, 1]],
          ["scene/solids/4/faces", [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 1, 2, 3]]]);
 

@@ -244,8 +244,8 @@ TEST(SceneJsonErrors, OutOfRange) {
                Kind::invalid, "/scene/walls/0/openings/0/opacity", "must be at most 1");
   expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"height":0}]}})", Kind::invalid,
                "/scene/walls/0/height", "must be greater than 0");
-  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[2e6,0]}]}})", Kind::invalid,
-               "/scene/walls/0/end/0", "at most 1000000");
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[2e7,0]}]}})", Kind::invalid,
+               "/scene/walls/0/end/0", "at most 10000000");
   expect_error(R"({"scene":{"walls":[{"start":[1,1],"end":[1,1]}]}})", Kind::invalid,
                "/scene/walls/0/end", "from start");
   expect_error(R"({"scene":{"ambient":{"intensity":-1}}})", Kind::invalid,
