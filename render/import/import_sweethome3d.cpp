@@ -1,9 +1,9 @@
 // Sweet Home 3D Home.xml -> a request: every level as a scene level at its elevation (hidden ones
 // not viewable, so not drawn by default) with its elements tagged, walls and openings
-// (import_sh3d_walls.cpp), rooms as rooms (floor and ceiling), furniture and lamps as boxes of the piece's size and angle,
-// each light source as a point light, and the observer camera as the camera. Centimetres -> metres;
-// the plan's x and y are our x and z; Sweet Home 3D angles turn clockwise on the plan, ours
-// counter-clockwise, so rotation_y = -angle.
+// (import_sh3d_walls.cpp), rooms as rooms (floor and ceiling), furniture and lamps as boxes of the
+// piece's size and angle, each light source as a point light, and the observer camera as the
+// camera. Centimetres -> metres; the plan's x and y are our x and z; Sweet Home 3D angles turn
+// clockwise on the plan, ours counter-clockwise, so rotation_y = -angle.
 #include "render/import/import.hpp"
 #include "render/import/import_sh3d.hpp"
 #include "render/scene_io/scene_checks.hpp"

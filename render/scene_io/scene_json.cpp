@@ -272,12 +272,12 @@ Scene read_scene(const json& value, const std::string& pointer, const Bounds& sc
   ObjectReader r(value, pointer, scene_bounds.errors,
                  {"version", "background", "ambient", "floor", "walls", "solids", "lights", "rooms", "levels"});
   Scene scene;
-  // Levels first: the other elements name them.
   Bounds b = scene_bounds;
   const size_t errors_before = b.errors.size();
   if (r.integer("version", 1, NumberRange{}) != 1 && b.errors.size() == errors_before) {
     b.errors.add(r.at("version"), "must be 1 (the only format version)");
   }
+  // Levels first: the other elements name them.
   b.levels = &scene.geometry.levels;
   read_list(r, "levels", b, scene.geometry.levels, read_level);
   check_level_ids(scene.geometry.levels, r.at("levels"), b.errors);
