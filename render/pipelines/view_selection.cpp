@@ -61,6 +61,10 @@ PolygonSoup selected_soup(const PolygonSoup& soup, const SoupSelection& selectio
   PolygonSoup out;
   out.materials = soup.materials;
   out.objects = soup.objects;
+  // At most the whole soup: one allocation each instead of repeated growth.
+  out.polygons.reserve(soup.polygons.size());
+  out.positions.reserve(soup.positions.size());
+  out.normals.reserve(soup.normals.size());
   for (const Polygon& p : soup.polygons) {
     if (!selection.keep[p.object]) continue;
     Polygon q = p;
