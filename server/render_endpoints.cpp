@@ -155,6 +155,7 @@ std::optional<std::pair<RenderRequest, std::string>> read_view(const ServiceStat
                      "a stored scene is rendered with only camera and options; the scene is not allowed here");
   }
   RenderRequest request = request_from_json(view, state.config.limits);
+  check_view_levels(request.options, scene.scene.geometry.levels);
   res.set_header("X-Scene-Id", scene.static_id);
   std::string etag = render_etag(scene.id, view, match.media_type);
   if (answer_not_modified(req, res, etag)) return std::nullopt;

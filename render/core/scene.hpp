@@ -26,6 +26,7 @@ struct Floor {
   double elevation = 0.0;
   std::vector<Color> colors;  // >= 2; cell (i, j) takes colors[(i + j) % n]
   MaterialParams material;
+  int level = -1;  // index into StaticGeometry::levels, -1: on no level (always drawn)
 };
 
 enum class OpeningType { door, window };
@@ -52,6 +53,7 @@ struct Wall {
   Color color{0.902f, 0.882f, 0.839f};
   MaterialParams material;
   std::vector<Opening> openings;
+  int level = -1;
 };
 
 enum class SolidType { box, cylinder, pyramid, prism, mesh };
@@ -81,6 +83,30 @@ struct Solid {
   Vec3 position{0.0, 0.0, 0.0};
   Vec3 scale{1.0, 1.0, 1.0};
   bool closed = false;  // mesh only; the other solids know whether they are closed
+  int level = -1;
+};
+
+// A storey: elements tagged with it are drawn when the request selects it (RenderOptions::levels).
+struct Level {
+  std::string id;
+  double elevation = 0.0;  // its floor's y
+  double height = 2.5;     // floor to ceiling: the default ceiling height of its rooms
+  bool viewable = true;    // drawn when the request names no levels
+};
+
+// A room: a floor polygon facing up and, unless `ceiling` is false, the same polygon facing down at
+// elevation + ceiling_height. The parser resolves every default (level elevation and height).
+struct Room {
+  std::string id;
+  std::vector<Vec2> points;  // simple polygon in the plan (x, z), either winding
+  double elevation = 0.0;
+  bool floor = true;
+  Color floor_color{0.851f, 0.831f, 0.780f};
+  MaterialParams floor_material;
+  bool ceiling = true;
+  double ceiling_height = 2.5;
+  Color ceiling_color{0.941f, 0.941f, 0.941f};
+  int level = -1;
 };
 
 enum class LightType { directional, point };
@@ -106,6 +132,8 @@ struct StaticGeometry {
   Floor floor;
   std::vector<Wall> walls;
   std::vector<Solid> solids;
+  std::vector<Room> rooms;
+  std::vector<Level> levels;
 };
 
 struct Scene {
@@ -169,6 +197,10 @@ struct ShadowOptions {
   ShadowFit fit = ShadowFit::view;
 };
 
+// Which ceilings a view draws: auto draws a room's ceiling when the camera is below it (an aerial
+// view sees into the rooms), on draws every ceiling, off none.
+enum class CeilingMode { automatic, on, off };
+
 struct RenderOptions {
   int width = 640;
   int height = 480;
@@ -179,6 +211,9 @@ struct RenderOptions {
   bool shadows = false;
   ShadowOptions shadow;
   PngCompression png_compression = PngCompression::fast;
+  bool levels_given = false;        // false: the viewable levels are drawn
+  std::vector<std::string> levels;  // ids of StaticGeometry::levels to draw
+  CeilingMode ceilings = CeilingMode::automatic;
 };
 
 struct RenderRequest {

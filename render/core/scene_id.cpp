@@ -34,6 +34,8 @@ void add(Fnv1a& h, const MaterialParams& m);
 void add(Fnv1a& h, const Opening& o);
 void add(Fnv1a& h, const Wall& w);
 void add(Fnv1a& h, const Solid& s);
+void add(Fnv1a& h, const Level& l);
+void add(Fnv1a& h, const Room& r);
 
 template <class T>
 void add(Fnv1a& h, const std::vector<T>& items) {
@@ -47,10 +49,10 @@ void add(Fnv1a& h, const MaterialParams& m) {
 }
 
 void add(Fnv1a& h, const Floor& f) {
-  const auto& [id, origin, cells_x, cells_z, cell_size, elevation, colors, material] = f;
+  const auto& [id, origin, cells_x, cells_z, cell_size, elevation, colors, material, level] = f;
   (void)id;
   add(h, origin); add(h, cells_x); add(h, cells_z); add(h, cell_size); add(h, elevation);
-  add(h, colors); add(h, material);
+  add(h, colors); add(h, material); add(h, level);
 }
 
 void add(Fnv1a& h, const Opening& o) {
@@ -61,32 +63,53 @@ void add(Fnv1a& h, const Opening& o) {
 }
 
 void add(Fnv1a& h, const Wall& w) {
-  const auto& [id, start, end, thickness, height, base, color, material, openings] = w;
+  const auto& [id, start, end, thickness, height, base, color, material, openings, level] = w;
   (void)id;
   add(h, start); add(h, end); add(h, thickness); add(h, height); add(h, base); add(h, color);
-  add(h, material); add(h, openings);
+  add(h, material); add(h, openings); add(h, level);
 }
 
 void add(Fnv1a& h, const Solid& s) {
   const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments,
-               smooth, caps, points, vertices, faces, normals, position, scale, closed] = s;
+               smooth, caps, points, vertices, faces, normals, position, scale, closed, level] = s;
   (void)id;
   add(h, type); add(h, color); add(h, material);
   add(h, center); add(h, base); add(h, rotation_y_deg); add(h, size);
   add(h, radius); add(h, height); add(h, segments); add(h, smooth); add(h, caps);
   add(h, points); add(h, vertices); add(h, faces); add(h, normals);
-  add(h, position); add(h, scale); add(h, closed);
+  add(h, position); add(h, scale); add(h, closed); add(h, level);
+}
+
+// A level's id is hashed: requests select levels by it.
+void add(Fnv1a& h, const Level& l) {
+  const auto& [id, elevation, height, viewable] = l;
+  h.add_u64(id.size());
+  h.add_bytes(id);
+  add(h, elevation); add(h, height); add(h, viewable);
+}
+
+void add(Fnv1a& h, const Room& r) {
+  const auto& [id, points, elevation, floor, floor_color, floor_material, ceiling, ceiling_height, ceiling_color,
+               level] = r;
+  (void)id;
+  add(h, points); add(h, elevation); add(h, floor); add(h, floor_color); add(h, floor_material);
+  add(h, ceiling); add(h, ceiling_height); add(h, ceiling_color); add(h, level);
 }
 
 }  // namespace
 
 std::string scene_id(const StaticGeometry& geometry) {
-  const auto& [has_floor, floor, walls, solids] = geometry;
+  const auto& [has_floor, floor, walls, solids, rooms, levels] = geometry;
   Fnv1a h;
   h.add_bytes("roomrender static geometry 1");  // names this encoding; changed when it changes
   add(h, has_floor);
   if (has_floor) add(h, floor);
   add(h, walls); add(h, solids);
+  // Appended only when present, so the id of a scene without rooms or levels is unchanged.
+  if (!rooms.empty() || !levels.empty()) {
+    h.add_bytes("rooms and levels");
+    add(h, rooms); add(h, levels);
+  }
   return hex64(h.value());
 }
 

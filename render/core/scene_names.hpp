@@ -57,4 +57,11 @@ inline constexpr std::array<NameRow<OpeningType>, 2> opening_type_rows = {{
 }};
 inline constexpr NameTable<NameRow<OpeningType>> opening_type_names{opening_type_rows};
 
+inline constexpr std::array<NameRow<CeilingMode>, 3> ceiling_mode_rows = {{
+    {CeilingMode::automatic, "auto"},
+    {CeilingMode::on, "on"},
+    {CeilingMode::off, "off"},
+}};
+inline constexpr NameTable<NameRow<CeilingMode>> ceiling_mode_names{ceiling_mode_rows};
+
 }  // namespace rr

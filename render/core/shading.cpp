@@ -7,6 +7,7 @@
 
 #include "render/core/shading_detail.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -115,13 +116,27 @@ void SurfaceShader::add_terms(const Material& material, Vec3 p, Vec3 n, Color* o
   for (size_t s = 0; s < slots_; ++s) out[1 + s] = Color(slot_sums_[s]);
 }
 
+namespace {
+
+// The polygon whose id is `id`: ids are indices in a tessellated soup; a soup holding a view's
+// selection of one (render/pipelines/view_selection.hpp) keeps the ids, increasing, with gaps.
+const Polygon& polygon_with_id(const PolygonSoup& soup, uint32_t id) {
+  const auto& polygons = soup.polygons;
+  if (id < polygons.size() && polygons[id].id == id) return polygons[id];
+  auto it = std::lower_bound(polygons.begin(), polygons.end(), id,
+                             [](const Polygon& p, uint32_t value) { return p.id < value; });
+  assert(it != polygons.end() && it->id == id);
+  return *it;
+}
+
+}  // namespace
+
 void SurfaceShader::prepare(uint32_t index) {
   assert(prepared_ == this && "a binding copy shares its terms and prepares nothing");
   if (mode_ == ShadingMode::phong) return;  // everything happens per pixel
   const Polygon& poly = soup_.polygons[index];
   const bool fragment_soup = &soup_ != &input_.soup;
-  assert(!fragment_soup || poly.id < input_.soup.polygons.size());
-  const Polygon& source = fragment_soup ? input_.soup.polygons[poly.id] : poly;
+  const Polygon& source = fragment_soup ? polygon_with_id(input_.soup, poly.id) : poly;
   collect_reaching(source);
   const Material& material = soup_.materials[poly.material];
   const size_t width = 1 + slots_;

@@ -141,6 +141,21 @@ void add_solid(SoupBuilder& out, const Solid& s, size_t index) {
   type.add(out, s, material, object);
 }
 
+// Each object takes its element's level, so a view can select polygons by level.
+void tag_levels(PolygonSoup& soup, const StaticGeometry& g) {
+  for (SceneObject& o : soup.objects) {
+    const ElementRef& e = o.element;
+    switch (e.kind) {
+      case ElementKind::scene: break;
+      case ElementKind::floor: o.level = g.floor.level; break;
+      case ElementKind::wall:
+      case ElementKind::opening: o.level = g.walls[e.index].level; break;
+      case ElementKind::solid: o.level = g.solids[e.index].level; break;
+      case ElementKind::room: o.level = g.rooms[e.index].level; break;
+    }
+  }
+}
+
 }  // namespace
 
 PolygonSoup tessellate(const StaticGeometry& geometry) {
@@ -148,8 +163,10 @@ PolygonSoup tessellate(const StaticGeometry& geometry) {
   if (geometry.has_floor) add_floor(out, geometry.floor);
   detail::add_walls(out, geometry.walls);
   for (size_t i = 0; i < geometry.solids.size(); ++i) add_solid(out, geometry.solids[i], i);
+  detail::add_rooms(out, geometry.rooms);
   PolygonSoup soup = out.take();
   assign_plane_groups(soup);
+  if (!geometry.levels.empty()) tag_levels(soup, geometry);
   return soup;
 }
 
@@ -160,6 +177,7 @@ size_t estimate_polygon_count(const StaticGeometry& geometry) {
   }
   for (const Wall& w : geometry.walls) count += detail::estimate_wall_polygons(w);
   for (const Solid& s : geometry.solids) count += solid_table().row(s.type).estimate(s);
+  for (const Room& r : geometry.rooms) count += detail::estimate_room_polygons(r);
   return count;
 }
 

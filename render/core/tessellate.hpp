@@ -26,6 +26,8 @@ struct SceneObject {
   ElementRef element;   // the floor, a wall, an opening (leaf or pane) or a solid
   bool closed = false;  // faces bound a volume and wind outward: back faces can be skipped
   bool smooth = false;  // shading normals are averaged across faces
+  int level = -1;       // its element's level (StaticGeometry::levels), -1: on none
+  bool ceiling = false;  // a room's ceiling: a view may leave it out (RenderOptions::ceilings)
 };
 
 enum PolygonFlags : uint32_t {

@@ -25,6 +25,9 @@ class SoupBuilder {
   bool add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material, uint32_t object,
                    std::span<const glm::vec3> shading = {});
 
+  // Tags `object` as a room's ceiling: the views that leave ceilings out skip its polygons.
+  void mark_ceiling(uint32_t object) { soup_.objects[object].ceiling = true; }
+
   PolygonSoup take() { return std::move(soup_); }
 
  private:
@@ -58,5 +61,9 @@ void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const gl
 // Walls with their joins, openings, door leaves and panes (tessellate_walls.cpp).
 void add_walls(SoupBuilder& out, const std::vector<Wall>& walls);
 size_t estimate_wall_polygons(const Wall& wall);
+
+// Room floors and ceilings (tessellate_rooms.cpp).
+void add_rooms(SoupBuilder& out, const std::vector<Room>& rooms);
+size_t estimate_room_polygons(const Room& room);
 
 }  // namespace rr::detail

@@ -24,14 +24,17 @@ struct Sh3dElement {
 };
 
 struct Sh3dLevel {
+  std::string id;  // the level's id attribute, and its id in the scene's levels; empty: no level
   double elevation_m = 0.0;
   double floor_thickness_m = 0.12;
-  bool visible = true;
+  double height_m = 2.5;  // floor to ceiling: its rooms' ceiling height
+  bool viewable = true;   // Sweet Home 3D shows it (visible and viewable)
 };
 
 // What the readers share: levels by id, the default wall height, and the line table for messages.
 struct Sh3dHome {
   std::map<std::string, Sh3dLevel> levels;
+  std::vector<std::string> level_order;  // level ids in document order
   double wall_height_m = 2.5;
   std::vector<size_t> line_starts;  // byte offset of each line's first character
   size_t line_of(const pugi::xml_node& node) const;
@@ -48,10 +51,13 @@ double required_number(const Sh3dElement& e, const char* name);
 // "AARRGGBB" or "RRGGBB" hex -> colour (alpha ignored); nullopt when absent or not hex.
 std::optional<Color> color_attribute(const pugi::xml_node& node, const char* name);
 
-// The element's level (absent: the ground at elevation 0), or nullptr when that level is hidden
-// (its elements are left out, as Sweet Home 3D's 3D view leaves them out). A level the home does not
-// define is an InputError, since its elevation cannot be known.
-const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h);
+// The element's level (absent: the ground at elevation 0, with no id). Hidden levels are imported
+// too, tagged with their level, which the scene marks not viewable. A level the home does not define
+// is an InputError, since its elevation cannot be known.
+const Sh3dLevel& element_level(const Sh3dElement& e, const Sh3dHome& h);
+
+// Adds "level": the level's id to a scene element when the element is on a level.
+void tag_level(nlohmann::json& element, const Sh3dLevel& level);
 
 // A door or window as the walls see it: its span along its own x axis, in metres.
 struct Sh3dOpening {

@@ -25,6 +25,7 @@ struct Piece {
   const Sh3dElement* element = nullptr;
   size_t source = 0;  // index of the <wall> element
   std::string id, level;
+  const Sh3dLevel* scene_level = nullptr;
   Vec2 start, end;
   double thickness = 0.1, base = 0.0, height_start = 2.5, height_end = 2.5;
   Color color{0.902f, 0.882f, 0.839f};
@@ -67,10 +68,9 @@ std::vector<Vec2> arc_points(Vec2 a, Vec2 b, double extent) {
 // The pieces of one <wall>, or none (with a warning) when it is hidden or has no length.
 void read_wall(const Sh3dElement& e, size_t source, const Sh3dHome& h, std::vector<Piece>& pieces,
                std::vector<WallSource>& sources, std::vector<std::string>& warnings) {
-  const Sh3dLevel* level = visible_level(e, h);
+  const Sh3dLevel& level = element_level(e, h);
   std::string id = e.node.attribute("id").as_string("");
   sources.push_back({id.empty() ? e.pointer : id, 0.0});
-  if (!level) return;
   // Rounded once here, so the lengths computed below are the ones the request validator computes.
   const Vec2 a = round_plan(Vec2(required_number(e, "xStart"), required_number(e, "yStart")) / 100.0);
   const Vec2 b = round_plan(Vec2(required_number(e, "xEnd"), required_number(e, "yEnd")) / 100.0);
@@ -83,7 +83,8 @@ void read_wall(const Sh3dElement& e, size_t source, const Sh3dHome& h, std::vect
   p.source = source;
   p.level = e.node.attribute("level").as_string("");
   p.thickness = round_m(std::max(number_attribute(e, "thickness", 10.0) / 100.0, 0.001));
-  p.base = round_m(level->elevation_m);
+  p.base = round_m(level.elevation_m);
+  p.scene_level = &level;
   const double h0 = round_m(std::max(number_attribute(e, "height", h.wall_height_m * 100.0) / 100.0, 0.001));
   const double h1 = round_m(std::max(number_attribute(e, "heightAtEnd", h0 * 100.0) / 100.0, 0.001));
   if (auto c = color_attribute(e.node, "leftSideColor")) p.color = *c;
@@ -232,7 +233,11 @@ void add_sh3d_walls(const std::vector<Sh3dElement>& wall_elements, const std::ve
     walls.push_back({{"id", p.id}, {"start", json_vec2(p.start)}, {"end", json_vec2(p.end)},
                      {"thickness", round_m(p.thickness)}, {"height", round_m(height)}, {"base", round_m(p.base)},
                      {"color", json_color(p.color)}, {"openings", std::move(p.openings)}});
-    if (std::abs(p.height_start - p.height_end) > 1e-3) solids.push_back(wedge_mesh(p));
+    tag_level(walls.back(), *p.scene_level);
+    if (std::abs(p.height_start - p.height_end) > 1e-3) {
+      solids.push_back(wedge_mesh(p));
+      tag_level(solids.back(), *p.scene_level);
+    }
     for (const Vec2& q : {p.start, p.end}) {
       box.add({q.x, p.base, q.y});
       box.add({q.x, p.base + std::max(p.height_start, p.height_end), q.y});

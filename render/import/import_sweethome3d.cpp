@@ -1,9 +1,9 @@
-// Sweet Home 3D Home.xml -> a request: levels give elevations (elements of hidden levels are left
-// out, as Sweet Home 3D's 3D view leaves them out), walls and openings (import_sh3d_walls.cpp),
-// rooms as thin floor slabs (prisms), furniture and lamps as boxes of the piece's size and angle,
-// each light source as a point light, and the observer camera as the camera. Centimetres -> metres;
-// the plan's x and y are our x and z; Sweet Home 3D angles turn clockwise on the plan, ours
-// counter-clockwise, so rotation_y = -angle.
+// Sweet Home 3D Home.xml -> a request: every level as a scene level at its elevation (hidden ones
+// not viewable, so not drawn by default) with its elements tagged, walls and openings
+// (import_sh3d_walls.cpp), rooms as rooms (floor and ceiling), furniture and lamps as boxes of the
+// piece's size and angle, each light source as a point light, and the observer camera as the
+// camera. Centimetres -> metres; the plan's x and y are our x and z; Sweet Home 3D angles turn
+// clockwise on the plan, ours counter-clockwise, so rotation_y = -angle.
 #include "render/import/import.hpp"
 #include "render/import/import_sh3d.hpp"
 #include "render/scene_io/scene_checks.hpp"
@@ -90,17 +90,21 @@ std::optional<Color> color_attribute(const pugi::xml_node& node, const char* nam
   return Color{float((value >> 16) & 0xff) / 255.0f, float((value >> 8) & 0xff) / 255.0f, float(value & 0xff) / 255.0f};
 }
 
-const Sh3dLevel* visible_level(const Sh3dElement& e, const Sh3dHome& h) {
+const Sh3dLevel& element_level(const Sh3dElement& e, const Sh3dHome& h) {
   static const Sh3dLevel ground;
   pugi::xml_attribute a = e.node.attribute("level");
-  if (!a) return &ground;
+  if (!a) return ground;
   auto it = h.levels.find(a.as_string());
   if (it == h.levels.end()) {
     throw InputError(InputError::Kind::invalid, e.pointer,
                      "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" + quote_input(a.as_string()) +
                          "', which the home does not define");
   }
-  return it->second.visible ? &it->second : nullptr;
+  return it->second;
+}
+
+void tag_level(json& element, const Sh3dLevel& level) {
+  if (!level.id.empty()) element["level"] = level.id;
 }
 
 }  // namespace import_detail
@@ -140,25 +144,36 @@ pugi::xml_document load_home(std::string_view xml, Sh3dHome& h) {
   return doc;
 }
 
-void read_levels(const Elements& all, Sh3dHome& h, std::vector<std::string>& warnings) {
+void read_levels(const Elements& all, Sh3dHome& h) {
   for (const Sh3dElement& e : elements_named(all, "level")) {
     Sh3dLevel level;
+    level.id = e.node.attribute("id").as_string("");
     level.elevation_m = number_attribute(e, "elevation", 0.0) / 100.0;
     level.floor_thickness_m = std::max(number_attribute(e, "floorThickness", 12.0) / 100.0, 0.001);
-    level.visible = e.node.attribute("visible").as_bool(true) && e.node.attribute("viewable").as_bool(true);
-    std::string id = e.node.attribute("id").as_string("");
-    if (!level.visible) {
-      warnings.push_back("line " + std::to_string(e.line) + ": level '" + e.node.attribute("name").as_string(id.c_str()) +
-                         "' is hidden; its walls, rooms and furniture are left out");
-    }
-    h.levels[id] = level;
+    level.height_m = std::max(number_attribute(e, "height", h.wall_height_m * 100.0) / 100.0, 0.01);
+    level.viewable = e.node.attribute("visible").as_bool(true) && e.node.attribute("viewable").as_bool(true);
+    if (!h.levels.count(level.id)) h.level_order.push_back(level.id);
+    h.levels[level.id] = level;
   }
+}
+
+// The scene's levels in document order; a level without an id cannot be named, so none is emitted.
+json levels_json(const Sh3dHome& h) {
+  json out = json::array();
+  for (const std::string& id : h.level_order) {
+    const Sh3dLevel& l = h.levels.at(id);
+    if (id.empty()) continue;
+    out.push_back({{"id", id}, {"elevation", round_m(l.elevation_m)}, {"height", round_m(l.height_m)},
+                   {"viewable", l.viewable}});
+  }
+  return out;
 }
 
 std::vector<Sh3dOpening> read_openings(const Elements& all, const Sh3dHome& h) {
   std::vector<Sh3dOpening> out;
   for (const Sh3dElement& e : elements_named(all, "doorOrWindow")) {
-    if (!visible_level(e, h) || !e.node.attribute("visible").as_bool(true)) continue;
+    element_level(e, h);  // an unknown level is an error even for a door or window
+    if (!e.node.attribute("visible").as_bool(true)) continue;
     Sh3dOpening o;
     o.element = &e;
     o.name = e.node.attribute("name").as_string("");
@@ -178,11 +193,14 @@ std::vector<Sh3dOpening> read_openings(const Elements& all, const Sh3dHome& h) {
   return out;
 }
 
-// Rooms' floors: a slab as thick as the level's floor, its top at the level's elevation.
-void add_rooms(const Elements& all, const Sh3dHome& h, json& solids, std::vector<std::string>& warnings) {
+// Rooms: the floor at the level's elevation, the ceiling at the level's height above it (the home's
+// wall height without levels), as Sweet Home 3D draws them; a room shows neither is left out.
+void add_rooms(const Elements& all, const Sh3dHome& h, json& rooms, std::vector<std::string>& warnings) {
   for (const Sh3dElement& e : elements_named(all, "room")) {
-    const Sh3dLevel* level = visible_level(e, h);
-    if (!level || !e.node.attribute("floorVisible").as_bool(true)) continue;
+    const Sh3dLevel& level = element_level(e, h);
+    const bool floor = e.node.attribute("floorVisible").as_bool(true);
+    const bool ceiling = e.node.attribute("ceilingVisible").as_bool(true);
+    if (!floor && !ceiling) continue;
     std::vector<Vec2> points;
     for (pugi::xml_node p : e.node.children("point")) {
       Sh3dElement point{p, e.pointer, e.line};
@@ -193,15 +211,19 @@ void add_rooms(const Elements& all, const Sh3dHome& h, json& solids, std::vector
     const std::string name = e.node.attribute("name").as_string("");
     if (std::string problem = points.size() < 3 ? "fewer than 3 points" : simple_polygon_problem(points); !problem.empty()) {
       warnings.push_back("line " + std::to_string(e.line) + ": room '" + name + "' is not a simple polygon (" + problem +
-                         "); its floor is left out");
+                         "); it is left out");
       continue;
     }
     json plan = json::array();
     for (Vec2 q : points) plan.push_back(json_vec2(q));
     const Color color = color_attribute(e.node, "floorColor").value_or(Color{0.75f, 0.72f, 0.66f});
-    solids.push_back({{"type", "prism"}, {"id", "room " + name + " (" + e.pointer + ")"}, {"points", std::move(plan)},
-                      {"base", round_m(level->elevation_m - level->floor_thickness_m)},
-                      {"height", round_m(level->floor_thickness_m)}, {"color", json_color(color)}});
+    const double height = level.id.empty() ? h.wall_height_m : level.height_m;
+    json room = {{"id", "room " + name + " (" + e.pointer + ")"}, {"points", std::move(plan)},
+                 {"elevation", round_m(level.elevation_m)}, {"floor", floor}, {"floor_color", json_color(color)},
+                 {"ceiling", ceiling}, {"ceiling_height", round_m(height)}};
+    if (auto c = color_attribute(e.node, "ceilingColor")) room["ceiling_color"] = json_color(*c);
+    tag_level(room, level);
+    rooms.push_back(std::move(room));
   }
 }
 
@@ -221,23 +243,27 @@ void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& 
   Sh3dModelCache models;
   for (const char* kind : {"pieceOfFurniture", "light"}) {
     for (const Sh3dElement& e : elements_named(all, kind)) {
-      const Sh3dLevel* level = visible_level(e, h);
-      if (!level || !e.node.attribute("visible").as_bool(true)) continue;
+      const Sh3dLevel& level = element_level(e, h);
+      if (!e.node.attribute("visible").as_bool(true)) continue;
       const Vec2 centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
       const Vec3 size = Vec3(required_number(e, "width"), required_number(e, "height"), required_number(e, "depth")) / 100.0;
       const double angle = number_attribute(e, "angle", 0.0);
-      const double base = level->elevation_m + number_attribute(e, "elevation", 0.0) / 100.0;
+      const double base = level.elevation_m + number_attribute(e, "elevation", 0.0) / 100.0;
       if (!(size.x > 1e-4 && size.y > 1e-4 && size.z > 1e-4)) {
         ++skipped;
         continue;
       }
       const PiecePlacement place{centre, base, size, angle};
+      const size_t first_solid = solids.size();
       if (!options.furniture_models || !add_piece_model(e, place, options, models, solids)) {
         solids.push_back({{"type", "box"}, {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
                           {"center", json_vec2(centre)}, {"base", round_m(base)},
                           {"size", json_vec3(size)}, {"rotation_y", -angle * 180.0 / pi},
                           {"color", json_color(piece_color(e.node))}});
       }
+      for (size_t k = first_solid; k < solids.size(); ++k) tag_level(solids[k], level);
+      // Lights carry no level: a lamp of a hidden level would light the levels shown.
+      if (!level.viewable) continue;
       const double power = std::clamp(number_attribute(e, "power", 0.5), 0.0, 1.0);
       for (pugi::xml_node source : e.node.children("lightSource")) {
         Sh3dElement s{source, e.pointer, e.line};
@@ -296,11 +322,11 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   if (!(h.wall_height_m > 0.0) || !std::isfinite(h.wall_height_m)) h.wall_height_m = 2.5;
   const Elements all = collect_elements(root, h);
   ImportResult result;
-  read_levels(all, h, result.warnings);
-  json walls = json::array(), solids = json::array(), lights = json::array({default_sun_light()});
+  read_levels(all, h);
+  json walls = json::array(), solids = json::array(), rooms = json::array(), lights = json::array({default_sun_light()});
   Box3 box;
   add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
-  add_rooms(all, h, solids, result.warnings);
+  add_rooms(all, h, rooms, result.warnings);
   add_furniture(all, h, options, solids, lights, result.warnings);
   const double aspect = double(options.width) / double(options.height);
   std::optional<json> camera = observer_camera(all, aspect, box);
@@ -313,9 +339,11 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
                       {"ambient", {{"intensity", 0.45}}},
                       {"walls", std::move(walls)},
                       {"solids", std::move(solids)},
+                      {"rooms", std::move(rooms)},
                       {"lights", std::move(lights)}}},
                     {"camera", std::move(*camera)},
                     {"options", request_options(options)}};
+  if (json levels = levels_json(h); !levels.empty()) result.request["scene"]["levels"] = std::move(levels);
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/core/scene_id.hpp"
+#include "render/pipelines/view_selection.hpp"
 
 #include <algorithm>
 
@@ -26,7 +27,16 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
   Stopwatch clock;
   RenderContext frame_context = context;
   if (frame_context.scene_id.empty()) frame_context.scene_id = scene.static_id;
-  RenderResult result = render_frame(scene.scene, scene.soup, view.camera, view.options, frame_context);
+  const std::string static_id = frame_context.scene_id;
+  // A view that leaves levels or ceilings out draws a copy without them, cached under its own keys.
+  const SoupSelection selection = select_objects(scene.scene.geometry, scene.soup, view.camera, view.options);
+  PolygonSoup selected;
+  if (!selection.everything) {
+    selected = selected_soup(scene.soup, selection);
+    frame_context.scene_id += selection.key_suffix;
+  }
+  const PolygonSoup& soup = selection.everything ? scene.soup : selected;
+  RenderResult result = render_frame(scene.scene, soup, view.camera, view.options, frame_context);
   RenderOutcome out;
   out.frame = std::move(result.frame);
   RenderReport& report = out.report;
@@ -45,7 +55,7 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
   report.timings.parse_ms = context.parse_ms;
   report.timings.tessellate_ms = context.tessellate_ms;
   report.timings.total_ms = context.before_ms + clock.elapsed_ms();
-  report.scene_id = frame_context.scene_id;
+  report.scene_id = static_id;
   report.pipeline = view.options.pipeline;
   report.width = out.frame.image.width;
   report.height = out.frame.image.height;

@@ -29,6 +29,7 @@ std::string element_pointer(ElementRef element, std::string_view scene_pointer) 
       out += "/walls/" + std::to_string(element.index) + "/openings/" + std::to_string(element.opening);
       break;
     case ElementKind::solid: out += "/solids/" + std::to_string(element.index); break;
+    case ElementKind::room: out += "/rooms/" + std::to_string(element.index); break;
   }
   return out;
 }

@@ -93,8 +93,9 @@ void read_cells(const ObjectReader& r, Floor& floor, const ParseLimits& limits) 
 
 Floor read_floor(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"id", "origin", "cells", "cell_size", "elevation", "colors", "material"});
+                 {"id", "origin", "cells", "cell_size", "elevation", "colors", "material", "level"});
   Floor floor;
+  floor.level = read_level_ref(value, pointer, b);
   floor.id = r.string("id", "");
   floor.origin = r.vec2("origin", Vec2{0.0, 0.0}, b.coordinate);
   b.errors.attempt([&] { read_cells(r, floor, b.limits); });
@@ -172,8 +173,9 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
 Wall read_wall(const json& value, const std::string& pointer, const Bounds& b) {
   const size_t errors_before = b.errors.size();
   ObjectReader r(value, pointer, b.errors, {"id", "start", "end", "thickness", "height", "base", "color",
-                                            "openings", "material"});
+                                            "openings", "material", "level"});
   Wall wall;
+  wall.level = read_level_ref(value, pointer, b);
   wall.id = r.string("id", "");
   wall.start = r.vec2("start", b.coordinate);
   wall.end = r.vec2("end", b.coordinate);
@@ -211,6 +213,7 @@ Solid read_solid(const json& value, const std::string& pointer, const Bounds& b)
   for (const SolidReader& reader : solid_readers()) {
     if (reader.type == s.type) reader.read(value, pointer, s, b);
   }
+  s.level = read_level_ref(value, pointer, b);
   return s;
 }
 
@@ -265,14 +268,19 @@ void read_list(const ObjectReader& r, const char* key, const Bounds& b, std::vec
   });
 }
 
-Scene read_scene(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors,
-                 {"version", "background", "ambient", "floor", "walls", "solids", "lights"});
+Scene read_scene(const json& value, const std::string& pointer, const Bounds& scene_bounds) {
+  ObjectReader r(value, pointer, scene_bounds.errors,
+                 {"version", "background", "ambient", "floor", "walls", "solids", "lights", "rooms", "levels"});
+  Scene scene;
+  Bounds b = scene_bounds;
   const size_t errors_before = b.errors.size();
   if (r.integer("version", 1, NumberRange{}) != 1 && b.errors.size() == errors_before) {
     b.errors.add(r.at("version"), "must be 1 (the only format version)");
   }
-  Scene scene;
+  // Levels first: the other elements name them.
+  b.levels = &scene.geometry.levels;
+  read_list(r, "levels", b, scene.geometry.levels, read_level);
+  check_level_ids(scene.geometry.levels, r.at("levels"), b.errors);
   scene.background = r.color("background", hex("#000000"));
   r.member("ambient", [&](const json& v, const std::string& p) { scene.ambient = read_ambient(v, p, b.errors); });
   r.member("floor", [&](const json& v, const std::string& p) {
@@ -281,6 +289,7 @@ Scene read_scene(const json& value, const std::string& pointer, const Bounds& b)
   });
   read_list(r, "walls", b, scene.geometry.walls, read_wall);
   read_list(r, "solids", b, scene.geometry.solids, read_solid);
+  read_list(r, "rooms", b, scene.geometry.rooms, read_room);
   read_list(r, "lights", b, scene.lights, read_light);
   return scene;
 }
@@ -360,9 +369,20 @@ PngCompression read_png(const json& value, const std::string& pointer, ErrorList
   return read_choice(r, "compression", PngCompression::fast, png_compression_names);
 }
 
+// The ids of the levels a view draws; checked against the scene once both are read.
+void read_view_levels(const json& value, const std::string& pointer, ErrorList& errors, RenderOptions& o) {
+  expect_array(value, pointer);
+  o.levels_given = true;
+  for_each_element(value, pointer, errors, [&](const json& id, const std::string& p) {
+    if (!id.is_string()) throw_invalid(p, "must be a string: the id of one of the scene's levels");
+    o.levels.push_back(id.get<std::string>());
+  });
+}
+
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png"});
+                 {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png", "levels",
+                  "ceilings"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
   side.kind_above = Kind::too_large;
@@ -382,6 +402,8 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   o.shadows = r.boolean("shadows", o.shadows);
   r.member("shadow", [&](const json& v, const std::string& p) { o.shadow = read_shadow(v, p, b.errors); });
   r.member("png", [&](const json& v, const std::string& p) { o.png_compression = read_png(v, p, b.errors); });
+  r.member("levels", [&](const json& v, const std::string& p) { read_view_levels(v, p, b.errors, o); });
+  o.ceilings = read_choice(r, "ceilings", o.ceilings, ceiling_mode_names);
   return o;
 }
 
@@ -399,6 +421,9 @@ RenderRequest read_request(const json& request, const Bounds& b) {
   }
   r.member("camera", [&](const json& v, const std::string& p) { out.camera = read_camera(v, p, b); });
   r.member("options", [&](const json& v, const std::string& p) { out.options = read_options(v, p, b); });
+  if (r.find("scene") && b.errors.size() == 0) {
+    check_view_levels(out.options, out.scene.geometry.levels, pointer_append(r.at("options"), "levels"), b.errors);
+  }
   return out;
 }
 

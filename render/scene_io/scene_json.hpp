@@ -33,6 +33,10 @@ nlohmann::json parse_json_text(std::string_view text, const ParseLimits& limits 
 // Builds a request from parsed JSON, validating every field. Throws InputError.
 RenderRequest request_from_json(const nlohmann::json& request, const ParseLimits& limits = {});
 
+// Throws InputError(invalid) at /options/levels/i when a selected level is not one of `levels`: a
+// stored scene's view is read without its scene, so the selection is checked against it afterwards.
+void check_view_levels(const RenderOptions& options, const std::vector<Level>& levels);
+
 // parse_json_text + request_from_json.
 RenderRequest parse_request(std::string_view text, const ParseLimits& limits = {});
 

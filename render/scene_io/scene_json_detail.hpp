@@ -27,6 +27,7 @@ struct Bounds {
   NumberRange coordinate;  // positions, centres, elevations, bases
   NumberRange length;      // sizes, thickness, heights, radii: > 0
   NumberRange distance;    // offsets and sills: >= 0
+  const std::vector<Level>* levels = nullptr;  // the scene's levels, once read: "level" members name them
 };
 
 
@@ -48,5 +49,15 @@ struct SolidReader {
   void (*read)(const nlohmann::json& value, const std::string& pointer, Solid& s, const Bounds& b);
 };
 std::span<const SolidReader> solid_readers();  // a row for every row of solid_table()
+
+// Levels and rooms (room_readers.cpp). read_level_ref: an element's optional "level" member as an
+// index into *b.levels, -1 when absent; an unknown id is added to b.errors.
+Level read_level(const nlohmann::json& value, const std::string& pointer, const Bounds& b);
+void check_level_ids(const std::vector<Level>& levels, const std::string& pointer, ErrorList& errors);
+Room read_room(const nlohmann::json& value, const std::string& pointer, const Bounds& b);
+int read_level_ref(const nlohmann::json& element, const std::string& pointer, const Bounds& b);
+// Each id of options.levels must name one of `levels`; problems at pointer/i.
+void check_view_levels(const RenderOptions& options, const std::vector<Level>& levels, const std::string& pointer,
+                       ErrorList& errors);
 
 }  // namespace rr

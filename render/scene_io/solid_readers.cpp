@@ -34,14 +34,14 @@ void read_footprint(const ObjectReader& r, Solid& s, const Bounds& b) {
 
 void read_box_or_pyramid(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"type", "id", "color", "material", "center", "base", "rotation_y", "size"});
+                 {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "size"});
   read_common(r, s);
   read_footprint(r, s, b);
   s.size = r.vec3("size", b.length);
 }
 
 void read_cylinder(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"type", "id", "color", "material", "center", "base", "rotation_y",
+  ObjectReader r(value, pointer, b.errors, {"type", "id", "level", "color", "material", "center", "base", "rotation_y",
                                             "radius", "height", "segments", "smooth", "caps"});
   read_common(r, s);
   read_footprint(r, s, b);
@@ -55,7 +55,7 @@ void read_cylinder(const json& value, const std::string& pointer, Solid& s, cons
 }
 
 void read_prism(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"type", "id", "color", "material", "points", "height", "base"});
+  ObjectReader r(value, pointer, b.errors, {"type", "id", "level", "color", "material", "points", "height", "base"});
   read_common(r, s);
   const size_t errors_before = b.errors.size();
   b.errors.attempt([&] {
@@ -154,7 +154,7 @@ void read_mesh_geometry(const ObjectReader& r, Solid& s, const Bounds& b) {
 }
 
 void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"type", "id", "color", "material", "vertices", "faces", "position",
+  ObjectReader r(value, pointer, b.errors, {"type", "id", "level", "color", "material", "vertices", "faces", "position",
                                             "scale", "rotation_y", "smooth", "closed", "normals"});
   read_common(r, s);
   b.errors.attempt([&] { read_mesh_geometry(r, s, b); });

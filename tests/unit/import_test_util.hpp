@@ -3,6 +3,7 @@
 #pragma once
 
 #include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
@@ -46,8 +47,10 @@ inline double covered_share(const nlohmann::json& request, const std::string& pi
   small["options"]["height"] = 120;
   small["options"]["pipeline"] = pipeline;
   RenderRequest parsed = request_from_json(small);
-  PolygonSoup soup = tessellate(parsed.scene.geometry);
-  RenderResult result = render_frame(parsed.scene, soup, parsed.camera, parsed.options);
+  PreparedScene scene = prepare_scene(parsed.scene);
+  RenderContext context;
+  context.encode = false;
+  RenderOutcome result = render(parsed, scene, context);  // through render(): the view's levels and ceilings
   const auto& ids = result.frame.ids.ids;
   size_t covered = size_t(std::count_if(ids.begin(), ids.end(), [](uint32_t id) { return id != background_id; }));
   return double(covered) / double(ids.size());

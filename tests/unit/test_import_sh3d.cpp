@@ -94,10 +94,14 @@ TEST(ImportSh3d, SmallHomeFurnitureRoomLightAndCamera) {
   // Sweet Home 3D turns clockwise on the plan (y down); rotation_y turns counter-clockwise.
   EXPECT_NEAR((*table)["rotation_y"].get<double>(), -90.0, 1e-4);
   EXPECT_EQ((*table)["color"], json::array({1.0, 0.0, 0.0}));
-  const json* room = find_by_id(scene["solids"], "room Room (/home/room/0)");
+  const json* room = find_by_id(scene["rooms"], "room Room (/home/room/0)");
   ASSERT_NE(room, nullptr);
-  EXPECT_EQ((*room)["type"], "prism");
-  EXPECT_DOUBLE_EQ((*room)["base"].get<double>() + (*room)["height"].get<double>(), 0.0);  // top at the floor
+  EXPECT_EQ((*room)["points"].size(), 4u);
+  EXPECT_DOUBLE_EQ((*room)["elevation"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ((*room)["ceiling_height"].get<double>(), 2.5);  // the home's wall height: it has no levels
+  EXPECT_EQ((*room)["floor_color"], json::array({0.0, 0.0, 1.0}));
+  EXPECT_EQ((*room)["ceiling"], true);
+  EXPECT_FALSE(room->contains("ceiling_color"));  // the format's default then
   // The lamp's light source sits at the bottom centre of its 20 x 20 x 40 cm box, 2 m up.
   ASSERT_EQ(scene["lights"].size(), 2u);  // the default sun and the lamp
   EXPECT_EQ(scene["lights"][1]["position"], json::array({0.5, 2.0, 0.5}));
@@ -159,15 +163,27 @@ TEST(ImportSh3d, OpeningPastTheWallEndIsClampedWithAWarning) {
   EXPECT_NO_THROW(rr::request_from_json(r.request));
 }
 
-TEST(ImportSh3d, HiddenLevelsAreLeftOut) {
+TEST(ImportSh3d, HiddenLevelsAreImportedButNotViewable) {
   ImportResult r = rr::import_sweethome3d(R"(<home>
     <level id='l0' name='Ground' elevation='0' floorThickness='12' height='250'/>
-    <level id='l1' name='Roof' elevation='250' floorThickness='12' height='250' visible='false'/>
+    <level id='l1' name='Roof' elevation='250' floorThickness='12' height='180' visible='false'/>
     <wall level='l0' xStart='0' yStart='0' xEnd='200' yEnd='0'/>
     <wall level='l1' xStart='0' yStart='0' xEnd='200' yEnd='0'/>
+    <room level='l1' ceilingColor='FF00FF00'><point x='0' y='0'/><point x='200' y='0'/><point x='200' y='100'/></room>
   </home>)");
-  EXPECT_EQ(r.request["scene"]["walls"].size(), 1u);
-  EXPECT_NE(r.warnings[0].find("level 'Roof' is hidden"), std::string::npos) << r.warnings[0];
+  const json& scene = r.request["scene"];
+  ASSERT_EQ(scene["walls"].size(), 2u);
+  EXPECT_EQ(scene["walls"][0]["level"], "l0");
+  EXPECT_EQ(scene["walls"][1]["level"], "l1");
+  EXPECT_DOUBLE_EQ(scene["walls"][1]["base"].get<double>(), 2.5);
+  EXPECT_EQ(scene["levels"], json::parse(R"([{"id": "l0", "elevation": 0.0, "height": 2.5, "viewable": true},
+                                             {"id": "l1", "elevation": 2.5, "height": 1.8, "viewable": false}])"));
+  const json& room = scene["rooms"][0];
+  EXPECT_EQ(room["level"], "l1");
+  EXPECT_DOUBLE_EQ(room["elevation"].get<double>(), 2.5);
+  EXPECT_DOUBLE_EQ(room["ceiling_height"].get<double>(), 1.8);  // the level's height, as Sweet Home 3D
+  EXPECT_EQ(room["ceiling_color"], json::array({0.0, 1.0, 0.0}));
+  EXPECT_NO_THROW(rr::request_from_json(r.request));
 }
 
 TEST(ImportSh3d, Sh3dZipIsReadThroughItsHomeXml) {

@@ -58,6 +58,7 @@ TEST(SchemaTables, RequestEnumsEqualTheTables) {
   EXPECT_EQ(strings(options["bsp"]["properties"]["traversal"]["enum"]), names_of(bsp_traversal_names));
   EXPECT_EQ(strings(options["shadow"]["properties"]["fit"]["enum"]), names_of(shadow_fit_names));
   EXPECT_EQ(strings(options["png"]["properties"]["compression"]["enum"]), names_of(png_compression_names));
+  EXPECT_EQ(strings(options["ceilings"]["enum"]), names_of(ceiling_mode_names));
 }
 
 TEST(SchemaTables, SceneTypesEqualTheTables) {
@@ -150,6 +151,12 @@ class Dump {
   void put(const std::vector<uint32_t>& face) {
     for (uint32_t i : face) out_ << i << ',';
   }
+  void put(const Room& r) {
+    (*this)("id", r.id)("points", r.points)("elevation", r.elevation)("floor", r.floor)("floor_color", r.floor_color)(
+        "material", r.floor_material)("ceiling", r.ceiling)("ceiling_height", r.ceiling_height)(
+        "ceiling_color", r.ceiling_color)("level", r.level);
+  }
+  void put(const Level& l) { (*this)("id", l.id)("elevation", l.elevation)("height", l.height)("viewable", l.viewable); }
   void put(const Light& l) {
     (*this)("type", l.type)("id", l.id)("direction", l.direction)("position", l.position)(
         "color", l.color)("intensity", l.intensity)("attenuation", l.attenuation);
@@ -167,12 +174,14 @@ std::string dump(const RenderRequest& r) {
       "floor.cells_z", f.cells_z)("floor.cell_size", f.cell_size)("floor.elevation", f.elevation)(
       "floor.colors", f.colors)("floor.material", f.material);
   d("walls", s.geometry.walls)("solids", s.geometry.solids)("lights", s.lights);
+  d("rooms", s.geometry.rooms)("levels", s.geometry.levels);
   const Camera& c = r.camera;
   d("camera.position", c.position)("camera.target", c.target)("camera.up", c.up)("camera.fov_y", c.fov_y_deg)(
       "camera.near", c.near)("camera.far", c.far);
   const RenderOptions& o = r.options;
   d("width", o.width)("height", o.height)("pipeline", o.pipeline)("shading", o.shading)(
       "painter_key", o.painter_key)("shadows", o.shadows)("png", o.png_compression);
+  d("levels_given", o.levels_given)("levels", o.levels)("ceilings", o.ceilings);
   d("bsp.w1", o.bsp.w1)("bsp.w2", o.bsp.w2)("bsp.w3", o.bsp.w3)("bsp.epsilon", o.bsp.epsilon)(
       "bsp.max_candidates", o.bsp.max_candidates)("bsp.traversal", o.bsp.traversal);
   d("shadow.size", o.shadow.size)("shadow.pcf", o.shadow.pcf)("shadow.bias", o.shadow.bias)(
@@ -239,6 +248,10 @@ std::vector<Site> sites() {
        with_light({{"type", "directional"}})},
       {"scene.schema.json", "point_light", json::json_pointer("/scene/lights/0"),
        with_light({{"type", "point"}, {"position", {0, 2, 0}}})},
+      {"scene.schema.json", "room", json::json_pointer("/scene/rooms/0"),
+       {{"scene", {{"rooms", {{{"points", {{0, 0}, {1, 0}, {0, 1}}}}}}}}}},
+      {"scene.schema.json", "level", json::json_pointer("/scene/levels/0"),
+       {{"scene", {{"levels", {{{"id", "ground"}}}}}}}},
   };
 }
 
