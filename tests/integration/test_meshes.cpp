@@ -191,6 +191,30 @@ TEST(Meshes, SceneIdFollowsTheReferencedMesh) {
   EXPECT_EQ(by_cube, scene_id(inlined)) << "the same geometry inline or by ref is one scene";
 }
 
+// With tokens, storing and deleting a mesh need one (reads stay open); each owner holds a reference,
+// a delete drops the caller's, and only the last reference's delete meets the pin of a stored scene.
+TEST(Meshes, OwnersAndTokensAsForScenes) {
+  const fs::path tokens = output_dir("integration") / "meshes.tokens";
+  write_file(tokens, "alice:alice-0123456789abcdef\nbob:bob-fedcba9876543210\n");
+  rr::server::ServerConfig config = test_server_config();
+  config.api_token_file = tokens;
+  TestServer server(config);
+  const httplib::Headers alice = {{"Authorization", "Bearer alice-0123456789abcdef"}};
+  const httplib::Headers bob = {{"Authorization", "Bearer bob-fedcba9876543210"}};
+  expect_problem(server.client().Post("/v1/meshes", cube_obj, "model/obj"), 401);
+  auto stored = server.client().Post("/v1/meshes", alice, cube_obj, "model/obj");
+  ASSERT_EQ(stored->status, 201) << stored->body;
+  const std::string mesh = json::parse(stored->body)["id"];
+  EXPECT_EQ(server.client().Get(("/v1/meshes/" + mesh).c_str())->status, 200);
+  expect_problem(server.client().Delete(("/v1/meshes/" + mesh).c_str(), bob), 403);
+  EXPECT_EQ(server.client().Post("/v1/meshes", bob, cube_json().dump(), "application/json")->status, 200);
+  auto scene = server.client().Post("/v1/scenes", bob, three_placements(mesh).dump(), "application/json");
+  ASSERT_EQ(scene->status, 201) << scene->body;
+  EXPECT_EQ(server.client().Delete(("/v1/meshes/" + mesh).c_str(), alice)->status, 204);  // bob's stays
+  expect_problem(server.client().Delete(("/v1/meshes/" + mesh).c_str(), bob), 409);
+  EXPECT_EQ(server.client().Get(("/v1/meshes/" + mesh).c_str())->status, 200);
+}
+
 // Each bad mesh gets its status and names its place; the server serves on.
 TEST(Meshes, BadMeshesAreRefusedWithTheirPlace) {
   rr::server::ServerConfig config = test_server_config();
