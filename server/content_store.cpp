@@ -1,13 +1,11 @@
 // ContentStore (see content_store.hpp), instantiated for scenes and meshes at the end. Files are
-// written with POSIX calls because the crash-safety
-// argument needs fsync of the file before the rename and of the directory after it, which iostreams
-// cannot express.
+// written with POSIX calls because the crash-safety argument needs fsync of the file before the
+// rename and of the directory after it, which iostreams cannot express.
 #include "server/content_store.hpp"
 
+#include "server/http_util.hpp"
 #include "server/mesh_store.hpp"
 #include "server/scene_store.hpp"
-
-#include "server/http_util.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
