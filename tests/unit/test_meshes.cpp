@@ -6,6 +6,8 @@
 #include "render/import/obj_mesh.hpp"
 #include "render/scene_io/mesh_json.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "server/mesh_store.hpp"
+#include "server/scene_store.hpp"
 
 #include <gtest/gtest.h>
 
@@ -268,6 +270,32 @@ TEST(MeshInstancing, ThreePlacementsEqualThreeTransformedCopies) {
   const void* plan = shared->plan.get();
   tessellate(instanced);
   EXPECT_EQ(shared->plan.get(), plan);
+}
+
+// A stored scene pins the stored meshes it places: the mesh's last reference cannot be released
+// until the scene is gone, and a stored mesh's text reads back to the same id.
+TEST(MeshStore, PinnedWhileAStoredScenePlacesIt) {
+  server::MeshPins pins;
+  server::MeshStoreConfig config;
+  config.kind = "mesh", config.plural = "meshes";
+  config.pinned = [&pins](const std::string& id) { return pins.pinned(id); };
+  server::MeshStore meshes(config, [](const std::string&, nlohmann::ordered_json) {});
+  auto cube = server::prepare_mesh(make_mesh_data(cube_vertices, cube_faces, {}));
+  EXPECT_EQ(server::read_stored_mesh(cube->text, {})->id, cube->id);
+  ASSERT_EQ(meshes.put(cube, "a"), server::MeshStore::PutResult::created);
+  ASSERT_EQ(meshes.put(cube, "b"), server::MeshStore::PutResult::existed);
+  server::StoredScene scene;
+  scene.id = "00000000000000aa";
+  scene.mesh_refs = {cube->id};
+  pins.change(scene, true);
+  EXPECT_EQ(pins.scenes_placing(cube->id, 5), std::vector<std::string>{scene.id});
+  EXPECT_EQ(meshes.release(cube->id, "a"), server::MeshStore::ReleaseResult::reference_dropped);
+  EXPECT_EQ(meshes.release(cube->id, "b"), server::MeshStore::ReleaseResult::pinned);
+  EXPECT_TRUE(meshes.find(cube->id));
+  pins.change(scene, false);
+  EXPECT_FALSE(pins.pinned(cube->id));
+  EXPECT_EQ(meshes.release(cube->id, "b"), server::MeshStore::ReleaseResult::removed);
+  EXPECT_FALSE(meshes.find(cube->id));
 }
 
 }  // namespace
