@@ -84,7 +84,7 @@ TEST(MeshJson, ErrorsNameTheirPointer) {
   doc["colour"] = 1;
   EXPECT_EQ(mesh_error(doc).pointer(), "/colour");
   doc = cube_json();
-  doc["vertices"][0][0] = 2e6;  // beyond max_abs_coordinate
+  doc["vertices"][0][0] = 2e7;  // beyond max_abs_coordinate
   EXPECT_EQ(mesh_error(doc).pointer(), "/vertices/0/0");
 }
 
