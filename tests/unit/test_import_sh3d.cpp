@@ -4,6 +4,7 @@
 // nine example homes of ../shared/data: one checked against its XML read independently with pugixml,
 // all of them imported and rendered with every pipeline.
 #include "import_test_util.hpp"
+#include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
 
 #include <gtest/gtest.h>
@@ -212,16 +213,20 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
   EXPECT_EQ(solids[0]["color"], json::array({1.0, 0.0, 0.0}));
   EXPECT_EQ(solids[2]["type"], "box");
   ASSERT_EQ(r.warnings.size(), 2u);  // the missing model, then the missing observer camera
-  EXPECT_EQ(r.warnings[0], "1 furniture models were not found and 0 could not be read: those pieces are boxes");
+  EXPECT_EQ(r.warnings[0],
+            "1 furniture models were not found and 0 could not be read: those pieces are boxes (not found: models/lost.obj)");
   // Width (model x, 2 units -> 1 m) turned by the angle runs along +z; depth (4 units -> 0.5 m)
-  // along -x; height 1 unit -> 2 m from the elevation up.
+  // along -x; height 1 unit -> 2 m from the elevation up. Measured on the tessellated meshes, since
+  // each mesh is the unit model placed by its solid's scale, rotation_y and position.
+  json models = r.request;
+  models["scene"]["solids"] = json::array({solids[0], solids[1]});
+  models["scene"]["walls"] = json::array();
+  const rr::PolygonSoup soup = rr::tessellate(rr::request_from_json(models).scene.geometry);
   rr::Vec3 lo{1e9}, hi{-1e9};
-  for (const json& mesh : {solids[0], solids[1]}) {
-    for (const json& v : mesh["vertices"]) {
-      rr::Vec3 p{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-      lo = glm::min(lo, p), hi = glm::max(hi, p);
-    }
+  for (const rr::Polygon& polygon : soup.polygons) {
+    for (const rr::Vec3& p : soup.points(polygon)) lo = glm::min(lo, p), hi = glm::max(hi, p);
   }
+  EXPECT_EQ(soup.polygons.size(), 2u);
   EXPECT_NEAR(lo.x, 2.75, 1e-6);
   EXPECT_NEAR(hi.x, 3.25, 1e-6);
   EXPECT_NEAR(lo.y, 0.1, 1e-6);
