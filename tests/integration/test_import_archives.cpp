@@ -1,9 +1,10 @@
 // Zips over POST /v1/import/{sh3d,obj} on the real server: every Sweet Home 3D home of ../shared
 // zipped with the furniture it names (skipped without ../shared) imports with its models, stores and
-// renders; its furniture polygons equal those of `roomrender import --furniture models`; a .sh3d laid
+// renders with every pipeline (zbuffer and bsp under sanitizers); its furniture polygons equal those of `roomrender import --furniture models`; a .sh3d laid
 // out as Sweet Home 3D writes it (numbered model entries) imports the same; an OBJ zip brings its
 // .mtl colours; hostile and broken archives get the documented 4xx naming the entry, quickly.
 #include "render/core/tessellate.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "render/import/import.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "server_fixture.hpp"
@@ -140,6 +141,18 @@ void expect_same_furniture(const Furniture& a, const Furniture& b, const std::st
   }
 }
 
+// zbuffer and bsp always; every other pipeline too outside sanitizer builds, where the slow ones on
+// 200,000 polygons would take minutes.
+std::vector<std::string> pipelines() {
+  std::vector<std::string> names{"zbuffer", "bsp"};
+#ifndef __SANITIZE_ADDRESS__
+  for (const rr::PipelineInfo& info : rr::pipeline_table()) {
+    if (std::find(names.begin(), names.end(), info.name) == names.end()) names.push_back(info.name);
+  }
+#endif
+  return names;
+}
+
 httplib::Result post_zip(httplib::Client& client, const std::string& path, const std::string& zip) {
   return client.Post(path.c_str(), zip, "application/zip");
 }
@@ -168,7 +181,7 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     EXPECT_GT(meshes, 20u) << name;
     std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu mesh solids\n", name.c_str(), zip.size(),
                 scene->body.size(), meshes);
-    for (const char* pipeline : {"zbuffer", "bsp"}) {
+    for (const std::string& pipeline : pipelines()) {
       json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}, {"pipeline", pipeline}}}};
       auto png = client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
       ASSERT_TRUE(png) << name << " " << pipeline;
