@@ -246,6 +246,13 @@ TEST(ArchiveImport, FurnitureEqualsTheCliImportWithModels) {
     const Furniture http = furniture_of(json::parse(res->body)), disk = furniture_of(cli);
     EXPECT_GT(http.polygons, 1000u) << name;
     expect_same_furniture(http, disk, name);
+    // The CLI reads the same zip as the server does.
+    rr::testing::write_file(dir / "home.zip", home_zip(home));
+    const std::string zipped = "'" ROOMRENDER_BINARY_DIR "/roomrender' import '" + (dir / "home.zip").string() +
+                               "' --furniture models >'" + (dir / "zip.json").string() + "' 2>/dev/null";
+    const int zip_status = std::system(zipped.c_str());
+    ASSERT_TRUE(WIFEXITED(zip_status) && WEXITSTATUS(zip_status) == 0) << zipped;
+    expect_same_furniture(furniture_of(json::parse(rr::testing::read_file(dir / "zip.json"))), disk, name + " zip");
     std::printf("[ archive ] %s: %zu furniture polygons over HTTP and from the CLI\n", name.c_str(), http.polygons);
   }
 }
@@ -324,6 +331,9 @@ std::vector<BadArchive> bad_archives() {
   std::vector<ZipEntry> many{{"Home.xml", kHome}};
   for (int i = 0; i < 10'000; ++i) many.push_back({"t/" + std::to_string(i), "", false});
   const std::string whole = make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", chair}});
+  std::string stored_bad_crc = make_zip({{"Home.xml", kHome, false}});
+  const size_t wall = stored_bad_crc.find("<wall");
+  stored_bad_crc[wall + 1] = 'W';  // the CRC no longer matches; the XML would still parse
   // libzip will not write a name twice: write two names of one length, then make them equal.
   std::string twice = make_zip({{"Home.xml", kHome}, {"Home.xmm", kHome}});
   for (size_t at = twice.find("Home.xmm"); at != std::string::npos; at = twice.find("Home.xmm")) twice.replace(at, 8, "Home.xml");
@@ -346,6 +356,9 @@ std::vector<BadArchive> bad_archives() {
       {"two OBJs", "obj", make_zip({{"a.obj", chair}, {"b.obj", chair}}), 422, "/entry/b.obj", "more than one"},
       {"malformed Home.xml", "sh3d", make_zip({{"Home.xml", "<home>\n<wall"}}), 400, "/entry/Home.xml/line/2", "XML"},
       {"duplicate entry", "sh3d", twice, 422, "/entry/Home.xml", "twice"},
+      {"NaN vertex", "obj", make_zip({{"a.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"}}), 422, "/entry/a.obj/line/2",
+       "finite"},
+      {"stored entry failing its CRC", "sh3d", stored_bad_crc, 400, "/entry/Home.xml", "corrupt"},
   };
 }
 
