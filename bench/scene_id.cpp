@@ -43,13 +43,13 @@ struct Input {
 
 size_t mesh_faces(const StaticGeometry& g) {
   size_t faces = 0;
-  for (const Solid& s : g.solids) faces += s.faces.size();
+  for (const Solid& s : g.solids) faces += s.mesh ? s.mesh->faces.size() : 0;
   return faces;
 }
 
 size_t mesh_vertices(const StaticGeometry& g) {
   size_t vertices = 0;
-  for (const Solid& s : g.solids) vertices += s.vertices.size();
+  for (const Solid& s : g.solids) vertices += s.mesh ? s.mesh->vertices.size() : 0;
   return vertices;
 }
 

@@ -48,6 +48,38 @@ class TrimAfterLargeWork {
   Stopwatch clock_;
 };
 
+MeshStoreConfig mesh_store_config(const ServerConfig& c, MeshPins& pins) {
+  MeshStoreConfig out;
+  out.max_entries = c.mesh_store_entries;
+  out.max_bytes = c.mesh_store_bytes;
+  out.data_dir = c.data_dir;
+  out.ttl = std::chrono::seconds(c.scene_ttl_s);
+  out.kind = "mesh";
+  out.plural = "meshes";
+  out.read = [limits = c.limits](const std::string& text) { return read_stored_mesh(text, limits); };
+  out.pinned = [&pins](const std::string& id) { return pins.pinned(id); };
+  return out;
+}
+
+ParseLimits limits_with_meshes(ParseLimits limits, MeshStore& meshes) {
+  limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
+    auto stored = meshes.find(id);
+    return stored ? stored->mesh : nullptr;
+  };
+  return limits;
+}
+
+SceneStoreConfig scene_store_config(const ServerConfig& c, const ParseLimits& limits, MeshPins& pins) {
+  SceneStoreConfig out;
+  out.max_entries = c.scene_store_entries;
+  out.max_bytes = c.scene_store_bytes;
+  out.data_dir = c.data_dir;
+  out.ttl = std::chrono::seconds(c.scene_ttl_s);
+  out.read = [limits](const std::string& text) { return prepare_scene(parse_json_text(text, limits), limits); };
+  out.on_change = [&pins](const StoredScene& scene, bool added) { pins.change(scene, added); };
+  return out;
+}
+
 }  // namespace
 
 ServiceState::ServiceState(const ServerConfig& c)
@@ -55,7 +87,11 @@ ServiceState::ServiceState(const ServerConfig& c)
       gate(render_workers(c), render_queue_length(c)),
       bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
       shadow_cache(c.shadow_cache_bytes),
-      scenes({c.scene_store_entries, c.scene_store_bytes, c.data_dir, c.limits, std::chrono::seconds(c.scene_ttl_s)},
+      meshes(mesh_store_config(c, mesh_pins), [this](const std::string& level, nlohmann::ordered_json fields) {
+        log(level, std::move(fields));
+      }),
+      limits(limits_with_meshes(c.limits, meshes)),
+      scenes(scene_store_config(c, limits, mesh_pins),
              [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
       access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 

@@ -333,7 +333,8 @@ void configure_limits(httplib::Server& server, const ServerConfig& config) {
 
 std::shared_ptr<std::vector<Route>> make_routes(const ServerConfig& config) {
   auto routes = std::make_shared<std::vector<Route>>();
-  for (std::vector<Route> list : {render_routes(), scene_routes(), import_routes(config), meta_routes(config)}) {
+  for (std::vector<Route> list : {render_routes(), scene_routes(), mesh_routes(config), import_routes(config),
+                                  meta_routes(config)}) {
     routes->insert(routes->end(), list.begin(), list.end());
   }
   for (Route& r : *routes) r.regex = std::regex(r.pattern);
@@ -506,11 +507,12 @@ std::string config_json(const ServerConfig& c) {
       {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels},
       {"max_polygons", l.max_polygons}, {"max_cylinder_segments", l.max_cylinder_segments},
       {"max_floor_cells", l.max_floor_cells}, {"max_abs_coordinate", l.max_abs_coordinate},
-      {"max_far_over_near", l.max_far_over_near},
+      {"max_far_over_near", l.max_far_over_near}, {"max_mesh_vertices", l.max_mesh_vertices},
       {"bsp_cache_bytes", c.bsp_cache_bytes}, {"bsp_cache_entries", c.bsp_cache_entries},
       {"shadow_cache_bytes", c.shadow_cache_bytes},
       {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
-      {"scene_ttl_s", c.scene_ttl_s}, {"cors_origins", c.cors_origins},
+      {"scene_ttl_s", c.scene_ttl_s}, {"mesh_store_bytes", c.mesh_store_bytes},
+      {"mesh_store_entries", c.mesh_store_entries}, {"cors_origins", c.cors_origins},
       {"api_token_file", c.api_token_file.string()}, {"allow_listing", c.allow_listing},
       {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
       {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},
@@ -532,8 +534,13 @@ Service::~Service() { stop(); }
 void Service::start() {
   if (server_) throw std::logic_error("Service::start called twice");
   state_ = std::make_unique<ServiceState>(config_);
+  // Meshes first: stored scenes place them by ref.
+  size_t meshes_loaded = state_->meshes.load();
   size_t loaded = state_->scenes.load();
-  if (!config_.data_dir.empty()) state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
+  if (!config_.data_dir.empty()) {
+    state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
+    state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
+  }
   const TokenTable& tokens = state_->access.tokens;
   // Said once at start, so an operator sees an open server for what it is.
   const bool loopback = config_.bind == "127.0.0.1" || config_.bind == "::1" || config_.bind == "localhost";

@@ -53,6 +53,8 @@ struct ServerConfig {
   size_t scene_store_bytes = 256u << 20;
   size_t scene_store_entries = 1000;
   int scene_ttl_s = 0;                 // stored scenes go this long after their last access; 0: kept
+  size_t mesh_store_bytes = 512u << 20;  // stored meshes (POST /v1/meshes); their ttl is scene_ttl_s
+  size_t mesh_store_entries = 10000;
   // Access (server/access.hpp). Reads are open to every origin; writes come from these origins (or
   // the server's own pages) only, and need a bearer token from this file when one is given.
   std::vector<std::string> cors_origins;

@@ -75,7 +75,7 @@ void handle_metrics(ServiceState& state, const Request&, Response& res, const Ro
   no_store(res);
   MetricsSnapshot snapshot{state.gate.load(),  state.bsp_cache.stats(), state.shadow_cache.stats(),
                            state.scenes.stats(), resident_bytes(),      std::string(version()),
-                           state.front_stats ? state.front_stats() : FrontStats{}};
+                           state.front_stats ? state.front_stats() : FrontStats{}, state.meshes.stats()};
   res.set_content(state.metrics.prometheus_text(snapshot), "text/plain; version=0.0.4; charset=utf-8");
 }
 

@@ -79,7 +79,8 @@ const CacheFamily cache_families[] = {
 
 void cache_samples(std::string& out, const MetricsSnapshot& snap) {
   const std::pair<const char*, const CacheStats*> caches[] = {
-      {"bsp", &snap.bsp_cache}, {"shadow", &snap.shadow_cache}, {"scenes", &snap.scene_store}};
+      {"bsp", &snap.bsp_cache}, {"shadow", &snap.shadow_cache}, {"scenes", &snap.scene_store},
+      {"meshes", &snap.mesh_store}};
   for (const CacheFamily& family : cache_families) {
     header(out, family.name, family.type, family.help);
     for (const auto& [cache, stats] : caches) sample(out, family.name, label("cache", cache), double(stats->*family.field));
@@ -118,6 +119,8 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   // the byte budget is roomrender_cache_budget_bytes{cache="scenes"} above.
   header(out, "roomrender_scene_store_max_entries", "gauge", "Most scenes the store holds; beyond, storing answers 507.");
   sample(out, "roomrender_scene_store_max_entries", "", double(snap.scene_store.max_entries));
+  header(out, "roomrender_mesh_store_max_entries", "gauge", "Most meshes the store holds; beyond, storing answers 507.");
+  sample(out, "roomrender_mesh_store_max_entries", "", double(snap.mesh_store.max_entries));
   connection_samples(out, snap.connections);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);

@@ -36,6 +36,7 @@ struct MetricsSnapshot {
   double resident_bytes = 0.0;  // this process's RSS, from /proc/self/statm
   std::string version;
   FrontStats connections;
+  CacheStats mesh_store;
 };
 
 class Metrics {

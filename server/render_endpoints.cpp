@@ -125,7 +125,7 @@ void handle_render(ServiceState& state, const Request& req, Response& res, const
   with_render_slot(state, [&](const CancelToken& token, SlotClock& clock) {
     Stopwatch parse_clock;
     json body = parse_body(state, req);
-    RenderRequest request = request_from_json(body, state.config.limits);
+    RenderRequest request = request_from_json(body, state.limits);
     double parse_ms = parse_clock.elapsed_ms();
     std::string etag = render_etag(hash_hex(member(body, "scene").dump()), body, match.media_type);
     if (answer_not_modified(req, res, etag)) return;  // before the scene is prepared: a 304 costs no tessellation
@@ -154,7 +154,7 @@ std::optional<std::pair<RenderRequest, std::string>> read_view(const ServiceStat
     throw InputError(InputError::Kind::invalid, "/scene",
                      "a stored scene is rendered with only camera and options; the scene is not allowed here");
   }
-  RenderRequest request = request_from_json(view, state.config.limits);
+  RenderRequest request = request_from_json(view, state.limits);
   res.set_header("X-Scene-Id", scene.static_id);
   std::string etag = render_etag(scene.id, view, match.media_type);
   if (answer_not_modified(req, res, etag)) return std::nullopt;

@@ -10,6 +10,7 @@
 #include "server/access.hpp"
 #include "server/http_server.hpp"
 #include "server/metrics.hpp"
+#include "server/mesh_store.hpp"
 #include "server/render_gate.hpp"
 #include "server/scene_store.hpp"
 
@@ -39,6 +40,9 @@ struct ServiceState {
   RenderGate gate;
   BspCache bsp_cache;
   ShadowCache shadow_cache;
+  MeshPins mesh_pins;  // which stored scenes place which stored meshes
+  MeshStore meshes;
+  ParseLimits limits;  // config.limits with "ref" resolved through `meshes`: parse requests with these
   SceneStore scenes;
   AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
@@ -83,6 +87,7 @@ RequestContext& request_context();
 
 std::vector<Route> render_routes();                         // render_endpoints.cpp
 std::vector<Route> scene_routes();                          // scene_endpoints.cpp
+std::vector<Route> mesh_routes(const ServerConfig& config);  // mesh_endpoints.cpp
 std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
 std::vector<Route> meta_routes(const ServerConfig& config); // meta_endpoints.cpp
 
@@ -96,6 +101,13 @@ nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req
 // X-Scene-Id, returns {id, location, scene_id, created, expires} for the caller to complete and send
 // (201 when created, else 200). Throws HttpError 409, 413 (larger than the store) or 507 (store full).
 nlohmann::json store_scene(ServiceState& state, httplib::Response& res, const std::shared_ptr<const StoredScene>& scene);
+// Stores a parsed mesh for `owner` (as POST /v1/meshes does) and returns its id and whether it was
+// created. Throws HttpError 409 (hash collision), 413 (larger than the store) or 507 (store full).
+struct StoredMeshId {
+  std::string id;
+  bool created = false;
+};
+StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shared_ptr<const MeshData> mesh);
 // Throws HttpError 503 (+ Retry-After) unless `admission` is admitted.
 void require_admission(ServiceState& state, RenderGate::Admission admission);
 // A stopwatch started on admission, and how long the request waited for its slot (the `queue` stage).

@@ -53,12 +53,12 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
   with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
     json body = parse_body(state, req);
     if (!body.is_object() || !body.contains("scene")) {
-      out.scene = prepare_scene(body, state.config.limits);
+      out.scene = prepare_scene(body, state.limits);
       return;
     }
     out.pointer = "/scene";  // a whole render request: its camera and options are not stored
     try {
-      out.scene = prepare_scene(body["scene"], state.config.limits);
+      out.scene = prepare_scene(body["scene"], state.limits);
     } catch (const InputError& e) {
       throw InputError(e.kind(), out.pointer + e.pointer(), e.what());
     }
@@ -122,6 +122,7 @@ void handle_delete_scene(ServiceState& state, const Request&, Response& res, con
     case SceneStore::ReleaseResult::not_owner:
       throw HttpError(403, "The scene " + id + " is stored, but not by this token's owner; only an owner can "
                            "drop its reference.");
+    case SceneStore::ReleaseResult::pinned:  // scenes are never pinned
     case SceneStore::ReleaseResult::removed:
     case SceneStore::ReleaseResult::reference_dropped: res.status = 204;
   }
@@ -173,6 +174,14 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
 
 json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
   request_context().scene_id = scene->static_id;
+  // The meshes it places are pinned once it is stored; one deleted since the parse is refused here.
+  std::lock_guard pins(state.mesh_pins.writers());
+  for (const std::string& mesh : scene->mesh_refs) {
+    if (!state.meshes.find(mesh)) {
+      throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
+                      {{"", "there is no stored mesh \"" + mesh + "\""}});
+    }
+  }
   SceneStore::PutResult result = state.scenes.put(scene, request_context().owner);
   switch (result) {
     case SceneStore::PutResult::conflict:

@@ -4,8 +4,10 @@
 #pragma once
 
 #include "render/core/math.hpp"
+#include "render/core/mesh_data.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -74,10 +76,10 @@ struct Solid {
   bool caps = true;
   // Prism.
   std::vector<Vec2> points;  // simple polygon in the plan
-  // Mesh: vertices in object space, transformed by scale, then rotation_y, then position.
-  std::vector<Vec3> vertices;
-  std::vector<std::vector<uint32_t>> faces;
-  std::vector<Vec3> normals;  // mesh: empty, or one shading normal per vertex (object space, unit)
+  // Mesh: shared object-space geometry (inline or stored), placed by scale, then rotation_y, then
+  // position. Never null for a mesh; null for the other types.
+  std::shared_ptr<const MeshData> mesh;
+  std::string mesh_ref;  // the stored mesh's id when placed by "ref"; empty when inline
   Vec3 position{0.0, 0.0, 0.0};
   Vec3 scale{1.0, 1.0, 1.0};
   bool closed = false;  // mesh only; the other solids know whether they are closed

@@ -1,7 +1,7 @@
 // The canonical binary form that scene_id() hashes, in struct member order:
 // - numbers (double, and float widened exactly to double) as their IEEE-754 bits, least significant
-//   byte first, with -0.0 folded into 0.0; ints as 64-bit two's complement; mesh face indices as
-//   32 bits (their type, and most of a large mesh's bytes); bools as one byte;
+//   byte first, with -0.0 folded into 0.0; ints as 64-bit two's complement; bools as one byte;
+// - a mesh as its content id (mesh_data.hpp), itself a hash of all of its geometry;
 // - enums (opening and solid types) as their integer in scene.hpp's declaration order;
 // - every vector prefixed by its length (64 bits), so [[1,2],[3]] and [[1],[2,3]] differ;
 // - names (`id` members) left out: they label warnings but draw nothing; the floor only when present.
@@ -30,6 +30,9 @@ void add(Fnv1a& h, SolidType v) { h.add_u64(uint64_t(v)); }
 void add(Fnv1a& h, Vec2 v) { add(h, v.x); add(h, v.y); }
 void add(Fnv1a& h, Vec3 v) { add(h, v.x); add(h, v.y); add(h, v.z); }
 void add(Fnv1a& h, Color c) { add(h, c.r); add(h, c.g); add(h, c.b); }
+// A mesh by its content id, which hashes all of its geometry: a stored mesh placed by ref and the
+// same mesh inline draw alike and share the id, and a different mesh behind a ref changes it.
+void add(Fnv1a& h, const std::shared_ptr<const MeshData>& m) { h.add_bytes(m ? m->content_id : std::string(16, '-')); }
 void add(Fnv1a& h, const MaterialParams& m);
 void add(Fnv1a& h, const Opening& o);
 void add(Fnv1a& h, const Wall& w);
@@ -69,12 +72,13 @@ void add(Fnv1a& h, const Wall& w) {
 
 void add(Fnv1a& h, const Solid& s) {
   const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments,
-               smooth, caps, points, vertices, faces, normals, position, scale, closed] = s;
+               smooth, caps, points, mesh, mesh_ref, position, scale, closed] = s;
   (void)id;
+  (void)mesh_ref;  // names the mesh that `mesh` holds
   add(h, type); add(h, color); add(h, material);
   add(h, center); add(h, base); add(h, rotation_y_deg); add(h, size);
   add(h, radius); add(h, height); add(h, segments); add(h, smooth); add(h, caps);
-  add(h, points); add(h, vertices); add(h, faces); add(h, normals);
+  add(h, points); add(h, mesh);
   add(h, position); add(h, scale); add(h, closed);
 }
 
@@ -83,7 +87,7 @@ void add(Fnv1a& h, const Solid& s) {
 std::string scene_id(const StaticGeometry& geometry) {
   const auto& [has_floor, floor, walls, solids] = geometry;
   Fnv1a h;
-  h.add_bytes("roomrender static geometry 1");  // names this encoding; changed when it changes
+  h.add_bytes("roomrender static geometry 2");  // names this encoding; changed when it changes
   add(h, has_floor);
   if (has_floor) add(h, floor);
   add(h, walls); add(h, solids);

@@ -1,77 +1,113 @@
-// Solid type "mesh": indexed faces in object space, placed by scale, then rotation_y, then
-// position. Closed and smooth only when the request says so (or gives per-vertex normals).
+// Solid type "mesh": a shared MeshData (object space) placed by scale, then rotation_y, then
+// position. Closed and smooth only when the request says so (or gives per-vertex normals). The
+// per-mesh work (face areas, convexity, ear clipping, smooth-normal sums) is a MeshPlan made once per
+// MeshData; each placement only transforms vertices and normals and emits the planned pieces.
 #include "render/core/solids.hpp"
 #include "render/core/tessellate_detail.hpp"
 
-#include <algorithm>
+#include <array>
 #include <vector>
 
 namespace rr::detail {
 
+struct MeshPlan {
+  struct Face {
+    uint32_t face = 0;            // into MeshData::faces; faces without area are not planned
+    Vec3 newell{0.0};             // object space
+    uint32_t first_triangle = 0;  // into triangles; no triangles: the face is one polygon
+    uint32_t triangle_count = 0;
+  };
+  std::vector<Face> faces;
+  std::vector<std::array<uint32_t, 3>> triangles;  // corners of a face, indices into that face
+  std::vector<Vec3> vertex_sum;  // per vertex, the Newell vectors (2 * area * normal) of its faces
+};
+
 namespace {
 
-// A mesh's given normal in world space: the inverse transpose of scale, then rotation_y.
-glm::vec3 mesh_normal_to_world(const Solid& s, Vec3 n, double angle_rad) {
-  const Vec3 scaled = n / s.scale;
-  const Vec2 xz = rotate_plan({scaled.x, scaled.z}, angle_rad);
-  return glm::vec3(glm::normalize(Vec3(xz.x, scaled.y, xz.y)));
+std::shared_ptr<const MeshPlan> make_plan(const MeshData& mesh) {
+  auto plan = std::make_shared<MeshPlan>();
+  plan->vertex_sum.assign(mesh.vertices.size(), Vec3(0.0));
+  std::vector<Vec3> points;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    points.clear();
+    for (uint32_t v : mesh.faces[f]) points.push_back(mesh.vertices[v]);
+    const Vec3 n = newell_vector(points);
+    for (uint32_t v : mesh.faces[f]) plan->vertex_sum[v] += n;
+    if (!split_face(points, triangles)) continue;
+    plan->faces.push_back({uint32_t(f), n, uint32_t(plan->triangles.size()), uint32_t(triangles.size())});
+    plan->triangles.insert(plan->triangles.end(), triangles.begin(), triangles.end());
+  }
+  return plan;
 }
 
-// One polygon per face (triangles for non-convex faces). Object space -> world: scale, then
-// rotate_y, then translate. A mirroring scale would turn faces inside out, so it reverses them.
+const MeshPlan& plan_of(const MeshData& mesh) {
+  std::call_once(mesh.plan_once, [&] { mesh.plan = make_plan(mesh); });
+  return *mesh.plan;
+}
+
+// A normal in world space: the inverse transpose of scale, then rotation_y (not normalised). It
+// keeps the direction an area-weighted normal takes, so object-space sums transform as sums.
+Vec3 normal_to_world(const Solid& s, Vec3 n, double angle_rad) {
+  const Vec3 scaled = n / s.scale;
+  const Vec2 xz = rotate_plan({scaled.x, scaled.z}, angle_rad);
+  return Vec3(xz.x, scaled.y, xz.y);
+}
+
+// Per vertex shading normals of one placement: the given ones, or the smooth sums; zero where a
+// vertex has no sum (its faces then use their own normal). Empty when faceted.
+std::vector<glm::vec3> placed_shading(const Solid& s, const MeshPlan& plan, double angle_rad) {
+  const MeshData& mesh = *s.mesh;
+  const std::vector<Vec3>* source = !mesh.normals.empty() ? &mesh.normals : (s.smooth ? &plan.vertex_sum : nullptr);
+  std::vector<glm::vec3> out;
+  if (!source) return out;
+  out.reserve(source->size());
+  for (const Vec3& n : *source) {
+    const Vec3 w = normal_to_world(s, n, angle_rad);
+    const double len = glm::length(w);
+    out.push_back(len > 0.0 ? glm::vec3(w / len) : glm::vec3(0.0f));
+  }
+  return out;
+}
+
+// Object space -> world: scale, then rotate_y, then translate. A mirroring scale needs no reversal:
+// add_polygon winds each piece to agree with the transformed outward normal.
 void add_mesh(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t object) {
+  const MeshData& mesh = *s.mesh;
+  const MeshPlan& plan = plan_of(mesh);
   const double a = radians(s.rotation_y_deg);
-  std::vector<Vec3> world(s.vertices.size());
+  std::vector<Vec3> world(mesh.vertices.size());
   for (size_t i = 0; i < world.size(); ++i) {
-    const Vec3 scaled = s.vertices[i] * s.scale;
+    const Vec3 scaled = mesh.vertices[i] * s.scale;
     const Vec2 xz = rotate_plan({scaled.x, scaled.z}, a);
     world[i] = s.position + Vec3(xz.x, scaled.y, xz.y);
   }
-  const bool mirrored = s.scale.x * s.scale.y * s.scale.z < 0.0;
-  std::vector<std::vector<Vec3>> faces(s.faces.size());
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (uint32_t v : s.faces[f]) faces[f].push_back(world[v]);
-    if (mirrored) std::reverse(faces[f].begin(), faces[f].end());
-  }
-  // Smooth: each vertex averages the Newell vectors (2 * area * normal) of the faces using it.
-  std::vector<Vec3> vertex_sum(s.smooth ? world.size() : 0, Vec3(0.0));
-  if (s.smooth) {
-    for (size_t f = 0; f < faces.size(); ++f) {
-      const Vec3 n = newell_vector(faces[f]);
-      for (uint32_t v : s.faces[f]) vertex_sum[v] += n;
-    }
-  }
+  const std::vector<glm::vec3> vertex_shading = placed_shading(s, plan, a);
+  std::vector<Vec3> points;
   std::vector<glm::vec3> shading;
-  for (size_t f = 0; f < faces.size(); ++f) {
-    const Vec3 n = newell_vector(faces[f]);
+  for (const MeshPlan::Face& f : plan.faces) {
+    const Vec3 outward = normal_to_world(s, f.newell, a);
+    points.clear();
     shading.clear();
-    if (!s.normals.empty()) {
-      std::vector<uint32_t> ids = s.faces[f];
-      if (mirrored) std::reverse(ids.begin(), ids.end());
-      for (uint32_t v : ids) shading.push_back(mesh_normal_to_world(s, s.normals[v], a));
-    } else if (s.smooth) {
-      std::vector<uint32_t> ids = s.faces[f];
-      if (mirrored) std::reverse(ids.begin(), ids.end());
-      for (uint32_t v : ids) {
-        const double len = glm::length(vertex_sum[v]);
-        shading.push_back(glm::vec3(len > 0.0 ? vertex_sum[v] / len : glm::normalize(n)));
-      }
+    for (uint32_t v : mesh.faces[f.face]) {
+      points.push_back(world[v]);
+      if (vertex_shading.empty()) continue;
+      const glm::vec3 n = vertex_shading[v];
+      shading.push_back(n != glm::vec3(0.0f) ? n : glm::vec3(glm::normalize(outward)));
     }
-    if (glm::length(n) > 0.0) add_face(out, faces[f], shading, n, material, object);
+    const std::span<const std::array<uint32_t, 3>> triangles(plan.triangles.data() + f.first_triangle,
+                                                              f.triangle_count);
+    add_face_pieces(out, points, shading, triangles, outward, material, object);
   }
 }
 
-// A face of k vertices becomes at most k - 2 triangles.
-size_t estimate_mesh(const Solid& s) {
-  size_t count = 0;
-  for (const auto& f : s.faces) count += f.size() > 2 ? f.size() - 2 : 1;
-  return count;
-}
+// A face of k >= 3 vertices becomes at most k - 2 triangles.
+size_t estimate_mesh(const Solid& s) { return s.mesh->index_count - 2 * s.mesh->faces.size(); }
 
 }  // namespace
 
 extern const SolidInfo mesh_solid = {SolidType::mesh, "mesh", add_mesh, estimate_mesh,
                                      [](const Solid& s) { return s.closed; },
-                                     [](const Solid& s) { return s.smooth || !s.normals.empty(); }};
+                                     [](const Solid& s) { return s.smooth || !s.mesh->normals.empty(); }};
 
 }  // namespace rr::detail

@@ -55,6 +55,15 @@ double twice_signed_area(std::span<const Vec2> p);  // of a plan polygon in (x, 
 void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
               Vec3 outward, uint32_t material, uint32_t object);
 
+// add_face in two steps, so a mesh placed many times splits each face once (solid_mesh.cpp).
+// split_face: false when the face has no area; else `triangles` is empty when the face stays one
+// polygon, or holds its ear-clipped triangles (indices into `points`). The decision depends only on
+// orientation and relative flatness, so it carries over to any placement of the face.
+bool split_face(std::span<const Vec3> points, std::vector<std::array<uint32_t, 3>>& triangles);
+void add_face_pieces(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
+                     std::span<const std::array<uint32_t, 3>> triangles, Vec3 outward, uint32_t material,
+                     uint32_t object);
+
 // Walls with their joins, openings, door leaves and panes (tessellate_walls.cpp).
 void add_walls(SoupBuilder& out, const std::vector<Wall>& walls);
 size_t estimate_wall_polygons(const Wall& wall);

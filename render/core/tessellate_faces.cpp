@@ -97,14 +97,13 @@ double twice_signed_area(std::span<const Vec2> p) {
   return a;
 }
 
-// One face of a solid: a convex planar face stays one polygon; otherwise it is ear-clipped into
-// triangles with consecutive ids. Planar means within 1e-9 of the face's extent (the invariant of
-// tessellate.hpp); a mesh face validated only to 1e-6 is split rather than silently flattened.
-void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
-              Vec3 outward, uint32_t material, uint32_t object) {
+// Planar means within 1e-9 of the face's extent (the invariant of tessellate.hpp); a mesh face
+// validated only to 1e-6 is split rather than silently flattened.
+bool split_face(std::span<const Vec3> points, std::vector<std::array<uint32_t, 3>>& triangles) {
+  triangles.clear();
   const Vec3 n = newell_vector(points);
   const double len = glm::length(n);
-  if (points.size() < 3 || !(len > 0.0)) return;
+  if (points.size() < 3 || !(len > 0.0)) return false;
   const Vec3 unit = n / len;
   double extent = 0.0, off_plane = 0.0;
   for (const Vec3& p : points) {
@@ -112,11 +111,19 @@ void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const gl
     off_plane = std::max(off_plane, std::abs(glm::dot(unit, p - points[0])));
   }
   const std::vector<Vec2> flat = project_to_plane(points, unit);
-  if (off_plane <= 1e-9 * extent && is_convex_ccw(flat)) {
+  if (off_plane <= 1e-9 * extent && is_convex_ccw(flat)) return true;
+  triangles = ear_clip(flat);
+  return true;
+}
+
+void add_face_pieces(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
+                     std::span<const std::array<uint32_t, 3>> triangles, Vec3 outward, uint32_t material,
+                     uint32_t object) {
+  if (triangles.empty()) {
     out.add_polygon(points, outward, material, object, shading);
     return;
   }
-  for (const auto& t : ear_clip(flat)) {
+  for (const auto& t : triangles) {
     const Vec3 tri[3] = {points[t[0]], points[t[1]], points[t[2]]};
     if (shading.empty()) {
       out.add_polygon(tri, outward, material, object);
@@ -125,6 +132,12 @@ void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const gl
       out.add_polygon(tri, outward, material, object, tri_shading);
     }
   }
+}
+
+void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
+              Vec3 outward, uint32_t material, uint32_t object) {
+  std::vector<std::array<uint32_t, 3>> triangles;
+  if (split_face(points, triangles)) add_face_pieces(out, points, shading, triangles, outward, material, object);
 }
 
 }  // namespace rr::detail

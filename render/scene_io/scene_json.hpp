@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -23,6 +25,9 @@ struct ParseLimits {
   long long max_floor_cells = 1'000'000;
   double max_abs_coordinate = 1e6;      // metres, every position-like number
   double max_far_over_near = 1e7;
+  size_t max_mesh_vertices = 4'000'000;  // one mesh's vertices (its faces count against max_polygons)
+  // Finds a stored mesh for a mesh solid's "ref" (nullptr: none). Unset, every ref is refused (422).
+  std::function<std::shared_ptr<const MeshData>(const std::string& id)> resolve_mesh;
 };
 
 // Parses JSON text, rejecting what nlohmann would accept but we will not: nesting deeper than

@@ -41,6 +41,10 @@ void for_each_element(const nlohmann::json& items, const std::string& pointer, E
 
 MaterialParams read_material(const ObjectReader& owner);  // the optional "material" member
 
+// An inline mesh's "vertices", "faces" and "normals" (mesh_json.cpp): the mesh, or nullptr after
+// adding its problems to b.errors. Throws too_large and what stops reading.
+std::shared_ptr<const MeshData> read_mesh_geometry(const ObjectReader& r, const Bounds& b);
+
 struct SolidReader {
   SolidType type;
   // Reads every member of `value` but "type" (already read into s.type) into `s`, adding invalid

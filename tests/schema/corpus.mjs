@@ -141,6 +141,7 @@ invalid("mesh without faces", ["scene/solids/4/faces", undefined]);
 invalid("mesh face of 2 vertices", ["scene/solids/4/faces/0", [0, 1]]);
 invalid("negative mesh index", ["scene/solids/4/faces/0", [0, -1, 2]]);
 invalid("repeated mesh index", ["scene/solids/4/faces/0", [0, 2, 2]]);
+invalid("mesh with both ref and vertices", ["scene/solids/4/ref", "0123456789abcdef"]);
 invalid("point light attenuation all zero", ["scene/lights/1/attenuation", [0, 0, 0]]);
 invalid("unknown light type", ["scene/lights/0/type", "spot"]);
 invalid("point light without position", ["scene/lights/1/position", undefined]);
@@ -159,6 +160,7 @@ semantic("opening past the wall's end", ["scene/walls/0/openings/1/offset", 5.5]
 semantic("overlapping openings", ["scene/walls/0/openings/1/offset", 1.0]);
 semantic("window above its wall", ["scene/walls/0/openings/1/sill", 2.0]);
 semantic("mesh index out of range", ["scene/solids/4/faces/0", [0, 2, 9]]);
+semantic("mesh ref naming no stored mesh", ["scene/solids/4", { type: "mesh", ref: "0123456789abcdef" }]);
 semantic("self-intersecting prism", ["scene/solids/3/points", [[0, 0], [1, 1], [1, 0], [0, 1]]]);
 semantic("far not beyond near", ["camera/near", 5], ["camera/far", 4]);
 semantic("far / near above 1e7", ["camera/near", 0.00001], ["camera/far", 1000]);

@@ -67,9 +67,9 @@ TEST(SceneId, LengthsSeparateNeighbouringLists) {
     StaticGeometry g;
     Solid s;
     s.type = SolidType::mesh;
-    s.vertices.assign(6, Vec3(0.0));
-    for (size_t i = 0; i < s.vertices.size(); ++i) s.vertices[i] = Vec3(double(i), double(i * i), 1.0);
-    s.faces = std::move(faces);
+    std::vector<Vec3> vertices(6, Vec3(0.0));
+    for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = Vec3(double(i), double(i * i), 1.0);
+    s.mesh = make_mesh_data(vertices, std::move(faces), {});
     g.solids.push_back(s);
     return scene_id(g);
   };
@@ -95,8 +95,7 @@ StaticGeometry every_kind() {
     Solid s;
     s.type = type;
     s.points = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
-    s.vertices = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}};
-    s.faces = {{0, 1, 2}};
+    if (type == SolidType::mesh) s.mesh = make_mesh_data({{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}, {{0, 1, 2}}, {});
     g.solids.push_back(s);
   }
   return g;
@@ -149,9 +148,11 @@ TEST(SceneId, EveryDrawnMemberCounts) {
       {"cylinder.smooth", solid(1, [](Solid& s) { s.smooth = false; })},
       {"cylinder.caps", solid(1, [](Solid& s) { s.caps = false; })},
       {"prism.points", solid(3, [](Solid& s) { s.points[2].x = 0.5; })},
-      {"mesh.vertices", solid(4, [](Solid& s) { s.vertices[1].z = 0.5; })},
-      {"mesh.faces", solid(4, [](Solid& s) { s.faces[0] = {0, 2, 1}; })},
-      {"mesh.normals", solid(4, [](Solid& s) { s.normals.assign(3, Vec3(0.0, 0.0, 1.0)); })},
+      {"mesh.vertices", solid(4, [](Solid& s) { s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0.5}, {0, 1, 0}}, {{0, 1, 2}}, {}); })},
+      {"mesh.faces", solid(4, [](Solid& s) { s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 2, 1}}, {}); })},
+      {"mesh.normals", solid(4, [](Solid& s) {
+         s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, std::vector<Vec3>(3, Vec3(0, 0, 1)));
+       })},
       {"mesh.position", solid(4, [](Solid& s) { s.position.x = 1.0; })},
       {"mesh.scale", solid(4, [](Solid& s) { s.scale.z = 2.0; })},
       {"mesh.closed", solid(4, [](Solid& s) { s.closed = true; })},

@@ -157,7 +157,7 @@ TEST(SceneJson, SolidDefaultsDependOnType) {
   EXPECT_FALSE(s[4].closed);
   EXPECT_EQ(s[4].scale, Vec3(1.0));
   EXPECT_EQ(s[4].position, Vec3(0.0));
-  EXPECT_EQ(s[4].faces, (std::vector<std::vector<uint32_t>>{{0, 1, 2}}));
+  EXPECT_EQ(s[4].mesh->faces, (std::vector<std::vector<uint32_t>>{{0, 1, 2}}));
   for (const Solid& solid : s) EXPECT_EQ(solid.material.shininess, 32.0f);
 }
 
@@ -281,7 +281,7 @@ TEST(SceneJsonErrors, EveryIntegerMemberAcceptsAZeroFraction) {
                  "shadow":{"size":512.0,"pcf":3.0}}})");
   EXPECT_EQ(r.scene.geometry.floor.cells_x, 2);
   EXPECT_EQ(r.scene.geometry.floor.cells_z, 3);
-  EXPECT_EQ(r.scene.geometry.solids.at(0).faces.at(0), (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(r.scene.geometry.solids.at(0).mesh->faces.at(0), (std::vector<uint32_t>{0, 1, 2}));
   EXPECT_EQ(r.options.width, 320);
   EXPECT_EQ(r.options.height, 240);
   EXPECT_EQ(r.options.bsp.max_candidates, 8);
@@ -367,7 +367,7 @@ TEST(SceneJsonRules, MeshFromJsonBuiltInCodeAcceptsSignedIndices) {
                        {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}},
                        {"faces", {{0, 1, 2}}}}}}}}};
   ASSERT_TRUE(request["scene"]["solids"][0]["faces"][0][1].is_number_integer());
-  EXPECT_EQ(request_from_json(request).scene.geometry.solids.at(0).faces.at(0).at(2), 2u);
+  EXPECT_EQ(request_from_json(request).scene.geometry.solids.at(0).mesh->faces.at(0).at(2), 2u);
 }
 
 TEST(SceneJsonRules, PrismMustBeSimplePolygon) {

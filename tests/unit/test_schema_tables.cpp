@@ -144,8 +144,12 @@ class Dump {
     (*this)("type", s.type)("id", s.id)("color", s.color)("material", s.material)("center", s.center)(
         "base", s.base)("rotation_y", s.rotation_y_deg)("size", s.size)("radius", s.radius)(
         "height", s.height)("segments", s.segments)("smooth", s.smooth)("caps", s.caps)("points", s.points)(
-        "vertices", s.vertices)("faces", s.faces)("normals", s.normals)("position", s.position)(
+        "mesh", s.mesh)("mesh_ref", s.mesh_ref)("position", s.position)(
         "scale", s.scale)("closed", s.closed);
+  }
+  void put(const std::shared_ptr<const MeshData>& m) {
+    if (!m) return;
+    (*this)("vertices", m->vertices)("faces", m->faces)("normals", m->normals);
   }
   void put(const std::vector<uint32_t>& face) {
     for (uint32_t i : face) out_ << i << ',';

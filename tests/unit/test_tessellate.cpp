@@ -693,10 +693,13 @@ TEST(Tessellate, StarPrismIsEarClippedExactly) {
   expect_rel(volume(soup, all), 10 * 0.5 * 1.0 * 0.4 * std::sin(2 * pi / 10));
 }
 
+const std::vector<Vec3> tetrahedron_vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+// Counter-clockwise seen from outside.
+const std::vector<std::vector<uint32_t>> tetrahedron_faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+
 Solid tetrahedron() {
   Solid s = make_solid(SolidType::mesh);
-  s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  s.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};  // counter-clockwise seen from outside
+  s.mesh = make_mesh_data(tetrahedron_vertices, tetrahedron_faces, {});
   s.smooth = false;
   s.closed = true;
   return s;
@@ -751,8 +754,8 @@ TEST(Tessellate, MeshNonConvexFaceBecomesConsecutiveTriangles) {
   Solid s = make_solid(SolidType::mesh);
   s.smooth = false;
   // An L-shaped face at y = 1 wound counter-clockwise seen from above (+Y), then a triangle.
-  s.vertices = {{0, 1, 0}, {2, 1, 0}, {2, 1, 1}, {1, 1, 1}, {1, 1, 2}, {0, 1, 2}, {5, 0, 0}, {6, 0, 0}};
-  s.faces = {{0, 5, 4, 3, 2, 1}, {0, 6, 7}};
+  s.mesh = make_mesh_data({{0, 1, 0}, {2, 1, 0}, {2, 1, 1}, {1, 1, 1}, {1, 1, 2}, {0, 1, 2}, {5, 0, 0}, {6, 0, 0}},
+                          {{0, 5, 4, 3, 2, 1}, {0, 6, 7}}, {});
   g.solids = {s};
   const PolygonSoup soup = tessellate_checked(g);
   ASSERT_EQ(soup.polygons.size(), 5u);  // 4 triangles (ids 0..3), then the triangle face (id 4)
@@ -770,11 +773,13 @@ TEST(Tessellate, MeshLPrismWithNonConvexCapsIsClosed) {
   s.smooth = false;
   s.closed = true;
   const Vec2 l_shape[6] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};  // clockwise from above
+  std::vector<Vec3> vertices;
   for (double y : {0.0, 1.0}) {
-    for (Vec2 p : l_shape) s.vertices.push_back({p.x, y, p.y});
+    for (Vec2 p : l_shape) vertices.push_back({p.x, y, p.y});
   }
-  s.faces = {{0, 1, 2, 3, 4, 5}, {6, 11, 10, 9, 8, 7}};  // bottom (-Y), top (+Y)
-  for (uint32_t i = 0; i < 6; ++i) s.faces.push_back({i, i + 6, (i + 1) % 6 + 6, (i + 1) % 6});
+  std::vector<std::vector<uint32_t>> faces = {{0, 1, 2, 3, 4, 5}, {6, 11, 10, 9, 8, 7}};  // bottom (-Y), top (+Y)
+  for (uint32_t i = 0; i < 6; ++i) faces.push_back({i, i + 6, (i + 1) % 6 + 6, (i + 1) % 6});
+  s.mesh = make_mesh_data(vertices, faces, {});
   g.solids = {s};
   const PolygonSoup soup = tessellate_checked(g);
   EXPECT_EQ(soup.polygons.size(), 4u + 4u + 6u);
@@ -787,12 +792,15 @@ TEST(Tessellate, DegenerateAndNonPlanarMeshFaces) {
   StaticGeometry g;
   Solid s = tetrahedron();
   s.closed = false;
-  s.vertices.push_back({2, 0, 0});                    // 4: collinear with 0 and 1
-  s.vertices.push_back({3, 0, 0});                    // 5
-  s.vertices.push_back({3, 0, 1});                    // 6
-  s.vertices.push_back({2, 1e-7, 1});                 // 7: 1e-7 off the plane of 4, 5, 6
-  s.faces.push_back({0, 1, 4});                       // zero area: dropped
-  s.faces.push_back({4, 7, 6, 5});                    // planar only to 1e-7: two triangles
+  std::vector<Vec3> vertices = tetrahedron_vertices;
+  std::vector<std::vector<uint32_t>> faces = tetrahedron_faces;
+  vertices.push_back({2, 0, 0});                    // 4: collinear with 0 and 1
+  vertices.push_back({3, 0, 0});                    // 5
+  vertices.push_back({3, 0, 1});                    // 6
+  vertices.push_back({2, 1e-7, 1});                 // 7: 1e-7 off the plane of 4, 5, 6
+  faces.push_back({0, 1, 4});                       // zero area: dropped
+  faces.push_back({4, 7, 6, 5});                    // planar only to 1e-7: two triangles
+  s.mesh = make_mesh_data(vertices, faces, {});
   g.solids = {s};
   const PolygonSoup soup = tessellate_checked(g);
   ASSERT_EQ(soup.polygons.size(), 4u + 2u);

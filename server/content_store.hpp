@@ -1,0 +1,128 @@
+// A content-addressed store of immutable entries (scenes, meshes): T has `id` (the hash of `text`),
+// `text` (the canonical document, the file's content) and `bytes` (charged against the budget).
+// Stored means kept: a store at its budget (entries or approximate bytes) refuses new entries rather
+// than evict acknowledged ones; only an operator's retention (ttl, time since last access) removes
+// them, and never a pinned one. Each entry has owners (one reference each); it goes when the last
+// reference is dropped. With a data directory every entry is also a file <dir>/<plural>/<id>.json and,
+// unless its only owner is "" and no retention is set, its owners and creation time
+// <dir>/<kind>-meta/<id>.json, each written to a temporary file, fsynced and renamed (a crash leaves
+// the old state or the new, never a torn file); start-up loads them back.
+#pragma once
+
+#include "render/core/lru_cache.hpp"  // CacheStats
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace rr::server {
+
+template <class T>
+struct ContentStoreConfig {
+  size_t max_entries = 1000;
+  size_t max_bytes = 256u << 20;
+  std::filesystem::path data_dir;  // empty: memory only
+  std::chrono::seconds ttl{0};     // removed this long after the last access; 0: kept until deleted
+  std::string kind = "scene";      // metadata in <dir>/<kind>-meta; log events <kind>_...
+  std::string plural = "scenes";   // files in <dir>/<plural>
+  // A stored file's text -> its entry (load()). Throws when it does not read.
+  std::function<std::shared_ptr<const T>(const std::string& text)> read;
+  // An entry something else depends on: not removed (release answers pinned) nor expired.
+  std::function<bool(const std::string& id)> pinned;
+  // Told of every entry added (put, load) or removed (release, expiry), under the writer's lock.
+  std::function<void(const T& item, bool added)> on_change;
+};
+
+template <class T>
+class ContentStore {
+ public:
+  using Clock = std::chrono::system_clock;  // persisted (file times), so wall-clock time
+  // conflict: another content with the same id is stored (ids are 64-bit FNV-1a hashes, not a
+  // cryptographic commitment, so a crafted collision is possible; it is refused, never merged).
+  // full: storing it would pass max_entries or max_bytes; nothing stored is given up for it.
+  enum class PutResult { created, existed, too_large, full, conflict };
+  // not_owner: stored, but the caller holds no reference to it. pinned: the last reference, but
+  // config.pinned holds the entry (a mesh that a stored scene places).
+  enum class ReleaseResult { removed, reference_dropped, not_found, not_owner, pinned };
+  using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
+
+  struct Listed {
+    std::string id;
+    int64_t created_us = 0;  // microseconds since the epoch; unique within the store
+    std::optional<Clock::time_point> expires;
+    size_t bytes = 0;
+  };
+  struct Page {
+    std::vector<Listed> scenes;  // newest first
+    std::optional<std::string> next_cursor;
+  };
+
+  using Config = ContentStoreConfig<T>;
+  ContentStore(Config config, Log log);
+  ContentStore(const ContentStore&) = delete;
+  ContentStore& operator=(const ContentStore&) = delete;
+
+  // Reads the data directory (if any): removes temporary files a crash left and metadata without a
+  // scene, loads every scene file whose content still hashes to its name (also beyond the budget:
+  // it was acknowledged), drops those whose retention ran out. Returns how many were loaded.
+  size_t load();
+
+  // Stores `scene` with `owner` holding a reference (on disk first when persistent); storing it again
+  // adds the owner's reference. Throws std::runtime_error when a file cannot be written (the caller
+  // answers 500; nothing changes).
+  PutResult put(const std::shared_ptr<const T>& item, const std::string& owner);
+  // The scene, counting as an access (it restarts the retention clock).
+  std::shared_ptr<const T> find(const std::string& id);
+  // Drops `owner`'s reference; nullopt (a server without tokens) drops every reference.
+  ReleaseResult release(const std::string& id, const std::optional<std::string>& owner);
+  // Scenes newest first, those `owner` holds a reference to (nullopt: all), after `cursor` (from
+  // an earlier page). Throws std::invalid_argument for a cursor this store did not make.
+  Page list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor);
+  // When a scene accessed now expires (nullopt: no retention is set).
+  std::optional<Clock::time_point> expiry_from_now() const;
+  // Fill (entries, bytes and their budgets) and find()'s hits and misses; evictions stay 0.
+  CacheStats stats();
+  const Config& config() const { return config_; }
+
+ private:
+  struct Entry {
+    std::shared_ptr<const T> item;
+    std::set<std::string> owners;
+    int64_t created_us = 0;
+    Clock::time_point last_access;
+    Clock::time_point persisted_access;  // the scene file's time, moved forward now and then
+  };
+
+  std::filesystem::path file_for(const std::string& id) const;
+  std::filesystem::path meta_for(const std::string& id) const;
+  void write_meta(const std::string& id, int64_t created_us, const std::set<std::string>& owners) const;
+  void remove_files(const std::string& id) const;
+  void expire(Clock::time_point now, bool force);  // holds mutation_
+  bool expired(const Entry& entry, Clock::time_point now) const;
+  int64_t next_created_us(Clock::time_point now);
+  bool load_one(const std::filesystem::path& path, Clock::time_point modified);
+
+  Config config_;
+  Log log_;
+  // Writers (put, release, expiry, load) take mutation_ first, so a file and its entry agree and
+  // owners change one writer at a time; the map itself is guarded by mutex_, which find() takes
+  // alone, so renders of stored scenes never wait for a writer's fsync.
+  std::mutex mutation_;
+  std::mutex mutex_;
+  std::map<std::string, Entry> entries_;
+  size_t bytes_ = 0;
+  int64_t last_created_us_ = 0;
+  Clock::time_point last_sweep_;
+  CacheStats stats_;
+};
+
+}  // namespace rr::server

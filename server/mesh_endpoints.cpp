@@ -1,0 +1,143 @@
+// Stored meshes: POST /v1/meshes (an OBJ file as text/plain or model/obj, or a JSON mesh document
+// {"vertices", "faces"[, "normals"]} as application/json) -> 201 and the mesh's id, its content hash,
+// so sending it again (in either form) answers 200 with the same id; GET /v1/meshes/{id} (the
+// canonical JSON mesh) and DELETE /v1/meshes/{id}, refused with 409 while a stored scene places the
+// mesh. OBJ errors name their line ("/line/17"), JSON errors their pointer ("/faces/7/2").
+#include "render/import/obj_mesh.hpp"
+#include "render/scene_io/mesh_json.hpp"
+#include "server/problem.hpp"
+#include "server/routes.hpp"
+
+#include <httplib.h>
+
+namespace rr::server {
+
+namespace {
+
+using httplib::Request;
+using httplib::Response;
+using nlohmann::json;
+
+std::string mesh_location(const std::string& id) { return "/v1/meshes/" + id; }
+
+json vec_json(Vec3 v) { return json::array({v.x, v.y, v.z}); }
+
+// The body as a mesh; parsing holds a render slot, as storing a scene does.
+std::shared_ptr<const MeshData> read_mesh_body(ServiceState& state, const Request& req, std::vector<std::string>& warnings) {
+  std::shared_ptr<const MeshData> mesh;
+  with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
+    const std::string type = req.get_header_value("Content-Type");
+    if (type.starts_with("application/json")) {
+      mesh = mesh_from_json(parse_body(state, req), state.limits);
+      return;
+    }
+    json document = obj_mesh_document(req.body, warnings);
+    try {
+      mesh = mesh_from_json(document, state.limits);
+    } catch (const InputError& e) {  // repaired OBJ faces pass; only limits land here
+      throw InputError(e.kind(), "", e.summary());
+    }
+  });
+  return mesh;
+}
+
+void handle_post_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
+  std::vector<std::string> warnings;
+  std::shared_ptr<const MeshData> mesh = read_mesh_body(state, req, warnings);
+  StoredMeshId stored = store_mesh(state, request_context().owner, mesh);
+  res.set_header("Location", mesh_location(stored.id));
+  json body = {{"id", stored.id},
+               {"location", mesh_location(stored.id)},
+               {"created", stored.created},
+               {"vertices", mesh->vertices.size()},
+               {"faces", mesh->faces.size()},
+               {"normals", !mesh->normals.empty()},
+               {"bounds", {{"min", vec_json(mesh->bounds_min)}, {"max", vec_json(mesh->bounds_max)}}},
+               {"warnings", warnings}};
+  send_json(res, body, stored.created ? 201 : 200);
+}
+
+void handle_get_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
+  auto mesh = state.meshes.find(match.params.at(0));
+  if (!mesh) throw HttpError(404, "There is no stored mesh " + match.params[0] + ".");
+  res.set_header("Cache-Control", "public, max-age=31536000, immutable");  // content-addressed
+  if (answer_not_modified(req, res, "\"" + mesh->id + "\"")) return;
+  res.set_content(mesh->text, "application/json");
+}
+
+// With tokens, a delete drops the caller's reference only; the mesh goes with the last one, unless
+// a stored scene places it (409, naming a few of those scenes).
+void handle_delete_mesh(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
+  std::optional<std::string> owner;
+  if (!state.access.tokens.empty()) owner = request_context().owner;
+  const std::string& id = match.params.at(0);
+  std::lock_guard pins(state.mesh_pins.writers());
+  switch (state.meshes.release(id, owner)) {
+    case MeshStore::ReleaseResult::not_found: throw HttpError(404, "There is no stored mesh " + id + ".");
+    case MeshStore::ReleaseResult::not_owner:
+      throw HttpError(403, "The mesh " + id + " is stored, but not by this token's owner; only an owner can "
+                           "drop its reference.");
+    case MeshStore::ReleaseResult::pinned: {
+      std::vector<FieldError> errors;
+      std::string list;
+      for (const std::string& scene : state.mesh_pins.scenes_placing(id, 5)) {
+        errors.push_back({"", "placed by stored scene " + scene});
+        list += (list.empty() ? "" : ", ") + scene;
+      }
+      throw HttpError(409, "The mesh " + id + " is placed by stored scenes (" + list +
+                               (errors.size() == 5 ? ", ..." : "") +
+                               "); delete those scenes first. A mesh stays while a stored scene places it.",
+                      errors);
+    }
+    case MeshStore::ReleaseResult::removed:
+    case MeshStore::ReleaseResult::reference_dropped: res.status = 204;
+  }
+}
+
+[[noreturn]] void throw_mesh_store_full(ServiceState& state) {
+  CacheStats fill = state.meshes.stats();
+  throw HttpError(507,
+                  "The mesh store is full: it holds " + std::to_string(fill.entries) + " meshes of at most " +
+                      std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
+                      " bytes of at most " + std::to_string(fill.budget_bytes) +
+                      ". Stored meshes are kept, not evicted: delete meshes you no longer need, or ask the "
+                      "operator to raise --mesh-store-entries or --mesh-store-bytes.",
+                  {{"", "mesh store full"}});
+}
+
+}  // namespace
+
+StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shared_ptr<const MeshData> mesh) {
+  std::shared_ptr<const StoredMesh> stored = prepare_mesh(std::move(mesh));
+  switch (state.meshes.put(stored, owner)) {
+    case MeshStore::PutResult::conflict:
+      throw HttpError(409, "A different mesh with the id " + stored->id + " is stored already (a hash collision).",
+                      {{"", "content differs from the stored mesh with this id"}});
+    case MeshStore::PutResult::too_large:
+      throw HttpError(413, "The stored form of this mesh takes about " + std::to_string(stored->bytes) +
+                               " bytes; the mesh store holds at most " +
+                               std::to_string(state.meshes.config().max_bytes) + ".",
+                      {{"", "mesh too large to store"}});
+    case MeshStore::PutResult::full: throw_mesh_store_full(state);
+    case MeshStore::PutResult::created: return {stored->id, true};
+    case MeshStore::PutResult::existed: break;
+  }
+  return {stored->id, false};
+}
+
+std::vector<Route> mesh_routes(const ServerConfig& config) {
+  const std::vector<std::string> bodies = {"application/json", "text/plain", "model/obj",
+                                           "application/octet-stream"};
+  const std::vector<std::string> json_answer = {"application/json"};
+  const char* one = "/v1/meshes/([0-9a-f]{16})";
+  std::vector<Route> routes = {
+      {"POST", "/v1/meshes", "/v1/meshes", bodies, json_answer, handle_post_mesh},
+      {"GET", "/v1/meshes/{id}", one, {}, json_answer, handle_get_mesh},
+      {"DELETE", "/v1/meshes/{id}", one, {}, {}, handle_delete_mesh},
+  };
+  routes[0].max_body_bytes = config.max_import_bytes;  // an OBJ is text, larger than its JSON request
+  for (Route& r : routes) r.access = r.method == "GET" ? Access::read : Access::write;
+  return routes;
+}
+
+}  // namespace rr::server

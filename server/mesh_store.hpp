@@ -1,0 +1,52 @@
+// Stored meshes (a ContentStore, content_store.hpp): a MeshData kept as its canonical JSON mesh
+// document, its id the mesh's content id (mesh_data.hpp), so one mesh sent as OBJ or as JSON is one
+// entry. MeshPins records which stored scenes place which stored meshes: a mesh is pinned (neither
+// deleted nor expired) while a stored scene places it.
+#pragma once
+
+#include "render/core/mesh_data.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "server/content_store.hpp"
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace rr::server {
+
+struct StoredScene;
+
+struct StoredMesh {
+  std::string id;    // mesh->content_id
+  std::string text;  // canonical JSON mesh document (mesh_to_json)
+  size_t bytes = 0;  // charged against the store's budget
+  std::shared_ptr<const MeshData> mesh;
+};
+
+std::shared_ptr<const StoredMesh> prepare_mesh(std::shared_ptr<const MeshData> mesh);
+// A stored mesh file's text (load()). Throws when it does not read.
+std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, const ParseLimits& limits);
+
+using MeshStoreConfig = ContentStoreConfig<StoredMesh>;
+using MeshStore = ContentStore<StoredMesh>;
+
+class MeshPins {
+ public:
+  void change(const StoredScene& scene, bool added);  // a SceneStore's on_change
+  bool pinned(const std::string& mesh_id) const;
+  // Up to `most` stored scenes placing the mesh, in id order.
+  std::vector<std::string> scenes_placing(const std::string& mesh_id, size_t most) const;
+  // Held across "check the meshes a scene places, store the scene" and across "delete a mesh", so
+  // a scene is never stored placing a mesh that a concurrent delete removed.
+  std::mutex& writers() { return writers_; }
+
+ private:
+  std::mutex writers_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::set<std::string>> scenes_;  // mesh id -> stored scenes placing it
+};
+
+}  // namespace rr::server
