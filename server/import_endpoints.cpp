@@ -8,6 +8,7 @@
 // Files of other tools are larger than requests: the route has its own body limit
 // (--max-import-bytes, 64 MiB), and importing holds a render slot like a render does.
 #include "render/import/import.hpp"
+#include "render/scene_io/mesh_json.hpp"
 #include "server/problem.hpp"
 #include "server/routes.hpp"
 
@@ -15,6 +16,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <map>
 
 namespace rr::server {
 
@@ -47,6 +49,24 @@ bool furniture_param(const Request& req, bool fallback) {
   return text == "models";
 }
 
+// Each distinct furniture mesh of `imported` stored once (as POST /v1/meshes stores it), and the
+// solids placing it rewritten to name its stored id.
+void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
+  std::map<std::string, std::string> stored_ids;
+  for (const auto& [key, mesh] : imported.meshes) {
+    try {
+      stored_ids[key] = store_mesh(state, request_context().owner, mesh_from_json(mesh, state.limits)).id;
+    } catch (const InputError& e) {  // the importer wrote it, so only a limit can refuse it
+      throw InputError(e.kind(), "", "furniture mesh " + key + ": " + e.summary());
+    }
+  }
+  for (json& solid : imported.request["scene"]["solids"]) {
+    auto ref = solid.find("ref");
+    if (ref != solid.end()) *ref = stored_ids.at(ref->get<std::string>());
+  }
+  imported.meshes.clear();
+}
+
 void handle_import(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   const ImportFormatInfo* format = find_import_format(match.params.at(0));
   if (!format) throw HttpError(404, "There is no importer " + match.params[0] + ".");
@@ -57,11 +77,15 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
   const bool store = number_param(req, "store", 0, 0, 1) == 1.0;
   options.furniture_models = furniture_param(req, looks_like_zip(req.body));
 
+  options.mesh_refs = store;  // stored meshes keep each furniture mesh once; answers inline them
+
   ImportResult imported;
   std::shared_ptr<const StoredScene> scene;
   with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
     imported = import_file_text(req.body, format->format, options);  // companion files only from a zip
-    if (store) scene = prepare_scene(imported.request.at("scene"), state.config.limits);
+    if (!store) return;
+    store_furniture_meshes(state, imported);
+    scene = prepare_scene(imported.request.at("scene"), state.limits);
   });
   json warnings = json::array();
   for (const std::string& w : imported.warnings) warnings.push_back(w);

@@ -177,9 +177,10 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     ASSERT_EQ(scene->status, 200);
     const json document = json::parse(scene->body);
     size_t meshes = 0;
-    for (const json& s : document["solids"]) meshes += s["type"] == "mesh";
+    for (const json& s : document["solids"]) meshes += s.contains("ref");
     EXPECT_GT(meshes, 20u) << name;
-    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu mesh solids\n", name.c_str(), zip.size(),
+    EXPECT_LT(scene->body.size(), 1u << 20) << name;  // each mesh is stored once, apart from the scene
+    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu solids placing a stored mesh\n", name.c_str(), zip.size(),
                 scene->body.size(), meshes);
     for (const std::string& pipeline : pipelines()) {
       json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}, {"pipeline", pipeline}}}};
@@ -188,7 +189,19 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
       ASSERT_EQ(png->status, 200) << name << " " << pipeline << ": " << png->body.substr(0, 300);
       EXPECT_EQ(png_size(png->body).width, 96u);
     }
-    // Inline meshes are large in the store (tens of MB parsed): make room for the next home.
+    // The stored scene draws the polygons of the request answered without store=1.
+    auto inline_import = post_zip(client, "/v1/import/sh3d?width=96&height=72", zip);
+    ASSERT_TRUE(inline_import);
+    ASSERT_EQ(inline_import->status, 200);
+    const size_t inline_polygons = rr::tessellate(rr::request_from_json(json::parse(inline_import->body)).scene.geometry).polygons.size();
+    json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}}}};
+    httplib::Headers accept_json = {{"Accept", "application/json"}};
+    auto counted = client.Post((receipt["location"].get<std::string>() + "/render").c_str(), accept_json, view.dump(),
+                               "application/json");
+    ASSERT_TRUE(counted);
+    ASSERT_EQ(counted->status, 200) << counted->body.substr(0, 300);
+    EXPECT_EQ(json::parse(counted->body)["counts"]["polygons"].get<size_t>(), inline_polygons) << name;
+    // The next home's meshes and scene fit beside it; deleting keeps the store small all the same.
     auto deleted = client.Delete(receipt["location"].get<std::string>().c_str());
     ASSERT_TRUE(deleted);
     EXPECT_EQ(deleted->status, 204);
