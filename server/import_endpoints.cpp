@@ -1,8 +1,9 @@
 // POST /v1/import/{format}: a file made by another tool (a Sweet Home 3D Home.xml, .sh3d or zip of a
 // home and its furniture models, an R2V floor plan, a Wavefront OBJ model or a zip of one and its
 // .mtl) -> the complete render request it describes (render/import/import.hpp), ready for POST
-// /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes) and the answer names it
-// and carries the default camera and options. Query: scale (metres per file unit; the format's
+// /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes), its furniture meshes
+// each once in the mesh store (as POST /v1/meshes) placed by ref, and the answer names it and
+// carries the default camera and options. Query: scale (metres per file unit; the format's
 // default otherwise), width and height (the request's image size), store, furniture (boxes|models:
 // models by default when the file is a zip, which is where they come from).
 // Files of other tools are larger than requests: the route has its own body limit
