@@ -1,11 +1,15 @@
-// POST /v1/import/{format}: a file made by another tool (a Sweet Home 3D Home.xml or .sh3d, an R2V
-// floor plan, a Wavefront OBJ model) -> the complete render request it describes (render/import/import.hpp),
-// ready for POST /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes) and the
-// answer names it and carries the default camera and options. Query: scale (metres per file unit;
-// the format's default otherwise), width and height (the request's image size), store.
+// POST /v1/import/{format}: a file made by another tool (a Sweet Home 3D Home.xml, .sh3d or zip of a
+// home and its furniture models, an R2V floor plan, a Wavefront OBJ model or a zip of one and its
+// .mtl) -> the complete render request it describes (render/import/import.hpp), ready for POST
+// /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes), its furniture meshes
+// each once in the mesh store (as POST /v1/meshes) placed by ref, and the answer names it and
+// carries the default camera and options. Query: scale (metres per file unit; the format's
+// default otherwise), width and height (the request's image size), store, furniture (boxes|models:
+// models by default when the file is a zip, which is where they come from).
 // Files of other tools are larger than requests: the route has its own body limit
 // (--max-import-bytes, 64 MiB), and importing holds a render slot like a render does.
 #include "render/import/import.hpp"
+#include "render/scene_io/mesh_json.hpp"
 #include "server/problem.hpp"
 #include "server/routes.hpp"
 
@@ -13,6 +17,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <map>
 
 namespace rr::server {
 
@@ -35,6 +40,34 @@ double number_param(const Request& req, const std::string& name, double fallback
   return value;
 }
 
+bool furniture_param(const Request& req, bool fallback) {
+  if (!req.has_param("furniture")) return fallback;
+  const std::string text = req.get_param_value("furniture");
+  if (text != "boxes" && text != "models") {
+    throw HttpError(400, "The query parameter furniture must be boxes or models.",
+                    {{"", "not boxes or models: \"" + quote_input(text) + "\"", "furniture"}});
+  }
+  return text == "models";
+}
+
+// Each distinct furniture mesh of `imported` stored once (as POST /v1/meshes stores it), and the
+// solids placing it rewritten to name its stored id.
+void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
+  std::map<std::string, std::string> stored_ids;
+  for (const auto& [key, mesh] : imported.meshes) {
+    try {
+      stored_ids[key] = store_mesh(state, request_context().owner, mesh_from_json(mesh, state.limits)).id;
+    } catch (const InputError& e) {  // the importer wrote it, so only a limit can refuse it
+      throw InputError(e.kind(), "", "furniture mesh " + key + ": " + e.summary());
+    }
+  }
+  for (json& solid : imported.request["scene"]["solids"]) {
+    auto ref = solid.find("ref");
+    if (ref != solid.end()) *ref = stored_ids.at(ref->get<std::string>());
+  }
+  imported.meshes.clear();
+}
+
 void handle_import(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   const ImportFormatInfo* format = find_import_format(match.params.at(0));
   if (!format) throw HttpError(404, "There is no importer " + match.params[0] + ".");
@@ -43,12 +76,17 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
   options.width = int(number_param(req, "width", options.width, 1, state.config.limits.max_image_side));
   options.height = int(number_param(req, "height", options.height, 1, state.config.limits.max_image_side));
   const bool store = number_param(req, "store", 0, 0, 1) == 1.0;
+  options.furniture_models = furniture_param(req, looks_like_zip(req.body));
+
+  options.mesh_refs = store;  // stored meshes keep each furniture mesh once; answers inline them
 
   ImportResult imported;
   std::shared_ptr<const StoredScene> scene;
   with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
-    imported = import_file_text(req.body, format->format, options);  // no companion files over HTTP
-    if (store) scene = prepare_scene(imported.request.at("scene"), state.config.limits);
+    imported = import_file_text(req.body, format->format, options);  // companion files only from a zip
+    if (!store) return;
+    store_furniture_meshes(state, imported);
+    scene = prepare_scene(imported.request.at("scene"), state.limits);
   });
   json warnings = json::array();
   for (const std::string& w : imported.warnings) warnings.push_back(w);

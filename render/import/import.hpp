@@ -1,16 +1,18 @@
 // Importers: the text (or bytes) of a file made by another tool -> a complete render request
 // ({"scene", "camera", "options"}) that parse_request accepts as is. Sweet Home 3D homes (Home.xml,
-// or a .sh3d zip holding one), R2V vector floor plans and Wavefront OBJ models; docs/import.md gives
-// every mapping. Errors are InputError whose pointer locates the problem in the *source* file
+// or a zip holding one and its furniture models), R2V vector floor plans and Wavefront OBJ models (or
+// a zip of one and its .mtl); docs/import.md gives every mapping. Errors are InputError whose pointer locates the problem in the *source* file
 // ("/line/17", or "/home/wall/3" for the fourth <wall>) and whose message names it and its line.
 // Pure functions: no file access here; companion files (an OBJ's .mtl) come through a callback.
 #pragma once
 
+#include "render/import/archive.hpp"
 #include "render/scene_io/errors.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -49,14 +51,27 @@ struct ImportOptions {
   // Sweet Home 3D only: draw furniture with its OBJ model (through read_companion) where available,
   // instead of a box of the piece's size. Off by default: models multiply the polygon count ~50x.
   bool furniture_models = false;
+  // Sweet Home 3D furniture models: leave each distinct mesh once in ImportResult::meshes and let the
+  // solids name it by "ref" (for a caller that stores meshes), instead of inlining it in every solid.
+  bool mesh_refs = false;
+  // Limits on a zip (a .sh3d, a zip of an OBJ and its .mtl); see archive.hpp for the defaults.
+  ArchiveLimits archive;
 };
 
 struct ImportResult {
   nlohmann::json request;             // {"scene", "camera", "options"}
   std::vector<std::string> warnings;  // what was repaired, approximated or skipped, one line each
+  // With ImportOptions::mesh_refs: the meshes the scene's {"type": "mesh", "ref": key} solids place,
+  // by key, each in the mesh solid's form {"vertices", "faces"[, "normals"]}. Empty otherwise.
+  std::map<std::string, nlohmann::json> meshes;
 };
 
-// Imports one file. A Sweet Home 3D `bytes` may be Home.xml or a .sh3d zip holding Home.xml.
+// Puts each mesh of `result.meshes` into the solids whose "ref" names it, and empties the map: the
+// request then stands alone. A solid's placement (position, rotation_y, scale, colour) is kept.
+void inline_mesh_refs(ImportResult& result);
+
+// Imports one file. A Sweet Home 3D `bytes` may be Home.xml or a zip (import_archive); an OBJ may be
+// OBJ text or a zip.
 // Throws InputError: Kind::malformed when the file cannot be read as its format, Kind::invalid when
 // it can but describes something we refuse (an opening wider than its wall, an out-of-range index),
 // Kind::too_large past a limit.
@@ -67,8 +82,10 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
 ImportResult import_r2v(std::string_view text, const ImportOptions& options = {});
 ImportResult import_obj(std::string_view text, const ImportOptions& options = {});
 
-// Home.xml from a .sh3d zip archive. Throws InputError(malformed) when `zip_bytes` is not a zip or
-// holds no Home.xml (homes saved before Sweet Home 3D 5.3 only hold the Java-serialised "Home").
-std::string extract_sh3d_home_xml(std::string_view zip_bytes);
+// A zip: Sweet Home 3D (a .sh3d holding Home.xml and its models, or one top-level *.xml home and the
+// models it names, e.g. under furniture/) or OBJ (one *.obj entry and the .mtl files it names). Its
+// other entries are what options.read_companion reads: the name as written, else by base name
+// (Archive::resolve). Errors inside an entry point at "/entry/<name>/..." (archive.hpp).
+ImportResult import_archive(std::string_view zip_bytes, ImportFormat format, const ImportOptions& options = {});
 
 }  // namespace rr

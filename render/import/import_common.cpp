@@ -112,10 +112,10 @@ nlohmann::json default_sun_light() {
 namespace {
 
 constexpr std::array<ImportFormatInfo, 3> format_table = {{
-    {ImportFormat::sweethome3d, "sh3d", "Sweet Home 3D home: Home.xml or a .sh3d zip holding it (cm)", 0.01},
+    {ImportFormat::sweethome3d, "sh3d", "Sweet Home 3D home: Home.xml, a .sh3d, or a zip of a home XML and its furniture/ (cm)", 0.01},
     {ImportFormat::r2v, "r2v", "Raster-to-Vector floor plan annotation: walls and openings in image pixels",
      0.025},
-    {ImportFormat::obj, "obj", "Wavefront OBJ model, with its .mtl diffuse colours", 1.0},
+    {ImportFormat::obj, "obj", "Wavefront OBJ model, or a zip of one with its .mtl diffuse colours", 1.0},
 }};
 
 bool contains(std::string_view haystack, std::string_view needle) {
@@ -152,7 +152,7 @@ std::optional<ImportFormat> detect_import_format(std::string_view bytes, std::st
   // Content first: a zip, or XML whose root is <home>, is Sweet Home 3D; an R2V line is
   // "x1<TAB>y1<TAB>x2<TAB>y2<TAB>category..."; OBJ has "v " and "f " lines. Only the head is read.
   std::string_view head = bytes.substr(0, 4096);
-  if (head.starts_with("PK\x03\x04")) return ImportFormat::sweethome3d;
+  if (looks_like_zip(head)) return ImportFormat::sweethome3d;
   if (head.find("<home") != std::string_view::npos) return ImportFormat::sweethome3d;
   if (contains(head, "\twall\t") || contains(head, "\tdoor\t")) return ImportFormat::r2v;
   if (contains(head, "\nv ") || head.starts_with("v ") || contains(head, "\nf ") || contains(head, "mtllib ")) {
@@ -166,10 +166,9 @@ std::optional<ImportFormat> detect_import_format(std::string_view bytes, std::st
 }
 
 ImportResult import_file_text(std::string_view bytes, ImportFormat format, const ImportOptions& options) {
+  if (looks_like_zip(bytes) && format != ImportFormat::r2v) return import_archive(bytes, format, options);
   switch (format) {
-    case ImportFormat::sweethome3d:
-      if (bytes.starts_with("PK\x03\x04")) return import_sweethome3d(extract_sh3d_home_xml(bytes), options);
-      return import_sweethome3d(bytes, options);
+    case ImportFormat::sweethome3d: return import_sweethome3d(bytes, options);
     case ImportFormat::r2v: return import_r2v(bytes, options);
     case ImportFormat::obj: return import_obj(bytes, options);
   }

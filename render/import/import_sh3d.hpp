@@ -82,18 +82,33 @@ struct PiecePlacement {
 
 struct Sh3dModel;  // a parsed furniture OBJ and its .mtl colours (import_sh3d_models.cpp)
 
+// One model as pieces use it (model, modelRotation, modelMirrored): its groups as meshes normalised
+// to the unit box centred on the origin (so a placement is scale = the piece's size, rotation_y and
+// position), and which axes had no extent to normalise (scale 1 there).
+struct Sh3dModelVariant {
+  std::vector<std::string> mesh_keys;  // per OBJ group; "" when the group has no face left
+  Vec3 extent{1.0};                    // of the model's box after modelRotation; 0: flat on that axis
+};
+
 // Furniture models read so far, by the `model` attribute; null when unavailable or unreadable.
 struct Sh3dModelCache {
   std::map<std::string, std::shared_ptr<const Sh3dModel>> by_name;
-  size_t missing = 0, unreadable = 0, polygons_repaired = 0;
+  std::map<std::string, Sh3dModelVariant> variants;
+  std::map<std::string, nlohmann::json> meshes;  // ImportResult::meshes
+  std::vector<std::string> missing_names, unreadable_reasons;
+  size_t polygons_repaired = 0;
 };
 
 // Appends a piece's model as mesh solids placed as Sweet Home 3D places it (the model's box, after
 // its modelRotation, scaled onto the piece's box; modelMirrored flips its width axis), coloured by the
-// piece's color, else its <material> colours by name, else the model's .mtl. False when the model is
-// not available through options.read_companion (its name as written, then furniture/<file name>).
+// piece's color, else its <material> colours by name, else the model's .mtl. Each solid names its
+// mesh in cache.meshes by "ref". False when the model is not available through
+// options.read_companion (its name as written, then furniture/<file name>).
 bool add_piece_model(const Sh3dElement& e, const PiecePlacement& place, const ImportOptions& options,
                      Sh3dModelCache& cache, nlohmann::json& solids);
+
+// The warnings about models that were missing, unreadable or repaired.
+void add_model_warnings(const Sh3dModelCache& cache, std::vector<std::string>& warnings);
 
 // Walls (arcs split into segments, sloped tops as a wall plus a wedge mesh) with every door and
 // window cut into the walls it intersects. Appends to `walls` and `solids`, warnings to `warnings`.

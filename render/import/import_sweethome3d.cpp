@@ -238,7 +238,8 @@ Color piece_color(const pugi::xml_node& node) {
 
 // Furniture and lamps as boxes; each lamp's light sources as point lights.
 void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& options, json& solids,
-                   json& lights, std::vector<std::string>& warnings) {
+                   json& lights, ImportResult& result) {
+  std::vector<std::string>& warnings = result.warnings;
   size_t skipped = 0;
   Sh3dModelCache models;
   for (const char* kind : {"pieceOfFurniture", "light"}) {
@@ -279,14 +280,8 @@ void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& 
     }
   }
   if (skipped) warnings.push_back(std::to_string(skipped) + " pieces of furniture with no size were left out");
-  if (models.missing || models.unreadable) {
-    warnings.push_back(std::to_string(models.missing) + " furniture models were not found and " +
-                       std::to_string(models.unreadable) + " could not be read: those pieces are boxes");
-  }
-  if (models.polygons_repaired) {
-    warnings.push_back("furniture models: " + std::to_string(models.polygons_repaired) +
-                       " faces were triangulated or dropped (non-planar or of zero area)");
-  }
+  add_model_warnings(models, warnings);
+  result.meshes = std::move(models.meshes);
 }
 
 // The observer camera: eye at (x, z, y) / 100, looking along yaw (0 looks toward +y on the plan,
@@ -327,7 +322,7 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   Box3 box;
   add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
   add_rooms(all, h, rooms, result.warnings);
-  add_furniture(all, h, options, solids, lights, result.warnings);
+  add_furniture(all, h, options, solids, lights, result);
   const double aspect = double(options.width) / double(options.height);
   std::optional<json> camera = observer_camera(all, aspect, box);
   if (!camera) {
@@ -344,6 +339,7 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
                     {"camera", std::move(*camera)},
                     {"options", request_options(options)}};
   if (json levels = levels_json(h); !levels.empty()) result.request["scene"]["levels"] = std::move(levels);
+  if (!options.mesh_refs) inline_mesh_refs(result);
   return result;
 }
 

@@ -4,6 +4,7 @@
 // nine example homes of ../shared/data: one checked against its XML read independently with pugixml,
 // all of them imported and rendered with every pipeline.
 #include "import_test_util.hpp"
+#include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
 
 #include <gtest/gtest.h>
@@ -228,16 +229,20 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
   EXPECT_EQ(solids[0]["color"], json::array({1.0, 0.0, 0.0}));
   EXPECT_EQ(solids[2]["type"], "box");
   ASSERT_EQ(r.warnings.size(), 2u);  // the missing model, then the missing observer camera
-  EXPECT_EQ(r.warnings[0], "1 furniture models were not found and 0 could not be read: those pieces are boxes");
+  EXPECT_EQ(r.warnings[0],
+            "1 furniture models were not found and 0 could not be read: those pieces are boxes (not found: models/lost.obj)");
   // Width (model x, 2 units -> 1 m) turned by the angle runs along +z; depth (4 units -> 0.5 m)
-  // along -x; height 1 unit -> 2 m from the elevation up.
+  // along -x; height 1 unit -> 2 m from the elevation up. Measured on the tessellated meshes, since
+  // each mesh is the unit model placed by its solid's scale, rotation_y and position.
+  json models = r.request;
+  models["scene"]["solids"] = json::array({solids[0], solids[1]});
+  models["scene"]["walls"] = json::array();
+  const rr::PolygonSoup soup = rr::tessellate(rr::request_from_json(models).scene.geometry);
   rr::Vec3 lo{1e9}, hi{-1e9};
-  for (const json& mesh : {solids[0], solids[1]}) {
-    for (const json& v : mesh["vertices"]) {
-      rr::Vec3 p{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-      lo = glm::min(lo, p), hi = glm::max(hi, p);
-    }
+  for (const rr::Polygon& polygon : soup.polygons) {
+    for (const rr::Vec3& p : soup.points(polygon)) lo = glm::min(lo, p), hi = glm::max(hi, p);
   }
+  EXPECT_EQ(soup.polygons.size(), 2u);
   EXPECT_NEAR(lo.x, 2.75, 1e-6);
   EXPECT_NEAR(hi.x, 3.25, 1e-6);
   EXPECT_NEAR(lo.y, 0.1, 1e-6);
@@ -245,6 +250,57 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
   EXPECT_NEAR(lo.z, 3.5, 1e-6);
   EXPECT_NEAR(hi.z, 4.5, 1e-6);
   EXPECT_NO_THROW(rr::request_from_json(r.request));
+}
+
+// Three pieces of one model: two plain ones share its meshes, the mirrored one has its own; every
+// placement scales by the piece's size (positive), and inlining gives the request made without refs.
+TEST(ImportSh3d, EachDistinctModelIsOneMeshPlacedByRef) {
+  const std::string model =
+      "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
+      "usemtl red\nf 2 3 7 6\nusemtl plain\nf 1 5 8 4\n";
+  const char* home = R"(<home>
+    <pieceOfFurniture name='A' model='thing.obj' x='100' y='100' width='100' depth='50' height='200'/>
+    <pieceOfFurniture name='B' model='thing.obj' x='300' y='100' angle='1' width='60' depth='30' height='80'/>
+    <pieceOfFurniture name='C' model='thing.obj' x='500' y='100' width='100' depth='50' height='200' modelMirrored='true'/>
+  </home>)";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  options.mesh_refs = true;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    return name == "thing.obj" ? std::optional<std::string>(model) : std::nullopt;
+  };
+  ImportResult refs = rr::import_sweethome3d(home, options);
+  const json& solids = refs.request["scene"]["solids"];
+  ASSERT_EQ(solids.size(), 6u);  // two groups per piece
+  EXPECT_EQ(refs.meshes.size(), 4u);  // two groups x (plain, mirrored)
+  EXPECT_EQ(solids[0]["ref"], solids[2]["ref"]);
+  EXPECT_NE(solids[0]["ref"], solids[4]["ref"]);
+  EXPECT_EQ(solids[2]["scale"], json::array({0.6, 0.8, 0.3}));
+  EXPECT_NEAR(solids[2]["rotation_y"].get<double>(), -180.0 / rr::pi, 1e-9);
+  for (const auto& [key, mesh] : refs.meshes) {
+    for (const json& v : mesh["vertices"]) {
+      for (const json& c : v) EXPECT_LE(std::abs(c.get<double>()), 0.5 + 1e-12) << key;  // the unit box
+    }
+  }
+  // The mirrored mesh is the plain one with x negated and every face reversed.
+  const json& plain = refs.meshes.at(solids[0]["ref"]), &mirrored = refs.meshes.at(solids[4]["ref"]);
+  ASSERT_EQ(plain["faces"].size(), 1u);
+  ASSERT_EQ(mirrored["faces"].size(), 1u);
+  const json& f0 = plain["faces"][0];
+  const json& f1 = mirrored["faces"][0];
+  ASSERT_EQ(f0.size(), f1.size());
+  for (size_t k = 0; k < f0.size(); ++k) {
+    const json& a = plain["vertices"][f0[k].get<size_t>()];
+    const json& b = mirrored["vertices"][f1[f1.size() - 1 - k].get<size_t>()];
+    EXPECT_EQ(a[0].get<double>(), -b[0].get<double>());
+    EXPECT_EQ(a[1], b[1]);
+    EXPECT_EQ(a[2], b[2]);
+  }
+  ImportResult inlined = refs;
+  rr::inline_mesh_refs(inlined);
+  options.mesh_refs = false;
+  EXPECT_EQ(inlined.request, rr::import_sweethome3d(home, options).request);
+  EXPECT_NO_THROW(rr::request_from_json(inlined.request));
 }
 
 // --- the example homes -------------------------------------------------------------------------------

@@ -1,0 +1,416 @@
+// Zips over POST /v1/import/{sh3d,obj} on the real server: every Sweet Home 3D home of ../shared
+// zipped with the furniture it names (skipped without ../shared) imports with its models, stores and
+// renders with every pipeline (zbuffer and bsp under sanitizers); its furniture polygons equal those of `roomrender import --furniture models`; a .sh3d laid
+// out as Sweet Home 3D writes it (numbered model entries) imports the same; an OBJ zip brings its
+// .mtl colours; hostile and broken archives get the documented 4xx naming the entry, quickly.
+#include "render/core/tessellate.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/import/import.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "server_fixture.hpp"
+#include "support/zip_builder.hpp"
+
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <regex>
+#include <set>
+
+namespace {
+
+using nlohmann::json;
+using namespace rr::testing;
+using rr::testing::make_zip;
+using rr::testing::ZipEntry;
+namespace fs = std::filesystem;
+
+fs::path home_dir() { return *rr::testing::shared_data_dir() / "floorplans/sweethome3d"; }
+
+std::vector<fs::path> homes() {
+  std::vector<fs::path> out;
+  auto dir = rr::testing::shared_data_dir();
+  if (!dir) return out;
+  for (const auto& e : fs::directory_iterator(*dir / "floorplans/sweethome3d")) {
+    if (e.path().extension() == ".xml") out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Every `model` attribute of a home, in order of first appearance.
+std::vector<std::string> model_names(const std::string& xml) {
+  std::vector<std::string> names;
+  std::regex attribute(R"re(\bmodel=['"]([^'"]+)['"])re");
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), attribute); it != std::sregex_iterator(); ++it) {
+    if (std::find(names.begin(), names.end(), (*it)[1].str()) == names.end()) names.push_back((*it)[1].str());
+  }
+  return names;
+}
+
+std::string base_name(const std::string& path) { return path.substr(path.rfind('/') + 1); }
+
+// The material libraries an OBJ names.
+std::vector<std::string> libraries_of(const std::string& obj) {
+  std::vector<std::string> out;
+  std::regex line(R"(^mtllib\s+(\S+))");
+  for (auto it = std::sregex_iterator(obj.begin(), obj.end(), line, std::regex_constants::match_default);
+       it != std::sregex_iterator(); ++it) {
+    out.push_back((*it)[1].str());
+  }
+  return out;
+}
+
+// The data set's layout: <Name>.xml and furniture/<model file> (+ its .mtl) for each model it names.
+std::string home_zip(const fs::path& home) {
+  const std::string xml = rr::testing::read_file(home);
+  std::vector<ZipEntry> entries{{home.filename().string(), xml}};
+  std::set<std::string> added;
+  for (const std::string& model : model_names(xml)) {
+    const fs::path file = home.parent_path() / "furniture" / base_name(model);
+    if (!fs::exists(file) || !added.insert(file.filename().string()).second) continue;
+    std::string obj = rr::testing::read_file(file);
+    for (const std::string& mtl : libraries_of(obj)) {
+      if (added.insert(mtl).second) entries.push_back({"furniture/" + mtl, rr::testing::read_file(file.parent_path() / mtl)});
+    }
+    entries.push_back({"furniture/" + file.filename().string(), std::move(obj)});
+  }
+  return make_zip(entries);
+}
+
+// Sweet Home 3D's own layout: Home.xml naming each model by its entry, "0", "1", ... for a model of
+// one file, "N/name.obj" beside "N/name.mtl" for a model with a material library.
+std::string sh3d_archive(const fs::path& home) {
+  std::string xml = rr::testing::read_file(home);
+  std::vector<ZipEntry> models;
+  int next = 0;
+  for (const std::string& model : model_names(xml)) {
+    const fs::path file = home.parent_path() / "furniture" / base_name(model);
+    if (!fs::exists(file)) continue;
+    std::string obj = rr::testing::read_file(file);
+    std::vector<std::string> libraries = libraries_of(obj);
+    std::string entry = std::to_string(next++);
+    if (!libraries.empty()) {
+      entry += "/" + file.filename().string();
+      for (const std::string& mtl : libraries) {
+        models.push_back({entry.substr(0, entry.find('/') + 1) + mtl, rr::testing::read_file(file.parent_path() / mtl)});
+      }
+    }
+    models.push_back({entry, std::move(obj)});
+    for (const char quote : {'\'', '"'}) {
+      const std::string from = std::string("model=") + quote + model + quote, to = std::string("model=") + quote + entry + quote;
+      for (size_t at = xml.find(from); at != std::string::npos; at = xml.find(from, at + to.size())) xml.replace(at, from.size(), to);
+    }
+  }
+  models.insert(models.begin(), {"Home", "Java-serialised home: not read"});
+  models.insert(models.begin(), {"Home.xml", xml});
+  return make_zip(models);
+}
+
+struct Furniture {
+  size_t polygons = 0;
+  rr::Vec3 lo{1e18}, hi{-1e18};
+};
+
+// The polygons of a request's furniture (solids that come from <pieceOfFurniture> or <light>).
+Furniture furniture_of(const json& request) {
+  json only = request;
+  json solids = json::array();
+  for (const json& s : request["scene"]["solids"]) {
+    const std::string id = s.value("id", "");
+    if (id.find("/pieceOfFurniture/") != std::string::npos || id.find("/light/") != std::string::npos) solids.push_back(s);
+  }
+  only["scene"]["solids"] = solids;
+  only["scene"]["walls"] = json::array();
+  rr::PolygonSoup soup = rr::tessellate(rr::request_from_json(only).scene.geometry);
+  Furniture f;
+  f.polygons = soup.polygons.size();
+  for (const rr::Polygon& p : soup.polygons) {
+    for (const rr::Vec3& v : soup.points(p)) f.lo = glm::min(f.lo, v), f.hi = glm::max(f.hi, v);
+  }
+  return f;
+}
+
+void expect_same_furniture(const Furniture& a, const Furniture& b, const std::string& what) {
+  EXPECT_EQ(a.polygons, b.polygons) << what;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(a.lo[k], b.lo[k], 1e-3) << what << " axis " << k;
+    EXPECT_NEAR(a.hi[k], b.hi[k], 1e-3) << what << " axis " << k;
+  }
+}
+
+// zbuffer and bsp always; every other pipeline too outside sanitizer builds, where the slow ones on
+// 200,000 polygons would take minutes.
+std::vector<std::string> pipelines() {
+  std::vector<std::string> names{"zbuffer", "bsp"};
+#ifndef __SANITIZE_ADDRESS__
+  for (const rr::PipelineInfo& info : rr::pipeline_table()) {
+    if (std::find(names.begin(), names.end(), info.name) == names.end()) names.push_back(info.name);
+  }
+#endif
+  return names;
+}
+
+httplib::Result post_zip(httplib::Client& client, const std::string& path, const std::string& zip) {
+  return client.Post(path.c_str(), zip, "application/zip");
+}
+
+TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
+  if (homes().empty()) GTEST_SKIP() << "../shared/data is absent";
+  TestServer server;
+  auto client = server.client(120);
+  const fs::path dir = rr::testing::output_dir("integration") / "archive_homes";
+  fs::create_directories(dir);
+  for (const fs::path& home : homes()) {
+    const std::string name = home.stem().string();
+    const std::string zip = home_zip(home);
+    rr::testing::write_file(dir / (name + ".zip"), zip);  // the zip a user would send
+    auto stored = post_zip(client, "/v1/import/sh3d?store=1&width=96&height=72", zip);
+    ASSERT_TRUE(stored) << name;
+    ASSERT_EQ(stored->status, 201) << name << ": " << stored->body.substr(0, 400);
+    json receipt = json::parse(stored->body);
+    for (const json& w : receipt["warnings"]) EXPECT_EQ(w.get<std::string>().find("not found"), std::string::npos) << name << ": " << w;
+    auto scene = client.Get(receipt["location"].get<std::string>().c_str());
+    ASSERT_TRUE(scene);
+    ASSERT_EQ(scene->status, 200);
+    const json document = json::parse(scene->body);
+    size_t meshes = 0;
+    for (const json& s : document["solids"]) meshes += s.contains("ref");
+    EXPECT_GT(meshes, 20u) << name;
+    EXPECT_LT(scene->body.size(), 1u << 20) << name;  // each mesh is stored once, apart from the scene
+    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu solids placing a stored mesh\n", name.c_str(), zip.size(),
+                scene->body.size(), meshes);
+    for (const std::string& pipeline : pipelines()) {
+      json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}, {"pipeline", pipeline}}}};
+      auto png = client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
+      ASSERT_TRUE(png) << name << " " << pipeline;
+      ASSERT_EQ(png->status, 200) << name << " " << pipeline << ": " << png->body.substr(0, 300);
+      EXPECT_EQ(png_size(png->body).width, 96u);
+    }
+    // The stored scene draws the polygons of the request answered without store=1.
+    auto inline_import = post_zip(client, "/v1/import/sh3d?width=96&height=72", zip);
+    ASSERT_TRUE(inline_import);
+    ASSERT_EQ(inline_import->status, 200);
+    const size_t inline_polygons = rr::tessellate(rr::request_from_json(json::parse(inline_import->body)).scene.geometry).polygons.size();
+    json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}}}};
+    httplib::Headers accept_json = {{"Accept", "application/json"}};
+    auto counted = client.Post((receipt["location"].get<std::string>() + "/render").c_str(), accept_json, view.dump(),
+                               "application/json");
+    ASSERT_TRUE(counted);
+    ASSERT_EQ(counted->status, 200) << counted->body.substr(0, 300);
+    EXPECT_EQ(json::parse(counted->body)["counts"]["polygons"].get<size_t>(), inline_polygons) << name;
+    // The next home's meshes and scene fit beside it; deleting keeps the store small all the same.
+    auto deleted = client.Delete(receipt["location"].get<std::string>().c_str());
+    ASSERT_TRUE(deleted);
+    EXPECT_EQ(deleted->status, 204);
+  }
+  expect_healthy(server);
+}
+
+// The mesh form (distinct meshes + "ref" placements) is what store=1 will keep; its size per home.
+TEST(ArchiveImport, RefFormPlacesEachDistinctMeshOnceAndInlinesToTheSamePolygons) {
+  if (homes().empty()) GTEST_SKIP() << "../shared/data is absent";
+  for (const fs::path& home : homes()) {
+    rr::ImportOptions options;
+    options.furniture_models = true;
+    options.mesh_refs = true;
+    rr::ImportResult refs = rr::import_file_text(home_zip(home), rr::ImportFormat::sweethome3d, options);
+    size_t placed = 0, mesh_bytes = 0;
+    for (const json& s : refs.request["scene"]["solids"]) {
+      if (!s.contains("ref")) continue;
+      ++placed;
+      ASSERT_TRUE(refs.meshes.contains(s["ref"].get<std::string>())) << s["ref"];
+      EXPECT_FALSE(s.contains("vertices"));
+    }
+    for (const auto& [key, mesh] : refs.meshes) mesh_bytes += mesh.dump().size();
+    const size_t scene_bytes = refs.request["scene"].dump().size();
+    std::printf("[ archive ] %-34s scene with refs %7zu B (%zu placements), %3zu distinct meshes %8zu B\n",
+                home.stem().string().c_str(), scene_bytes, placed, refs.meshes.size(), mesh_bytes);
+    EXPECT_LT(scene_bytes, 1u << 20) << home;
+    EXPECT_LT(refs.meshes.size(), placed) << home;  // some model is placed more than once in every home
+    rr::ImportResult inlined = refs;
+    rr::inline_mesh_refs(inlined);
+    EXPECT_TRUE(inlined.meshes.empty());
+    options.mesh_refs = false;
+    rr::ImportResult direct = rr::import_file_text(home_zip(home), rr::ImportFormat::sweethome3d, options);
+    EXPECT_EQ(inlined.request, direct.request) << home;
+  }
+}
+
+// The furniture of an HTTP import of the zip equals that of the CLI reading the home from disk.
+TEST(ArchiveImport, FurnitureEqualsTheCliImportWithModels) {
+  if (homes().empty()) GTEST_SKIP() << "../shared/data is absent";
+  TestServer server;
+  auto client = server.client(120);
+  const fs::path dir = rr::testing::output_dir("integration") / "archive_cli";
+  fs::create_directories(dir);
+  for (const std::string name : {"3BedroomHouseWithMezzanine", "Studio"}) {
+    const fs::path home = home_dir() / (name + ".xml");
+    auto res = post_zip(client, "/v1/import/sh3d?width=96&height=72", home_zip(home));
+    ASSERT_TRUE(res);
+    ASSERT_EQ(res->status, 200) << res->body.substr(0, 400);
+    const std::string command = "'" ROOMRENDER_BINARY_DIR "/roomrender' import '" + home.string() +
+                                "' --furniture models --width 96 --height 72 >'" + (dir / "out.json").string() + "' 2>/dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
+    const json cli = json::parse(rr::testing::read_file(dir / "out.json"));
+    const Furniture http = furniture_of(json::parse(res->body)), disk = furniture_of(cli);
+    EXPECT_GT(http.polygons, 1000u) << name;
+    expect_same_furniture(http, disk, name);
+    // The CLI reads the same zip as the server does.
+    rr::testing::write_file(dir / "home.zip", home_zip(home));
+    const std::string zipped = "'" ROOMRENDER_BINARY_DIR "/roomrender' import '" + (dir / "home.zip").string() +
+                               "' --furniture models >'" + (dir / "zip.json").string() + "' 2>/dev/null";
+    const int zip_status = std::system(zipped.c_str());
+    ASSERT_TRUE(WIFEXITED(zip_status) && WEXITSTATUS(zip_status) == 0) << zipped;
+    expect_same_furniture(furniture_of(json::parse(rr::testing::read_file(dir / "zip.json"))), disk, name + " zip");
+    std::printf("[ archive ] %s: %zu furniture polygons over HTTP and from the CLI\n", name.c_str(), http.polygons);
+  }
+}
+
+TEST(ArchiveImport, Sh3dLayoutWithNumberedModelEntriesImportsTheSameFurniture) {
+  if (homes().empty()) GTEST_SKIP() << "../shared/data is absent";
+  TestServer server;
+  auto client = server.client(120);
+  for (const std::string name : {"Studio", "2BedroomApartment"}) {
+    const fs::path home = home_dir() / (name + ".xml");
+    const std::string sh3d = sh3d_archive(home);
+    rr::testing::write_file(rr::testing::output_dir("integration") / (name + ".sh3d"), sh3d);
+    auto numbered = client.Post("/v1/import/sh3d?width=96&height=72", sh3d, "application/vnd.sweethome3d");
+    auto plain = post_zip(client, "/v1/import/sh3d?width=96&height=72", home_zip(home));
+    ASSERT_TRUE(numbered && plain);
+    ASSERT_EQ(numbered->status, 200) << numbered->body.substr(0, 400);
+    ASSERT_EQ(plain->status, 200);
+    const json request = json::parse(numbered->body);
+    EXPECT_EQ(numbered->get_header_value("X-Warning-Count"), plain->get_header_value("X-Warning-Count"));
+    expect_same_furniture(furniture_of(request), furniture_of(json::parse(plain->body)), name);
+    auto png = client.Post("/v1/render", request.dump(), "application/json");
+    if (request.dump().size() < 8u << 20) {
+      ASSERT_TRUE(png);
+      EXPECT_EQ(png->status, 200);
+    }
+  }
+}
+
+const char* kHome = R"(<home><wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' thickness='10' height='250'/>
+<pieceOfFurniture name='Chair' model='furniture/chair.obj' x='100' y='100' width='50' depth='50' height='90'/>
+</home>)";
+const char* kChair = "mtllib chair.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3 4\n";
+
+TEST(ArchiveImport, ObjZipAppliesItsMaterialLibrary) {
+  TestServer server;
+  auto client = server.client();
+  const std::string obj = kChair;
+  auto zipped = post_zip(client, "/v1/import/obj",
+                         make_zip({{"models/chair.obj", obj}, {"models/chair.mtl", "newmtl red\nKd 1 0 0\n"}}));
+  ASSERT_TRUE(zipped);
+  ASSERT_EQ(zipped->status, 200) << zipped->body;
+  EXPECT_EQ(json::parse(zipped->body)["scene"]["solids"][0]["color"], json::array({1.0, 0.0, 0.0}));
+  EXPECT_EQ(zipped->get_header_value("X-Warning-Count"), "0");
+  auto plain = client.Post("/v1/import/obj", obj, "model/obj");  // the .mtl cannot come with plain text
+  ASSERT_TRUE(plain);
+  ASSERT_EQ(plain->status, 200);
+  EXPECT_EQ(json::parse(plain->body)["scene"]["solids"][0]["color"], json::array({0.7, 0.7, 0.7}));
+}
+
+struct BadArchive {
+  std::string what, format, body;
+  int status;
+  std::string pointer, says;
+};
+
+// OBJ comment lines of seeded pseudo-random letters: text that deflates to a long stream.
+std::string comment_lines(size_t lines) {
+  std::string out;
+  uint32_t state = 12345;
+  for (size_t i = 0; i < lines; ++i) {
+    out += "# ";
+    for (int k = 0; k < 60; ++k) out += char('a' + ((state = state * 1664525u + 1013904223u) >> 24) % 26);
+    out += "\n";
+  }
+  return out;
+}
+
+std::vector<BadArchive> bad_archives() {
+  const std::string chair = kChair;
+  std::string corrupt = make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", chair + comment_lines(400)}});
+  const size_t data = corrupt.find("furniture/chair.obj") + 19 + 2000;  // well inside its deflated data
+  for (size_t k = 0; k < 32; ++k) corrupt[data + k] = char(~corrupt[data + k]);
+  const std::string bomb = make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", std::string(48u << 20, '\n')}});
+  std::string over_total = make_zip({{"Home.xml", kHome}, {"a", "1"}, {"b", "2"}, {"c", "3"}});
+  for (const char* name : {"a", "b", "c"}) over_total = rr::testing::with_declared_size(over_total, name, 100u << 20);
+  std::vector<ZipEntry> many{{"Home.xml", kHome}};
+  for (int i = 0; i < 10'000; ++i) many.push_back({"t/" + std::to_string(i), "", false});
+  const std::string whole = make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", chair}});
+  std::string stored_bad_crc = make_zip({{"Home.xml", kHome, false}});
+  const size_t wall = stored_bad_crc.find("<wall");
+  stored_bad_crc[wall + 1] = 'W';  // the CRC no longer matches; the XML would still parse
+  // libzip will not write a name twice: write two names of one length, then make them equal.
+  std::string twice = make_zip({{"Home.xml", kHome}, {"Home.xmm", kHome}});
+  for (size_t at = twice.find("Home.xmm"); at != std::string::npos; at = twice.find("Home.xmm")) twice.replace(at, 8, "Home.xml");
+  return {
+      {"bomb by ratio", "sh3d", bomb, 413, "/entry/furniture~1chair.obj", "zip bomb"},
+      {"bomb with a lying header", "sh3d", rr::testing::with_declared_size(bomb, "furniture/chair.obj", 2000), 413,
+       "/entry/furniture~1chair.obj", ""},
+      {"total size over the cap", "sh3d", over_total, 413, "/entry/c", "256 MiB"},
+      {"more entries than the cap", "sh3d", make_zip(many), 413, "/entry/t~19999", "10000"},
+      {"traversal", "sh3d", make_zip({{"Home.xml", kHome}, {"../x", "1"}}), 422, "/entry/..~1x", "traversal"},
+      {"absolute name", "obj", make_zip({{"a.obj", chair}, {"/etc/x", "1"}}), 422, "/entry/~1etc~1x", "absolute"},
+      {"truncated zip", "sh3d", whole.substr(0, whole.size() - 60), 400, "/entry/furniture~1chair.obj", "truncated"},
+      {"not a zip", "sh3d", "PK\x03\x04 this is no archive", 400, "", "zip"},
+      {"no XML inside", "sh3d", make_zip({{"readme.txt", "hello"}}), 422, "/entry", "no home"},
+      {"two XMLs", "sh3d", make_zip({{"A.xml", kHome}, {"B.xml", kHome}}), 422, "/entry/B.xml", "more than one"},
+      {"only the Java-serialised Home", "sh3d", make_zip({{"Home", "\xac\xed"}}), 422, "/entry/Home", "re-save"},
+      {"corrupt deflate stream", "sh3d", corrupt, 400, "/entry/furniture~1chair.obj", "corrupt"},
+      {"OBJ index out of range", "obj", make_zip({{"m/model.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"}}), 422,
+       "/entry/m~1model.obj/line/3", "vertex index 7"},
+      {"two OBJs", "obj", make_zip({{"a.obj", chair}, {"b.obj", chair}}), 422, "/entry/b.obj", "more than one"},
+      {"malformed Home.xml", "sh3d", make_zip({{"Home.xml", "<home>\n<wall"}}), 400, "/entry/Home.xml/line/2", "XML"},
+      {"duplicate entry", "sh3d", twice, 422, "/entry/Home.xml", "twice"},
+      {"NaN vertex", "obj", make_zip({{"a.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"}}), 422, "/entry/a.obj/line/2",
+       "finite"},
+      {"stored entry failing its CRC", "sh3d", stored_bad_crc, 400, "/entry/Home.xml", "corrupt"},
+  };
+}
+
+TEST(ArchiveImport, BadArchivesGetTheRight4xxNamingTheEntry) {
+  TestServer server;
+  auto client = server.client();
+  for (const BadArchive& bad : bad_archives()) {
+    const auto start = std::chrono::steady_clock::now();
+    json problem = expect_problem(post_zip(client, "/v1/import/" + bad.format, bad.body), bad.status);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 10.0) << bad.what;  // generous: the point is that nothing inflates without bound
+    EXPECT_EQ(problem["errors"][0]["pointer"], bad.pointer) << bad.what << ": " << problem.dump();
+    EXPECT_NE(problem["detail"].get<std::string>().find(bad.says), std::string::npos) << bad.what << ": " << problem.dump();
+    std::printf("[ archive ] %-30s %d %s (%.2f s, %zu B)\n", bad.what.c_str(), bad.status,
+                problem["errors"][0]["pointer"].get<std::string>().c_str(), seconds, bad.body.size());
+  }
+  expect_healthy(server);
+}
+
+TEST(ArchiveImport, MissingOrBrokenModelLeavesThePieceABoxWithAWarning) {
+  TestServer server;
+  auto client = server.client();
+  auto missing = post_zip(client, "/v1/import/sh3d", make_zip({{"Home.xml", kHome}}));
+  ASSERT_TRUE(missing);
+  ASSERT_EQ(missing->status, 200) << missing->body;
+  json request = json::parse(missing->body);
+  EXPECT_EQ(request["scene"]["solids"].back()["type"], "box");
+  EXPECT_EQ(missing->get_header_value("X-Warning-Count"), "2");  // the model, the missing observer camera
+  auto broken = post_zip(client, "/v1/import/sh3d?store=1",
+                         make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", "v 0 0 0\nf 1 2 3\n"}}));
+  ASSERT_TRUE(broken);
+  ASSERT_EQ(broken->status, 201) << broken->body;
+  const std::string warnings = json::parse(broken->body)["warnings"].dump();
+  EXPECT_NE(warnings.find("line 2: vertex index 2 is out of range"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("furniture/chair.obj"), std::string::npos) << warnings;
+  expect_problem(client.Post("/v1/import/sh3d?furniture=chairs", kHome, "application/xml"), 400);
+  auto boxes = post_zip(client, "/v1/import/sh3d?furniture=boxes", make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", kChair}}));
+  ASSERT_TRUE(boxes);
+  EXPECT_EQ(json::parse(boxes->body)["scene"]["solids"].back()["type"], "box");
+}
+
+}  // namespace
