@@ -194,7 +194,12 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     ASSERT_TRUE(inline_import);
     ASSERT_EQ(inline_import->status, 200);
     const size_t inline_polygons = rr::tessellate(rr::request_from_json(json::parse(inline_import->body)).scene.geometry).polygons.size();
-    json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}}}};
+    // Every level and every ceiling, so that the view leaves no polygon out of the count.
+    json all_levels = json::array();
+    for (const json& level : document.value("levels", json::array())) all_levels.push_back(level["id"]);
+    json options = {{"width", 96}, {"height", 72}, {"ceilings", "on"}};
+    if (!all_levels.empty()) options["levels"] = all_levels;
+    json view = {{"camera", receipt["camera"]}, {"options", options}};
     httplib::Headers accept_json = {{"Accept", "application/json"}};
     auto counted = client.Post((receipt["location"].get<std::string>() + "/render").c_str(), accept_json, view.dump(),
                                "application/json");
