@@ -2,17 +2,34 @@
 // image URL, links that cannot be opened, and an interior too big for the editor imported through
 // the page's file input. One CTest test per scenario.
 //   node tests/browser/sharing.mjs BUILD/roomrender OUT_DIR SCENARIO
-// The big import reads fireplace_room.obj from ROOMRENDER_SHARED (default: ../shared next to the
-// repository, as bench/ finds it) and is skipped when that is absent.
+// The big import reads fireplace_room.obj, the home import Studio.xml and its furniture/, from
+// ROOMRENDER_SHARED (default: ../shared next to the repository, as bench/ finds it); each is skipped
+// when that is absent.
 import fs from "node:fs";
+import os from "node:os";
 import path from "node:path";
+import { execFileSync } from "node:child_process";
 import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
-import { hooks, idle, request, clickPlan, openEmpty, drawRoom } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom } from "./designer_support.mjs";
+import { hitTest, solidAnchor } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
 
 const sharedDir = process.env.ROOMRENDER_SHARED || path.resolve(repoRoot, "../shared");
 const fireplaceObj = path.join(sharedDir, "data/meshes/fireplace_room/fireplace_room.obj");
+const homesDir = path.join(sharedDir, "data/floorplans/sweethome3d");
+
+// A zip of Studio.xml and the whole furniture/ folder beside it, as a person would zip a home.
+function studioZip() {
+  const zip = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "rr-studio-")), "Studio.zip");
+  execFileSync("python3", ["-c", `import sys, os, zipfile
+zip, home = sys.argv[1], sys.argv[2]
+with zipfile.ZipFile(zip, "w", zipfile.ZIP_DEFLATED) as z:
+    z.write(os.path.join(home, "Studio.xml"), "Studio.xml")
+    for name in sorted(os.listdir(os.path.join(home, "furniture"))):
+        z.write(os.path.join(home, "furniture", name), "furniture/" + name)`, zip, homesDir]);
+  return zip;
+}
 
 // JSON with object keys sorted: a stored scene comes back canonical (keys sorted), so two requests
 // are the same when their sorted forms are.
@@ -149,11 +166,60 @@ const scenarios = {
     assert(relit.hash !== imported.hash, "and the image changed");
     assert(!(await page.isVisible("#problems li.error")), "without errors");
   },
+
+  // A Sweet Home 3D home zipped with its furniture models, picked in the file input: imported with
+  // store=1, its furniture drawn with the models (solids placing stored meshes by ref, so the editor's
+  // text stays small), rendered; a piece dragged in the plan renders again.
+  async designer_import_home_zip({ page, server }) {
+    const zip = studioZip();
+    await page.goto(`${server.url}/`);
+    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+    await idle(page);
+    const example = await imageSummary(page);
+    let seq = await renderSeq(page);
+
+    await page.setInputFiles("#file", zip);
+    await waitForNewRender(page, seq);
+    const status = await page.textContent("#status");
+    assert(!/refused|failed|error/i.test(status), `the import rendered: ${status}`);
+    assert(!(await page.isVisible("#problems li.error")), "without errors");
+    const imported = await imageSummary(page);
+    assert(imported.colours > 20 && imported.hash !== example.hash, `an image of the home: ${JSON.stringify(imported)}`);
+    const r = await request(page);
+    const text = JSON.stringify(r);
+    const placed = r.scene.solids.filter((s) => s.type === "mesh" && /^[0-9a-f]{16}$/.test(s.ref || "") && !s.vertices);
+    assert(placed.length >= 100 && text.length < 250000,
+      `the editor holds ref'd meshes in a small text: ${placed.length} of ${r.scene.solids.length} solids, ${text.length} characters`);
+    assert((r.scene.rooms || []).length > 0 && (r.scene.walls || []).length > 0, "with the home's rooms and walls");
+    const bounds = await hooks(page, "worldToPlan", 0, 0);
+    assert(Number.isFinite(bounds.x) && Number.isFinite(bounds.y), `the plan has finite bounds: ${JSON.stringify(bounds)}`);
+
+    // Drag the topmost piece under its own anchor (its footprint is the stored model's unit box
+    // scaled to the piece) 0.3 m along x: it moves, and the scene renders again.
+    const i = r.scene.solids.findLastIndex((s, k) => placed.includes(s) && hitTest(r.scene, solidAnchor(s), 0.05) === `/scene/solids/${k}`);
+    assert(i >= 0, "a piece can be picked in the plan");
+    const from = solidAnchor(r.scene.solids[i]);
+    seq = await renderSeq(page);
+    await page.click('[data-tool="select"]');
+    await dragPlan(page, from, [from[0] + 0.3, from[1]]);
+    await waitForNewRender(page, seq);
+    const moved = (await request(page)).scene.solids[i];
+    assert(moved.ref === r.scene.solids[i].ref && near([moved.position[0], moved.position[2]], [from[0] + 0.3, from[1]], 0.051),
+      `solid ${i} moved 0.3 m: ${JSON.stringify(r.scene.solids[i].position)} -> ${JSON.stringify(moved.position)}`);
+    const after = await imageSummary(page);
+    assert(after.colours > 20, `the second render is a picture: ${JSON.stringify(after)}`);
+    assert(!(await page.isVisible("#problems li.error")) && !/refused|failed|error/i.test(await page.textContent("#status")),
+      `the second render has no error: ${await page.textContent("#status")}`);
+  },
 };
 
 const prechecks = {
   async designer_import_big(server) {
     if (!fs.existsSync(fireplaceObj)) skip(`no ${fireplaceObj} (set ROOMRENDER_SHARED to the shared data's parent)`);
+    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+  },
+  async designer_import_home_zip(server) {
+    if (!fs.existsSync(path.join(homesDir, "Studio.xml"))) skip(`no ${homesDir}/Studio.xml (set ROOMRENDER_SHARED to the shared data's parent)`);
     if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
   },
 };

@@ -6,7 +6,7 @@ const $ = (id) => document.getElementById(id);
 
 const sizes = [[320, 240], [640, 480], [800, 600], [1024, 768], [1280, 720], [1920, 1080]];
 const fallbackShading = ["flat", "gouraud", "phong"];
-const importFormats = { xml: "sh3d", sh3d: "sh3d", obj: "obj", txt: "r2v", json: "json" };
+const importFormats = { xml: "sh3d", sh3d: "sh3d", zip: "sh3d", obj: "obj", txt: "r2v", json: "json" };
 
 function fillSelect(select, entries, value) {
   select.replaceChildren(...entries.map(([v, label, title]) => {
@@ -64,13 +64,16 @@ export class Controls {
 
   setImportSupported(supported) {
     $("open-file").disabled = false;
-    $("file").accept = supported ? ".json,.xml,.sh3d,.obj,.txt" : ".json";
+    $("file").accept = supported ? ".json,.xml,.sh3d,.zip,.obj,.txt" : ".json";
     $("open-file").title = supported
-      ? "Open a request (.json) or import a Sweet Home 3D home (.xml, .sh3d), an OBJ model or an R2V plan (.txt)"
+      ? "Open a request (.json) or import a Sweet Home 3D home (.xml, .sh3d, or a .zip of its XML and furniture/), an OBJ model (.obj, or a .zip of it and its .mtl) or an R2V plan (.txt)"
       : "Open a request (.json). Importing other formats needs POST /v1/import/{format}, which this server lacks.";
   }
 
+  // A .zip is taken for a home with its furniture unless named *.obj.zip (the import retries a zip
+  // that holds no home as an OBJ).
   importFormat(fileName) {
+    if (/\.obj\.zip$/i.test(fileName)) return "obj";
     const ext = (/\.([^.]+)$/.exec(fileName) || [])[1]?.toLowerCase();
     return importFormats[ext] || "sh3d";
   }

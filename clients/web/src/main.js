@@ -216,6 +216,8 @@ function importFile(file) {
   return loading(() => importFileNow(file));
 }
 
+const noHome = (error) => /archive holds no home/.test([error.message, ...(error.errors || []).map((e) => e.detail)].join(" "));
+
 async function importFileNow(file) {
   const format = controls.importFormat(file.name);
   try {
@@ -230,7 +232,11 @@ async function importFileNow(file) {
       }
     } else {
       // Stored by the server and rendered by id: an interior's meshes never travel back as JSON.
-      const receipt = await sharing.importStored(format, file);
+      const receipt = await sharing.importStored(format, file).catch((error) => {
+        // A zip of an OBJ and its .mtl, named like a home's: the server finds no home XML in it.
+        if (format !== "sh3d" || !/\.zip$/i.test(file.name) || error.status !== 422 || !noHome(error)) throw error;
+        return sharing.importStored("obj", file);
+      });
       if (receipt.warnings?.length) setStatus(`Imported ${file.name} with ${receipt.warnings.length} repair(s).`);
     }
     app.exampleName = file.name.replace(/\.[^.]*$/, "");

@@ -77,6 +77,8 @@ function boxCorners(sx, sz, rotation, center) {
   return [[-sx / 2, -sz / 2], [sx / 2, -sz / 2], [sx / 2, sz / 2], [-sx / 2, sz / 2]].map((q) => placePoint(q, rotation, center));
 }
 
+const unitBox = [[-0.5, 0, -0.5], [0.5, 0, 0.5]];
+
 // A solid's footprint: {polygon} or {circle: {center, radius}}.
 export function solidFootprint(s) {
   const rot = s.rotation_y || 0;
@@ -88,7 +90,9 @@ export function solidFootprint(s) {
     // Loops, not Math.min(...xs): an imported mesh can have more vertices than a call has arguments.
     const lo = [Infinity, Infinity];
     const hi = [-Infinity, -Infinity];
-    for (const v of s.vertices) {
+    // A mesh placed by `ref` carries no vertices here; a stored furniture model is the unit box
+    // centred on the origin (its scale is the piece's size), so that box stands in for it.
+    for (const v of Array.isArray(s.vertices) ? s.vertices : s.ref ? unitBox : []) {
       const x = v[0] * scale[0];
       const z = v[2] * scale[2];
       if (x < lo[0]) lo[0] = x;
@@ -96,6 +100,7 @@ export function solidFootprint(s) {
       if (z < lo[1]) lo[1] = z;
       if (z > hi[1]) hi[1] = z;
     }
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1])) return { polygon: [] };
     const pos = s.position || [0, 0, 0];
     const corners = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
     return { polygon: corners.map((q) => placePoint(q, rot, [pos[0], pos[2]])) };
@@ -218,21 +223,27 @@ export function sceneBounds(scene) {
     else pts.push(...(f.polygon || []));
   }
   for (const l of scene.lights || []) if (l.type === "point" && Array.isArray(l.position)) pts.push([l.position[0], l.position[2]]);
+  for (const r of scene.rooms || []) if (Array.isArray(r?.points)) pts.push(...r.points.filter(isPoint));
   if (scene.floor && Array.isArray(scene.floor.cells)) {
     const o = scene.floor.origin || [0, 0];
     const c = scene.floor.cell_size ?? 1;
     pts.push(o, [o[0] + scene.floor.cells[0] * c, o[1] + scene.floor.cells[1] * c]);
   }
-  if (!pts.length) return null;
+  const finite = pts.filter(isPoint);
+  if (!finite.length) return null;
   const lo = [Infinity, Infinity];
   const hi = [-Infinity, -Infinity];
-  for (const [x, z] of pts) {
+  for (const [x, z] of finite) {
     lo[0] = Math.min(lo[0], x);
     lo[1] = Math.min(lo[1], z);
     hi[0] = Math.max(hi[0], x);
     hi[1] = Math.max(hi[1], z);
   }
   return [lo, hi];
+}
+
+function isPoint(p) {
+  return Array.isArray(p) && Number.isFinite(p[0]) && Number.isFinite(p[1]);
 }
 
 // Walls with every end that lies on a `from` point (within 1e-6 m, as the format joins them) put on

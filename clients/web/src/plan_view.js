@@ -99,6 +99,11 @@ export class PlanView {
       const [x, y] = this.toSvg(o);
       decorate(el("rect", { x, y, width: f.cells[0] * c * this.s, height: f.cells[1] * c * this.s, class: "floor" }, svg), "/scene/floor");
     }
+    // Rooms' floor polygons, under everything else and not selectable (the panel edits no room).
+    for (const room of scene.rooms || []) {
+      if (!Array.isArray(room?.points) || room.points.some((q) => !Array.isArray(q))) continue;
+      el("polygon", { points: this.points(room.points), class: "room", fill: colorText(room.floor_color, "#d9d4c7") }, svg);
+    }
     (scene.walls || []).forEach((wall, i) => {
       if (!Array.isArray(wall.start) || !Array.isArray(wall.end)) return;
       decorate(el("polygon", { points: this.points(wallPolygon(wall)), class: "wall" }, svg), `/scene/walls/${i}`);

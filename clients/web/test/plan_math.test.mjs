@@ -75,3 +75,18 @@ test("half-typed elements are skipped, not thrown on", () => {
   assert.equal(hitTest(scene, [3, 0], 0.05), "/scene/walls/1");
   assert.deepEqual(sceneBounds(scene), [[0, 0], [5, 4]]);
 });
+
+test("a mesh placed by ref stands on its scale box; rooms widen the bounds; nothing is NaN", () => {
+  // A stored furniture model is the unit box: scale [2, 1, 0.5] at (3, 1) turned 90° spans x 2.75…3.25, z 0…2.
+  const chair = { type: "mesh", ref: "0123456789abcdef", position: [3, 0.5, 1], rotation_y: 90, scale: [2, 1, 0.5] };
+  const poly = solidFootprint(chair).polygon;
+  const xs = poly.map((q) => q[0]);
+  const zs = poly.map((q) => q[1]);
+  assert.ok(Math.abs(Math.min(...xs) - 2.75) < 1e-9 && Math.abs(Math.max(...xs) - 3.25) < 1e-9, String(xs));
+  assert.ok(Math.abs(Math.min(...zs)) < 1e-9 && Math.abs(Math.max(...zs) - 2) < 1e-9, String(zs));
+  assert.ok(hitTest({ walls: [], solids: [chair], lights: [] }, [3, 1.8], 0.05)?.startsWith("/scene/solids/0"));
+  // Neither vertices nor ref (half-typed): an empty footprint, not a throw and not ±Infinity bounds.
+  assert.deepEqual(solidFootprint({ type: "mesh", position: [1, 0, 1] }).polygon, []);
+  const scene = { solids: [{ type: "mesh", position: [1, 0, 1] }], rooms: [{ points: [[-1, -2], [6, -2], [6, 3]] }, { points: "x" }] };
+  assert.deepEqual(sceneBounds(scene), [[-1, -2], [6, 3]]);
+});
