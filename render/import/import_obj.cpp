@@ -22,6 +22,11 @@ namespace import_detail {
 namespace {
 
 // Parses one `f` token's index (1-based, or negative from the end) against `count` defined so far.
+std::string plural(const std::string& noun, size_t count) {
+  if (count == 1) return noun;
+  return noun == "vertex" ? "vertices" : noun + "s";
+}
+
 uint32_t resolve_index(std::string_view field, size_t count, const char* what, size_t line) {
   std::optional<long long> raw = parse_long(field);
   if (!raw) throw_at_line(Kind::malformed, line, std::string(what) + " index '" + quote_input(field) + "' is not an integer");
@@ -30,7 +35,7 @@ uint32_t resolve_index(std::string_view field, size_t count, const char* what, s
   if (*raw == 0 || index < 0 || index >= signed_count) {
     throw_at_line(Kind::invalid, line,
                   std::string(what) + " index " + std::to_string(*raw) + " is out of range (" +
-                      std::to_string(count) + " " + what + (count == 1 ? "" : "s") +
+                      std::to_string(count) + " " + plural(what, count) +
                       " defined before this line; OBJ indices start at 1, negative ones count back)");
   }
   return uint32_t(index);

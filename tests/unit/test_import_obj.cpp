@@ -127,7 +127,7 @@ void expect_line_error(const std::string& obj, size_t line, const std::string& w
 
 TEST(ImportObj, BadInputNamesTheLine) {
   expect_line_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4,
-                    "line 4: vertex index 4 is out of range (3 vertexs defined before this line");
+                    "line 4: vertex index 4 is out of range (3 vertices defined before this line");
   expect_line_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n", 4, "vertex index -4 is out of range");
   expect_line_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4, "vertex index 0 is out of range");
   expect_line_error("v 0 0 0\nv nan 0 0\n", 2, "line 2: vertex coordinate 'nan' is not a finite number");
