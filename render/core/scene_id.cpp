@@ -23,7 +23,6 @@ namespace {
 void add(Fnv1a& h, double v) { h.add_u64(std::bit_cast<uint64_t>(v == 0.0 ? 0.0 : v)); }
 void add(Fnv1a& h, float v) { add(h, double(v)); }
 void add(Fnv1a& h, int v) { h.add_u64(uint64_t(int64_t(v))); }
-void add(Fnv1a& h, uint32_t v) { h.add_u32(v); }
 void add(Fnv1a& h, bool v) { h.add_u8(v ? 1 : 0); }
 void add(Fnv1a& h, OpeningType v) { h.add_u64(uint64_t(v)); }
 void add(Fnv1a& h, SolidType v) { h.add_u64(uint64_t(v)); }
