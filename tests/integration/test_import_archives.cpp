@@ -93,7 +93,8 @@ std::string sh3d_archive(const fs::path& home) {
     std::vector<std::string> libraries = libraries_of(obj);
     std::string entry = std::to_string(next++);
     if (!libraries.empty()) {
-      entry += "/" + file.filename().string();
+      entry += '/';  // appended apart: GCC 12's -Wrestrict misfires on "/" + std::string here
+      entry += file.filename().string();
       for (const std::string& mtl : libraries) {
         models.push_back({entry.substr(0, entry.find('/') + 1) + mtl, rr::testing::read_file(file.parent_path() / mtl)});
       }

@@ -108,7 +108,10 @@ std::string cube_obj() {
   for (size_t f = 0; f < cube_faces.size(); ++f) {
     if (f == 3) text += "g second\n";
     text += "f";
-    for (uint32_t v : cube_faces[f]) text += " " + std::to_string(v + 1);
+    for (uint32_t v : cube_faces[f]) {
+      text += ' ';  // appended apart: GCC 12's -Wrestrict misfires on " " + std::string here
+      text += std::to_string(v + 1);
+    }
     text += "\n";
   }
   return text;
