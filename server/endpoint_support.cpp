@@ -127,6 +127,18 @@ bool answer_not_modified(const httplib::Request& req, httplib::Response& res, co
   return true;
 }
 
+void send_stored_document(const httplib::Request& req, httplib::Response& res, const std::string& id,
+                          const std::string& text) {
+  res.set_header("Cache-Control", "public, max-age=31536000, immutable");
+  if (answer_not_modified(req, res, "\"" + id + "\"")) return;
+  res.set_content(text, "application/json");
+}
+
+std::optional<std::string> releasing_owner(const ServiceState& state) {
+  if (state.access.tokens.empty()) return std::nullopt;
+  return request_context().owner;
+}
+
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req) {
   return parse_json_text(req.body, state.config.limits);
 }

@@ -60,16 +60,13 @@ void handle_post_mesh(ServiceState& state, const Request& req, Response& res, co
 void handle_get_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   auto mesh = state.meshes.find(match.params.at(0));
   if (!mesh) throw HttpError(404, "There is no stored mesh " + match.params[0] + ".");
-  res.set_header("Cache-Control", "public, max-age=31536000, immutable");  // content-addressed
-  if (answer_not_modified(req, res, "\"" + mesh->id + "\"")) return;
-  res.set_content(mesh->text, "application/json");
+  send_stored_document(req, res, mesh->id, mesh->text);
 }
 
 // With tokens, a delete drops the caller's reference only; the mesh goes with the last one, unless
 // a stored scene places it (409, naming a few of those scenes).
 void handle_delete_mesh(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  std::optional<std::string> owner;
-  if (!state.access.tokens.empty()) owner = request_context().owner;
+  const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
   std::lock_guard pins(state.mesh_pins.writers());
   switch (state.meshes.release(id, owner)) {

@@ -95,6 +95,11 @@ std::vector<Route> meta_routes(const ServerConfig& config); // meta_endpoints.cp
 void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
 // Answers 304 (and returns true) when If-None-Match matches `etag`; sets ETag either way.
 bool answer_not_modified(const httplib::Request& req, httplib::Response& res, const std::string& etag);
+// A stored, content-addressed document (`id` is its hash): cacheable forever, ETag "id", 304 on a match.
+void send_stored_document(const httplib::Request& req, httplib::Response& res, const std::string& id,
+                          const std::string& text);
+// Whose reference a DELETE drops: the caller's with tokens, every reference (nullopt) without.
+std::optional<std::string> releasing_owner(const ServiceState& state);
 // The request body as JSON, parsed with the configured depth bound (InputError -> 400).
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
 // Stores `scene` for the caller (request_context().owner) and answers its id: sets Location and

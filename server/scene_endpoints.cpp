@@ -106,16 +106,13 @@ void handle_get_scene(ServiceState& state, const Request& req, Response& res, co
   auto scene = state.scenes.find(match.params.at(0));
   if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
   request_context().scene_id = scene->static_id;
-  res.set_header("Cache-Control", "public, max-age=31536000, immutable");  // content-addressed
   res.set_header("X-Scene-Id", scene->static_id);
-  if (answer_not_modified(req, res, "\"" + scene->id + "\"")) return;
-  res.set_content(scene->text, "application/json");
+  send_stored_document(req, res, scene->id, scene->text);
 }
 
 // With tokens, a delete drops the caller's reference only; the scene goes with the last one.
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  std::optional<std::string> owner;
-  if (!state.access.tokens.empty()) owner = request_context().owner;
+  const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
   switch (state.scenes.release(id, owner)) {
     case SceneStore::ReleaseResult::not_found: throw HttpError(404, "There is no stored scene " + id + ".");
