@@ -112,8 +112,10 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
   out.translucent.clear();
   out.translucent_rects.clear();
 
-  // Kept by this thread for its next frame, so the chunks' memory is not allocated again.
-  thread_local std::vector<Chunk> chunks;
+  // Kept by this thread for its next frame, so the chunks' memory is not allocated again. A
+  // reference, because inside the workers' lambda the name would mean the workers' own thread_local.
+  thread_local std::vector<Chunk> kept_chunks;
+  std::vector<Chunk>& chunks = kept_chunks;
   const size_t count = (opaque.size() + chunk_polygons - 1) / chunk_polygons;
   if (chunks.size() < count) chunks.resize(count);
   const CancelToken* cancel = input.context.cancel;

@@ -5,6 +5,7 @@
 #include "render/pipelines/visibility.hpp"
 
 #include "render/core/draw.hpp"
+#include "render/core/kernels.hpp"
 #include "render/core/parallel.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
@@ -17,7 +18,7 @@ namespace rr {
 
 namespace {
 
-constexpr uint32_t no_triangle = 0xFFFFFFFFu;
+constexpr uint32_t no_triangle = no_visible;
 
 PixelRect tile_rect(const VisibilityInput& vis, size_t tile, int width, int height) {
   const int tx = int(tile % size_t(vis.tiles_x)), ty = int(tile / size_t(vis.tiles_x));
@@ -31,22 +32,12 @@ struct Buffers {
   uint32_t* visible = nullptr; // its position in the tile's bin, or no_triangle
 };
 
-// Pass 1 of one span of a triangle of plane group `group`: a pixel whose visible triangle lies in the
-// same group keeps it whatever the depths say, because it was drawn earlier and so has the lower id
-// (docs/accuracy.md, "Ties"); other pixels take the depth test.
-void resolve_grouped_span(const VisibilityInput& vis, const std::vector<uint32_t>& bin, uint32_t group, uint32_t j,
-                          double z0, double dz_dx, int n, float* depth, uint32_t* visible) {
-  for (int i = 0; i < n; ++i) {
-    const float z = float(z0 + double(i) * dz_dx);
-    const uint32_t v = visible[i];
-    const bool same_plane = v != no_triangle && vis.slot_groups[vis.triangles[bin[v]].slot] == group;
-    if (!same_plane && z > depth[i]) depth[i] = z, visible[i] = j;
-  }
-}
-
-// Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading.
-size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>& bin, const BinnedTriangle& t,
-                        uint32_t j, const PixelRect& r, const Buffers& b) {
+// Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading. A pixel
+// whose visible triangle lies in the same plane group keeps it whatever the depths say, because it
+// was drawn earlier and so has the lower id (docs/accuracy.md, "Ties"); group_of[] holds the plane
+// group of each bin position.
+size_t resolve_triangle(const BinnedTriangle& t, uint32_t group, const uint32_t* group_of, uint32_t j,
+                        const PixelRect& r, const Buffers& b) {
   TriangleSetup s;
   if (!setup_binned(t, s)) return 0;
   const int px0 = std::max(r.x0, s.px0), px1 = std::min(r.x1 - 1, s.px1);
@@ -58,7 +49,7 @@ size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>&
     dz_dx += double(s.step_x[k]) * s.inv_area * w[k];
   }
   int64_t e_row[3] = {s.edge(0, px0, py0), s.edge(1, px0, py0), s.edge(2, px0, py0)};
-  const uint32_t group = vis.slot_groups[t.slot];
+  const Kernels& simd = kernels();
   size_t covered = 0;
   for (int y = py0; y <= py1; ++y) {
     int64_t first, last = px1 - px0;
@@ -71,16 +62,9 @@ size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>&
       uint32_t* visible = b.visible + at;
       const int n = int(last - first + 1);
       if (group != 0) {
-        resolve_grouped_span(vis, bin, group, j, z0, dz_dx, n, depth, visible);
-        covered += size_t(n);
-        for (int k = 0; k < 3; ++k) e_row[k] += s.step_y[k];
-        continue;
-      }
-      for (int i = 0; i < n; ++i) {  // branch-free so that it vectorizes
-        const float z = float(z0 + double(i) * dz_dx);
-        const bool nearer = z > depth[i];
-        depth[i] = nearer ? z : depth[i];
-        visible[i] = nearer ? j : visible[i];
+        simd.grouped_depth_span(z0, dz_dx, n, j, group, group_of, depth, visible);
+      } else {
+        simd.depth_span(z0, dz_dx, n, j, depth, visible);
       }
       covered += size_t(n);
     }
@@ -97,7 +81,12 @@ size_t resolve_tile(const VisibilityInput& vis, size_t tile, const PixelRect& r,
   }
   size_t covered = 0;
   const std::vector<uint32_t>& bin = vis.bins[tile];
-  for (uint32_t j = 0; j < bin.size(); ++j) covered += resolve_triangle(vis, bin, vis.triangles[bin[j]], j, r, b);
+  thread_local std::vector<uint32_t> group_of;
+  group_of.resize(bin.size());
+  for (uint32_t j = 0; j < bin.size(); ++j) group_of[j] = vis.slot_groups[vis.triangles[bin[j]].slot];
+  for (uint32_t j = 0; j < bin.size(); ++j) {
+    covered += resolve_triangle(vis.triangles[bin[j]], group_of[j], group_of.data(), j, r, b);
+  }
   return covered;
 }
 
