@@ -4,11 +4,13 @@
 threads, in interleaved rounds of one run; writes the raw results (JSON) and the report (perf_report.py).
 Python 3 standard library only. Called by bench/perf.sh, which builds the peers and the scenes first.
 
-Scenes, cameras and the home import come from side_by_side.py itself, so this harness and the targets'
+Scenes and cameras come from side_by_side.py itself (the homes are imported as it does, with their
+furniture models), so this harness and the targets'
 yardstick cannot drift apart. Every round runs every variant once per thread count, thread counts in
 alternating order, so slow drift of the machine's load cancels in the per-round ratios.
 """
 import argparse
+import glob
 import importlib.util
 import json
 import os
@@ -101,7 +103,7 @@ class Runner:
             return {"error": error, "load1": load}
         out = {"ms": result["frame_ms_median"], "min_ms": result["frame_ms_min"],
                "max_ms": result["frame_ms_max"], "load1": load, "triangles": result.get("triangles")}
-        for key in ("renderer", "api_version", "frames_other_cpu_ms", "frames_wall_ms", "shadow", "polygons"):
+        for key in ("renderer", "api_version", "frames_other_cpu_ms", "frames_wall_ms", "shadow", "polygons", "simd"):
             if key in result:
                 out[key] = result[key]
         if variant == "phong_shadow" and result.get("shadow") != "rendered":
@@ -122,6 +124,28 @@ def same_scene_check(runner, name, obj, camera, size, work):
     idcompare = os.path.join(os.path.dirname(runner.sbs.PEER), "idcompare")
     result, error = run_json([idcompare, peer_prefix + ".ids", ours_ids], runner.args.timeout)
     return result or {"error": error}
+
+
+def add_homes(sbs, binary, homes_dir):
+    """The nine Sweet Home 3D homes as side_by_side.add_homes makes them (imported by roomrender,
+    exported to OBJ with polygon k = face k, each home's observer camera), but with the furniture's
+    own models (`--furniture models`) instead of boxes: the homes as people see them."""
+    work = tempfile.mkdtemp(prefix="perf-homes-")
+    for xml in sorted(glob.glob(os.path.join(homes_dir, "*.xml"))):
+        name = "sh3d_" + os.path.splitext(os.path.basename(xml))[0]
+        req, obj = os.path.join(work, name + ".json"), os.path.join(work, name + ".obj")
+        with open(req, "w") as f:
+            if subprocess.run([binary, "import", xml, "--furniture", "models"], stdout=f,
+                              stderr=subprocess.DEVNULL).returncode:
+                continue
+        if subprocess.run([binary, "export", req, "--obj", obj], capture_output=True).returncode:
+            continue
+        c = json.load(open(req)).get("camera", {})
+        j = lambda v: ",".join("%g" % x for x in v)
+        sbs.CAM[name] = "--eye %s --target %s --up %s --fovy %g --near %g --far %g --light-dir 0.4,1,0.3" % (
+            j(c["position"]), j(c["target"]), j(c.get("up", [0, 1, 0])), c.get("fov_y", 60), c.get("near", 0.1),
+            c.get("far", 100))
+        sbs.SCENES.append((name, obj, name))
 
 
 def measure_scene(runner, name, obj, camera, rounds, threads, frames, size, variants):
@@ -207,8 +231,8 @@ def main():
     homes_dir = os.path.join(os.path.dirname(sbs.DATA), "floorplans", "sweethome3d")
     homes_wanted = not args.no_homes
     before = len(sbs.SCENES)
-    if homes_wanted:  # imports with this roomrender, exports OBJ, takes each home's observer camera
-        sbs.add_homes(args.roomrender)
+    if homes_wanted:  # imports with this roomrender, furniture models included, exports OBJ
+        add_homes(sbs, args.roomrender, homes_dir)
     home_scenes = sbs.SCENES[before:]
     scenes, missing = select_scenes(sbs, args)
     results = {"format": 2, "quick": args.quick, "machine": machine_info(args.roomrender),

@@ -5,6 +5,7 @@
 #include "cli/args.hpp"
 #include "cli/cli.hpp"
 #include "cli/request_flags.hpp"
+#include "render/core/kernels.hpp"
 #include "render/core/png.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/timer.hpp"
@@ -64,6 +65,7 @@ nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchR
   j["warmup"] = run.warmup;
   j["bsp_cache"] = run.bsp_cache;
   j["threads"] = run.threads;
+  j["simd"] = kernels().name;  // the per-pixel loops' level (ROOMRENDER_SIMD can force a lower one)
   j["shadow_cache"] = run.shadow_cache;
   j["frame_ms_min"] = ms(*std::min_element(report.frame_ms.begin(), report.frame_ms.end()));
   j["frame_ms_median"] = ms(median_of(report.frame_ms));

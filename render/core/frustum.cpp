@@ -1,6 +1,7 @@
 // The view frustum and whole-object culling (see frustum.hpp).
 #include "render/core/frustum.hpp"
 
+#include <algorithm>
 #include <limits>
 
 namespace rr {
@@ -24,12 +25,18 @@ bool Frustum::outside(Vec3 lo, Vec3 hi) const {
 
 ObjectsInView objects_in_view(const PolygonSoup& soup, const ViewTransform& view) {
   const size_t n = soup.objects.size();
-  const Vec3 inf(std::numeric_limits<double>::infinity());
-  std::vector<Vec3> lo(n, inf), hi(n, -inf);
-  for (const Polygon& p : soup.polygons) {
-    for (const Vec3& q : soup.points(p)) {
-      lo[p.object] = glm::min(lo[p.object], q);
-      hi[p.object] = glm::max(hi[p.object], q);
+  std::vector<Vec3> lo(n), hi(n);
+  if (std::all_of(soup.objects.begin(), soup.objects.end(), [](const SceneObject& o) { return o.bounded; })) {
+    for (size_t i = 0; i < n; ++i) lo[i] = soup.objects[i].lo, hi[i] = soup.objects[i].hi;
+  } else {
+    const Vec3 inf(std::numeric_limits<double>::infinity());
+    std::fill(lo.begin(), lo.end(), inf);
+    std::fill(hi.begin(), hi.end(), -inf);
+    for (const Polygon& p : soup.polygons) {
+      for (const Vec3& q : soup.points(p)) {
+        lo[p.object] = glm::min(lo[p.object], q);
+        hi[p.object] = glm::max(hi[p.object], q);
+      }
     }
   }
   const Frustum frustum(view);

@@ -1,6 +1,8 @@
 // PNG encoders (see png.hpp). The container is written here; deflate is zlib's.
 #include "render/core/png.hpp"
 
+#include "render/core/parallel.hpp"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -149,33 +151,20 @@ void deflate_strip(const Image& image, int first, int last, bool is_last, bool b
 std::string encode_strips(const Image& image, bool best, unsigned threads) {
   const int strips_count = std::max(1, (image.height + kStripRows - 1) / kStripRows);
   std::vector<Strip> strips(static_cast<size_t>(strips_count));
-  auto run = [&](unsigned worker, unsigned workers) {
-    for (int s = int(worker); s < strips_count; s += int(workers)) {
-      int first = s * kStripRows;
-      int last = std::min(image.height, first + kStripRows);
-      deflate_strip(image, first, last, s + 1 == strips_count, best, strips[size_t(s)]);
-    }
-  };
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = std::min(threads, unsigned(strips_count));
-  if (threads <= 1) {
-    run(0, 1);
-  } else {
-    std::vector<std::thread> pool;
-    std::vector<std::exception_ptr> errors(threads);
-    for (unsigned t = 0; t < threads; ++t) {
-      pool.emplace_back([&, t] {
-        try {
-          run(t, threads);
-        } catch (...) {
-          errors[t] = std::current_exception();
-        }
-      });
+  // One task per strip on the render pool; an exception (out of memory) is carried out of the task.
+  std::vector<std::exception_ptr> errors(threads);
+  parallel_for(threads, size_t(strips_count), [&](size_t s, unsigned worker) {
+    try {
+      const int first = int(s) * kStripRows;
+      const int last = std::min(image.height, first + kStripRows);
+      deflate_strip(image, first, last, int(s) + 1 == strips_count, best, strips[s]);
+    } catch (...) {
+      errors[worker] = std::current_exception();
     }
-    for (auto& th : pool) th.join();
-    for (auto& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
+  });
+  for (auto& e : errors) {
+    if (e) std::rethrow_exception(e);
   }
   // zlib header: deflate with a 32 KiB window, level hint fastest (0x01) or maximum (0xDA).
   std::string stream(best ? "\x78\xDA" : "\x78\x01", 2);

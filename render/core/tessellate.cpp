@@ -6,6 +6,7 @@
 #include "render/core/tessellate_detail.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cassert>
 #include <cmath>
 
@@ -168,6 +169,15 @@ PolygonSoup tessellate(const StaticGeometry& geometry) {
   assign_plane_groups(soup);
   if (!geometry.levels.empty()) tag_levels(soup, geometry);
   return soup;
+}
+
+void bound_objects(PolygonSoup& soup) {
+  const Vec3 inf(std::numeric_limits<double>::infinity());
+  for (SceneObject& o : soup.objects) o.bounded = true, o.lo = inf, o.hi = -inf;
+  for (const Polygon& p : soup.polygons) {
+    SceneObject& o = soup.objects[p.object];
+    for (const Vec3& q : soup.points(p)) o.lo = glm::min(o.lo, q), o.hi = glm::max(o.hi, q);
+  }
 }
 
 size_t estimate_polygon_count(const StaticGeometry& geometry) {

@@ -28,6 +28,12 @@ struct SceneObject {
   bool smooth = false;  // shading normals are averaged across faces
   int level = -1;       // its element's level (StaticGeometry::levels), -1: on none
   bool ceiling = false;  // a room's ceiling: a view may leave it out (RenderOptions::ceilings)
+  // Axis-aligned bounds of its polygons, when `bounded`: bound_objects() fills them once a soup will
+  // not change (prepare_scene), so a frame's object culling reads them instead of every vertex. A
+  // soup made from another one's pieces keeps them: the pieces lie inside, so culling stays
+  // conservative.
+  bool bounded = false;
+  Vec3 lo{0.0}, hi{0.0};
 };
 
 enum PolygonFlags : uint32_t {
@@ -61,6 +67,10 @@ struct PolygonSoup {
     return {normals.data() + p.first_vertex, p.vertex_count};
   }
 };
+
+// Fills every object's bounds from its polygons (an object with none gets lo > hi). Call it only on a
+// soup whose points will not move again.
+void bound_objects(PolygonSoup& soup);
 
 // Tessellates validated geometry. Deterministic: the same input gives the same polygons and ids.
 PolygonSoup tessellate(const StaticGeometry& geometry);

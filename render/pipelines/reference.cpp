@@ -8,6 +8,7 @@
 
 #include "render/core/coplanar.hpp"
 #include "render/core/draw.hpp"
+#include "render/core/parallel.hpp"
 #include "render/pipelines/reference_detail.hpp"
 #include "render/core/timer.hpp"
 
@@ -198,30 +199,23 @@ void draw_reference(const FrameInput& input, Frame& frame, RenderStats& stats, S
   const ReferenceScene rs = prepare_reference(input, stats);
   stats.shadow_skipped = !rs.shadows;
   timings.build_ms += clock.lap_ms();
-  // Rows interleaved over the threads; each row is written by exactly one of them.
+  // One task per row on the render pool; each row is written by exactly one worker.
   const int height = frame.image.height;
   const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
-  std::atomic<int> next_row{0};
-  std::atomic<size_t> hits{0};
+  std::vector<size_t> hits(threads, 0);
+  std::vector<std::vector<Hit>> translucent(threads);
   std::atomic<bool> cancelled{false};
-  auto work = [&] {
-    std::vector<Hit> translucent;
-    size_t own_hits = 0;
-    for (int y = next_row++; y < height; y = next_row++) {
-      if (input.context.cancel && input.context.cancel->expired()) {
-        cancelled = true;
-        break;
-      }
-      draw_row(rs, y, frame, own_hits, translucent);
+  parallel_for(threads, size_t(height), [&](size_t y, unsigned worker) {
+    if (cancelled.load(std::memory_order_relaxed)) return;
+    if (input.context.cancel && input.context.cancel->expired()) {
+      cancelled = true;
+      return;
     }
-    hits += own_hits;
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+    draw_row(rs, int(y), frame, hits[worker], translucent[worker]);
+  });
   if (cancelled) throw RenderCancelled();
-  stats.fragments = hits;
+  stats.fragments = 0;
+  for (size_t h : hits) stats.fragments += h;
   timings.raster_ms += clock.lap_ms();
 }
 

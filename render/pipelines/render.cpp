@@ -17,6 +17,7 @@ PreparedScene prepare_scene(Scene scene) {
   out.scene = std::move(scene);
   Stopwatch clock;
   out.soup = tessellate(out.scene.geometry);
+  bound_objects(out.soup);
   out.tessellate_ms = clock.elapsed_ms();
   out.static_id = scene_id(out.scene.geometry);
   out.warnings = placement_warnings(out.scene, out.soup);

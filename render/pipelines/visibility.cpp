@@ -5,6 +5,7 @@
 #include "render/pipelines/visibility.hpp"
 
 #include "render/core/draw.hpp"
+#include "render/core/kernels.hpp"
 #include "render/core/parallel.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
@@ -17,12 +18,7 @@ namespace rr {
 
 namespace {
 
-constexpr uint32_t no_triangle = 0xFFFFFFFFu;
-
-bool setup_binned(const BinnedTriangle& t, TriangleSetup& s) {
-  const int64_t X[3] = {t.X[0], t.X[1], t.X[2]}, Y[3] = {t.Y[0], t.Y[1], t.Y[2]};
-  return setup_triangle(X, Y, s);
-}
+constexpr uint32_t no_triangle = no_visible;
 
 PixelRect tile_rect(const VisibilityInput& vis, size_t tile, int width, int height) {
   const int tx = int(tile % size_t(vis.tiles_x)), ty = int(tile / size_t(vis.tiles_x));
@@ -36,22 +32,12 @@ struct Buffers {
   uint32_t* visible = nullptr; // its position in the tile's bin, or no_triangle
 };
 
-// Pass 1 of one span of a triangle of plane group `group`: a pixel whose visible triangle lies in the
-// same group keeps it whatever the depths say, because it was drawn earlier and so has the lower id
-// (docs/accuracy.md, "Ties"); other pixels take the depth test.
-void resolve_grouped_span(const VisibilityInput& vis, const std::vector<uint32_t>& bin, uint32_t group, uint32_t j,
-                          double z0, double dz_dx, int n, float* depth, uint32_t* visible) {
-  for (int i = 0; i < n; ++i) {
-    const float z = float(z0 + double(i) * dz_dx);
-    const uint32_t v = visible[i];
-    const bool same_plane = v != no_triangle && vis.slot_groups[vis.triangles[bin[v]].slot] == group;
-    if (!same_plane && z > depth[i]) depth[i] = z, visible[i] = j;
-  }
-}
-
-// Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading.
-size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>& bin, const BinnedTriangle& t,
-                        uint32_t j, const PixelRect& r, const Buffers& b) {
+// Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading. A pixel
+// whose visible triangle lies in the same plane group keeps it whatever the depths say, because it
+// was drawn earlier and so has the lower id (docs/accuracy.md, "Ties"); group_of[] holds the plane
+// group of each bin position.
+size_t resolve_triangle(const BinnedTriangle& t, uint32_t group, const uint32_t* group_of, uint32_t j,
+                        const PixelRect& r, const Buffers& b) {
   TriangleSetup s;
   if (!setup_binned(t, s)) return 0;
   const int px0 = std::max(r.x0, s.px0), px1 = std::min(r.x1 - 1, s.px1);
@@ -63,7 +49,7 @@ size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>&
     dz_dx += double(s.step_x[k]) * s.inv_area * w[k];
   }
   int64_t e_row[3] = {s.edge(0, px0, py0), s.edge(1, px0, py0), s.edge(2, px0, py0)};
-  const uint32_t group = vis.slot_groups[t.slot];
+  const Kernels& simd = kernels();
   size_t covered = 0;
   for (int y = py0; y <= py1; ++y) {
     int64_t first, last = px1 - px0;
@@ -76,16 +62,9 @@ size_t resolve_triangle(const VisibilityInput& vis, const std::vector<uint32_t>&
       uint32_t* visible = b.visible + at;
       const int n = int(last - first + 1);
       if (group != 0) {
-        resolve_grouped_span(vis, bin, group, j, z0, dz_dx, n, depth, visible);
-        covered += size_t(n);
-        for (int k = 0; k < 3; ++k) e_row[k] += s.step_y[k];
-        continue;
-      }
-      for (int i = 0; i < n; ++i) {  // branch-free so that it vectorizes
-        const float z = float(z0 + double(i) * dz_dx);
-        const bool nearer = z > depth[i];
-        depth[i] = nearer ? z : depth[i];
-        visible[i] = nearer ? j : visible[i];
+        simd.grouped_depth_span(z0, dz_dx, n, j, group, group_of, depth, visible);
+      } else {
+        simd.depth_span(z0, dz_dx, n, j, depth, visible);
       }
       covered += size_t(n);
     }
@@ -102,7 +81,12 @@ size_t resolve_tile(const VisibilityInput& vis, size_t tile, const PixelRect& r,
   }
   size_t covered = 0;
   const std::vector<uint32_t>& bin = vis.bins[tile];
-  for (uint32_t j = 0; j < bin.size(); ++j) covered += resolve_triangle(vis, bin, vis.triangles[bin[j]], j, r, b);
+  thread_local std::vector<uint32_t> group_of;
+  group_of.resize(bin.size());
+  for (uint32_t j = 0; j < bin.size(); ++j) group_of[j] = vis.slot_groups[vis.triangles[bin[j]].slot];
+  for (uint32_t j = 0; j < bin.size(); ++j) {
+    covered += resolve_triangle(vis.triangles[bin[j]], group_of[j], group_of.data(), j, r, b);
+  }
   return covered;
 }
 
@@ -219,73 +203,7 @@ void blend_tile(const FrameInput& input, const VisibilityInput& vis, const Pixel
   }
 }
 
-// A pixel rectangle holding every pixel centre the projected polygon can cover, clamped to the frame.
-PixelRect screen_bounds(const std::vector<RasterVertex>& screen, int width, int height) {
-  double x0 = screen[0].x, x1 = x0, y0 = screen[0].y, y1 = y0;
-  for (const RasterVertex& v : screen) {
-    x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
-  }
-  auto clamp = [](double v, int hi) { return int(std::clamp(v, 0.0, double(hi))); };
-  return {clamp(std::floor(x0) - 1, width), clamp(std::floor(y0) - 1, height), clamp(std::ceil(x1) + 1, width),
-          clamp(std::ceil(y1) + 1, height)};
-}
-
 }  // namespace
-
-void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
-                  const std::vector<uint32_t>& translucent, VisibilityInput& out, RenderStats& stats) {
-  const int width = input.view.width, height = input.view.height;
-  out.tiles_x = (width + tile_size - 1) / tile_size;
-  out.tiles_y = (height + tile_size - 1) / tile_size;
-  out.bins.resize(size_t(out.tiles_x) * size_t(out.tiles_y));
-  for (auto& bin : out.bins) bin.clear();
-  out.polygons.clear();
-  out.slot_groups.clear();
-  out.triangles.clear();
-  out.translucent.clear();
-  out.translucent_rects.clear();
-  DrawScratch scratch;
-  std::vector<int32_t> sx, sy;
-  // Units: polygons projected plus tile bins written (a large triangle lands in many bins).
-  CancelMeter meter(input.context.cancel, 8192);
-  for (uint32_t i : opaque) {
-    meter.add(1);
-    if (!project_polygon(input.view, input.soup, input.soup.polygons[i], scratch)) continue;
-    ++stats.polygons_drawn;
-    stats.triangles += scratch.screen.size() - 2;
-    const uint32_t slot = uint32_t(out.polygons.size());
-    out.polygons.push_back(i);
-    out.slot_groups.push_back(input.soup.polygons[i].plane_group);
-    sx.resize(scratch.screen.size()), sy.resize(scratch.screen.size());
-    for (size_t v = 0; v < scratch.screen.size(); ++v) {
-      sx[v] = int32_t(snap_to_subpixel(scratch.screen[v].x)), sy[v] = int32_t(snap_to_subpixel(scratch.screen[v].y));
-    }
-    for (uint32_t k = 0; k + 2 < scratch.screen.size(); ++k) {
-      const size_t v[3] = {0, k + 1, k + 2};
-      BinnedTriangle t{{sx[v[0]], sx[v[1]], sx[v[2]]}, {sy[v[0]], sy[v[1]], sy[v[2]]},
-                       {scratch.screen[v[0]].inv_w, scratch.screen[v[1]].inv_w, scratch.screen[v[2]].inv_w}, slot, k};
-      TriangleSetup s;
-      if (!setup_binned(t, s)) continue;
-      const int px0 = std::max(0, s.px0), px1 = std::min(width - 1, s.px1);
-      const int py0 = std::max(0, s.py0), py1 = std::min(height - 1, s.py1);
-      if (px0 > px1 || py0 > py1) continue;
-      const uint32_t index = uint32_t(out.triangles.size());
-      out.triangles.push_back(t);
-      for (int ty = py0 / tile_size; ty <= py1 / tile_size; ++ty) {
-        for (int tx = px0 / tile_size; tx <= px1 / tile_size; ++tx) out.bins[size_t(ty * out.tiles_x + tx)].push_back(index);
-        meter.add(size_t(px1 / tile_size - px0 / tile_size + 1));
-      }
-    }
-  }
-  for (uint32_t i : translucent) {
-    meter.add(1);
-    if (!project_polygon(input.view, input.soup, input.soup.polygons[i], scratch)) continue;
-    ++stats.polygons_drawn;
-    stats.triangles += scratch.screen.size() - 2;
-    out.translucent.push_back(i);
-    out.translucent_rects.push_back(screen_bounds(scratch.screen, width, height));
-  }
-}
 
 void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
                      unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {

@@ -26,6 +26,12 @@ struct BinnedTriangle {
   uint32_t k;     // fan triangle (0, k+1, k+2)
 };
 
+// The triangle's integer set-up (raster.hpp); false when it has no area.
+inline bool setup_binned(const BinnedTriangle& t, TriangleSetup& s) {
+  const int64_t X[3] = {t.X[0], t.X[1], t.X[2]}, Y[3] = {t.Y[0], t.Y[1], t.Y[2]};
+  return setup_triangle(X, Y, s);
+}
+
 struct VisibilityInput {
   std::vector<uint32_t> polygons;     // soup index of each projected opaque polygon, in draw order
   std::vector<uint32_t> slot_groups;  // its plane group (Polygon::plane_group), 0 for none
@@ -36,8 +42,9 @@ struct VisibilityInput {
   int tiles_x = 0, tiles_y = 0;
 };
 
-// Front end: projects input.soup's polygons `opaque` (in draw order) and bins their triangles, and
-// bounds the `translucent` ones (far to near). Counts drawn polygons and triangles into stats.
+// Front end (binning.cpp): projects input.soup's polygons `opaque` (in draw order) and bins their
+// triangles, and bounds the `translucent` ones (far to near), on input.context.threads threads; the
+// bins are the same for any thread count. Counts drawn polygons and triangles into stats.
 void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
                   const std::vector<uint32_t>& translucent, VisibilityInput& out, RenderStats& stats);
 

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <random>
+
 namespace rr {
 namespace {
 
@@ -57,6 +59,50 @@ TEST(Threads, EveryExampleAndModeIsByteIdenticalForOneTwoAndEightThreads) {
     }
   }
   EXPECT_GT(renders, 0u) << "no examples found";
+}
+
+// A scene of 2,000 seeded random triangles: the front end cuts its draw order into several chunks
+// (the examples fit in one), and tiles hold long bins.
+nlohmann::json many_triangles() {
+  std::mt19937 rng(20261202);
+  std::uniform_real_distribution<double> at(-2.0, 2.0), offset(-0.4, 0.4);
+  nlohmann::json vertices = nlohmann::json::array(), faces = nlohmann::json::array();
+  for (int t = 0; t < 2000; ++t) {
+    const double cx = at(rng), cy = at(rng) + 2.0, cz = at(rng);
+    for (int v = 0; v < 3; ++v) vertices.push_back({cx + offset(rng), cy + offset(rng), cz + offset(rng)});
+    faces.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  nlohmann::json scene = {
+      {"floor", {{"origin", {-2, -2}}, {"cells", {4, 4}}, {"cell_size", 1.0}}},
+      {"solids", {{{"type", "mesh"}, {"id", "cloud"}, {"color", "#b08040"}, {"vertices", vertices}, {"faces", faces}}}},
+      {"lights", {{{"type", "directional"}, {"direction", {0.3, -1.0, 0.2}}, {"intensity", 0.8}}}}};
+  return {{"scene", scene},
+          {"camera", {{"position", {0.5, 2.5, 6.0}}, {"target", {0.0, 2.0, 0.0}}}},
+          {"options", {{"width", 250}, {"height", 170}}}};
+}
+
+TEST(Threads, ThousandsOfPolygonsAreByteIdenticalForOneTwoAndEightThreads) {
+  nlohmann::json j = many_triangles();
+  for (const char* pipeline : {"zbuffer", "painter", "bsp"}) {
+    for (const auto& shading : shading_names) {
+      for (bool shadows : {false, true}) {
+        j["options"]["pipeline"] = pipeline;
+        j["options"]["shading"] = shading.name;
+        j["options"]["shadows"] = shadows;
+        SCOPED_TRACE(std::string(pipeline) + " " + shading.name + (shadows ? " shadows" : ""));
+        const RenderRequest request = request_from_json(j);
+        const PolygonSoup soup = tessellate(request.scene.geometry);
+        ASSERT_GT(soup.polygons.size(), 2000u);
+        const Drawn one = draw(request, soup, 1);
+        for (unsigned threads : {2u, 8u}) {
+          const Drawn many = draw(request, soup, threads);
+          EXPECT_TRUE(many.png == one.png) << threads << " threads: the PNG differs";
+          EXPECT_TRUE(many.ids == one.ids) << threads << " threads: the id buffer differs";
+          EXPECT_EQ(many.fragments, one.fragments) << threads << " threads";
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -1,0 +1,125 @@
+// The per-pixel kernels give the same bytes at every SIMD level this CPU runs: each loop against a
+// plain scalar loop on seeded random spans, and every example drawn by every pipeline, shading and
+// shadows setting with each level forced, against the baseline level.
+#include "render/core/kernels.hpp"
+#include "render/core/png.hpp"
+#include "render/core/scene_names.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/pipeline_table.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+namespace rr {
+namespace {
+
+// Restores the process's kernel set when a test ends.
+struct ForcedKernels {
+  const char* before = kernels().name;
+  ~ForcedKernels() { use_kernels(before); }
+};
+
+struct Span {
+  double z0, dz;
+  int n;
+  std::vector<float> depth;
+  std::vector<uint32_t> visible, group_of;
+};
+
+Span random_span(std::mt19937& rng) {
+  std::uniform_real_distribution<double> z(0.01, 2.0), slope(-1e-3, 1e-3);
+  std::uniform_int_distribution<int> length(0, 300), pick(0, 7);
+  Span s{z(rng), slope(rng), length(rng), {}, {}, {}};
+  s.group_of = {0, 3, 3, 5, 0, 3, 7, 5};
+  for (int i = 0; i < s.n; ++i) {
+    // Ties included: depths equal to the span's own values test the strict comparison.
+    const int kind = pick(rng);
+    s.depth.push_back(kind == 0 ? 0.0f : kind == 1 ? float(s.z0 + double(i) * s.dz) : float(z(rng)));
+    s.visible.push_back(kind == 0 ? no_visible : uint32_t(pick(rng)));
+  }
+  return s;
+}
+
+TEST(Kernels, EveryLevelMatchesAScalarLoopBitForBit) {
+  ASSERT_FALSE(available_kernels().empty());
+  EXPECT_STREQ(available_kernels().front()->name, "sse2");
+  const unsigned seed = std::random_device{}();
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  std::mt19937 rng(seed);
+  for (int trial = 0; trial < 500; ++trial) {
+    const Span s = random_span(rng);
+    const uint32_t group = trial % 2 ? 3u : 5u;
+    Span plain = s, grouped = s;
+    for (int i = 0; i < s.n; ++i) {  // the scalar definitions of kernels.hpp
+      const float z = float(s.z0 + double(i) * s.dz);
+      if (z > plain.depth[i]) plain.depth[i] = z, plain.visible[i] = 99;
+      const uint32_t v = grouped.visible[i];
+      const bool same_plane = v != no_visible && s.group_of[v] == group;
+      if (!same_plane && z > grouped.depth[i]) grouped.depth[i] = z, grouped.visible[i] = 99;
+    }
+    for (const Kernels* k : available_kernels()) {
+      SCOPED_TRACE(k->name);
+      Span a = s, b = s;
+      k->depth_span(s.z0, s.dz, s.n, 99, a.depth.data(), a.visible.data());
+      k->grouped_depth_span(s.z0, s.dz, s.n, 99, group, s.group_of.data(), b.depth.data(), b.visible.data());
+      ASSERT_EQ(0, std::memcmp(a.depth.data(), plain.depth.data(), a.depth.size() * sizeof(float)));
+      ASSERT_EQ(a.visible, plain.visible);
+      ASSERT_EQ(0, std::memcmp(b.depth.data(), grouped.depth.data(), b.depth.size() * sizeof(float)));
+      ASSERT_EQ(b.visible, grouped.visible);
+    }
+  }
+}
+
+TEST(Kernels, EveryExampleIsByteIdenticalAtEveryLevel) {
+  ForcedKernels restore;
+  std::printf("kernel levels on this CPU:");
+  for (const Kernels* k : available_kernels()) std::printf(" %s", k->name);
+  std::printf("\n");
+  size_t compared = 0;
+  for (const auto& file : testing::example_files()) {
+    nlohmann::json j = nlohmann::json::parse(testing::read_file(file));
+    j["options"]["width"] = 250;
+    j["options"]["height"] = 170;
+    for (const PipelineInfo& pipeline : pipeline_table()) {
+      if (std::string_view(pipeline.name) == "reference") continue;  // no rasterizer
+      for (const auto& shading : shading_names) {
+        for (bool shadows : {false, true}) {
+          j["options"]["pipeline"] = pipeline.name;
+          j["options"]["shading"] = shading.name;
+          j["options"]["shadows"] = shadows;
+          SCOPED_TRACE(file.filename().string() + " " + pipeline.name + " " + shading.name +
+                       (shadows ? " shadows" : ""));
+          const RenderRequest request = request_from_json(j);
+          const PolygonSoup soup = tessellate(request.scene.geometry);
+          std::string baseline_png;
+          std::vector<uint32_t> baseline_ids;
+          for (const Kernels* k : available_kernels()) {
+            ASSERT_TRUE(use_kernels(k->name));
+            RenderContext context;
+            context.threads = 2;
+            RenderResult r = render_frame(request.scene, soup, request.camera, request.options, context);
+            std::string png = encode_png(r.frame.image);
+            if (k == available_kernels().front()) {
+              baseline_png = std::move(png), baseline_ids = std::move(r.frame.ids.ids);
+              continue;
+            }
+            EXPECT_TRUE(png == baseline_png) << k->name << ": the PNG differs from sse2's";
+            EXPECT_TRUE(r.frame.ids.ids == baseline_ids) << k->name << ": the id buffer differs from sse2's";
+            ++compared;
+          }
+        }
+      }
+    }
+  }
+  if (available_kernels().size() == 1) GTEST_SKIP() << "this CPU runs only the baseline level";
+  EXPECT_GT(compared, 0u);
+}
+
+}  // namespace
+}  // namespace rr
