@@ -29,6 +29,7 @@ void ProjectedSet::add(const DrawScratch& scratch, const DrawSource& source, Ord
   p.translucent = (poly.flags & polygon_translucent) != 0;
   p.alpha = p.translucent ? source.soup->materials[poly.material].opacity : 1.0f;
   p.seq = seq;
+  p.triangle = uint32_t(triangles);
   p.first = uint32_t(screen.size());
   p.count = uint32_t(scratch.screen.size());
   double x0 = scratch.screen[0].x, x1 = x0, y0 = scratch.screen[0].y, y1 = y0;
@@ -66,8 +67,10 @@ size_t project_in_order(const ViewTransform& view, std::span<const DrawSource> s
   size_t total_dropped = 0;
   for (size_t c = 0; c < chunks; ++c) {
     const uint32_t offset = uint32_t(out.screen.size());
+    const uint32_t triangle_offset = uint32_t(out.triangles);
     for (ProjectedPolygon p : parts[c].polygons) {
       p.first += offset;
+      p.triangle += triangle_offset;
       out.polygons.push_back(p);
     }
     out.clipped.insert(out.clipped.end(), parts[c].clipped.begin(), parts[c].clipped.end());
@@ -106,7 +109,8 @@ namespace {
 struct Worker {
   std::vector<std::unique_ptr<SurfaceShader>> shaders;  // binding copies, one per source
   DrawScratch scratch;
-  std::vector<uint32_t> stamp;  // first wins: per tile pixel, 1 + the position that shaded it
+  std::vector<uint32_t> stamp;  // per tile pixel: first wins, 1 + the position that shaded it;
+                                // last wins, 1 + the number of its last opaque triangle
   size_t lights = 0, fragments = 0;
 };
 
@@ -166,16 +170,32 @@ void for_each_triangle(const Context& c, const ProjectedPolygon& p, Fn&& fn) {
   }
 }
 
-// Shades pixel x..x+n-1 of row y where accept(pixel index) holds, binding the shader on first use.
+// The colour of a prepared polygon when every polygon has one colour (no bind, no weights), else null.
+const Color* constant_color(const Context& c, const ProjectedPolygon& p, Color& storage) {
+  const SurfaceShader& prepared = *c.sources[p.item.source].shader;
+  if (!prepared.constant_per_polygon()) return nullptr;
+  storage = prepared.polygon_color(p.item.index);
+  return &storage;
+}
+
+// Shades pixels x .. x + n - 1 of row y where accept(pixel index, x, y) holds: with `constant`
+// when not null, else with the shader, bound on first use.
 template <class Accept>
-void shade_span(const Context& c, const ProjectedPolygon& p, Worker& w, SurfaceShader*& shader,
+void shade_span(const Context& c, const ProjectedPolygon& p, Worker& w, SurfaceShader*& shader, const Color* constant,
                 const TriangleSetup& s, size_t k, const double inv_w[3], int y, int x, int n, const int64_t e0[3],
                 Accept&& accept) {
   uint8_t* const rgb = c.frame.image.rgb.data();
+  const size_t row = size_t(y) * c.width;
+  if (constant) {
+    for (int j = 0; j < n; ++j) {
+      const size_t i = row + size_t(x + j);
+      if (accept(i, x + j, y)) put(rgb + i * 3, *constant, p.alpha);
+    }
+    return;
+  }
   int64_t e[3] = {e0[0], e0[1], e0[2]};
   Fragment f;
   f.y = y;
-  const size_t row = size_t(y) * c.width;
   for (int j = 0; j < n; ++j, e[0] += s.step_x[0], e[1] += s.step_x[1], e[2] += s.step_x[2]) {
     const size_t i = row + size_t(x + j);
     if (!accept(i, x + j, y)) continue;
@@ -186,25 +206,66 @@ void shade_span(const Context& c, const ProjectedPolygon& p, Worker& w, SurfaceS
   }
 }
 
-void last_wins_tile(const Context& c, const PixelRect& r, const std::vector<uint32_t>& bin, Worker& w) {
+// Every polygon one colour: each polygon's spans are filled in order, the last one staying.
+void last_wins_constant_tile(const Context& c, const PixelRect& r, const std::vector<uint32_t>& bin, Worker& w) {
   uint32_t* const ids = c.frame.ids.ids.data();
   uint8_t* const rgb = c.frame.image.rgb.data();
   for (uint32_t pos : bin) {
     const ProjectedPolygon& p = c.set.polygons[pos];
-    const SurfaceShader& prepared = *c.sources[p.item.source].shader;
-    const bool constant = prepared.constant_per_polygon();
-    const Color color = constant ? prepared.polygon_color(p.item.index) : Color(0.0f);
-    SurfaceShader* shader = nullptr;
+    Color color;
+    const Color* constant = constant_color(c, p, color);
+    const uint8_t bytes[3] = {to_byte(color.r), to_byte(color.g), to_byte(color.b)};
+    SurfaceShader* shader = nullptr;  // never bound: the colour is constant
     for_each_triangle(c, p, [&](const TriangleSetup& s, size_t k, const double inv_w[3]) {
       triangle_spans(s, r, [&](int y, int x, int n, const int64_t e[3]) {
         w.fragments += size_t(n);
         const size_t i0 = size_t(y) * c.width + size_t(x);
         std::fill_n(ids + i0, n, p.id);
-        if (constant) {
-          for (size_t i = i0; i < i0 + size_t(n); ++i) put(rgb + i * 3, color, p.alpha);
+        if (p.alpha < 1.0f) {
+          shade_span(c, p, w, shader, constant, s, k, inv_w, y, x, n, e, [](size_t, int, int) { return true; });
           return;
         }
-        shade_span(c, p, w, shader, s, k, inv_w, y, x, n, e, [](size_t, int, int) { return true; });
+        for (uint8_t* px = rgb + i0 * 3; px < rgb + (i0 + size_t(n)) * 3; px += 3) {
+          px[0] = bytes[0], px[1] = bytes[1], px[2] = bytes[2];
+        }
+      });
+    });
+  }
+}
+
+// Shaded polygons: pass 1 keeps, per pixel, the last opaque triangle covering it (in the stamp);
+// pass 2 shades each pixel by that triangle, then blends the translucent polygons drawn after it,
+// in order, so each pixel sees the writes that last (those draw_projected would leave there).
+void last_wins_shaded_tile(const Context& c, const PixelRect& r, const std::vector<uint32_t>& bin, Worker& w) {
+  constexpr int tile = TileGrid::tile;
+  w.stamp.assign(size_t(tile) * tile, 0);
+  for (uint32_t pos : bin) {
+    const ProjectedPolygon& p = c.set.polygons[pos];
+    if (p.translucent) continue;
+    for_each_triangle(c, p, [&](const TriangleSetup& s, size_t k, const double*) {
+      triangle_spans(s, r, [&](int y, int x, int n, const int64_t*) {
+        w.fragments += size_t(n);
+        std::fill_n(&w.stamp[size_t(y - r.y0) * tile + size_t(x - r.x0)], n, p.triangle + uint32_t(k) + 1);
+      });
+    });
+  }
+  uint32_t* const ids = c.frame.ids.ids.data();
+  for (uint32_t pos : bin) {
+    const ProjectedPolygon& p = c.set.polygons[pos];
+    SurfaceShader* shader = nullptr;
+    Color storage;
+    const Color* constant = constant_color(c, p, storage);
+    for_each_triangle(c, p, [&](const TriangleSetup& s, size_t k, const double inv_w[3]) {
+      const uint32_t mine = p.triangle + uint32_t(k) + 1;
+      auto accept = [&](size_t i, int x, int y) {
+        const uint32_t last = w.stamp[size_t(y - r.y0) * tile + size_t(x - r.x0)];
+        if (p.translucent ? last > p.triangle : last != mine) return false;  // overwritten later
+        ids[i] = p.id;
+        return true;
+      };
+      triangle_spans(s, r, [&](int y, int x, int n, const int64_t e[3]) {
+        if (p.translucent) w.fragments += size_t(n);
+        shade_span(c, p, w, shader, constant, s, k, inv_w, y, x, n, e, accept);
       });
     });
   }
@@ -217,8 +278,13 @@ size_t draw_last_wins(const FrameInput& input, std::span<const DrawSource> sourc
   threads = std::max(1u, threads);
   std::vector<Worker> workers = make_workers(sources, threads);
   const Context c{sources, set, frame, size_t(frame.image.width)};
+  const bool constant = !sources.empty() && sources[0].shader->constant_per_polygon();
   parallel_for(threads, grid.bins.size(), [&](size_t tile, unsigned worker) {
-    last_wins_tile(c, grid.rect(tile), grid.bins[tile], workers[worker]);
+    if (constant) {
+      last_wins_constant_tile(c, grid.rect(tile), grid.bins[tile], workers[worker]);
+    } else {
+      last_wins_shaded_tile(c, grid.rect(tile), grid.bins[tile], workers[worker]);
+    }
   });
   return finish_workers(workers, input);
 }
@@ -248,6 +314,8 @@ void claimants_tile(const Context& c, const PixelRect& r, const std::vector<uint
     const ProjectedPolygon& p = c.set.polygons[pos];
     if (p.translucent) continue;
     SurfaceShader* shader = nullptr;
+    Color storage;
+    const Color* constant = constant_color(c, p, storage);
     auto accept = [&](size_t i, int x, int y) {
       if (ids[i] != p.seq) return false;
       uint32_t& stamp = w.stamp[size_t(y - r.y0) * TileGrid::tile + size_t(x - r.x0)];
@@ -257,7 +325,7 @@ void claimants_tile(const Context& c, const PixelRect& r, const std::vector<uint
     };
     for_each_triangle(c, p, [&](const TriangleSetup& s, size_t k, const double inv_w[3]) {
       triangle_spans(s, r, [&](int y, int x, int n, const int64_t e[3]) {
-        shade_span(c, p, w, shader, s, k, inv_w, y, x, n, e, accept);
+        shade_span(c, p, w, shader, constant, s, k, inv_w, y, x, n, e, accept);
       });
     });
   }
@@ -270,6 +338,8 @@ void translucent_tile(const Context& c, const PixelRect& r, const std::vector<ui
     const ProjectedPolygon& p = c.set.polygons[pos];
     if (!p.translucent) continue;
     SurfaceShader* shader = nullptr;
+    Color storage;
+    const Color* constant = constant_color(c, p, storage);
     auto accept = [&](size_t i, int, int) {
       if (ids[i] < p.seq) return false;
       ids[i] = p.seq;  // nearer translucent polygons compare with this one
@@ -278,7 +348,7 @@ void translucent_tile(const Context& c, const PixelRect& r, const std::vector<ui
     for_each_triangle(c, p, [&](const TriangleSetup& s, size_t k, const double inv_w[3]) {
       triangle_spans(s, r, [&](int y, int x, int n, const int64_t e[3]) {
         w.fragments += size_t(n);
-        shade_span(c, p, w, shader, s, k, inv_w, y, x, n, e, accept);
+        shade_span(c, p, w, shader, constant, s, k, inv_w, y, x, n, e, accept);
       });
     });
   }
@@ -303,11 +373,21 @@ size_t draw_first_wins(const FrameInput& input, std::span<const DrawSource> sour
   uint32_t* const ids = frame.ids.ids.data();
   parallel_for(threads, grid.bins.size(), [&](size_t tile, unsigned worker) {
     const PixelRect r = grid.rect(tile);
-    claimants_tile(c, r, grid.bins[tile], constant ? &colors : nullptr, workers[worker]);
-    translucent_tile(c, r, grid.bins[tile], workers[worker]);
+    const std::vector<uint32_t>& bin = grid.bins[tile];
+    const bool translucent = std::any_of(bin.begin(), bin.end(), [&](uint32_t pos) { return set.polygons[pos].translucent; });
+    if (!constant || translucent) {
+      claimants_tile(c, r, bin, constant ? &colors : nullptr, workers[worker]);
+      translucent_tile(c, r, bin, workers[worker]);
+    }
+    uint8_t* const rgb = frame.image.rgb.data();
     for (int y = r.y0; y < r.y1; ++y) {
       for (size_t i = size_t(y) * c.width + size_t(r.x0); i < size_t(y) * c.width + size_t(r.x1); ++i) {
-        if (ids[i] != background_id) ids[i] = id_of[ids[i]];
+        if (ids[i] == background_id) continue;
+        if (constant && !translucent) {  // claimants_tile's table lookup, fused with the id pass
+          const Bytes& b = colors[ids[i]];
+          rgb[i * 3] = b[0], rgb[i * 3 + 1] = b[1], rgb[i * 3 + 2] = b[2];
+        }
+        ids[i] = id_of[ids[i]];
       }
     }
   });

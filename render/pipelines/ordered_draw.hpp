@@ -34,6 +34,7 @@ struct ProjectedPolygon {
   bool translucent = false;
   float alpha = 1.0f;    // material opacity when translucent, else 1
   uint32_t seq = 0;      // the caller's position for it (first-wins drawing compares it with writers)
+  uint32_t triangle = 0; // its first fan triangle's number: numbers grow along the drawing order
   uint32_t first = 0;    // its clipped vertices: ProjectedSet::clipped and ::screen [first, first + count)
   uint32_t count = 0;
   PixelRect bounds;      // holds every pixel centre it can cover, within the frame
@@ -69,7 +70,9 @@ void bin_projected(const ProjectedSet& set, int width, int height, TileGrid& gri
 
 // Last writer wins (DepthMode::none): what draw_projected leaves after drawing the set's polygons
 // in order. Returns the covered pixels (draw_projected's sum); adds per-pixel light evaluations to
-// *input.lights_evaluated.
+// *input.lights_evaluated. Unless every polygon has one colour, a tile first finds each pixel's
+// last opaque triangle and shades only that one and the translucent polygons drawn after it, so
+// Phong evaluates its lights once per pixel instead of once per covered fragment.
 size_t draw_last_wins(const FrameInput& input, std::span<const DrawSource> sources, const ProjectedSet& set,
                       const TileGrid& grid, unsigned threads, Frame& frame);
 

@@ -86,19 +86,25 @@ void draw_whole_frame(const FrameInput& input, const std::vector<const PolygonSo
 }
 
 // `counts`: the same fragments and light evaluations too (not for the front-to-back walk, which
-// skips hidden polygons and so draws fewer).
-void expect_same(const Drawn& tiled, const Drawn& reference, unsigned threads, bool counts = true) {
+// skips hidden polygons and so draws fewer). Phong evaluates its lights per shaded pixel, and the
+// tiles shade a pixel only for the writes that last, so there it may evaluate fewer.
+void expect_same(const Drawn& tiled, const Drawn& reference, unsigned threads, bool phong, bool counts = true) {
   SCOPED_TRACE(std::to_string(threads) + " threads");
   EXPECT_TRUE(tiled.frame.image.rgb == reference.frame.image.rgb) << "the image differs";
   EXPECT_TRUE(tiled.frame.ids.ids == reference.frame.ids.ids) << "the ids differ";
   EXPECT_TRUE(tiled.frame.shadow_mask == reference.frame.shadow_mask) << "the shadow mask differs";
   if (!counts) return;
   EXPECT_EQ(tiled.stats.fragments, reference.stats.fragments);
-  EXPECT_EQ(tiled.stats.lights_evaluated, reference.stats.lights_evaluated);
+  if (phong) {
+    EXPECT_LE(tiled.stats.lights_evaluated, reference.stats.lights_evaluated);
+  } else {
+    EXPECT_EQ(tiled.stats.lights_evaluated, reference.stats.lights_evaluated);
+  }
 }
 
 void check_painter(const json& request) {
   const Setup setup(request);
+  const bool phong = setup.request.options.shading == ShadingMode::phong;
   const Drawn reference = setup.draw(1, true, [&](const FrameInput& input, Frame& frame, RenderStats& stats) {
     const PainterOrder order = painter_order(input, input.options.painter_key);
     std::vector<std::pair<uint32_t, size_t>> items;
@@ -109,7 +115,7 @@ void check_painter(const json& request) {
     expect_same(setup.draw(threads, true, [](const FrameInput& input, Frame& frame, RenderStats& stats) {
       StageTimings timings;
       draw_painter(input, frame, stats, timings);
-    }), reference, threads);
+    }), reference, threads, phong);
   }
 }
 
@@ -117,6 +123,7 @@ void check_painter(const json& request) {
 void check_bsp(json request) {
   request["options"]["bsp"]["traversal"] = "back_to_front";
   Setup setup(request);
+  const bool phong = setup.request.options.shading == ShadingMode::phong;
   const BspTree tree = build_bsp(setup.soup, setup.request.options.bsp);
   const Drawn reference = setup.draw(1, false, [&](const FrameInput& input, Frame& frame, RenderStats& stats) {
     size_t culled = 0;
@@ -128,25 +135,26 @@ void check_bsp(json request) {
     StageTimings timings;
     draw_bsp(input, frame, stats, timings);
   };
-  for (unsigned threads : {1u, 2u, 5u}) expect_same(setup.draw(threads, false, draw), reference, threads);
+  for (unsigned threads : {1u, 2u, 5u}) expect_same(setup.draw(threads, false, draw), reference, threads, phong);
   setup.request.options.bsp.traversal = BspTraversal::front_to_back;
-  for (unsigned threads : {1u, 2u, 5u}) expect_same(setup.draw(threads, false, draw), reference, threads, false);
+  for (unsigned threads : {1u, 2u, 5u}) expect_same(setup.draw(threads, false, draw), reference, threads, phong, false);
 }
 
-// Random triangles through each other, a box, and a wall with a translucent window in front.
+// Random triangles through each other, a box, and a wall with a translucent window among them.
 json random_scene(uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0), opacity(0.2, 0.8);
   json vertices = json::array(), faces = json::array();
   for (int t = 0; t < 30; ++t) {
-    for (int k = 0; k < 3; ++k) vertices.push_back({1.5 * u(rng), u(rng) + 1.0, u(rng)});
+    for (int k = 0; k < 3; ++k) vertices.push_back({1.5 * u(rng), u(rng) + 1.0, 2.0 * u(rng) + 0.5});
     faces.push_back({3 * t, 3 * t + 1, 3 * t + 2});
   }
   json solids = json::array({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}});
   solids.push_back({{"type", "box"}, {"center", {u(rng), u(rng)}}, {"size", {0.5, 0.8, 0.4}}});
   json window = {{"type", "window"}, {"offset", 0.5 + 0.5 * u(rng)}, {"width", 2.0}, {"sill", 0.3},
                  {"height", 1.5}, {"opacity", opacity(rng)}};
-  json walls = json::array({{{"start", {-2.0, 1.6}}, {"end", {2.0, 1.6}}, {"height", 2.5}, {"openings", {window}}}});
+  const double wall_y = 0.3 + 0.3 * u(rng);  // triangles reach through the wall and its window
+  json walls = json::array({{{"start", {-2.0, wall_y}}, {"end", {2.0, wall_y}}, {"height", 2.5}, {"openings", {window}}}});
   json light = {{"type", "directional"}, {"direction", {u(rng), -1.0, u(rng)}}};
   return {{"scene", {{"floor", {{"cells", {3, 3}}}}, {"walls", walls}, {"solids", solids}, {"lights", {light}}}},
           {"camera", {{"position", {2.0 * u(rng), 1.2 + 0.5 * u(rng), 4.0}}, {"target", {0.0, 1.0, 0.0}}}},
