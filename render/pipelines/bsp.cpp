@@ -285,6 +285,7 @@ void draw_bsp(const FrameInput& input, Frame& frame, RenderStats& stats, StageTi
   bin_projected(projected, frame.image.width, frame.image.height, grid);
   check_cancel(input.context.cancel);
   stats.fragments += draw_last_wins(input, {&source, 1}, projected, grid, threads, frame);
+  projected.release_if_large();
   stats.polygons_culled = culled;  // fragments: back faces, outside the frustum, clipped away
   timings.raster_ms += clock.lap_ms();
 }

@@ -232,6 +232,7 @@ void draw_bsp_front_to_back(const BspTree& tree, const FrameInput& input, Frame&
       [&](uint32_t index) { return walk.emit(index); }, walk.culled());
   walk.draw();
   walk.finish(timings);
+  drawn.release_if_large();
 }
 
 }  // namespace rr

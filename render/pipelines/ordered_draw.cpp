@@ -20,6 +20,12 @@ void ProjectedSet::clear() {
   triangles = 0;
 }
 
+void ProjectedSet::release_if_large() {
+  constexpr size_t kept_vertices = size_t{1} << 16;  // about 6 MB of vertices
+  if (clipped.capacity() <= kept_vertices) return;
+  *this = ProjectedSet{};
+}
+
 void ProjectedSet::add(const DrawScratch& scratch, const DrawSource& source, OrderedItem item, uint32_t seq,
                        int width, int height) {
   const Polygon& poly = source.soup->polygons[item.index];

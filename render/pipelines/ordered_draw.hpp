@@ -48,6 +48,9 @@ struct ProjectedSet {
   size_t triangles = 0;  // fan triangles of the polygons
 
   void clear();
+  // Frees the arrays when they outgrew a room's frame: a set kept for a thread's next frame should
+  // not pin a huge soup's hundreds of megabytes.
+  void release_if_large();
   // Appends the polygon last projected into `scratch`.
   void add(const DrawScratch& scratch, const DrawSource& source, OrderedItem item, uint32_t seq, int width, int height);
   std::span<const RasterVertex> screen_of(const ProjectedPolygon& p) const { return {screen.data() + p.first, p.count}; }

@@ -151,6 +151,7 @@ void draw_painter(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   bin_projected(projected, frame.image.width, frame.image.height, grid);
   check_cancel(input.context.cancel);
   stats.fragments += draw_last_wins(input, sources, projected, grid, threads, frame);
+  projected.release_if_large();
   timings.raster_ms += clock.lap_ms();
 }
 
