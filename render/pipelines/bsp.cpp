@@ -4,6 +4,7 @@
 #include "render/core/draw.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/ordered_draw.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -267,27 +268,24 @@ void draw_bsp(const FrameInput& input, Frame& frame, RenderStats& stats, StageTi
   std::vector<uint32_t> order = bsp_back_to_front(*tree, input.view, culled);
   timings.traverse_ms += clock.lap_ms();
 
-  const PolygonSoup& soup = tree->fragments;
-  SurfaceShader shader(input, soup);
+  SurfaceShader shader(input, tree->fragments);
   for (uint32_t index : order) shader.prepare(index);
   timings.shade_ms += clock.lap_ms();
 
-  FrameTarget target{frame.image, frame.ids, nullptr, {0, 0, frame.image.width, frame.image.height}};
-  DrawScratch scratch;
-  for (size_t k = 0; k < order.size(); ++k) {
-    if ((k & 4095) == 4095) check_cancel(input.context.cancel);
-    const Polygon& poly = soup.polygons[order[k]];
-    if (!project_polygon(input.view, soup, poly, scratch)) {
-      ++culled;
-      continue;
-    }
-    ++stats.polygons_drawn;
-    stats.triangles += scratch.screen.size() - 2;
-    shader.bind(order[k], scratch);
-    float alpha = poly.flags & polygon_translucent ? soup.materials[poly.material].opacity : 1.0f;
-    stats.fragments += draw_projected(target, scratch, poly.id, alpha, DepthMode::none,
-                                      [&](const Fragment& f, size_t tri) { return shader.fragment(f, tri); });
-  }
+  const DrawSource source{&tree->fragments, &shader};
+  std::vector<OrderedItem> items(order.size());
+  for (size_t k = 0; k < order.size(); ++k) items[k] = {order[k], 0};
+  // Kept by this thread for its next frame, so their memory is not allocated again.
+  thread_local ProjectedSet projected;
+  thread_local TileGrid grid;
+  const unsigned threads = std::max(1u, input.context.threads);
+  culled += project_in_order(input.view, {&source, 1}, items, threads, projected);
+  stats.polygons_drawn += projected.polygons.size();
+  stats.triangles += projected.triangles;
+  bin_projected(projected, frame.image.width, frame.image.height, grid);
+  check_cancel(input.context.cancel);
+  stats.fragments += draw_last_wins(input, {&source, 1}, projected, grid, threads, frame);
+  projected.release_if_large();
   stats.polygons_culled = culled;  // fragments: back faces, outside the frustum, clipped away
   timings.raster_ms += clock.lap_ms();
 }

@@ -1,14 +1,16 @@
 // The bsp pipeline's front-to-back walk with a coverage buffer (docs/bsp.md "Occlusion"). In: a
-// tree and one frame; out: the same image and ids as the back-to-front walk, drawing each pixel
-// once. Opaque polygons are drawn nearest first and a pixel keeps its first writer; a subtree whose
-// screen rectangle is wholly written is skipped, and the walk ends when every pixel is. Translucent
-// polygons met on the way are blended afterwards, back to front, where they lie in front of the
-// pixel's opaque writer, which is what the back-to-front walk leaves there.
+// tree and one frame; out: the same image and ids as the back-to-front walk, shading each pixel
+// once. The walk (one thread) rasterizes opaque polygons nearest first for coverage only, a pixel
+// keeping its first writer; a subtree whose screen rectangle is wholly written is skipped, and the
+// walk ends when every pixel is. Then the tiles are shaded on the thread pool (draw_first_wins):
+// each pixel by its writer, and the translucent polygons met on the way, back to front, where they
+// lie in front of the pixel's opaque writer, which is what the back-to-front walk leaves there.
 #include "render/pipelines/bsp.hpp"
 
 #include "render/core/draw.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/ordered_draw.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,20 +34,25 @@ class Coverage {
       : width_(ids.width), height_(ids.height), tiles_x_((ids.width + tile - 1) / tile), writer_(ids.ids),
         written_(size_t(tiles_x_) * size_t((ids.height + tile - 1) / tile), 0) {}
 
-  uint32_t writer(size_t pixel) const { return writer_[pixel]; }
   bool full() const { return total_ == writer_.size(); }
-  // Claims pixel (x, y) (index `pixel`) for the polygon at walk position `seq`; false when an
-  // earlier one holds it.
-  bool claim(size_t pixel, int x, int y, uint32_t seq) {
-    uint32_t& w = writer_[pixel];
-    if (w != background_id) return false;
-    w = seq;
-    ++written_[size_t(y / tile) * size_t(tiles_x_) + size_t(x / tile)];
-    ++total_;
-    return true;
+  // Claims the unwritten pixels of x .. x + n - 1 on row y for the polygon at walk position `seq`.
+  void claim_span(int y, int x, int n, uint32_t seq) {
+    uint32_t* const row = writer_.data() + size_t(y) * size_t(width_);
+    uint16_t* const written = written_.data() + size_t(y / tile) * size_t(tiles_x_);
+    // Per 8-pixel piece, branch-free so that it vectorizes: most pixels are claimed.
+    for (int a = x; a < x + n;) {
+      const int b = std::min(x + n, (a / tile + 1) * tile);
+      int claimed = 0;
+      for (int i = a; i < b; ++i) {
+        const bool free = row[i] == background_id;
+        row[i] = free ? seq : row[i];
+        claimed += free;
+      }
+      written[a / tile] = uint16_t(written[a / tile] + claimed);
+      total_ += size_t(claimed);
+      a = b;
+    }
   }
-  // A translucent polygon drawn over the pixel: later (nearer) ones compare with it.
-  void overlay(size_t pixel, uint32_t seq) { writer_[pixel] = seq; }
   // Whether every pixel of [x0, x1) x [y0, y1) (inside the image) is written.
   bool covered(int x0, int y0, int x1, int y1) const {
     for (int ty = y0 / tile; ty * tile < y1; ++ty) {
@@ -63,13 +70,6 @@ class Coverage {
     }
     return true;
   }
-  // Walk positions -> polygon ids (`id_of` is indexed by walk position).
-  void finish(const std::vector<uint32_t>& id_of) {
-    for (uint32_t& w : writer_) {
-      if (w != background_id) w = id_of[w];
-    }
-  }
-
  private:
   int width_, height_, tiles_x_;
   std::vector<uint32_t>& writer_;
@@ -109,16 +109,6 @@ bool polygon_hidden(const Coverage& coverage, const ViewTransform& view, std::sp
   return rect_hidden(coverage, view, min, max);
 }
 
-// The pixel write of draw_projected: opaque colours replace, translucent ones blend over.
-void write_pixel(Image& image, size_t pixel, Color c, float alpha) {
-  uint8_t* px = image.rgb.data() + pixel * 3;
-  if (alpha >= 1.0f) {
-    px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b);
-  } else {
-    for (int ch = 0; ch < 3; ++ch) px[ch] = to_byte(alpha * c[ch] + (1.0f - alpha) * float(px[ch]) / 255.0f);
-  }
-}
-
 struct Translucent {
   uint32_t index;  // in the tree's fragments
   uint32_t seq;    // walk position: in front of every opaque writer with a larger one
@@ -127,9 +117,11 @@ struct Translucent {
 // One frame's walk: the coverage, the shader and the per-stage clocks shared by its steps.
 class FrontToBack {
  public:
-  FrontToBack(const BspTree& tree, const FrameInput& input, Frame& frame, RenderStats& stats)
+  FrontToBack(const BspTree& tree, const FrameInput& input, Frame& frame, RenderStats& stats, ProjectedSet& drawn)
       : tree_(tree), soup_(tree.fragments), input_(input), view_(input.view), frame_(frame), stats_(stats),
-        frustum_(input.view), coverage_(frame.ids), shader_(input, soup_) {}
+        frustum_(input.view), coverage_(frame.ids), shader_(input, soup_), drawn_(drawn) {
+    drawn_.clear();
+  }
 
   // A subtree is entered unless it is outside the frustum or its screen rectangle is all written.
   bool enter(int32_t index, const BspNode& node) {
@@ -140,7 +132,7 @@ class FrontToBack {
     return false;
   }
 
-  // Draws an opaque polygon on the pixels nobody wrote (translucent ones wait); false when the
+  // Claims for an opaque polygon the pixels nobody wrote (translucent ones wait); false when the
   // screen is full and nothing later can show.
   bool emit(uint32_t index) {
     if ((seq_ & 4095) == 4095) check_cancel(input_.context.cancel);
@@ -152,32 +144,25 @@ class FrontToBack {
       return true;
     }
     walk_ms_ += clock_.lap_ms();
-    if (project(index, true)) {
-      draw(1.0f, [&](size_t pixel, int x, int y) { return coverage_.claim(pixel, x, y, position); });
-    }
+    if (project(index, position, true)) claim(position);
     stats_.bsp_screen_full = coverage_.full();
     return !stats_.bsp_screen_full;
   }
 
-  // Translucent polygons, farthest first, over the pixels whose opaque writer lies behind them.
-  void blend_translucent() {
+  // Shades the claimed pixels, then the translucent polygons farthest first, tile by tile.
+  void draw() {
     walk_ms_ += clock_.lap_ms();
-    for (auto it = translucent_.rbegin(); it != translucent_.rend(); ++it) {
-      const Polygon& poly = soup_.polygons[it->index];
-      if (!project(it->index, false)) continue;
-      const uint32_t seq = it->seq;
-      // Drawn farthest first, so a pixel's last translucent writer is farther than this one too.
-      draw(soup_.materials[poly.material].opacity, [&](size_t pixel, int, int) {
-        if (coverage_.writer(pixel) < seq) return false;
-        coverage_.overlay(pixel, seq);
-        return true;
-      });
-    }
+    for (auto it = translucent_.rbegin(); it != translucent_.rend(); ++it) project(it->index, it->seq, false);
+    thread_local TileGrid grid;  // kept for this thread's next frame
+    bin_projected(drawn_, frame_.image.width, frame_.image.height, grid);
+    check_cancel(input_.context.cancel);
+    const DrawSource source{&soup_, &shader_};
+    stats_.fragments += draw_first_wins(input_, {&source, 1}, drawn_, id_of_, grid,
+                                        std::max(1u, input_.context.threads), frame_);
+    raster_ms_ += clock_.lap_ms();
   }
 
   void finish(StageTimings& timings) {
-    coverage_.finish(id_of_);
-    raster_ms_ += clock_.lap_ms();
     stats_.polygons_culled = culled_;  // fragments: back faces, outside the frustum, hidden, clipped away
     timings.traverse_ms += walk_ms_;
     timings.shade_ms += shade_ms_;
@@ -187,9 +172,10 @@ class FrontToBack {
   size_t& culled() { return culled_; }
 
  private:
-  // Clips, projects and binds the shader; false when nothing is left to draw, or when `opaque` and
-  // every pixel it could write is written (a translucent one still shows over those).
-  bool project(uint32_t index, bool opaque) {
+  // Clips, projects, prepares the shader and keeps the projection for drawing; false when nothing
+  // is left to draw, or when `opaque` and every pixel it could write is written (a translucent one
+  // still shows over those).
+  bool project(uint32_t index, uint32_t position, bool opaque) {
     if (!project_polygon(view_, soup_, soup_.polygons[index], scratch_)) {
       ++culled_;
       return false;
@@ -200,24 +186,25 @@ class FrontToBack {
       return false;
     }
     shader_.prepare(index);
-    shader_.bind(index, scratch_);
     shade_ms_ += clock_.lap_ms();
     ++stats_.polygons_drawn;
     stats_.triangles += scratch_.screen.size() - 2;
+    drawn_.add(scratch_, {&soup_, &shader_}, {index, 0}, position, view_.width, view_.height);
     return true;
   }
 
-  // Rasterizes the projected polygon; `accept(pixel, x, y)` decides which covered pixels it writes.
-  template <class Accept>
-  void draw(float alpha, Accept&& accept) {
-    const size_t width = size_t(frame_.image.width);
-    rasterize_convex(scratch_.screen, {0, 0, frame_.image.width, frame_.image.height},
-                     [&](const Fragment& f, size_t k) {
-                       ++stats_.fragments;
-                       const size_t pixel = size_t(f.y) * width + size_t(f.x);
-                       if (!accept(pixel, f.x, f.y)) return;  // it also records the writer
-                       write_pixel(frame_.image, pixel, shader_.fragment(f, k), alpha);
-                     });
+  // Rasterizes the projected polygon for coverage only: its fragments claim the unwritten pixels.
+  void claim(uint32_t position) {
+    const PixelRect frame_rect{0, 0, frame_.image.width, frame_.image.height};
+    const std::vector<RasterVertex>& v = scratch_.screen;
+    for (size_t k = 0; k + 2 < v.size(); ++k) {
+      TriangleSetup s;
+      if (!setup_screen_triangle(v[0], v[k + 1], v[k + 2], s)) continue;
+      triangle_spans(s, frame_rect, [&](int y, int x, int n, const int64_t*) {
+        stats_.fragments += size_t(n);
+        coverage_.claim_span(y, x, n, position);
+      });
+    }
     raster_ms_ += clock_.lap_ms();
   }
 
@@ -230,6 +217,7 @@ class FrontToBack {
   const Frustum frustum_;
   Coverage coverage_;
   SurfaceShader shader_;
+  ProjectedSet& drawn_;  // opaque polygons drawn, in walk order, then the translucent ones farthest first
   DrawScratch scratch_;
   std::vector<Translucent> translucent_;
   std::vector<uint32_t> id_of_;  // polygon id per walk position
@@ -243,13 +231,15 @@ class FrontToBack {
 
 void draw_bsp_front_to_back(const BspTree& tree, const FrameInput& input, Frame& frame, RenderStats& stats,
                             StageTimings& timings) {
-  FrontToBack walk(tree, input, frame, stats);
+  thread_local ProjectedSet drawn;  // kept for this thread's next frame
+  FrontToBack walk(tree, input, frame, stats, drawn);
   walk_bsp(
       tree, input.view.eye, WalkOrder::front_to_back,
       [&](int32_t index, const BspNode& node) { return walk.enter(index, node); },
       [&](uint32_t index) { return walk.emit(index); }, walk.culled());
-  walk.blend_translucent();
+  walk.draw();
   walk.finish(timings);
+  drawn.release_if_large();
 }
 
 }  // namespace rr

@@ -2,6 +2,7 @@
 // with no depth buffer. The Newell refinement lives in newell.cpp.
 #include "render/pipelines/painter.hpp"
 
+#include "render/pipelines/ordered_draw.hpp"
 #include "render/pipelines/painter_detail.hpp"
 #include "render/core/polygon_ops.hpp"
 #include "render/core/shading.hpp"
@@ -137,22 +138,20 @@ void draw_painter(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   for (const PainterItem& it : order.items) (it.fragment ? fragment_shader : shader).prepare(it.index);
   timings.shade_ms += clock.lap_ms();
 
-  FrameTarget target{frame.image, frame.ids, nullptr, {0, 0, frame.image.width, frame.image.height}};
-  DrawScratch scratch;
-  for (size_t k = 0; k < order.items.size(); ++k) {
-    if ((k & 4095) == 4095) check_cancel(input.context.cancel);
-    const PainterItem& it = order.items[k];
-    const PolygonSoup& soup = it.fragment ? order.fragments : input.soup;
-    SurfaceShader& sh = it.fragment ? fragment_shader : shader;
-    const Polygon& poly = soup.polygons[it.index];
-    if (!project_polygon(input.view, soup, poly, scratch)) continue;
-    ++stats.polygons_drawn;
-    stats.triangles += scratch.screen.size() - 2;
-    sh.bind(it.index, scratch);
-    float alpha = poly.flags & polygon_translucent ? soup.materials[poly.material].opacity : 1.0f;
-    stats.fragments += draw_projected(target, scratch, poly.id, alpha, DepthMode::none,
-                                      [&](const Fragment& f, size_t tri) { return sh.fragment(f, tri); });
-  }
+  const DrawSource sources[2] = {{&input.soup, &shader}, {&order.fragments, &fragment_shader}};
+  std::vector<OrderedItem> items(order.items.size());
+  for (size_t k = 0; k < items.size(); ++k) items[k] = {order.items[k].index, order.items[k].fragment ? 1u : 0u};
+  // Kept by this thread for its next frame, so their memory is not allocated again.
+  thread_local ProjectedSet projected;
+  thread_local TileGrid grid;
+  const unsigned threads = std::max(1u, input.context.threads);
+  project_in_order(input.view, sources, items, threads, projected);
+  stats.polygons_drawn += projected.polygons.size();
+  stats.triangles += projected.triangles;
+  bin_projected(projected, frame.image.width, frame.image.height, grid);
+  check_cancel(input.context.cancel);
+  stats.fragments += draw_last_wins(input, sources, projected, grid, threads, frame);
+  projected.release_if_large();
   timings.raster_ms += clock.lap_ms();
 }
 
