@@ -10,9 +10,7 @@
 #include "render/core/shadow_raster.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -304,46 +302,6 @@ Mat4 fit_directional(LightPlan& plan, int side, int pcf) {
   return m;
 }
 
-// The nearness range of every shadow_block^2 block, read once after the casters are drawn from
-// the written pages only (a page never written is all 0). Texels past the map's side hold 0,
-// which can only widen a block's range: the summary stays conservative.
-constexpr size_t blocks_per_page = TexelStore::page_side / shadow_block;
-
-void size_block_summary(ShadowMap& map) {
-  const size_t n = map.nearness.pages_per_row() * blocks_per_page;
-  map.blocks_per_row = int(n);
-  map.block_min.assign(n * n, 0.0f);
-  map.block_max.assign(n * n, 0.0f);
-}
-
-// The blocks of one row of pages (a task: rows write disjoint blocks).
-void summarize_page_row(ShadowMap& map, size_t row) {
-  static_assert(TexelStore::page_side % shadow_block == 0 && shadow_block % 8 == 0, "blocks are whole tiles in a page");
-  constexpr size_t tiles_per_block = shadow_block / 8;
-  const size_t pages = map.nearness.pages_per_row(), n = pages * blocks_per_page;
-  for (size_t column = 0; column < pages; ++column) {
-    const float* page = map.nearness.page(row, column);
-    if (!page) continue;
-    for (size_t by = 0; by < blocks_per_page; ++by) {
-      for (size_t bx = 0; bx < blocks_per_page; ++bx) {
-        // Nearness is never negative, and non-negative floats order like their bit patterns:
-        // the integer reduction vectorizes where a float min/max (NaN rules) would not.
-        uint32_t lo = UINT32_MAX, hi = 0;
-        for (size_t ty = by * tiles_per_block; ty < (by + 1) * tiles_per_block; ++ty) {
-          for (size_t tx = bx * tiles_per_block; tx < (bx + 1) * tiles_per_block; ++tx) {
-            uint32_t bits[64];
-            std::memcpy(bits, page + (ty * 4 + tx) * 64, sizeof(bits));
-            for (uint32_t b : bits) lo = std::min(lo, b), hi = std::max(hi, b);
-          }
-        }
-        const size_t block = (row * blocks_per_page + by) * n + column * blocks_per_page + bx;
-        map.block_min[block] = std::bit_cast<float>(lo);
-        map.block_max[block] = std::bit_cast<float>(hi);
-      }
-    }
-  }
-}
-
 // One job per map the plans need (a directional light's one, a point light's needed faces), in
 // light then face order; job_face[j] is the plan and face job j draws.
 std::vector<ShadowMapJob> make_jobs(std::vector<LightPlan>& plans, const ShadowMaps& out,
@@ -365,17 +323,6 @@ std::vector<ShadowMapJob> make_jobs(std::vector<LightPlan>& plans, const ShadowM
     }
   }
   return jobs;
-}
-
-// Summarizes every map's blocks, a row of pages per task, and gives back unused pool capacity.
-void summarize_maps(ShadowMaps& out, unsigned threads) {
-  std::vector<std::pair<uint32_t, uint32_t>> rows;
-  for (size_t m = 0; m < out.maps.size(); ++m) {
-    size_block_summary(out.maps[m]);
-    for (size_t r = 0; r < out.maps[m].nearness.pages_per_row(); ++r) rows.emplace_back(uint32_t(m), uint32_t(r));
-  }
-  parallel_for(threads, rows.size(), [&](size_t t, unsigned) { summarize_page_row(out.maps[rows[t].first], rows[t].second); });
-  for (ShadowMap& map : out.maps) map.nearness.shrink();
 }
 
 }  // namespace
@@ -421,6 +368,9 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
     map.view.clip_from_world = jobs[j].clip;
     map.view.width = map.view.height = out.side;
     map.nearness = std::move(jobs[j].texels);
+    map.blocks_per_row = jobs[j].blocks_per_row;
+    map.block_min = std::move(jobs[j].block_min);
+    map.block_max = std::move(jobs[j].block_max);
     out.maps.push_back(std::move(map));
     plans[job_face[j].first].light.map[size_t(job_face[j].second)] = int32_t(out.maps.size() - 1);
   }
@@ -430,7 +380,6 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
     out.slot_of_light[sl.light] = int32_t(out.lights.size());
     out.lights.push_back(sl);
   }
-  summarize_maps(out, threads);
   return out;
 }
 

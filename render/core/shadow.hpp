@@ -65,7 +65,8 @@ class TexelStore {
   }
   // For writers that fill disjoint pages concurrently: gives every page flagged in `written` (one
   // byte per page, row-major; none written so far) its storage in one exact allocation, not zeroed:
-  // each page's writer zero-fills it through page_data before drawing, so no writer allocates.
+  // each page's writer zero-fills it through page_data before drawing, so no writer allocates. A map
+  // kept in the shadow cache then holds, and is charged for, those pages only.
   void allocate_pages(std::span<const uint8_t> written);
   float* page_data(size_t row, size_t column) {
     const uint32_t page = pages_[row * pages_per_row_ + column];
@@ -76,9 +77,6 @@ class TexelStore {
     return (size_t((v & 31) >> 3) * 4 + size_t((u & 31) >> 3)) * 64 + size_t(v & 7) * 8 + size_t(u & 7);
   }
   size_t pages_per_row() const { return pages_per_row_; }
-  // Gives back the capacity reserved for pages never written (once drawing is over), so a map kept
-  // in the shadow cache holds, and is charged for, its written pages only.
-  void shrink() { pool_.shrink_to_fit(); }
   size_t bytes() const { return pages_.capacity() * sizeof(uint32_t) + pool_.capacity() * sizeof(float); }
   // The 16 tiles of 64 texels of page (row, column), tile (ty, tx) at [(ty * 4 + tx) * 64];
   // null when the page was never written.

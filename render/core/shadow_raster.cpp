@@ -1,7 +1,8 @@
 // The shadow pass's depth-only rasterizer (see shadow_raster.hpp). Four stages on parallel_for:
 // clip, project and snap the casters in chunks, counting their triangles per map tile; bin them
 // (counting sort, so a tile's list keeps caster order); flag the pages each tile covers and give
-// them storage in one allocation; draw each tile's bin with span loops into pages only it writes.
+// them storage in one allocation; draw each tile's bin with span loops into pages only it writes,
+// then summarize its blocks.
 #include "render/core/shadow_raster.hpp"
 
 #include "render/core/parallel.hpp"
@@ -224,15 +225,52 @@ void draw_triangle(const ShadowTriangle& t, const PixelRect& r, TexelStore& texe
   if (px0 > px1 || py0 > py1) return;
   const double w[3] = {t.inv_w[s.order[0]], t.inv_w[s.order[1]], t.inv_w[s.order[2]]};
   int64_t e[3] = {s.edge(0, px0, py0), s.edge(1, px0, py0), s.edge(2, px0, py0)};
+  const int64_t width = px1 - px0;
   for (int y = py0; y <= py1; ++y) {
-    int64_t first, last = px1 - px0;
-    row_span(s, e, first, last);
+    int64_t first = 0, last = width;
+    // Edges are affine along the row: inside at both ends means the whole row is covered, with no
+    // divisions (most rows of a large caster's inner tiles).
+    bool whole = true;
+    for (int k = 0; k < 3; ++k) whole = whole && e[k] >= 0 && e[k] + width * s.step_x[k] >= 0;
+    if (!whole) row_span(s, e, first, last);
     if (first <= last) draw_span(texels, px0, y, e, first, last, s, w);
     for (int k = 0; k < 3; ++k) e[k] += s.step_y[k];
   }
 }
 
-void draw_tile(const Bins& bins, int tile, int side, TexelStore& texels) {
+// The nearness range of the shadow_block^2 blocks of one page, for lookups that skip the map
+// (0 for pages never written, as assigned). Texels past the map's side hold 0, which can only widen
+// a block's range: the summary stays conservative. Texels are never NaN or negative (the max
+// starts from +0 and a comparison with NaN keeps the texel), so the float reduction is exact.
+void summarize_page(const float* page, size_t row, size_t column, ShadowMapJob& job) {
+  static_assert(TexelStore::page_side % shadow_block == 0 && shadow_block % 8 == 0, "blocks are whole tiles in a page");
+  constexpr size_t blocks_per_page = TexelStore::page_side / shadow_block, tiles_per_block = shadow_block / 8;
+  const size_t n = size_t(job.blocks_per_row);
+  for (size_t by = 0; by < blocks_per_page; ++by) {
+    for (size_t bx = 0; bx < blocks_per_page; ++bx) {
+      float lo = page[(by * tiles_per_block * 4 + bx * tiles_per_block) * 64], hi = lo;
+      for (size_t ty = by * tiles_per_block; ty < (by + 1) * tiles_per_block; ++ty) {
+        for (size_t tx = bx * tiles_per_block; tx < (bx + 1) * tiles_per_block; ++tx) {
+          const float* tile = page + (ty * 4 + tx) * 64;
+          for (size_t i = 0; i < 64; ++i) lo = tile[i] < lo ? tile[i] : lo, hi = hi < tile[i] ? tile[i] : hi;
+        }
+      }
+      const size_t block = (row * blocks_per_page + by) * n + column * blocks_per_page + bx;
+      job.block_min[block] = lo;
+      job.block_max[block] = hi;
+    }
+  }
+}
+
+void size_summary(ShadowMapJob& job) {
+  const size_t n = job.texels.pages_per_row() * (TexelStore::page_side / shadow_block);
+  job.blocks_per_row = int(n);
+  job.block_min.assign(n * n, 0.0f);
+  job.block_max.assign(n * n, 0.0f);
+}
+
+void draw_tile(const Bins& bins, int tile, int side, ShadowMapJob& job) {
+  TexelStore& texels = job.texels;
   const PixelRect r = tile_rect(tile, bins.tiles_per_row, side);
   for (int py = r.y0; py < r.y1; py += TexelStore::page_side) {
     for (int px = r.x0; px < r.x1; px += TexelStore::page_side) {
@@ -242,6 +280,12 @@ void draw_tile(const Bins& bins, int tile, int side, TexelStore& texels) {
   }
   for (uint32_t i = bins.start[size_t(tile)]; i < bins.start[size_t(tile) + 1]; ++i) {
     draw_triangle(*bins.entries[i], r, texels);
+  }
+  for (int py = r.y0; py < r.y1; py += TexelStore::page_side) {
+    for (int px = r.x0; px < r.x1; px += TexelStore::page_side) {
+      const size_t row = size_t(py / TexelStore::page_side), column = size_t(px / TexelStore::page_side);
+      if (const float* page = texels.page_data(row, column)) summarize_page(page, row, column, job);
+    }
   }
 }
 
@@ -283,6 +327,7 @@ void draw_shadow_jobs(std::span<ShadowMapJob> jobs, int side, const PolygonSoup&
     bins[j].tiles_per_row = tiles_per_row;
     lay_out_bins(std::span(chunks).subspan(c0, c - c0), bins[j]);
     jobs[j].texels = TexelStore(side);
+    size_summary(jobs[j]);
     bins[j].written.assign(jobs[j].texels.pages_per_row() * jobs[j].texels.pages_per_row(), 0);
   }
   parallel_for(threads, chunks.size(), [&](size_t c, unsigned) { fill_bins(chunks[c], side, bins[chunks[c].job]); });
@@ -301,7 +346,7 @@ void draw_shadow_jobs(std::span<ShadowMapJob> jobs, int side, const PolygonSoup&
   check_cancel(cancel);
   parallel_for(threads, work.size(), [&](size_t w, unsigned) {
     const auto [j, t] = work[w];
-    if (!expired(cancel)) draw_tile(bins[j], int(t), side, jobs[j].texels);
+    if (!expired(cancel)) draw_tile(bins[j], int(t), side, jobs[j]);
   });
   check_cancel(cancel);
 }

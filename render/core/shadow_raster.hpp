@@ -1,7 +1,8 @@
 // The shadow pass's depth-only rasterizer. In: per map, its light's clip matrix, the rule for a
 // vertex's nearness and the caster polygons (world space). Out: each map's texels, bit for bit what
 // rasterize_convex's fragments would leave (per texel the largest float(inv_w), 0 where nothing
-// lands), drawn in map tiles on parallel_for; the set of written pages is the same too.
+// lands), drawn in map tiles on parallel_for; the set of written pages is the same too. Each tile
+// then summarizes its blocks while its texels are in cache.
 #pragma once
 
 #include "render/core/camera.hpp"
@@ -42,9 +43,11 @@ struct ShadowMapJob {
   double far_depth = 0.0;
   std::span<const uint32_t> casters;  // polygon indices into the soup
   // Out: whether some caster survived clipping (the map exists, even if it covers no texel centre),
-  // and the texels.
+  // the texels and their nearness range per shadow_block^2 block (ShadowMap's fields).
   bool any_caster = false;
   TexelStore texels;
+  int blocks_per_row = 0;
+  std::vector<float> block_min, block_max;
 };
 
 // Draws every job on `threads` threads. Checks `cancel` between stages and throws RenderCancelled
