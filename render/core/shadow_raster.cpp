@@ -9,6 +9,7 @@
 #include "render/core/raster.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace rr {
@@ -46,6 +47,7 @@ constexpr size_t chunk_casters = 256, max_chunks = 64;
 struct ShadowTriangle {
   int64_t X[3], Y[3];
   double inv_w[3];
+  double nearest;  // the largest inv_w: tiles draw their nearest triangles first
   int tile_x0, tile_y0, tile_x1, tile_y1;  // tiles its bounding box of texel centres meets
 };
 
@@ -111,6 +113,7 @@ void add_triangles(const ShadowMapJob& job, const ViewTransform& view, ClipBuffe
     for (int j = 0; j < 3; ++j) {
       t.X[j] = snap_to_subpixel(abc[j]->x), t.Y[j] = snap_to_subpixel(abc[j]->y), t.inv_w[j] = abc[j]->inv_w;
     }
+    t.nearest = std::max({t.inv_w[0], t.inv_w[1], t.inv_w[2]});
     TriangleSetup s;
     if (!setup_triangle(t.X, t.Y, s)) continue;
     const int px0 = std::max(0, s.px0), px1 = std::min(side - 1, s.px1);
@@ -194,12 +197,38 @@ void flag_pages(const Bins& bins, int tile, int side, size_t pages_per_row, std:
 // One row's covered texels [first, last] (offsets from x) of a triangle: each value computed as
 // pixel_weights computes f.inv_w. The edge values stay exact in double (integers below 2^53), so
 // the three terms and their sum round exactly as there; runs of 8 texels are contiguous in a page.
+// Whether every texel of row y in [xa, xb] already holds at least `bound`.
+bool span_hidden(const TexelStore& texels, int y, int xa, int xb, float bound) {
+  for (int u = xa; u <= xb;) {
+    const int end = std::min(xb, u | 7);
+    const float* run = texels.page(size_t(y >> 5), size_t(u >> 5)) + TexelStore::offset(u & ~7, y);
+    for (int j = u & 7; j <= (end & 7); ++j) {
+      if (run[j] < bound) return false;
+    }
+    u = end + 1;
+  }
+  return true;
+}
+
 void draw_span(TexelStore& texels, int x, int y, const int64_t e[3], int64_t first, int64_t last,
                const TriangleSetup& s, const double w[3]) {
   double d[3], step[3];
   for (int k = 0; k < 3; ++k) d[k] = double(e[k] + first * s.step_x[k] + s.bias[k]), step[k] = double(s.step_x[k]);
   const double inv_area = s.inv_area;
   const int xa = x + int(first), xb = x + int(last);
+  // Casters are drawn nearest first, so a span is often hidden behind what is there. Its values
+  // are affine along the row: the larger end value bounds them, plus the rounding of the three
+  // products and two sums (under 6 units in the last place of max |w|, as the weights sum to 1).
+  // float() rounds monotonically, so a span whose bound no texel exceeds changes nothing.
+  {
+    auto value = [&](double i) {
+      return (d[0] + i * step[0]) * inv_area * w[0] + (d[1] + i * step[1]) * inv_area * w[1] +
+             (d[2] + i * step[2]) * inv_area * w[2];
+    };
+    const double slop = 1e-12 * std::max({std::abs(w[0]), std::abs(w[1]), std::abs(w[2])});
+    const double bound = std::max(value(0.0), value(double(xb - xa))) + slop;
+    if (std::isfinite(bound) && span_hidden(texels, y, xa, xb, float(bound))) return;
+  }
   for (int u = xa; u <= xb;) {
     const int end = std::min(xb, u | 7);
     float* run = texels.page_data(size_t(y >> 5), size_t(u >> 5)) + TexelStore::offset(u & ~7, y);
@@ -269,7 +298,8 @@ void size_summary(ShadowMapJob& job) {
   job.block_max.assign(n * n, 0.0f);
 }
 
-void draw_tile(const Bins& bins, int tile, int side, ShadowMapJob& job) {
+// Max is order-free, so the bin is drawn nearest first, which lets draw_span skip hidden spans.
+void draw_tile(const Bins& bins, int tile, int side, ShadowMapJob& job, std::vector<const ShadowTriangle*>& order) {
   TexelStore& texels = job.texels;
   const PixelRect r = tile_rect(tile, bins.tiles_per_row, side);
   for (int py = r.y0; py < r.y1; py += TexelStore::page_side) {
@@ -278,9 +308,9 @@ void draw_tile(const Bins& bins, int tile, int side, ShadowMapJob& job) {
       if (page) std::fill(page, page + TexelStore::page_texels, 0.0f);
     }
   }
-  for (uint32_t i = bins.start[size_t(tile)]; i < bins.start[size_t(tile) + 1]; ++i) {
-    draw_triangle(*bins.entries[i], r, texels);
-  }
+  order.assign(bins.entries.begin() + bins.start[size_t(tile)], bins.entries.begin() + bins.start[size_t(tile) + 1]);
+  std::sort(order.begin(), order.end(), [](const ShadowTriangle* a, const ShadowTriangle* b) { return a->nearest > b->nearest; });
+  for (const ShadowTriangle* t : order) draw_triangle(*t, r, texels);
   for (int py = r.y0; py < r.y1; py += TexelStore::page_side) {
     for (int px = r.x0; px < r.x1; px += TexelStore::page_side) {
       const size_t row = size_t(py / TexelStore::page_side), column = size_t(px / TexelStore::page_side);
@@ -344,9 +374,10 @@ void draw_shadow_jobs(std::span<ShadowMapJob> jobs, int side, const PolygonSoup&
   });
   for (size_t j = 0; j < jobs.size(); ++j) jobs[j].texels.allocate_pages(bins[j].written);
   check_cancel(cancel);
-  parallel_for(threads, work.size(), [&](size_t w, unsigned) {
+  std::vector<std::vector<const ShadowTriangle*>> order(threads);
+  parallel_for(threads, work.size(), [&](size_t w, unsigned worker) {
     const auto [j, t] = work[w];
-    if (!expired(cancel)) draw_tile(bins[j], int(t), side, jobs[j]);
+    if (!expired(cancel)) draw_tile(bins[j], int(t), side, jobs[j], order[worker]);
   });
   check_cancel(cancel);
 }
