@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace rr {
 
@@ -114,6 +115,7 @@ void add_triangles(const ShadowMapJob& job, const ViewTransform& view, ClipBuffe
       t.X[j] = snap_to_subpixel(abc[j]->x), t.Y[j] = snap_to_subpixel(abc[j]->y), t.inv_w[j] = abc[j]->inv_w;
     }
     t.nearest = std::max({t.inv_w[0], t.inv_w[1], t.inv_w[2]});
+    if (std::isnan(t.nearest)) t.nearest = -std::numeric_limits<double>::infinity();  // a sortable key
     TriangleSetup s;
     if (!setup_triangle(t.X, t.Y, s)) continue;
     const int px0 = std::max(0, s.px0), px1 = std::min(side - 1, s.px1);
