@@ -9,8 +9,10 @@
 #include "render/core/raster.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace rr {
@@ -84,6 +86,7 @@ bool may_cover(const TriangleSetup& s, int x0, int y0, int x1, int y1) {
 
 template <class Fn>
 void for_each_tile(const ShadowTriangle& t, const TriangleSetup& s, int tiles_per_row, int side, Fn&& fn) {
+  if (t.tile_x0 == t.tile_x1 && t.tile_y0 == t.tile_y1) return fn(size_t(t.tile_y0 * tiles_per_row + t.tile_x0));
   for (int ty = t.tile_y0; ty <= t.tile_y1; ++ty) {
     for (int tx = t.tile_x0; tx <= t.tile_x1; ++tx) {
       const PixelRect r = tile_rect(ty * tiles_per_row + tx, tiles_per_row, side);
@@ -135,6 +138,7 @@ void run_front_end(std::span<ShadowMapJob> jobs, int side, const PolygonSoup& so
   view.clip_from_world = job.clip;
   view.width = view.height = side;
   chunk.cursor.assign(size_t(tiles_per_row) * size_t(tiles_per_row), 0);
+  chunk.triangles.reserve(2 * (chunk.end - chunk.begin));  // a quad's fan, the common case
   for (size_t k = chunk.begin; k < chunk.end; ++k) {
     if (!shadow_detail::clip_points(exact, soup.points(soup.polygons[job.casters[k]]), buf)) continue;
     chunk.any_caster = true;
@@ -164,7 +168,8 @@ void fill_bins(const Chunk& chunk, int side, Bins& bins) {
   std::vector<uint32_t> cursor = chunk.cursor;
   for (const ShadowTriangle& t : chunk.triangles) {
     TriangleSetup s;
-    setup_triangle(t.X, t.Y, s);
+    // One tile, the most common case, needs no set-up: for_each_tile then does not test coverage.
+    if (t.tile_x0 != t.tile_x1 || t.tile_y0 != t.tile_y1) setup_triangle(t.X, t.Y, s);
     for_each_tile(t, s, bins.tiles_per_row, side, [&](size_t tile) { bins.entries[cursor[tile]++] = &t; });
   }
 }
@@ -272,23 +277,25 @@ void draw_triangle(const ShadowTriangle& t, const PixelRect& r, TexelStore& texe
 // The nearness range of the shadow_block^2 blocks of one page, for lookups that skip the map
 // (0 for pages never written, as assigned). Texels past the map's side hold 0, which can only widen
 // a block's range: the summary stays conservative. Texels are never NaN or negative (the max
-// starts from +0 and a comparison with NaN keeps the texel), so the float reduction is exact.
+// starts from +0 and a comparison with NaN keeps the texel), and non-negative floats order like
+// their bit patterns: the integer reduction vectorizes where a float min/max (NaN rules) would not.
 void summarize_page(const float* page, size_t row, size_t column, ShadowMapJob& job) {
   static_assert(TexelStore::page_side % shadow_block == 0 && shadow_block % 8 == 0, "blocks are whole tiles in a page");
   constexpr size_t blocks_per_page = TexelStore::page_side / shadow_block, tiles_per_block = shadow_block / 8;
   const size_t n = size_t(job.blocks_per_row);
   for (size_t by = 0; by < blocks_per_page; ++by) {
     for (size_t bx = 0; bx < blocks_per_page; ++bx) {
-      float lo = page[(by * tiles_per_block * 4 + bx * tiles_per_block) * 64], hi = lo;
+      uint32_t lo = UINT32_MAX, hi = 0;
       for (size_t ty = by * tiles_per_block; ty < (by + 1) * tiles_per_block; ++ty) {
         for (size_t tx = bx * tiles_per_block; tx < (bx + 1) * tiles_per_block; ++tx) {
-          const float* tile = page + (ty * 4 + tx) * 64;
-          for (size_t i = 0; i < 64; ++i) lo = tile[i] < lo ? tile[i] : lo, hi = hi < tile[i] ? tile[i] : hi;
+          uint32_t bits[64];
+          std::memcpy(bits, page + (ty * 4 + tx) * 64, sizeof(bits));
+          for (uint32_t b : bits) lo = std::min(lo, b), hi = std::max(hi, b);
         }
       }
       const size_t block = (row * blocks_per_page + by) * n + column * blocks_per_page + bx;
-      job.block_min[block] = lo;
-      job.block_max[block] = hi;
+      job.block_min[block] = std::bit_cast<float>(lo);
+      job.block_max[block] = std::bit_cast<float>(hi);
     }
   }
 }
