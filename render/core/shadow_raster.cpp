@@ -1,8 +1,8 @@
 // The shadow pass's depth-only rasterizer (see shadow_raster.hpp). Four stages on parallel_for:
 // clip, project and snap the casters in chunks, counting their triangles per map tile; bin them
-// (counting sort, so a tile's list keeps caster order); flag the pages each tile covers and give
-// them storage in one allocation; draw each tile's bin with span loops into pages only it writes,
-// then summarize its blocks.
+// (a counting sort: the result does not depend on the thread count); flag the pages each tile covers
+// and give them storage in one allocation; draw each tile's bin, nearest first, with span loops into
+// pages only that tile writes, then summarize its blocks.
 #include "render/core/shadow_raster.hpp"
 
 #include "render/core/parallel.hpp"
@@ -40,13 +40,12 @@ using shadow_detail::ClipBuffers;
 // 64 texels: 2x2 pages, 16 KiB of texels that stay in the L1 cache while a tile's bin is drawn, and
 // at a 2048 side 1024 tiles per map, plenty to balance the workers.
 constexpr int tile_side = 64;
-constexpr int pages_per_tile = tile_side / TexelStore::page_side;
 static_assert(tile_side % TexelStore::page_side == 0, "a tile is whole pages");
 // Casters per front-end task, and at most this many tasks per map (each keeps a count per tile).
 constexpr size_t chunk_casters = 256, max_chunks = 64;
 
 // A fan triangle in snapped sub-texel coordinates, with its vertices' nearness; set up again in each
-// tile it touches (cheap beside its texels), so a million-triangle soup keeps 80 bytes a triangle.
+// tile it touches (cheap beside its texels), so a million-triangle soup keeps 96 bytes a triangle.
 struct ShadowTriangle {
   int64_t X[3], Y[3];
   double inv_w[3];
@@ -95,8 +94,8 @@ void for_each_tile(const ShadowTriangle& t, const TriangleSetup& s, int tiles_pe
   }
 }
 
-// Projects one clipped caster exactly as the per-fragment path did and keeps its fan triangles that
-// cover a texel centre of the map.
+// Projects one clipped caster exactly as the per-fragment path did and keeps its fan triangles whose
+// texel-centre bounds meet the map, counted in the tiles they may cover.
 void add_triangles(const ShadowMapJob& job, const ViewTransform& view, ClipBuffers& buf, int tiles_per_row,
                    Chunk& chunk) {
   const int side = view.width;
