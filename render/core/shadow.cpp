@@ -1,15 +1,16 @@
 // The shadow pass (see shadow.hpp). Per light: find the receivers the camera sees that the light
 // reaches (clipped to the exact view frustum), keep the casters that can shadow one of them, and
-// draw the casters' depth with the one rasterizer into a map fitted to those receivers. A light
-// with no such caster gets no map, and a frame where no light has one skips the pass.
+// draw the casters' depth (shadow_raster.hpp) into a map fitted to those receivers. A light with no
+// such caster gets no map, and a frame where no light has one skips the pass. The loops over
+// polygons and maps run on parallel_for and keep their results in polygon order.
 #include "render/core/shadow.hpp"
 
 #include "render/core/draw.hpp"
+#include "render/core/parallel.hpp"
+#include "render/core/shadow_raster.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -21,8 +22,16 @@ using shadow_detail::cube_faces;
 using shadow_detail::CubeFace;
 
 TexelStore::TexelStore(int side)
-    : pages_per_row_((size_t(side) + page_side - 1) / page_side), pages_(pages_per_row_ * pages_per_row_, 0) {
-  pool_.reserve(pages_.size() * page_texels);  // address space only, until pages are written
+    : pages_per_row_((size_t(side) + page_side - 1) / page_side), pages_(pages_per_row_ * pages_per_row_, 0) {}
+
+void TexelStore::allocate_pages(std::span<const uint8_t> written) {
+  const size_t count = size_t(std::count_if(written.begin(), written.end(), [](uint8_t w) { return w != 0; }));
+  pool_.reserve(pool_.size() + count * page_texels);
+  for (size_t i = 0; i < written.size() && i < pages_.size(); ++i) {
+    if (!written[i] || pages_[i]) continue;
+    pool_.resize(pool_.size() + page_texels);  // not zeroed (NoZeroAllocator)
+    pages_[i] = uint32_t(pool_.size() / page_texels);
+  }
 }
 
 namespace {
@@ -32,25 +41,14 @@ void set_row(Mat4& m, int row, Vec3 xyz, double w) {
   m[0][row] = xyz.x, m[1][row] = xyz.y, m[2][row] = xyz.z, m[3][row] = w;
 }
 
-struct ClipBuffers {
-  std::vector<ClipVertex> in, out, tmp;
-  std::vector<RasterVertex> screen;
-};
+using shadow_detail::clip_points;
+using shadow_detail::ClipBuffers;
+using shadow_detail::exact_frustum;
 
-// Clips world points with a clip matrix; the survivors are in buf.out.
-bool clip_points(const Mat4& clip_from_world, std::span<const Vec3> points, ClipBuffers& buf) {
-  buf.in.resize(points.size());
-  for (size_t i = 0; i < points.size(); ++i) buf.in[i] = {clip_from_world * Vec4(points[i], 1.0), points[i], {}};
-  return clip_polygon(buf.in, buf.out, buf.tmp);
-}
+// Polygons per task of the loops over the soup.
+constexpr size_t polygons_per_task = 1024;
 
-// clip_polygon keeps |x|, |y| <= clip_guard_band * w; scaling x and y by the guard band first makes
-// that the exact frustum |x|, |y| <= w.
-Mat4 exact_frustum(const Mat4& clip_from_world) {
-  Mat4 scale(1.0);
-  scale[0][0] = scale[1][1] = clip_guard_band;
-  return scale * clip_from_world;
-}
+bool expired(const CancelToken* cancel) { return cancel && cancel->expired(); }
 
 // Polygons the camera may see, clipped to its frustum, with the side the shader lights.
 struct Receivers {
@@ -64,19 +62,43 @@ struct Receivers {
   }
 };
 
-Receivers collect_receivers(const PolygonSoup& soup, const ViewTransform& view, const CancelToken* cancel) {
-  Receivers out;
+// Runs fn(task, worker, first, end) over the soup's polygons [first, end) in tasks of
+// polygons_per_task; throws RenderCancelled afterwards when the render was cancelled meanwhile
+// (a task that finds it so does nothing).
+template <class Fn>
+size_t for_polygon_tasks(const PolygonSoup& soup, unsigned threads, const CancelToken* cancel, Fn&& fn) {
+  const size_t n = soup.polygons.size(), tasks = (n + polygons_per_task - 1) / polygons_per_task;
+  parallel_for(threads, tasks, [&](size_t t, unsigned worker) {
+    if (!expired(cancel)) fn(t, worker, t * polygons_per_task, std::min(n, (t + 1) * polygons_per_task));
+  });
+  check_cancel(cancel);
+  return tasks;
+}
+
+Receivers collect_receivers(const PolygonSoup& soup, const ViewTransform& view, unsigned threads,
+                            const CancelToken* cancel) {
   const Mat4 clip = exact_frustum(view.clip_from_world);
-  ClipBuffers buf;
-  for (size_t i = 0; i < soup.polygons.size(); ++i) {
-    if ((i & 4095) == 4095) check_cancel(cancel);
-    const Polygon& p = soup.polygons[i];
-    if (is_back_facing(p, view.eye) || !clip_points(clip, soup.points(p), buf)) continue;
-    for (const ClipVertex& v : buf.out) out.points.push_back(v.p_world);
-    out.begin.push_back(uint32_t(out.points.size()));
-    const double side = lit_side(p, view.eye);
-    out.normal.push_back(side * p.normal);
-    out.offset.push_back(side * p.offset);
+  std::vector<Receivers> parts((soup.polygons.size() + polygons_per_task - 1) / polygons_per_task);
+  std::vector<ClipBuffers> buffers(std::max(1u, threads));
+  for_polygon_tasks(soup, threads, cancel, [&](size_t task, unsigned worker, size_t first, size_t end) {
+    Receivers& part = parts[task];
+    for (size_t i = first; i < end; ++i) {
+      const Polygon& p = soup.polygons[i];
+      if (is_back_facing(p, view.eye) || !clip_points(clip, soup.points(p), buffers[worker])) continue;
+      for (const ClipVertex& v : buffers[worker].out) part.points.push_back(v.p_world);
+      part.begin.push_back(uint32_t(part.points.size()));
+      const double side = lit_side(p, view.eye);
+      part.normal.push_back(side * p.normal);
+      part.offset.push_back(side * p.offset);
+    }
+  });
+  Receivers out;  // the parts in polygon order
+  for (const Receivers& part : parts) {
+    const uint32_t base = uint32_t(out.points.size());
+    out.points.insert(out.points.end(), part.points.begin(), part.points.end());
+    for (size_t r = 1; r < part.begin.size(); ++r) out.begin.push_back(base + part.begin[r]);
+    out.normal.insert(out.normal.end(), part.normal.begin(), part.normal.end());
+    out.offset.insert(out.offset.end(), part.offset.begin(), part.offset.end());
   }
   return out;
 }
@@ -132,6 +154,27 @@ struct LightPlan {
   int map_count() const { return int(std::count(needed.begin(), needed.end(), true)); }
 };
 
+// The polygons keep(index, near) accepts, in polygon order. Each task keeps its own running minimum
+// `near` (keep lowers it), folded in task order: the value one loop over all polygons would find.
+template <class Keep>
+std::vector<uint32_t> select_casters(const PolygonSoup& soup, unsigned threads, const CancelToken* cancel,
+                                     double& near, Keep&& keep) {
+  const size_t tasks = (soup.polygons.size() + polygons_per_task - 1) / polygons_per_task;
+  std::vector<std::vector<uint32_t>> parts(tasks);
+  std::vector<double> nears(tasks, std::numeric_limits<double>::infinity());
+  for_polygon_tasks(soup, threads, cancel, [&](size_t task, unsigned, size_t first, size_t end) {
+    for (size_t i = first; i < end; ++i) {
+      if (keep(i, nears[task])) parts[task].push_back(uint32_t(i));
+    }
+  });
+  std::vector<uint32_t> out;
+  for (size_t t = 0; t < tasks; ++t) {
+    out.insert(out.end(), parts[t].begin(), parts[t].end());
+    near = std::min(near, nears[t]);
+  }
+  return out;
+}
+
 // A caster shadows points beyond its plane, seen from the light. Closed objects cast with their
 // faces turned away from the light only: their silhouette is the same, and their lit faces are
 // then never compared with their own depth (no acne on them). Translucent panes let light through.
@@ -142,7 +185,7 @@ double caster_side(const Polygon& p, double facing /* > 0: the light is behind t
   return facing > 0.0 ? 1.0 : -1.0;
 }
 
-bool plan_directional(const Light& light, const Receivers& rec, const PolygonSoup& soup,
+bool plan_directional(const Light& light, const Receivers& rec, const PolygonSoup& soup, unsigned threads,
                       const CancelToken* cancel, LightPlan& plan) {
   ShadowLight& sl = plan.light;
   sl.directional = true;
@@ -165,22 +208,21 @@ bool plan_directional(const Light& light, const Receivers& rec, const PolygonSou
     }
   }
   if (box.empty()) return false;
-  for (size_t i = 0; i < soup.polygons.size(); ++i) {
-    if ((i & 4095) == 4095) check_cancel(cancel);
+  plan.casters = select_casters(soup, threads, cancel, plan.near_depth, [&](size_t i, double& near) {
     const Polygon& p = soup.polygons[i];
     const double side = caster_side(p, glm::dot(p.normal, sl.forward));
-    if (side == 0.0 || !box_reaches_beyond(box, p.normal, p.offset, side)) continue;
+    if (side == 0.0 || !box_reaches_beyond(box, p.normal, p.offset, side)) return false;
     double lo_u = inf, hi_u = -inf, lo_v = inf, hi_v = -inf, lo_d = inf;
     for (const Vec3& q : soup.points(p)) {
       const double u = glm::dot(q, sl.right), v = glm::dot(q, sl.up);
       lo_u = std::min(lo_u, u), hi_u = std::max(hi_u, u), lo_v = std::min(lo_v, v), hi_v = std::max(hi_v, v);
       lo_d = std::min(lo_d, glm::dot(q, sl.forward));
     }
-    if (hi_u < plan.min_u || lo_u > plan.max_u || hi_v < plan.min_v || lo_v > plan.max_v) continue;
-    if (lo_d >= plan.far_depth) continue;  // wholly beyond every receiver
-    plan.casters.push_back(uint32_t(i));
-    plan.near_depth = std::min(plan.near_depth, lo_d);
-  }
+    if (hi_u < plan.min_u || lo_u > plan.max_u || hi_v < plan.min_v || lo_v > plan.max_v) return false;
+    if (lo_d >= plan.far_depth) return false;  // wholly beyond every receiver
+    near = std::min(near, lo_d);
+    return true;
+  });
   plan.needed[0] = true;
   return !plan.casters.empty();
 }
@@ -196,7 +238,7 @@ Mat4 cube_face_clip(const CubeFace& f, Vec3 c, double near, double far) {
   return m;
 }
 
-bool plan_point(const Light& light, const Receivers& rec, const PolygonSoup& soup,
+bool plan_point(const Light& light, const Receivers& rec, const PolygonSoup& soup, unsigned threads,
                 const CancelToken* cancel, LightPlan& plan) {
   ShadowLight& sl = plan.light;
   sl.directional = false;
@@ -227,12 +269,12 @@ bool plan_point(const Light& light, const Receivers& rec, const PolygonSoup& sou
       }
     }
   }
-  for (size_t i = 0; i < soup.polygons.size(); ++i) {
-    if ((i & 4095) == 4095) check_cancel(cancel);
+  double unused = 0.0;
+  plan.casters = select_casters(soup, threads, cancel, unused, [&](size_t i, double&) {
     const Polygon& p = soup.polygons[i];
     const double side = caster_side(p, p.offset - glm::dot(p.normal, sl.position));
-    if (side != 0.0 && box_reaches_beyond(box, p.normal, p.offset, side)) plan.casters.push_back(uint32_t(i));
-  }
+    return side != 0.0 && box_reaches_beyond(box, p.normal, p.offset, side);
+  });
   return !plan.casters.empty() && plan.map_count() > 0;
 }
 
@@ -260,86 +302,34 @@ Mat4 fit_directional(LightPlan& plan, int side, int pcf) {
   return m;
 }
 
-// Draws the casters' nearness into map slot `face` of `sl`, allocating the map when the first
-// caster lands in it. Depth only: the nearest (largest) nearness wins.
-void draw_casters(ShadowMaps& out, ShadowLight& sl, int face, const Mat4& clip,
-                  std::span<const uint32_t> casters, const PolygonSoup& soup, const CancelToken* cancel,
-                  ClipBuffers& buf) {
-  const int side = out.side;
-  TexelStore* texels = nullptr;
-  // Casters are clipped to the map's exact frustum, not the guard band: a polygon next to a point
-  // light spans several faces, and the fan of a polygon clipped far outside the map scans bounding
-  // boxes of the whole map for every triangle.
-  const Mat4 exact = exact_frustum(clip);
-  for (size_t k = 0; k < casters.size(); ++k) {
-    if ((k & 4095) == 4095) check_cancel(cancel);
-    if (!clip_points(exact, soup.points(soup.polygons[casters[k]]), buf)) continue;
-    if (!texels) {
-      ShadowMap map;
-      map.view.clip_from_world = clip;
-      map.view.width = map.view.height = side;
-      map.nearness = TexelStore(side);
-      out.maps.push_back(std::move(map));
-      sl.map[size_t(face)] = int32_t(out.maps.size() - 1);
-      texels = &out.maps.back().nearness;
-    }
-    const ViewTransform& view = out.maps[size_t(sl.map[size_t(face)])].view;
-    buf.screen.resize(buf.out.size());
-    for (size_t i = 0; i < buf.out.size(); ++i) {
-      const ClipVertex& v = buf.out[i];
-      const Vec4 p_clip(v.p_clip.x / clip_guard_band, v.p_clip.y / clip_guard_band, v.p_clip.z, v.p_clip.w);
-      const Vec2 s = screen_from_clip(view, p_clip);
-      // An orthographic map has w = 1: the rasterizer's "1/w" then interpolates any affine value
-      // exactly, here the nearness itself.
-      const double value = sl.directional ? sl.far_depth - glm::dot(v.p_world, sl.forward) : 1.0 / v.p_clip.w;
-      buf.screen[i] = {s.x, s.y, value};
-    }
-    rasterize_convex(buf.screen, {0, 0, side, side}, [&](const Fragment& f, size_t) {
-      float& t = texels->write(f.x, f.y);
-      t = std::max(t, float(f.inv_w));
-    });
-  }
-}
-
-// The nearness range of every shadow_block^2 block, read once after the casters are drawn from
-// the written pages only (a page never written is all 0). Texels past the map's side hold 0,
-// which can only widen a block's range: the summary stays conservative.
-void summarize_blocks(ShadowMap& map) {
-  static_assert(TexelStore::page_side % shadow_block == 0 && shadow_block % 8 == 0, "blocks are whole tiles in a page");
-  constexpr size_t blocks_per_page = TexelStore::page_side / shadow_block, tiles_per_block = shadow_block / 8;
-  const size_t pages = map.nearness.pages_per_row(), n = pages * blocks_per_page;
-  map.blocks_per_row = int(n);
-  map.block_min.assign(n * n, 0.0f);
-  map.block_max.assign(n * n, 0.0f);
-  for (size_t row = 0; row < pages; ++row) {
-    for (size_t column = 0; column < pages; ++column) {
-      const float* page = map.nearness.page(row, column);
-      if (!page) continue;
-      for (size_t by = 0; by < blocks_per_page; ++by) {
-        for (size_t bx = 0; bx < blocks_per_page; ++bx) {
-          // Nearness is never negative, and non-negative floats order like their bit patterns:
-          // the integer reduction vectorizes where a float min/max (NaN rules) would not.
-          uint32_t lo = UINT32_MAX, hi = 0;
-          for (size_t ty = by * tiles_per_block; ty < (by + 1) * tiles_per_block; ++ty) {
-            for (size_t tx = bx * tiles_per_block; tx < (bx + 1) * tiles_per_block; ++tx) {
-              uint32_t bits[64];
-              std::memcpy(bits, page + (ty * 4 + tx) * 64, sizeof(bits));
-              for (uint32_t b : bits) lo = std::min(lo, b), hi = std::max(hi, b);
-            }
-          }
-          const size_t block = (row * blocks_per_page + by) * n + column * blocks_per_page + bx;
-          map.block_min[block] = std::bit_cast<float>(lo);
-          map.block_max[block] = std::bit_cast<float>(hi);
-        }
-      }
+// One job per map the plans need (a directional light's one, a point light's needed faces), in
+// light then face order; job_face[j] is the plan and face job j draws.
+std::vector<ShadowMapJob> make_jobs(std::vector<LightPlan>& plans, const ShadowMaps& out,
+                                    std::vector<std::pair<size_t, int>>& job_face) {
+  std::vector<ShadowMapJob> jobs;
+  for (size_t p = 0; p < plans.size(); ++p) {
+    LightPlan& plan = plans[p];
+    ShadowLight& sl = plan.light;
+    for (int f = 0; f < (sl.directional ? 1 : 6); ++f) {
+      if (!plan.needed[size_t(f)]) continue;
+      ShadowMapJob job;
+      job.directional = sl.directional;
+      job.clip = sl.directional ? fit_directional(plan, out.side, out.pcf)
+                                : cube_face_clip(cube_faces[size_t(f)], sl.position, plan.near_depth, plan.far_depth);
+      job.forward = sl.forward, job.far_depth = sl.far_depth;
+      job.casters = plan.casters;
+      jobs.push_back(std::move(job));
+      job_face.emplace_back(p, f);
     }
   }
+  return jobs;
 }
 
 }  // namespace
 
 ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const ViewTransform& view,
-                             const RenderOptions& options, const CancelToken* cancel) {
+                             const RenderOptions& options, const CancelToken* cancel, unsigned threads) {
+  threads = std::max(1u, threads);
   ShadowMaps out;
   out.pcf = options.shadow.pcf;
   out.bias = shadow_default_bias + options.shadow.bias;
@@ -347,7 +337,7 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
   out.slot_of_light.assign(scene.lights.size(), -1);
   if (scene.lights.empty()) return out;
   const Receivers rec = options.shadow.fit == ShadowFit::scene ? collect_scene_receivers(soup, cancel)
-                                                              : collect_receivers(soup, view, cancel);
+                                                              : collect_receivers(soup, view, threads, cancel);
   std::vector<LightPlan> plans;
   size_t map_count = 0;
   for (size_t i = 0; i < scene.lights.size(); ++i) {
@@ -356,8 +346,8 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
     const Light& light = scene.lights[i];
     // A light that adds nothing needs no map (its shadow could not be seen).
     if (!(light.intensity > 0.0f) || light.color == Color(0.0f)) continue;
-    const bool casts = light.type == LightType::directional ? plan_directional(light, rec, soup, cancel, plan)
-                                                            : plan_point(light, rec, soup, cancel, plan);
+    const bool casts = light.type == LightType::directional ? plan_directional(light, rec, soup, threads, cancel, plan)
+                                                            : plan_point(light, rec, soup, threads, cancel, plan);
     if (!casts) continue;
     map_count += size_t(plan.map_count());
     plans.push_back(std::move(plan));
@@ -368,24 +358,25 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
   if (map_count * size_t(out.side) * size_t(out.side) > shadow_max_texels) {
     out.side = std::max(16, int(std::sqrt(double(shadow_max_texels) / double(map_count))));
   }
-  ClipBuffers buf;
+  std::vector<std::pair<size_t, int>> job_face;
+  std::vector<ShadowMapJob> jobs = make_jobs(plans, out, job_face);
+  draw_shadow_jobs(jobs, out.side, soup, threads, cancel);
+  // Maps are numbered in job order, a job whose casters all fell outside its frustum getting none.
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    if (!jobs[j].any_caster) continue;
+    ShadowMap map;
+    map.view.clip_from_world = jobs[j].clip;
+    map.view.width = map.view.height = out.side;
+    map.nearness = std::move(jobs[j].texels);
+    map.blocks_per_row = jobs[j].blocks_per_row;
+    map.block_min = std::move(jobs[j].block_min);
+    map.block_max = std::move(jobs[j].block_max);
+    out.maps.push_back(std::move(map));
+    plans[job_face[j].first].light.map[size_t(job_face[j].second)] = int32_t(out.maps.size() - 1);
+  }
   for (LightPlan& plan : plans) {
     ShadowLight& sl = plan.light;
-    if (sl.directional) {
-      draw_casters(out, sl, 0, fit_directional(plan, out.side, out.pcf), plan.casters, soup, cancel, buf);
-    } else {
-      for (int f = 0; f < 6; ++f) {
-        if (!plan.needed[size_t(f)]) continue;
-        const Mat4 clip = cube_face_clip(cube_faces[size_t(f)], sl.position, plan.near_depth, plan.far_depth);
-        draw_casters(out, sl, f, clip, plan.casters, soup, cancel, buf);
-      }
-    }
     if (std::none_of(sl.map.begin(), sl.map.end(), [](int32_t m) { return m >= 0; })) continue;
-    for (int32_t m : sl.map) {
-      if (m < 0) continue;
-      summarize_blocks(out.maps[size_t(m)]);
-      out.maps[size_t(m)].nearness.shrink();
-    }
     out.slot_of_light[sl.light] = int32_t(out.lights.size());
     out.lights.push_back(sl);
   }

@@ -18,6 +18,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace rr {
@@ -53,16 +56,27 @@ class TexelStore {
   }
   float& write(int u, int v) {
     uint32_t& page = pages_[page_of(u, v)];
-    if (!page) {  // capacity was reserved for every page: this never reallocates
+    if (!page) {  // capacity for every page, reserved at the first: this never reallocates
+      if (pool_.capacity() == 0) pool_.reserve(pages_.size() * page_texels);
       pool_.resize(pool_.size() + page_texels, 0.0f);
       page = uint32_t(pool_.size() / page_texels);
     }
     return pool_[size_t(page - 1) * page_texels + offset(u, v)];
   }
+  // For writers that fill disjoint pages concurrently: gives every page flagged in `written` (one
+  // byte per page, row-major; none written so far) its storage in one exact allocation, not zeroed:
+  // each page's writer zero-fills it through page_data before drawing, so no writer allocates. A map
+  // kept in the shadow cache then holds, and is charged for, those pages only.
+  void allocate_pages(std::span<const uint8_t> written);
+  float* page_data(size_t row, size_t column) {
+    const uint32_t page = pages_[row * pages_per_row_ + column];
+    return page ? pool_.data() + size_t(page - 1) * page_texels : nullptr;
+  }
+  // Where texel (u, v) lies in its page: 8x8 tiles of 64 texels, row-major within each.
+  static size_t offset(int u, int v) {
+    return (size_t((v & 31) >> 3) * 4 + size_t((u & 31) >> 3)) * 64 + size_t(v & 7) * 8 + size_t(u & 7);
+  }
   size_t pages_per_row() const { return pages_per_row_; }
-  // Gives back the capacity reserved for pages never written (once drawing is over), so a map kept
-  // in the shadow cache holds, and is charged for, its written pages only.
-  void shrink() { pool_.shrink_to_fit(); }
   size_t bytes() const { return pages_.capacity() * sizeof(uint32_t) + pool_.capacity() * sizeof(float); }
   // The 16 tiles of 64 texels of page (row, column), tile (ty, tx) at [(ty * 4 + tx) * 64];
   // null when the page was never written.
@@ -72,13 +86,29 @@ class TexelStore {
   }
 
  private:
+  // Leaves a resized float uninitialized, so allocate_pages does not zero pages on one thread.
+  template <class T>
+  struct NoZeroAllocator : std::allocator<T> {
+    NoZeroAllocator() = default;
+    template <class U>
+    NoZeroAllocator(const NoZeroAllocator<U>&) noexcept {}
+    template <class U>
+    struct rebind {
+      using other = NoZeroAllocator<U>;
+    };
+    template <class U>
+    void construct(U* p) noexcept {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  };
   size_t page_of(int u, int v) const { return size_t(v >> 5) * pages_per_row_ + size_t(u >> 5); }
-  static size_t offset(int u, int v) {
-    return (size_t((v & 31) >> 3) * 4 + size_t((u & 31) >> 3)) * 64 + size_t(v & 7) * 8 + size_t(u & 7);
-  }
   size_t pages_per_row_ = 0;
   std::vector<uint32_t> pages_;  // per page: 0 = never written, else 1 + its index in pool_
-  std::vector<float> pool_;
+  std::vector<float, NoZeroAllocator<float>> pool_;
 };
 
 // Texels per side of the blocks whose nearness range lets most lookups skip the full-resolution
@@ -135,9 +165,11 @@ inline bool light_reaches(const Light& light, Vec3 lit_normal, double lit_offset
 // The shadow pass. Returns empty maps (nothing to look up) when no light can cast a shadow onto a
 // receiver the camera sees. Checks `cancel` every few thousand polygons. With options.shadow.fit
 // == scene the receivers are every polygon of the scene, on each side a camera could see lit, and
-// `view` is not read: the maps serve every camera (the shadow cache relies on it).
+// `view` is not read: the maps serve every camera (the shadow cache relies on it). Runs on `threads`
+// threads; the maps are the same for any count.
 ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const ViewTransform& view,
-                             const RenderOptions& options, const CancelToken* cancel = nullptr);
+                             const RenderOptions& options, const CancelToken* cancel = nullptr,
+                             unsigned threads = 1);
 
 // The affine per-light coordinates of a world point that a pipeline interpolates across a polygon:
 // directional (u, v, nearness) of its map; point light: p - light position.

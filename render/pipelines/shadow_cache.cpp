@@ -50,7 +50,8 @@ std::shared_ptr<const ShadowMaps> obtain_shadow_maps(const Scene& scene, const P
                                                      const RenderContext& context, RenderStats& stats) {
   auto build = [&] {
     ++stats.shadow_passes;
-    auto maps = std::make_shared<const ShadowMaps>(build_shadow_maps(scene, soup, view, options, context.cancel));
+    auto maps = std::make_shared<const ShadowMaps>(
+        build_shadow_maps(scene, soup, view, options, context.cancel, context.threads));
     return ShadowCache::Built{maps, maps->bytes()};
   };
   if (!context.shadow_cache) {
