@@ -48,8 +48,10 @@ struct BspTree {
   size_t bytes() const;  // what the tree costs against the cache budget
 };
 
-// Builds the tree of `soup`. Throws RenderCancelled when `cancel` expires.
-BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const CancelToken* cancel = nullptr);
+// Builds the tree of `soup` (bsp_build.cpp) on up to `threads` threads; the tree is the same for
+// any thread count. Throws RenderCancelled when `cancel` expires.
+BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const CancelToken* cancel = nullptr,
+                  unsigned threads = 1);
 
 // The cache key of a scene's tree: its scene id and every option that shapes the tree.
 std::string bsp_cache_key(const std::string& scene_id, const BspOptions& options);
