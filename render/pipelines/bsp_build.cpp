@@ -100,7 +100,7 @@ void Builder::split(const Pending& work) {
   PolygonSoup& frags = part_.frags;
   part_.depth = std::max(part_.depth, work.depth);
   const std::span<const uint32_t> polygons(arena_.data() + work.begin, work.count);
-  SplitChoice choice = chooser_.choose(frags, polygons, options_, epsilon_, meter_);
+  const SplitChoice& choice = chooser_.choose(frags, polygons, options_, epsilon_, meter_);
   // The splitter's plane group stays in its node whatever the band, so that ties there are decided
   // by id (below), as the reference decides them.
   const uint32_t group = choice.polygon >= 0 ? frags.polygons[size_t(choice.polygon)].plane_group : 0;
@@ -149,8 +149,10 @@ void Builder::split(const Pending& work) {
   }
   // Drawn back to front, the last of a node's polygons wins an overlap: highest id first, so the
   // lowest id wins ties as in the reference (docs/accuracy.md, "Ties"); front to back the reverse.
-  std::stable_sort(part_.node_polygons.begin() + first, part_.node_polygons.end(),
-                   [&](uint32_t a, uint32_t b) { return frags.polygons[a].id > frags.polygons[b].id; });
+  if (node.count > 1) {  // most nodes hold one polygon: no sort, no sort buffer
+    std::stable_sort(part_.node_polygons.begin() + first, part_.node_polygons.end(),
+                     [&](uint32_t a, uint32_t b) { return frags.polygons[a].id > frags.polygons[b].id; });
+  }
   arena_.resize(work.begin);  // the node's list is consumed: its children take its place
   push_child(work.node, false, back_, work.depth + 1);
   push_child(work.node, true, front_, work.depth + 1);

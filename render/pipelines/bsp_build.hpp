@@ -56,8 +56,9 @@ class SplitterChooser {
   // first; `counts` gets its sampled counts.
   uint32_t best_polygon(const PolygonSoup& soup, std::span<const uint32_t> polygons, const BspOptions& options,
                         double epsilon, CancelMeter& meter, SplitCounts& counts);
-  SplitChoice choose(const PolygonSoup& soup, std::span<const uint32_t> polygons, const BspOptions& options,
-                     double epsilon, CancelMeter& meter);
+  // The node's splitter, valid until the next call.
+  const SplitChoice& choose(const PolygonSoup& soup, std::span<const uint32_t> polygons, const BspOptions& options,
+                            double epsilon, CancelMeter& meter);
 
  private:
   void gather(const PolygonSoup& soup, std::span<const uint32_t> polygons);
@@ -73,6 +74,7 @@ class SplitterChooser {
   std::vector<double> x_, y_, z_;
   size_t sampled_ = 0, slots_ = 0;
   std::vector<uint8_t> current_, best_;
+  SplitChoice choice_;
   std::vector<double> keys_;
   bool sample_is_all_ = false;
 };

@@ -121,23 +121,22 @@ uint32_t SplitterChooser::best_polygon(const PolygonSoup& soup, std::span<const 
   return best;
 }
 
-SplitChoice SplitterChooser::choose(const PolygonSoup& soup, std::span<const uint32_t> polygons,
-                                    const BspOptions& options, double epsilon, CancelMeter& meter) {
+const SplitChoice& SplitterChooser::choose(const PolygonSoup& soup, std::span<const uint32_t> polygons,
+                                           const BspOptions& options, double epsilon, CancelMeter& meter) {
   SplitCounts counts;
   const uint32_t best = best_polygon(soup, polygons, options, epsilon, meter, counts);
-  SplitChoice choice;
   // Every sampled polygon on one side of the best candidate: a convex run, which polygon planes
   // can only peel one plane at a time. A free plane through the middle may score better.
   const bool one_sided = counts.by_side[side_front] == 0 || counts.by_side[side_back] == 0;
-  if (one_sided && try_free_plane(soup, polygons, options, epsilon, counts.score(options), choice)) {
+  if (one_sided && try_free_plane(soup, polygons, options, epsilon, counts.score(options), choice_)) {
     meter.add(polygons.size());
-    return choice;
+    return choice_;
   }
-  choice.plane = plane_of(soup.polygons[best]);
-  choice.polygon = best;
-  choice.sides.clear();
-  if (sample_is_all_) choice.sides = best_;
-  return choice;
+  choice_.plane = plane_of(soup.polygons[best]);
+  choice_.polygon = best;
+  choice_.sides.clear();
+  if (sample_is_all_) choice_.sides.swap(best_);  // best_ is refilled by the next node's scoring
+  return choice_;
 }
 
 // The plane across the widest axis of the polygons' centroids, through their median: it halves
