@@ -185,46 +185,6 @@ double scene_epsilon(const PolygonSoup& soup, double fraction) {
   return std::max(fraction * glm::length(hi - lo), 64.0 * DBL_EPSILON * magnitude);
 }
 
-// Builds every deferred subtree into a part of its own, on `threads` threads, largest first.
-std::vector<Part> build_deferred(const Part& top, const std::vector<Deferred>& deferred, const BspOptions& options,
-                                 double epsilon, const CancelToken* cancel, unsigned threads) {
-  std::vector<Part> parts(deferred.size());
-  std::vector<std::exception_ptr> errors(deferred.size());
-  std::vector<size_t> order(deferred.size());
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return deferred[a].polygons.size() > deferred[b].polygons.size(); });
-  parallel_for(threads, deferred.size(), [&](size_t task, unsigned) {
-    const size_t d = order[task];
-    try {
-      Part& part = parts[d];
-      part.frags = make_fragment_soup(top.frags);
-      std::vector<uint32_t> local;
-      local.reserve(deferred[d].polygons.size());
-      for (uint32_t index : deferred[d].polygons) local.push_back(append_polygon(part.frags, top.frags, top.frags.polygons[index]));
-      part.nodes.emplace_back();
-      Builder builder(part, options, epsilon, cancel, 0);
-      builder.run(0, local, deferred[d].depth);
-    } catch (...) {
-      errors[d] = std::current_exception();  // parallel_for's tasks must not throw: rethrown below
-    }
-  });
-  for (const std::exception_ptr& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
-  return parts;
-}
-
-}  // namespace
-
-namespace {
-
-// A polygon of the output soup and where it is copied from.
-struct Source {
-  const PolygonSoup* soup;
-  uint32_t polygon;
-};
-
 // Runs fn(task) for every task on `threads` threads, rethrowing the first failure in task order
 // (parallel_for's tasks must not throw).
 template <class Fn>
@@ -241,6 +201,38 @@ void run_tasks(unsigned threads, size_t count, Fn&& fn) {
     if (e) std::rethrow_exception(e);
   }
 }
+
+// Builds every deferred subtree into a part of its own, on `threads` threads, largest first.
+std::vector<Part> build_deferred(const Part& top, const std::vector<Deferred>& deferred, const BspOptions& options,
+                                 double epsilon, const CancelToken* cancel, unsigned threads) {
+  std::vector<Part> parts(deferred.size());
+  std::vector<size_t> order(deferred.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return deferred[a].polygons.size() > deferred[b].polygons.size(); });
+  run_tasks(threads, deferred.size(), [&](size_t task) {
+    const size_t d = order[task];
+    Part& part = parts[d];
+    part.frags = make_fragment_soup(top.frags);
+    std::vector<uint32_t> local;
+    local.reserve(deferred[d].polygons.size());
+    for (uint32_t index : deferred[d].polygons) local.push_back(append_polygon(part.frags, top.frags, top.frags.polygons[index]));
+    part.nodes.emplace_back();
+    Builder builder(part, options, epsilon, cancel, 0);
+    builder.run(0, local, deferred[d].depth);
+  });
+  return parts;
+}
+
+}  // namespace
+
+namespace {
+
+// A polygon of the output soup and where it is copied from.
+struct Source {
+  const PolygonSoup* soup;
+  uint32_t polygon;
+};
 
 // A soup of the sources' polygons in order, copied in parallel ranges: each range writes only its
 // own polygons and vertices, whose places are fixed beforehand.
