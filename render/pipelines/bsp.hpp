@@ -8,8 +8,10 @@
 // many polygons sampled evenly, and the counts come from at most kScoreSample polygons of the node,
 // so choosing a splitter costs O(max_candidates * kScoreSample) however large the node. Vertices
 // within epsilon (options.bsp.epsilon times the scene's bounding-box diagonal) of a plane count as
-// on it; polygons on the splitter's plane stay in its node, polygons crossing it are split.
-// Build and traversal use explicit stacks: a convex room makes a tree as deep as its polygon count.
+// on it; polygons on the splitter's plane stay in its node, polygons crossing it are split. When the
+// best polygon leaves the whole sample on one side (a convex run), a free plane through the polygons'
+// median may split the node instead; its node may hold no polygon (count == 0). Build and traversal
+// use explicit stacks: chains of polygon splitters can still be deep.
 #pragma once
 
 #include "render/core/lru_cache.hpp"
@@ -48,8 +50,10 @@ struct BspTree {
   size_t bytes() const;  // what the tree costs against the cache budget
 };
 
-// Builds the tree of `soup`. Throws RenderCancelled when `cancel` expires.
-BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const CancelToken* cancel = nullptr);
+// Builds the tree of `soup` (bsp_build.cpp) on up to `threads` threads; the tree is the same for
+// any thread count. Throws RenderCancelled when `cancel` expires.
+BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const CancelToken* cancel = nullptr,
+                  unsigned threads = 1);
 
 // The cache key of a scene's tree: its scene id and every option that shapes the tree.
 std::string bsp_cache_key(const std::string& scene_id, const BspOptions& options);

@@ -1,8 +1,9 @@
 // The BSP pipeline: exact visibility against the zbuffer pipeline (pixel by pixel away from id
 // edges, see testing::is_edge_pixel), the cache of trees across requests and threads, numerical
-// robustness far from the origin and at small scale, area conservation of the fragments, and deep
-// trees built and walked without recursion.
+// robustness far from the origin and at small scale, area conservation of the fragments, and convex
+// rooms split by free planes.
 #include "render/pipelines/bsp.hpp"
+#include "render/pipelines/bsp_build.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/render_helpers.hpp"
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -144,9 +146,11 @@ TEST(Bsp, FragmentAreaEqualsInputAreaOnEveryExample) {
   }
 }
 
-// A convex room seen from inside: every polygon is in front of every other, so the tree is a chain
-// as deep as the room has planes. Built and walked with explicit stacks, it cannot overflow.
-TEST(Bsp, ConvexRoomMakesADeepChainWithoutRecursion) {
+// A convex room seen from inside: every polygon is in front of every other, so polygon splitters
+// could only peel one wall per node (a chain as deep as the room has walls, O(n^2) to build). Free
+// planes through the walls' median halve it instead: a shallow tree, with nodes that hold no
+// polygon, drawn exactly by both walks.
+TEST(Bsp, ConvexRoomIsHalvedByFreePlanesIntoAShallowTree) {
   const int segments = 2500;
   json vertices = json::array(), faces = json::array();
   for (int i = 0; i < segments; ++i) {
@@ -165,11 +169,17 @@ TEST(Bsp, ConvexRoomMakesADeepChainWithoutRecursion) {
   PolygonSoup soup = tessellate(r.scene.geometry);
   ASSERT_EQ(soup.polygons.size(), size_t(segments));
   BspTree tree = build_bsp(soup, r.options.bsp);
-  EXPECT_EQ(tree.splits, 0u);
-  EXPECT_GE(tree.depth, size_t(segments) / 2);
-  testing::IdDiff d = testing::compare_ids(render(r, soup, pipeline_id("zbuffer")).frame.ids,
-                                           render(r, soup, pipeline_id("bsp")).frame.ids);
-  EXPECT_EQ(d.interior, 0u);
+  // Halving down to chains of fewer than kFreeSplitMin walls: log2(2500 / 64) ~ 5 levels above them.
+  EXPECT_LE(tree.depth, bsp_detail::kFreeSplitMin + 12);
+  EXPECT_GT(tree.splits, 0u);  // each free plane cuts the walls it crosses
+  EXPECT_LE(tree.splits, size_t(segments) / 10);
+  EXPECT_TRUE(std::any_of(tree.nodes.begin(), tree.nodes.end(), [](const BspNode& n) { return n.count == 0; }));
+  const IdBuffer z = render(r, soup, pipeline_id("zbuffer")).frame.ids;
+  for (BspTraversal walk : {BspTraversal::front_to_back, BspTraversal::back_to_front}) {
+    r.options.bsp.traversal = walk;
+    testing::IdDiff d = testing::compare_ids(z, render(r, soup, pipeline_id("bsp")).frame.ids, true);
+    EXPECT_EQ(d.interior, 0u) << d.edge << " edge pixels differ";
+  }
 }
 
 TEST(Bsp, SeededRandomTrianglesMatchTheZbuffer) {
