@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace rr {
 
@@ -35,9 +37,17 @@ SpecularTable::SpecularTable(float shininess) : shininess_(shininess), values_(i
 }
 
 void SurfaceShader::write_bytes(const SpanColors& c, size_t count, uint8_t* rgb) {
-  alignas(16) uint8_t r[cap], g[cap], b[cap];
-  for (size_t i = 0; i < count; ++i) r[i] = byte_of(c.r[i]), g[i] = byte_of(c.g[i]), b[i] = byte_of(c.b[i]);
-  for (size_t i = 0; i < count; ++i) rgb[3 * i] = r[i], rgb[3 * i + 1] = g[i], rgb[3 * i + 2] = b[i];
+  // Each pixel's 3 bytes go out as one 4-byte store whose last byte the next pixel's store
+  // overwrites; the last pixel writes 3 bytes, so nothing past the span is touched.
+  alignas(16) uint32_t packed[cap];
+  for (size_t i = 0; i < count; ++i) {
+    packed[i] = uint32_t(byte_of(c.r[i])) | uint32_t(byte_of(c.g[i])) << 8 | uint32_t(byte_of(c.b[i])) << 16;
+  }
+  if (count == 0) return;
+  for (size_t i = 0; i + 1 < count; ++i) std::memcpy(rgb + 3 * i, &packed[i], 4);
+  const uint32_t last = packed[count - 1];
+  uint8_t* px = rgb + 3 * (count - 1);
+  px[0] = uint8_t(last), px[1] = uint8_t(last >> 8), px[2] = uint8_t(last >> 16);
 }
 
 size_t SurfaceShader::bind_specular_table(float shininess) {
@@ -48,14 +58,67 @@ size_t SurfaceShader::bind_specular_table(float shininess) {
   return specular_tables_.size() - 1;
 }
 
-// The visibility of shadowed light s at each pixel of the span, as visibility() gives it.
+namespace {
+
+// Whether every PCF tap of every pixel of a span lies wholly on one side of the receiver: then each
+// pixel's shadow_visibility is exactly 1 (all taps lit) or 0 (none), and `decided` says which. The
+// span's shadow coordinates lie on the segment between its end pixels' (perspective-correct weights
+// move the point along one line in world space, and the map's coordinates are affine in it), so the
+// test is filter_taps' block test over the blocks under the whole segment's footprint, with margins
+// for the rounding of the interpolated coordinates. False when undecided, near the map's edge (where
+// taps clamp and their offsets are not bounded by radius + 1), or when the footprint is large.
+bool span_decided(const ShadowMaps& maps, const ShadowLight& light, const ShadowReceiver& receiver, Vec3 a, Vec3 b,
+                  float& decided) {
+  const ShadowMap& map = maps.maps[size_t(light.map[0])];
+  const int side = maps.side, radius = maps.pcf / 2;
+  const double texel = std::max(light.texel_u, light.texel_v);
+  const double g_max = shadow_max_slope * texel;
+  const glm::dvec2 g = glm::clamp(receiver.gradient[0], glm::dvec2(-g_max), glm::dvec2(g_max));
+  const double slope = std::max(std::abs(g.x), std::abs(g.y)) / texel;
+  const double bias = (maps.bias + maps.slope_bias * slope) * texel;
+  constexpr double margin_texels = 1e-6;
+  const double u0 = std::min(a.x, b.x) - margin_texels, u1 = std::max(a.x, b.x) + margin_texels;
+  const double v0 = std::min(a.y, b.y) - margin_texels, v1 = std::max(a.y, b.y) + margin_texels;
+  const double inner0 = radius + 1, inner1 = side - radius - 2;
+  if (!(u0 >= inner0 && u1 <= inner1 && v0 >= inner0 && v1 <= inner1)) return false;  // also NaN
+  const int bu0 = (int(u0) - radius) / shadow_block, bu1 = (int(u1) + radius) / shadow_block;
+  const int bv0 = (int(v0) - radius) / shadow_block, bv1 = (int(v1) + radius) / shadow_block;
+  if ((bu1 - bu0 + 1) * (bv1 - bv0 + 1) > 16) return false;
+  float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
+  for (int bv = bv0; bv <= bv1; ++bv) {
+    for (int bu = bu0; bu <= bu1; ++bu) {
+      lo = std::min(lo, map.block_min[size_t(bv * map.blocks_per_row + bu)]);
+      hi = std::max(hi, map.block_max[size_t(bv * map.blocks_per_row + bu)]);
+    }
+  }
+  const double spread = (std::abs(g.x) + std::abs(g.y)) * (radius + 1);
+  const double n0 = std::min(a.z, b.z), n1 = std::max(a.z, b.z);
+  const double margin = 1e-9 * (std::abs(n0) + std::abs(n1) + spread + bias + 1.0);
+  if (double(hi) <= n0 + bias - spread - margin) return decided = 1.0f, true;
+  if (double(lo) > n1 + bias + spread + margin) return decided = 0.0f, true;
+  return false;
+}
+
+}  // namespace
+
+// The visibility of shadowed light s at each pixel of the span, as visibility() gives it. Runs of
+// up to 8 pixels that span_decided settles take no lookup per pixel (shorter runs than the span's
+// have smaller footprints, so more of them are settled).
 void SurfaceShader::span_visibility(const Span& span, size_t s, float* vis) const {
   const size_t n = shadowed_.size(), k = span.k;
   const Vec3 c0 = coords_[s], c1 = coords_[(k + 1) * n + s], c2 = coords_[(k + 2) * n + s];
   const Shadowed& light = shadowed_[s];
-  for (size_t i = 0; i < span.count; ++i) {
-    const Vec3 coords = span.b[0][i] * c0 + span.b[1][i] * c1 + span.b[2][i] * c2;
-    vis[i] = shadow_visibility(*maps_, *light.light, light.receiver, coords);
+  auto coords = [&](size_t i) { return span.b[0][i] * c0 + span.b[1][i] * c1 + span.b[2][i] * c2; };
+  const bool by_runs = light.light->directional && light.light->map[0] >= 0;
+  constexpr size_t run = 8;
+  for (size_t first = 0; first < span.count; first += run) {
+    const size_t last = std::min(first + run, span.count) - 1;
+    float decided = 0.0f;
+    if (by_runs && last > first && span_decided(*maps_, *light.light, light.receiver, coords(first), coords(last), decided)) {
+      std::fill(vis + first, vis + last + 1, decided);
+      continue;
+    }
+    for (size_t i = first; i <= last; ++i) vis[i] = shadow_visibility(*maps_, *light.light, light.receiver, coords(i));
   }
 }
 
