@@ -125,6 +125,10 @@ struct ShadeWorker {
   size_t lights = 0, fragments = 0;
 };
 
+// Runs shorter than this are shaded pixel by pixel: a span's fixed cost (a dozen short loops) is
+// more than what its loops save on one to three pixels, the common case in dense triangle soups.
+constexpr int min_span = 4;
+
 // Shades the visible pixels of triangle `t`: `count` runs, each shaded as one span.
 void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const BinnedTriangle& t, const Run* runs,
                     size_t count, ShadeWorker& w, Frame& frame) {
@@ -142,8 +146,23 @@ void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const B
   uint8_t* rgb = frame.image.rgb.data();
   const size_t width = size_t(frame.image.width);
   w.span.k = t.k;
+  Fragment f;
   for (size_t r = 0; r < count; ++r) {
     const Run& run = runs[r];
+    if (run.n < min_span) {  // fragment() gives the same colours (see shade_span)
+      const size_t at = size_t(run.y) * width + size_t(run.x);
+      f.y = run.y;
+      for (int i = 0; i < run.n; ++i) {
+        f.x = run.x + i;
+        const int64_t e[3] = {s.edge(0, f.x, f.y), s.edge(1, f.x, f.y), s.edge(2, f.x, f.y)};
+        pixel_weights(s, t.inv_w, e, f);
+        const Color c = w.shader->fragment(f, t.k);
+        uint8_t* px = rgb + (at + size_t(i)) * 3;
+        ids[at + size_t(i)] = poly.id;
+        px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b);
+      }
+      continue;
+    }
     span_weights(s, t.inv_w, run.x, run.y, run.n, w.span);
     w.shader->shade_span(w.span, w.colors);
     const size_t at = size_t(run.y) * width + size_t(run.x);
