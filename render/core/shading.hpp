@@ -11,6 +11,7 @@
 #include "render/core/shadow.hpp"
 #include "render/core/tessellate.hpp"
 
+#include <algorithm>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -27,6 +28,39 @@ struct LightTerms {
 LightTerms light_terms(const Light& light, const Material& material, Vec3 p_world, Vec3 n, Vec3 eye);
 // Ambient + every light, unshadowed.
 Color shade_point(const Scene& scene, const Material& material, Vec3 p_world, Vec3 n, Vec3 eye);
+
+// to_byte (image.hpp) without a branch: the same byte for every float (NaN and anything not above 0
+// give 0, anything from 1 up 255, the same rounding between).
+inline uint8_t byte_of(float v) {
+  const float clamped = std::min(v > 0.0f ? v : 0.0f, 1.0f);
+  return uint8_t(int(clamped * 255.0f + 0.5f));
+}
+
+// x^shininess for x in [0, 1], from a table of 1024 intervals over [x_min, 1] (x_min =
+// specular_cutoff^(1 / shininess)), linearly interpolated; 0 below x_min. Its absolute error is below
+// specular_table_error for every shininess in [1, 10000] (the scene format's range): the
+// interpolation error is at most (interval width)^2 / 8 x max |f''|, which is < 1.7e-5 whatever the
+// exponent because the table's span shrinks like 1 / shininess, plus the cutoff's 2^-17.
+constexpr float specular_cutoff = 1.0f / 131072.0f;
+constexpr float specular_table_error = 3e-5f;
+class SpecularTable {
+ public:
+  static constexpr int intervals = 1024;
+  explicit SpecularTable(float shininess);
+  float shininess() const { return shininess_; }
+  float operator()(float x) const {
+    const float t = (x - x_min_) * scale_;
+    if (!(t > 0.0f)) return 0.0f;  // also NaN
+    const float at = std::min(t, float(intervals) - 0.5f);
+    const int i = int(at);
+    const float frac = std::min(t - float(i), 1.0f);
+    return values_[size_t(i)] + frac * (values_[size_t(i) + 1] - values_[size_t(i)]);
+  }
+
+ private:
+  float shininess_, x_min_, scale_;
+  std::vector<float> values_;  // intervals + 1 samples
+};
 
 // Shading of the polygons of one frame, shared by every pipeline:
 //   prepare(i)     once per polygon that may be visible (the "shade" stage): flat colours and
@@ -63,6 +97,24 @@ class SurfaceShader {
   bool constant_per_polygon() const { return mode_ == ShadingMode::flat && slots_ == 0 && !mask_; }
   Color polygon_color(uint32_t index) const { return prepared_->terms_[prepared_->term_begin_[index]]; }
 
+  // The span API (shading_span.cpp): the colours of up to span_capacity pixels of one row of fan
+  // triangle `k` of the bound polygon, the same as fragment() gives each of them, except that Phong
+  // takes the specular lobe from a SpecularTable. The loops run over structure-of-arrays buffers,
+  // light by light, so the per-pixel work has no calls or mode branches.
+  static constexpr size_t span_capacity = 64;
+  struct Span {
+    int x = 0, y = 0;  // first pixel; the others follow along +x
+    size_t count = 0;
+    size_t k = 0;      // fan triangle (0, k+1, k+2) of the clipped polygon
+    alignas(16) double b[3][span_capacity];  // perspective-correct weights, as in Fragment::b
+  };
+  struct SpanColors {
+    alignas(16) float r[span_capacity], g[span_capacity], b[span_capacity];
+  };
+  void shade_span(const Span& span, SpanColors& out) const;
+  // The colours as display bytes, 3 per pixel: to_byte(c) for each channel, in a loop that vectorizes.
+  static void write_bytes(const SpanColors& colors, size_t count, uint8_t* rgb);
+
  private:
   // A light that reaches the bound polygon, in floats for the per-pixel loop.
   struct ActiveLight {
@@ -85,6 +137,14 @@ class SurfaceShader {
   void write_mask(const Fragment& f, size_t k) const;
   float visibility(size_t s, const Fragment& f, size_t k) const;
   Color shade_phong(const Fragment& f, size_t k) const;
+  void span_visibility(const Span& span, size_t s, float* vis) const;
+  void span_flat(const Span& span, SpanColors& out) const;
+  void span_gouraud(const Span& span, SpanColors& out) const;
+  void span_phong(const Span& span, SpanColors& out) const;
+  struct PhongPixels;
+  void span_phong_light(const ActiveLight& a, const PhongPixels& p, size_t count, const float* vis,
+                        SpanColors& out) const;
+  size_t bind_specular_table(float shininess);
   void collect_reaching(const Polygon& source);
   void add_terms(const Material& material, Vec3 p, Vec3 n, Color* terms);
   void prepare_gouraud(uint32_t index, const Polygon& source);
@@ -107,7 +167,8 @@ class SurfaceShader {
   bool constant_ = true;
   Color current_{0.0f};
   Color ambient_{0.0f};
-  float shininess_ = 1.0f;
+  std::vector<SpecularTable> specular_tables_;  // Phong: built on first use, one per shininess
+  size_t table_ = 0;                            // the bound polygon's, in specular_tables_
   std::vector<ActiveLight> active_;
   std::vector<Shadowed> shadowed_;
   std::vector<Color> bound_terms_;     // flat: 1 + shadowed; Gouraud: that per clipped vertex

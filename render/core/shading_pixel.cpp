@@ -66,7 +66,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
       break;
     case ShadingMode::phong:
       ambient_ = Color(glm::dvec3(material.color) * ambient_irradiance(input_.scene));
-      shininess_ = material.params.shininess;
+      if (material.params.specular > 0.0f) table_ = bind_specular_table(material.params.shininess);
       eye_to_p_.resize(clipped.size());
       normal_.resize(clipped.size());
       for (size_t j = 0; j < clipped.size(); ++j) {
@@ -143,7 +143,8 @@ Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {
 }
 
 // The per-pixel Blinn-Phong of light_terms, in floats: positions relative to the eye keep float
-// precision far from the world origin.
+// precision far from the world origin. The lobe comes from the material's SpecularTable, as in
+// span_phong, so every pipeline shades a point the same.
 Color SurfaceShader::shade_phong(const Fragment& f, size_t k) const {
   const float b0 = float(f.b[0]), b1 = float(f.b[1]), b2 = float(f.b[2]);
   const glm::vec3 q = b0 * eye_to_p_[0] + b1 * eye_to_p_[k + 1] + b2 * eye_to_p_[k + 2];
@@ -173,7 +174,7 @@ Color SurfaceShader::shade_phong(const Fragment& f, size_t k) const {
       const glm::vec3 h = l + to_eye;
       const float h_len = glm::length(h);
       const float n_dot_h = h_len > 0.0f ? glm::dot(n, h) / h_len : 0.0f;
-      if (n_dot_h > 0.0f) term += a.specular * std::pow(n_dot_h, shininess_);
+      if (n_dot_h > 0.0f) term += a.specular * specular_tables_[table_](n_dot_h);
     }
     c += term * (attenuation * vis);
   }

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 #include <memory>
 
 namespace rr {
@@ -90,25 +91,33 @@ size_t resolve_tile(const VisibilityInput& vis, size_t tile, const PixelRect& r,
   return covered;
 }
 
+// A run of pixels of one tile row that show the same triangle (position j in the tile's bin).
+struct Run {
+  uint32_t j;
+  int32_t x, y, n;
+};
+
 // What one thread of pass 2 keeps between tiles.
 struct ShadeWorker {
   std::unique_ptr<SurfaceShader> shader;  // a binding copy of the prepared shader
   DrawScratch scratch;
   uint32_t bound = no_triangle;  // the slot bound in `shader`, if any
   std::vector<uint32_t> start, cursor;
-  std::vector<uint32_t> pixels;
+  std::vector<Run> runs, sorted;
+  SurfaceShader::Span span;
+  SurfaceShader::SpanColors colors;
   size_t lights = 0, fragments = 0;
 };
 
-void write_color(uint8_t* px, Color c) { px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b); }
+// Runs shorter than this are shaded pixel by pixel: a span's fixed cost (a dozen short loops) is
+// more than what its loops save on one to three pixels, the common case in dense triangle soups.
+constexpr int min_span = 4;
 
-// Shades the visible pixels of triangle `t` (their frame indices in pixels[begin, end)).
-void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const BinnedTriangle& t, const uint32_t* pixels, size_t count, ShadeWorker& w, Frame& frame) {
+// Shades the visible pixels of triangle `t`: `count` runs, each shaded as one span.
+void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const BinnedTriangle& t, const Run* runs,
+                    size_t count, ShadeWorker& w, Frame& frame) {
   const uint32_t index = vis.polygons[t.slot];
   const Polygon& poly = input.soup.polygons[index];
-  uint32_t* ids = frame.ids.ids.data();
-  uint8_t* rgb = frame.image.rgb.data();
-  for (size_t p = 0; p < count; ++p) ids[pixels[p]] = poly.id;
   if (w.bound != t.slot) {
     [[maybe_unused]] const bool projected = project_polygon(input.view, input.soup, poly, w.scratch);
     assert(projected && "pass 1 drew this polygon from the same projection");
@@ -117,13 +126,32 @@ void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const B
   }
   TriangleSetup s;
   setup_binned(t, s);
-  Fragment f;
+  uint32_t* ids = frame.ids.ids.data();
+  uint8_t* rgb = frame.image.rgb.data();
   const size_t width = size_t(frame.image.width);
-  for (size_t p = 0; p < count; ++p) {
-    f.x = int(pixels[p] % width), f.y = int(pixels[p] / width);
-    const int64_t e[3] = {s.edge(0, f.x, f.y), s.edge(1, f.x, f.y), s.edge(2, f.x, f.y)};
-    pixel_weights(s, t.inv_w, e, f);
-    write_color(rgb + size_t(pixels[p]) * 3, w.shader->fragment(f, t.k));
+  w.span.k = t.k;
+  Fragment f;
+  for (size_t r = 0; r < count; ++r) {
+    const Run& run = runs[r];
+    if (run.n < min_span) {  // fragment() gives the same colours (see shade_span)
+      const size_t at = size_t(run.y) * width + size_t(run.x);
+      f.y = run.y;
+      for (int i = 0; i < run.n; ++i) {
+        f.x = run.x + i;
+        const int64_t e[3] = {s.edge(0, f.x, f.y), s.edge(1, f.x, f.y), s.edge(2, f.x, f.y)};
+        pixel_weights(s, t.inv_w, e, f);
+        const Color c = w.shader->fragment(f, t.k);
+        uint8_t* px = rgb + (at + size_t(i)) * 3;
+        ids[at + size_t(i)] = poly.id;
+        px[0] = to_byte(c.r), px[1] = to_byte(c.g), px[2] = to_byte(c.b);
+      }
+      continue;
+    }
+    span_weights(s, t.inv_w, run.x, run.y, run.n, w.span);
+    w.shader->shade_span(w.span, w.colors);
+    const size_t at = size_t(run.y) * width + size_t(run.x);
+    std::fill_n(ids + at, run.n, poly.id);
+    SurfaceShader::write_bytes(w.colors, size_t(run.n), rgb + at * 3);
   }
 }
 
@@ -157,31 +185,40 @@ void fill_tile_constant(const FrameInput& input, const VisibilityInput& vis, con
   }
 }
 
-// Pass 2 for one tile: its visible pixels grouped by triangle (a counting sort by bin position, so
-// in draw order), each group shaded with its polygon bound once.
+// The runs of one tile's rows that show one triangle each, grouped by triangle: a counting sort by
+// bin position, so the triangles come in draw order and each run keeps its row order.
+void collect_runs(size_t bin_size, const PixelRect& r, const Buffers& b, ShadeWorker& w) {
+  w.start.assign(bin_size + 1, 0);
+  w.runs.clear();
+  for (int y = r.y0; y < r.y1; ++y) {
+    const uint32_t* v = b.visible + size_t(y) * size_t(b.width);
+    for (int x = r.x0; x < r.x1;) {
+      const uint32_t j = v[x];
+      int end = x + 1;
+      // Most runs are long (walls, floors): compare four pixels per branch.
+      while (end + 4 <= r.x1 && (v[end] == j) & (v[end + 1] == j) & (v[end + 2] == j) & (v[end + 3] == j)) end += 4;
+      while (end < r.x1 && v[end] == j) ++end;
+      if (j != no_triangle) {
+        w.runs.push_back({j, x, y, end - x});
+        ++w.start[j + 1];
+      }
+      x = end;
+    }
+  }
+  for (size_t j = 0; j < bin_size; ++j) w.start[j + 1] += w.start[j];
+  w.cursor.assign(w.start.begin(), w.start.end());
+  w.sorted.resize(w.runs.size());
+  for (const Run& run : w.runs) w.sorted[w.cursor[run.j]++] = run;
+}
+
+// Pass 2 for one tile: each triangle with visible pixels shaded run by run, its polygon bound once.
 void shade_tile(const FrameInput& input, const VisibilityInput& vis, size_t tile,
                 const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
   const std::vector<uint32_t>& bin = vis.bins[tile];
-  w.start.assign(bin.size() + 1, 0);
-  for (int y = r.y0; y < r.y1; ++y) {
-    const uint32_t* v = b.visible + size_t(y) * size_t(b.width);
-    for (int x = r.x0; x < r.x1; ++x) {
-      if (v[x] != no_triangle) ++w.start[v[x] + 1];
-    }
-  }
-  for (size_t j = 0; j < bin.size(); ++j) w.start[j + 1] += w.start[j];
-  w.cursor = w.start;
-  w.pixels.resize(w.start.back());
-  for (int y = r.y0; y < r.y1; ++y) {
-    const size_t row = size_t(y) * size_t(b.width);
-    for (int x = r.x0; x < r.x1; ++x) {
-      const uint32_t v = b.visible[row + size_t(x)];
-      if (v != no_triangle) w.pixels[w.cursor[v]++] = uint32_t(row + size_t(x));
-    }
-  }
+  collect_runs(bin.size(), r, b, w);
   for (size_t j = 0; j < bin.size(); ++j) {
     if (w.start[j] == w.start[j + 1]) continue;
-    shade_triangle(input, vis, vis.triangles[bin[j]], &w.pixels[w.start[j]], w.start[j + 1] - w.start[j], w, frame);
+    shade_triangle(input, vis, vis.triangles[bin[j]], &w.sorted[w.start[j]], w.start[j + 1] - w.start[j], w, frame);
   }
 }
 
@@ -204,6 +241,40 @@ void blend_tile(const FrameInput& input, const VisibilityInput& vis, const Pixel
 }
 
 }  // namespace
+
+static_assert(SurfaceShader::span_capacity >= size_t(tile_size), "a run of a tile row fits in one span");
+
+// The edge values are exact integers: stepped in doubles where every value on the run is
+// below 2^52 in magnitude (each step's product and sum are then exact, and the loop vectorizes),
+// else in int64; either way each weight is the same double as pixel_weights computes.
+void span_weights(const TriangleSetup& s, const double inv_w[3], int x, int y, int n, SurfaceShader::Span& span) {
+  constexpr int64_t exact = int64_t{1} << 52;
+  alignas(16) double e[3][SurfaceShader::span_capacity];
+  for (int k = 0; k < 3; ++k) {
+    const int64_t first = s.edge(k, x, y) + s.bias[k], last = first + int64_t(n - 1) * s.step_x[k];
+    if (first > -exact && first < exact && last > -exact && last < exact) {
+      const double e0 = double(first), step = double(s.step_x[k]);
+      for (int i = 0; i < n; ++i) e[k][i] = e0 + double(i) * step;
+    } else {
+      for (int i = 0; i < n; ++i) e[k][i] = double(first + int64_t(i) * s.step_x[k]);
+    }
+  }
+  const double w0 = inv_w[s.order[0]], w1 = inv_w[s.order[1]], w2 = inv_w[s.order[2]];
+  alignas(16) double sum[SurfaceShader::span_capacity], inv[SurfaceShader::span_capacity];
+  for (int i = 0; i < n; ++i) {  // edge order; vertex order[k] takes edge k's weight below
+    e[0][i] = e[0][i] * s.inv_area * w0, e[1][i] = e[1][i] * s.inv_area * w1, e[2][i] = e[2][i] * s.inv_area * w2;
+    sum[i] = e[0][i] + e[1][i] + e[2][i];
+  }
+  // 1 / sum, or 0 where the sum is not positive: dividing in a loop of its own and selecting in the
+  // next keeps both free of control flow (a division under a condition might trap), so they vectorize.
+  for (int i = 0; i < n; ++i) inv[i] = 1.0 / sum[i];
+  for (int i = 0; i < n; ++i) {
+    const double inv_sum = sum[i] > 0.0 ? inv[i] : 0.0;
+    span.b[0][i] = e[0][i] * inv_sum, span.b[1][i] = e[1][i] * inv_sum, span.b[2][i] = e[2][i] * inv_sum;
+  }
+  if (s.order[1] != 1) std::swap_ranges(span.b[1], span.b[1] + n, span.b[2]);  // order is {0, 1, 2} or {0, 2, 1}
+  span.x = x, span.y = y, span.count = size_t(n);
+}
 
 void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
                      unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {

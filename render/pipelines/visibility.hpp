@@ -8,13 +8,12 @@
 
 #include "render/core/frame.hpp"
 #include "render/core/raster.hpp"
+#include "render/core/shading.hpp"
 
 #include <cstdint>
 #include <vector>
 
 namespace rr {
-
-class SurfaceShader;
 
 constexpr int tile_size = 64;  // pixels; a tile's depth and triangle buffers (32 KiB) stay in L2
 
@@ -41,6 +40,11 @@ struct VisibilityInput {
   std::vector<PixelRect> translucent_rects;  // bounds of their projections
   int tiles_x = 0, tiles_y = 0;
 };
+
+// Pass 2's weights for the n <= tile_size covered pixels from (x, y) along +x of the snapped triangle
+// `s` (inv_w in the caller's vertex order): into span.b, bit for bit what pixel_weights gives each
+// of those pixels; sets span.x, .y and .count.
+void span_weights(const TriangleSetup& s, const double inv_w[3], int x, int y, int n, SurfaceShader::Span& span);
 
 // Front end (binning.cpp): projects input.soup's polygons `opaque` (in draw order) and bins their
 // triangles, and bounds the `translucent` ones (far to near), on input.context.threads threads; the
