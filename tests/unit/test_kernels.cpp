@@ -3,10 +3,9 @@
 // shadows setting with each level forced, against the baseline level.
 #include "render/core/kernels.hpp"
 #include "render/core/png.hpp"
-#include "render/core/scene_names.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/pipelines/pipeline_table.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "support/render_modes.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -86,36 +85,27 @@ TEST(Kernels, EveryExampleIsByteIdenticalAtEveryLevel) {
     nlohmann::json j = nlohmann::json::parse(testing::read_file(file));
     j["options"]["width"] = 250;
     j["options"]["height"] = 170;
-    for (const PipelineInfo& pipeline : pipeline_table()) {
-      if (std::string_view(pipeline.name) == "reference") continue;  // no rasterizer
-      for (const auto& shading : shading_names) {
-        for (bool shadows : {false, true}) {
-          j["options"]["pipeline"] = pipeline.name;
-          j["options"]["shading"] = shading.name;
-          j["options"]["shadows"] = shadows;
-          SCOPED_TRACE(file.filename().string() + " " + pipeline.name + " " + shading.name +
-                       (shadows ? " shadows" : ""));
-          const RenderRequest request = request_from_json(j);
-          const PolygonSoup soup = tessellate(request.scene.geometry);
-          std::string baseline_png;
-          std::vector<uint32_t> baseline_ids;
-          for (const Kernels* k : available_kernels()) {
-            ASSERT_TRUE(use_kernels(k->name));
-            RenderContext context;
-            context.threads = 2;
-            RenderResult r = render_frame(request.scene, soup, request.camera, request.options, context);
-            std::string png = encode_png(r.frame.image);
-            if (k == available_kernels().front()) {
-              baseline_png = std::move(png), baseline_ids = std::move(r.frame.ids.ids);
-              continue;
-            }
-            EXPECT_TRUE(png == baseline_png) << k->name << ": the PNG differs from sse2's";
-            EXPECT_TRUE(r.frame.ids.ids == baseline_ids) << k->name << ": the id buffer differs from sse2's";
-            ++compared;
-          }
+    testing::for_each_render_mode(j, false, [&](const nlohmann::json& mode, const std::string& label) {
+      SCOPED_TRACE(file.filename().string() + label);
+      const RenderRequest request = request_from_json(mode);
+      const PolygonSoup soup = tessellate(request.scene.geometry);
+      std::string baseline_png;
+      std::vector<uint32_t> baseline_ids;
+      for (const Kernels* k : available_kernels()) {
+        ASSERT_TRUE(use_kernels(k->name));
+        RenderContext context;
+        context.threads = 2;
+        RenderResult r = render_frame(request.scene, soup, request.camera, request.options, context);
+        std::string png = encode_png(r.frame.image);
+        if (k == available_kernels().front()) {
+          baseline_png = std::move(png), baseline_ids = std::move(r.frame.ids.ids);
+          continue;
         }
+        EXPECT_TRUE(png == baseline_png) << k->name << ": the PNG differs from sse2's";
+        EXPECT_TRUE(r.frame.ids.ids == baseline_ids) << k->name << ": the id buffer differs from sse2's";
+        ++compared;
       }
-    }
+    });
   }
   if (available_kernels().size() == 1) GTEST_SKIP() << "this CPU runs only the baseline level";
   EXPECT_GT(compared, 0u);

@@ -6,6 +6,7 @@
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/scene_names.hpp"
+#include "support/render_modes.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -29,34 +30,31 @@ Drawn draw(const RenderRequest& request, const PolygonSoup& soup, unsigned threa
   return {encode_png(r.frame.image), r.frame.ids.ids, r.stats.fragments, r.stats.lights_evaluated};
 }
 
+// The frame drawn with 2 and with 8 threads is the one drawn with 1, and so are its counts.
+void expect_same_for_two_and_eight_threads(const RenderRequest& request, const PolygonSoup& soup) {
+  const Drawn one = draw(request, soup, 1);
+  for (unsigned threads : {2u, 8u}) {
+    const Drawn many = draw(request, soup, threads);
+    EXPECT_TRUE(many.png == one.png) << threads << " threads: the PNG differs";
+    EXPECT_TRUE(many.ids == one.ids) << threads << " threads: the id buffer differs";
+    EXPECT_EQ(many.fragments, one.fragments) << threads << " threads";
+    EXPECT_EQ(many.lights_evaluated, one.lights_evaluated) << threads << " threads";
+  }
+}
+
 TEST(Threads, EveryExampleAndModeIsByteIdenticalForOneTwoAndEightThreads) {
   size_t renders = 0;
   for (const auto& file : testing::example_files()) {
     nlohmann::json j = nlohmann::json::parse(testing::read_file(file));
     j["options"]["width"] = 250;  // 4 x 3 tiles, the last column and row partial
     j["options"]["height"] = 170;
-    for (const PipelineInfo& pipeline : pipeline_table()) {
-      for (const auto& shading : shading_names) {
-        for (bool shadows : {false, true}) {
-          j["options"]["pipeline"] = pipeline.name;
-          j["options"]["shading"] = shading.name;
-          j["options"]["shadows"] = shadows;
-          SCOPED_TRACE(file.filename().string() + " " + pipeline.name + " " + shading.name +
-                       (shadows ? " shadows" : ""));
-          const RenderRequest request = request_from_json(j);
-          const PolygonSoup soup = tessellate(request.scene.geometry);
-          const Drawn one = draw(request, soup, 1);
-          for (unsigned threads : {2u, 8u}) {
-            const Drawn many = draw(request, soup, threads);
-            EXPECT_TRUE(many.png == one.png) << threads << " threads: the PNG differs";
-            EXPECT_TRUE(many.ids == one.ids) << threads << " threads: the id buffer differs";
-            EXPECT_EQ(many.fragments, one.fragments) << threads << " threads";
-            EXPECT_EQ(many.lights_evaluated, one.lights_evaluated) << threads << " threads";
-            ++renders;
-          }
-        }
-      }
-    }
+    testing::for_each_render_mode(j, true, [&](const nlohmann::json& mode, const std::string& label) {
+      SCOPED_TRACE(file.filename().string() + label);
+      const RenderRequest request = request_from_json(mode);
+      const PolygonSoup soup = tessellate(request.scene.geometry);
+      expect_same_for_two_and_eight_threads(request, soup);
+      renders += 2;
+    });
   }
   EXPECT_GT(renders, 0u) << "no examples found";
 }
@@ -82,27 +80,13 @@ nlohmann::json many_triangles() {
 }
 
 TEST(Threads, ThousandsOfPolygonsAreByteIdenticalForOneTwoAndEightThreads) {
-  nlohmann::json j = many_triangles();
-  for (const char* pipeline : {"zbuffer", "painter", "bsp"}) {
-    for (const auto& shading : shading_names) {
-      for (bool shadows : {false, true}) {
-        j["options"]["pipeline"] = pipeline;
-        j["options"]["shading"] = shading.name;
-        j["options"]["shadows"] = shadows;
-        SCOPED_TRACE(std::string(pipeline) + " " + shading.name + (shadows ? " shadows" : ""));
-        const RenderRequest request = request_from_json(j);
-        const PolygonSoup soup = tessellate(request.scene.geometry);
-        ASSERT_GT(soup.polygons.size(), 2000u);
-        const Drawn one = draw(request, soup, 1);
-        for (unsigned threads : {2u, 8u}) {
-          const Drawn many = draw(request, soup, threads);
-          EXPECT_TRUE(many.png == one.png) << threads << " threads: the PNG differs";
-          EXPECT_TRUE(many.ids == one.ids) << threads << " threads: the id buffer differs";
-          EXPECT_EQ(many.fragments, one.fragments) << threads << " threads";
-        }
-      }
-    }
-  }
+  testing::for_each_render_mode(many_triangles(), false, [&](const nlohmann::json& mode, const std::string& label) {
+    SCOPED_TRACE(label);
+    const RenderRequest request = request_from_json(mode);
+    const PolygonSoup soup = tessellate(request.scene.geometry);
+    ASSERT_GT(soup.polygons.size(), 2000u);
+    expect_same_for_two_and_eight_threads(request, soup);
+  });
 }
 
 }  // namespace

@@ -1,0 +1,36 @@
+// Every render mode of one request, for tests that hold a property across all of them: each
+// pipeline (the reference one optionally), each shading and shadows off and on.
+#pragma once
+
+#include "render/core/scene_names.hpp"
+#include "render/pipelines/pipeline_table.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace rr::testing {
+
+// Calls fn(request, label) with `request`'s options set to each mode; label names the mode
+// (" zbuffer phong shadows") for a SCOPED_TRACE.
+template <class Fn>
+void for_each_render_mode(nlohmann::json request, bool with_reference, Fn&& fn) {
+  for (const PipelineInfo& pipeline : pipeline_table()) {
+    if (!with_reference && std::string(pipeline.name) == "reference") continue;
+    for (const auto& shading : shading_names) {
+      for (bool shadows : {false, true}) {
+        request["options"]["pipeline"] = pipeline.name;
+        request["options"]["shading"] = shading.name;
+        request["options"]["shadows"] = shadows;
+        std::string label = " ";
+        label += pipeline.name;
+        label += " ";
+        label += shading.name;
+        if (shadows) label += " shadows";
+        fn(const_cast<const nlohmann::json&>(request), label);
+      }
+    }
+  }
+}
+
+}  // namespace rr::testing
