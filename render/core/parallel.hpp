@@ -43,7 +43,9 @@ void parallel_for(unsigned threads, size_t count, Fn&& fn) {
     return;
   }
   ParallelJob job;
-  job.call = [](void* body, size_t task, unsigned worker) { (*static_cast<std::remove_reference_t<Fn>*>(body))(task, worker); };
+  job.call = [](void* body, size_t task, unsigned worker) {
+    (*static_cast<std::remove_reference_t<Fn>*>(body))(task, worker);
+  };
   job.body = const_cast<void*>(static_cast<const void*>(&fn));
   job.count = count;
   job.participants = threads < count ? threads : unsigned(count);

@@ -11,25 +11,35 @@
 
 namespace rr::testing {
 
-// Calls fn(request, label) with `request`'s options set to each mode; label names the mode
-// (" zbuffer phong shadows") for a SCOPED_TRACE.
+// Calls fn(request, label) with `request`'s options set to each shading, shadows off and on; label
+// names the mode (" phong shadows") for a SCOPED_TRACE.
+template <class Fn>
+void for_each_shading_mode(nlohmann::json request, Fn&& fn) {
+  for (const auto& shading : shading_names) {
+    for (bool shadows : {false, true}) {
+      request["options"]["shading"] = shading.name;
+      request["options"]["shadows"] = shadows;
+      std::string label = " ";
+      label += shading.name;
+      if (shadows) label += " shadows";
+      fn(const_cast<const nlohmann::json&>(request), label);
+    }
+  }
+}
+
+// The same through each pipeline too (the reference one when `with_reference`); the label starts
+// with the pipeline (" zbuffer phong shadows").
 template <class Fn>
 void for_each_render_mode(nlohmann::json request, bool with_reference, Fn&& fn) {
   for (const PipelineInfo& pipeline : pipeline_table()) {
     if (!with_reference && std::string(pipeline.name) == "reference") continue;
-    for (const auto& shading : shading_names) {
-      for (bool shadows : {false, true}) {
-        request["options"]["pipeline"] = pipeline.name;
-        request["options"]["shading"] = shading.name;
-        request["options"]["shadows"] = shadows;
-        std::string label = " ";
-        label += pipeline.name;
-        label += " ";
-        label += shading.name;
-        if (shadows) label += " shadows";
-        fn(const_cast<const nlohmann::json&>(request), label);
-      }
-    }
+    request["options"]["pipeline"] = pipeline.name;
+    for_each_shading_mode(request, [&](const nlohmann::json& mode, const std::string& label) {
+      std::string full = " ";
+      full += pipeline.name;
+      full += label;
+      fn(mode, full);
+    });
   }
 }
 

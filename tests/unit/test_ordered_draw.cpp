@@ -11,6 +11,7 @@
 #include "render/scene_io/scene_json.hpp"
 #include "render/core/frustum.hpp"
 #include "render/core/shading.hpp"
+#include "support/render_modes.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -163,29 +164,23 @@ json random_scene(uint32_t seed) {
 
 TEST(OrderedDraw, PainterEqualsTheWholeFrameDrawOnEveryExample) {
   for (const auto& file : testing::example_files()) {
-    for (const char* shading : {"flat", "gouraud", "phong"}) {
-      for (bool shadows : {false, true}) {
-        SCOPED_TRACE(file.stem().string() + " " + shading + (shadows ? " shadows" : ""));
-        json request = testing::example_request(file.stem().string(), 250, 170);
-        request["options"]["shading"] = shading;
-        request["options"]["shadows"] = shadows;
-        check_painter(request);
-      }
-    }
+    const std::string name = file.stem().string();
+    const json example = testing::example_request(name, 250, 170);
+    testing::for_each_shading_mode(example, [&](const json& request, const std::string& label) {
+      SCOPED_TRACE(name + label);
+      check_painter(request);
+    });
   }
 }
 
 TEST(OrderedDraw, BspEqualsTheWholeFrameBackToFrontDrawOnEveryExample) {
   for (const auto& file : testing::example_files()) {
-    for (const char* shading : {"flat", "gouraud", "phong"}) {
-      for (bool shadows : {false, true}) {
-        SCOPED_TRACE(file.stem().string() + " " + shading + (shadows ? " shadows" : ""));
-        json request = testing::example_request(file.stem().string(), 250, 170);
-        request["options"]["shading"] = shading;
-        request["options"]["shadows"] = shadows;
-        check_bsp(request);
-      }
-    }
+    const std::string name = file.stem().string();
+    const json example = testing::example_request(name, 250, 170);
+    testing::for_each_shading_mode(example, [&](const json& request, const std::string& label) {
+      SCOPED_TRACE(name + label);
+      check_bsp(request);
+    });
   }
 }
 
