@@ -38,6 +38,7 @@ constexpr RequestFlag request_flag_rows[] = {
     {"--pipeline", "/options/pipeline", Kind::name, nullptr, Names::pipelines, "hidden-surface pipeline"},
     {"--shading", "/options/shading", Kind::name, nullptr, Names::shadings, "shading mode"},
     {"--shadows", "/options/shadows", Kind::boolean, "true|false", Names::none, "shadow maps"},
+    {"--antialias", "/options/antialias", Kind::integer, "S", Names::none, "coverage sub-samples per pixel: 1, 4, 8 or 16"},
     {"--png", "/options/png/compression", Kind::name, nullptr, Names::png, "PNG encoder (none: stored, unfiltered)"},
     {"--light-dir", "/scene/lights", Kind::light, "x,y,z", Names::none, "one white light toward x,y,z, no others"},
 };

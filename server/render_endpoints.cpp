@@ -216,6 +216,7 @@ constexpr QueryParam query_params[] = {
     {"shadow_slope_bias", "/options/shadow/slope_bias", ParamKind::number},
     {"shadow_fit", "/options/shadow/fit", ParamKind::text},
     {"png", "/options/png/compression", ParamKind::text},
+    {"antialias", "/options/antialias", ParamKind::integer},
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {

@@ -216,6 +216,9 @@ struct RenderOptions {
   bool levels_given = false;        // false: the viewable levels are drawn
   std::vector<std::string> levels;  // ids of StaticGeometry::levels to draw
   CeilingMode ceilings = CeilingMode::automatic;
+  // Coverage sub-samples per pixel (sample_pattern.hpp): 1 takes the polygon at the pixel centre;
+  // 4, 8 or 16 resolve each pixel from the fragments visible in its sub-samples (docs/antialiasing.md).
+  int antialias = 1;
 };
 
 struct RenderRequest {

@@ -10,6 +10,7 @@
 #include "render/scene_io/scene_json_detail.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_checks.hpp"
+#include "render/core/sample_pattern.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/solids.hpp"
 #include "render/core/tessellate.hpp"
@@ -382,7 +383,7 @@ void read_view_levels(const json& value, const std::string& pointer, ErrorList& 
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
                  {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png", "levels",
-                  "ceilings"});
+                  "ceilings", "antialias"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
   side.kind_above = Kind::too_large;
@@ -404,6 +405,8 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   r.member("png", [&](const json& v, const std::string& p) { o.png_compression = read_png(v, p, b.errors); });
   r.member("levels", [&](const json& v, const std::string& p) { read_view_levels(v, p, b.errors, o); });
   o.ceilings = read_choice(r, "ceilings", o.ceilings, ceiling_mode_names);
+  o.antialias = int(r.integer("antialias", o.antialias, NumberRange{1.0, 16.0}));
+  if (!is_sample_count(o.antialias)) throw_invalid(r.at("antialias"), "must be 1, 4, 8 or 16");
   return o;
 }
 
