@@ -8,6 +8,7 @@
 #include "render/core/sample_pattern.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 
@@ -291,38 +292,45 @@ Color TileABuffer::composite(size_t pixel, const Record* first, const Record* la
 void TileABuffer::resolve_constant(TileShading& shading, Color background, uint8_t* rgb, uint32_t* ids, size_t width) {
   tri_colour_.resize(tris_.size());
   tri_id_.resize(tris_.size());
+  tri_bytes_.resize(tris_.size());
+  const int S = set_.count;
+  const float share = 1.0f / float(S);
   for (size_t t = 0; t < tris_.size(); ++t) {
     tri_colour_[t] = shading.shade(tris_[t], Fragment{});
     tri_id_[t] = shading.id(tris_[t].item);
+    // A pixel wholly one triangle's: the generic sum, colour x (S x 1/S) + background x 0, is the
+    // colour itself (S is a power of two), so its bytes are the colour's.
+    const Color c = tri_colour_[t] * (float(S) * share) + background * 0.0f;
+    tri_bytes_[t] = {to_byte(c.r), to_byte(c.g), to_byte(c.b)};
   }
-  const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0, S = set_.count;
-  const float share = 1.0f / float(S);
+  const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const uint32_t* own = owner_.data() + (size_t(y) * abuffer_tile + size_t(x)) * size_t(stride_);
       const size_t i = size_t(rect_.y0 + y) * width + size_t(rect_.x0 + x);
       bool one_owner = true;
       for (int s = 0; s < S; ++s) one_owner &= own[s] == own[S];
-      Color c;
       if (one_owner) {
         if (own[S] == no_owner) continue;
-        c = tri_colour_[own[S]] * (float(S) * share) + background * 0.0f;
-      } else {
-        uint32_t items[16], counts[16], first_tri[16];
-        int distinct = 0, covered = 0;
-        for (int s = 0; s < S; ++s) {
-          if (own[s] == no_owner) continue;
-          ++covered;
-          const uint32_t item = tris_[own[s]].item;
-          int d = 0;
-          while (d < distinct && items[d] != item) ++d;
-          if (d == distinct) items[distinct] = item, counts[distinct] = 0, first_tri[distinct++] = own[s];
-          ++counts[d];
-        }
-        c = Color(0.0f);
-        for (int d = 0; d < distinct; ++d) c += tri_colour_[first_tri[d]] * (float(counts[d]) * share);
-        c += background * (float(S - covered) * share);
+        const std::array<uint8_t, 3>& b = tri_bytes_[own[S]];
+        rgb[i * 3] = b[0], rgb[i * 3 + 1] = b[1], rgb[i * 3 + 2] = b[2];
+        ids[i] = tri_id_[own[S]];
+        continue;
       }
+      uint32_t items[16], counts[16], first_tri[16];
+      int distinct = 0, covered = 0;
+      for (int s = 0; s < S; ++s) {
+        if (own[s] == no_owner) continue;
+        ++covered;
+        const uint32_t item = tris_[own[s]].item;
+        int d = 0;
+        while (d < distinct && items[d] != item) ++d;
+        if (d == distinct) items[distinct] = item, counts[distinct] = 0, first_tri[distinct++] = own[s];
+        ++counts[d];
+      }
+      Color c(0.0f);
+      for (int d = 0; d < distinct; ++d) c += tri_colour_[first_tri[d]] * (float(counts[d]) * share);
+      c += background * (float(S - covered) * share);
       rgb[i * 3] = to_byte(c.r), rgb[i * 3 + 1] = to_byte(c.g), rgb[i * 3 + 2] = to_byte(c.b);
       if (own[S] != no_owner) ids[i] = tri_id_[own[S]];
     }

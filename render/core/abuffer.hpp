@@ -10,6 +10,7 @@
 #include "render/core/math.hpp"
 #include "render/core/raster.hpp"
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <vector>
@@ -164,6 +165,7 @@ class TileABuffer {
   std::vector<uint32_t> tri_start_;
   std::vector<Color> tri_colour_;  // one colour per polygon: per triangle
   std::vector<uint32_t> tri_id_;
+  std::vector<std::array<uint8_t, 3>> tri_bytes_;
   std::vector<std::pair<uint32_t, uint32_t>> layer_order_;  // (tri, pixel * cap + slot)
   SampleEdges edges_;
 };

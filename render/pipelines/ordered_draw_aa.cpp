@@ -18,7 +18,8 @@ namespace rr {
 namespace {
 
 struct AaWorker {
-  TileABuffer buffer;
+  TileABuffer* buffer_ptr = nullptr;  // the calling thread's, kept for its next frame
+  TileABuffer& buffer() { return *buffer_ptr; }
   std::vector<std::unique_ptr<SurfaceShader>> shaders;  // binding copies, one per source
   DrawScratch scratch;
   uint32_t bound = no_owner;  // the set position bound, if any
@@ -66,8 +67,8 @@ void cover(const ProjectedSet& set, const std::vector<uint32_t>& bin, bool first
       TriangleSetup s;
       if (!setup_screen_triangle(v[0], v[k + 1], v[k + 2], s)) continue;
       const double inv_w[3] = {v[0].inv_w, v[k + 1].inv_w, v[k + 2].inv_w};
-      if (!w.buffer.add(s, inv_w, pos, k)) continue;
-      const size_t covered = translucent ? w.buffer.cover_translucent(false, key, pos) : w.buffer.cover_opaque(false, key);
+      if (!w.buffer().add(s, inv_w, pos, k)) continue;
+      const size_t covered = translucent ? w.buffer().cover_translucent(false, key, pos) : w.buffer().cover_opaque(false, key);
       // First wins: the walk counted the opaque polygons' pixels already.
       if (translucent || !first_wins) w.fragments += covered;
     }
@@ -80,18 +81,23 @@ size_t draw_ordered_aa(const FrameInput& input, std::span<const DrawSource> sour
                        const TileGrid& grid, bool first_wins, unsigned threads, Frame& frame) {
   const SampleSet samples = make_sample_set(input.options.antialias);
   threads = std::max(1u, threads);
-  std::vector<AaWorker> workers(threads);  // a tile buffer each, reused tile after tile
-  for (AaWorker& w : workers) {
-    for (const DrawSource& s : sources) w.shaders.push_back(std::make_unique<SurfaceShader>(*s.shader, &w.lights));
+  // A tile buffer per worker, kept by this thread for its next frame (see visibility_aa.cpp).
+  thread_local std::vector<TileABuffer> kept_buffers;
+  std::vector<TileABuffer>& buffers = kept_buffers;
+  if (buffers.size() < threads) buffers.resize(threads);
+  std::vector<AaWorker> workers(threads);
+  for (unsigned t = 0; t < threads; ++t) {
+    workers[t].buffer_ptr = &buffers[t];
+    for (const DrawSource& s : sources) workers[t].shaders.push_back(std::make_unique<SurfaceShader>(*s.shader, &workers[t].lights));
   }
   parallel_for(threads, grid.bins.size(), [&](size_t tile, unsigned worker) {
     AaWorker& w = workers[worker];
     const std::vector<uint32_t>& bin = grid.bins[tile];
-    w.buffer.begin(grid.rect(tile), samples);
+    w.buffer().begin(grid.rect(tile), samples);
     cover(set, bin, first_wins, false, w);
     cover(set, bin, first_wins, true, w);
     OrderedShading shading(sources, set, w);
-    w.buffer.resolve(shading, input.scene.background, frame.image.rgb.data(), frame.ids.ids.data(),
+    w.buffer().resolve(shading, input.scene.background, frame.image.rgb.data(), frame.ids.ids.data(),
                      size_t(frame.image.width));
   });
   size_t fragments = 0;

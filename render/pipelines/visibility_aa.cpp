@@ -20,7 +20,8 @@ namespace rr {
 namespace {
 
 struct AaWorker {
-  TileABuffer buffer;
+  TileABuffer* buffer_ptr = nullptr;  // the calling thread's, kept for its next frame
+  TileABuffer& buffer() { return *buffer_ptr; }
   std::unique_ptr<SurfaceShader> shader;  // a binding copy of the prepared shader
   DrawScratch scratch;
   uint32_t bound = no_owner;  // the item bound in `shader`
@@ -74,23 +75,23 @@ void cover_translucent(const FrameInput& input, const VisibilityInput& vis, cons
       TriangleSetup s;
       if (!setup_screen_triangle(v[0], v[k + 1], v[k + 2], s)) continue;
       const double inv_w[3] = {v[0].inv_w, v[k + 1].inv_w, v[k + 2].inv_w};
-      if (w.buffer.add(s, inv_w, opaque + uint32_t(n), k)) w.fragments += w.buffer.cover_translucent(true, 0, uint32_t(n));
+      if (w.buffer().add(s, inv_w, opaque + uint32_t(n), k)) w.fragments += w.buffer().cover_translucent(true, 0, uint32_t(n));
     }
   }
 }
 
 void draw_tile(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared,
                const SampleSet& set, const PixelRect& r, size_t tile, AaWorker& w, Frame& frame) {
-  w.buffer.begin(r, set);
+  w.buffer().begin(r, set);
   for (uint32_t j : vis.bins[tile]) {
     const BinnedTriangle& t = vis.triangles[j];
     TriangleSetup s;
     if (!setup_binned(t, s)) continue;
-    if (w.buffer.add(s, t.inv_w, t.slot, t.k, vis.slot_groups[t.slot])) w.fragments += w.buffer.cover_opaque(true, 0);
+    if (w.buffer().add(s, t.inv_w, t.slot, t.k, vis.slot_groups[t.slot])) w.fragments += w.buffer().cover_opaque(true, 0);
   }
   if (!vis.translucent.empty()) cover_translucent(input, vis, r, w);
   ZShading shading(input, vis, prepared, w);
-  w.buffer.resolve(shading, input.scene.background, frame.image.rgb.data(), frame.ids.ids.data(),
+  w.buffer().resolve(shading, input.scene.background, frame.image.rgb.data(), frame.ids.ids.data(),
                    size_t(frame.image.width));
 }
 
@@ -101,8 +102,17 @@ void draw_visibility_aa(const FrameInput& input, const VisibilityInput& vis, con
   Stopwatch clock;
   const SampleSet set = make_sample_set(input.options.antialias);
   threads = std::max(1u, threads);
-  std::vector<AaWorker> workers(threads);  // a tile buffer each, reused tile after tile
-  for (AaWorker& w : workers) w.shader = std::make_unique<SurfaceShader>(shader, &w.lights);
+  // A tile buffer per worker, reused tile after tile and kept by this thread for its next frame:
+  // no fresh pages (and page faults) per frame. A reference, because inside the workers' lambda
+  // the name would mean the workers' own thread_local.
+  thread_local std::vector<TileABuffer> kept_buffers;
+  std::vector<TileABuffer>& buffers = kept_buffers;
+  if (buffers.size() < threads) buffers.resize(threads);
+  std::vector<AaWorker> workers(threads);
+  for (unsigned t = 0; t < threads; ++t) {
+    workers[t].buffer_ptr = &buffers[t];
+    workers[t].shader = std::make_unique<SurfaceShader>(shader, &workers[t].lights);
+  }
   const int width = frame.image.width, height = frame.image.height;
   parallel_for(threads, vis.bins.size(), [&](size_t tile, unsigned worker) {
     const int tx = int(tile % size_t(vis.tiles_x)), ty = int(tile / size_t(vis.tiles_x));
