@@ -80,10 +80,10 @@ bool TileABuffer::add(const TriangleSetup& s, const double inv_w[3], uint32_t it
 namespace {
 
 // A pixel whose samples are all inside: every sample compared, branch-free, so the loop vectorizes.
-void take_all(int n, const double* dz, bool depth_keyed, double z, uint32_t key, uint32_t tri, uint32_t* keys,
-                     uint32_t* owners) {
+template <bool DepthKeyed>
+void take_all(int n, const double* dz, double z, uint32_t key, uint32_t tri, uint32_t* keys, uint32_t* owners) {
   for (int s = 0; s < n; ++s) {
-    const uint32_t k = depth_keyed ? depth_key(z + dz[s]) : key;
+    const uint32_t k = DepthKeyed ? depth_key(z + dz[s]) : key;
     const bool nearer = k > keys[s];
     keys[s] = nearer ? k : keys[s];
     owners[s] = nearer ? tri : owners[s];
@@ -118,7 +118,11 @@ size_t TileABuffer::cover_opaque(bool depth_keyed, uint32_t key) {
       uint32_t* owners = owners_row + size_t(i) * size_t(stride_);
       const double z = z0 + double(x + i - zx) * edges_.dz_dx;
       if (i >= full_first && i <= full_last) {
-        take_all(edges_.n, edges_.dz, depth_keyed, z, key, tri, keys, owners);
+        if (depth_keyed) {
+          take_all<true>(edges_.n, edges_.dz, z, key, tri, keys, owners);
+        } else {
+          take_all<false>(edges_.n, edges_.dz, z, key, tri, keys, owners);
+        }
         ++covered;
         continue;
       }
@@ -303,11 +307,20 @@ void TileABuffer::resolve_constant(TileShading& shading, Color background, uint8
     const Color c = tri_colour_[t] * (float(S) * share) + background * 0.0f;
     tri_bytes_[t] = {to_byte(c.r), to_byte(c.g), to_byte(c.b)};
   }
+  if (has_layers_) shade_layers(shading, true);
   const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      const uint32_t* own = owner_.data() + (size_t(y) * abuffer_tile + size_t(x)) * size_t(stride_);
+      const size_t pixel = size_t(y) * abuffer_tile + size_t(x);
+      const uint32_t* own = owner_.data() + pixel * size_t(stride_);
       const size_t i = size_t(rect_.y0 + y) * width + size_t(rect_.x0 + x);
+      if (has_layers_ && layer_count_[pixel] > 0) {
+        const Color c = composite_constant(pixel, own, background);
+        rgb[i * 3] = to_byte(c.r), rgb[i * 3 + 1] = to_byte(c.g), rgb[i * 3 + 2] = to_byte(c.b);
+        const uint32_t top = top_at_centre(pixel, own[S]);
+        if (top != no_owner) ids[i] = tri_id_[top];
+        continue;
+      }
       bool one_owner = true;
       for (int s = 0; s < S; ++s) one_owner &= own[s] == own[S];
       if (one_owner) {
@@ -337,41 +350,66 @@ void TileABuffer::resolve_constant(TileShading& shading, Color background, uint8
   }
 }
 
+// Shades every layer once, grouped by triangle; `constant`: no weights needed.
+void TileABuffer::shade_layers(TileShading& shading, bool constant) {
+  layer_order_.clear();
+  for (size_t pixel = 0; pixel < layer_count_.size(); ++pixel) {
+    for (uint32_t l = 0; l < layer_count_[pixel]; ++l) {
+      layer_order_.push_back({layers_[pixel * max_translucent_layers + l].tri, uint32_t(pixel * max_translucent_layers + l)});
+    }
+  }
+  std::sort(layer_order_.begin(), layer_order_.end());
+  for (const auto& [tri, at] : layer_order_) {
+    Layer& l = layers_[at];
+    const TileTriangle& t = tris_[tri];
+    const size_t pixel = at / max_translucent_layers;
+    l.colour = shading.shade(t, constant ? Fragment{} : fragment_at(t, rect_.x0 + int(pixel % abuffer_tile),
+                                                                   rect_.y0 + int(pixel / abuffer_tile), l.sample));
+    l.alpha = shading.alpha(t.item);
+  }
+}
+
+// The nearest layer over the pixel centre, else its opaque owner (`centre`): the id's triangle.
+uint32_t TileABuffer::top_at_centre(size_t pixel, uint32_t centre) const {
+  const Layer* list = layers_.data() + pixel * max_translucent_layers;
+  for (int l = int(layer_count_[pixel]) - 1; l >= 0; --l) {
+    if (list[l].mask >> set_.count & 1u) return list[l].tri;
+  }
+  return centre;
+}
+
+// composite() with one colour per triangle (tri_colour_): the same colours, in the same order.
+Color TileABuffer::composite_constant(size_t pixel, const uint32_t* own, Color background) const {
+  const Layer* list = layers_.data() + pixel * max_translucent_layers;
+  const int count = layer_count_[pixel];
+  Color sum(0.0f);
+  for (int s = 0; s < set_.count; ++s) {
+    Color c = own[s] == no_owner ? background : tri_colour_[own[s]];
+    for (int l = 0; l < count; ++l) {
+      if (list[l].mask >> s & 1u) c = list[l].alpha * list[l].colour + (1.0f - list[l].alpha) * c;
+    }
+    sum += c;
+  }
+  return sum / float(set_.count);
+}
+
 void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, uint32_t* ids, size_t width) {
-  if (shading.constant() && !has_layers_) return resolve_constant(shading, background, rgb, ids, width);
+  if (shading.constant()) return resolve_constant(shading, background, rgb, ids, width);
   collect_records();
   const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0;
   auto shade_record = [&](Record& r) {
     const TileTriangle& t = tris_[r.tri];
     r.colour = shading.shade(t, fragment_at(t, rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, r.sample));
   };
-  if (shading.constant()) {  // no weights needed
-    for (Record& r : records_) r.colour = shading.shade(tris_[r.tri], Fragment{});
-  } else {  // grouped by triangle (a counting sort), so each polygon is bound once per tile
-    std::vector<uint32_t>& start = tri_start_;
-    start.assign(tris_.size() + 1, 0);
-    for (const Record& r : records_) ++start[r.tri + 1];
-    for (size_t t = 0; t < tris_.size(); ++t) start[t + 1] += start[t];
-    order_.resize(records_.size());
-    for (uint32_t n = 0; n < records_.size(); ++n) order_[start[records_[n].tri]++] = n;
-    for (uint32_t n : order_) shade_record(records_[n]);
-  }
-  if (has_layers_) {
-    layer_order_.clear();
-    for (size_t pixel = 0; pixel < layer_count_.size(); ++pixel) {
-      for (uint32_t l = 0; l < layer_count_[pixel]; ++l) {
-        layer_order_.push_back({layers_[pixel * max_translucent_layers + l].tri, uint32_t(pixel * max_translucent_layers + l)});
-      }
-    }
-    std::sort(layer_order_.begin(), layer_order_.end());
-    for (const auto& [tri, at] : layer_order_) {
-      Layer& l = layers_[at];
-      const TileTriangle& t = tris_[tri];
-      const size_t pixel = at / max_translucent_layers;
-      l.colour = shading.shade(t, fragment_at(t, rect_.x0 + int(pixel % abuffer_tile), rect_.y0 + int(pixel / abuffer_tile), l.sample));
-      l.alpha = shading.alpha(t.item);
-    }
-  }
+  // Grouped by triangle (a counting sort), so each polygon is bound once per tile.
+  std::vector<uint32_t>& start = tri_start_;
+  start.assign(tris_.size() + 1, 0);
+  for (const Record& r : records_) ++start[r.tri + 1];
+  for (size_t t = 0; t < tris_.size(); ++t) start[t + 1] += start[t];
+  order_.resize(records_.size());
+  for (uint32_t n = 0; n < records_.size(); ++n) order_[start[records_[n].tri]++] = n;
+  for (uint32_t n : order_) shade_record(records_[n]);
+  if (has_layers_) shade_layers(shading, false);
   const float share = 1.0f / float(set_.count);
   const int S = set_.count;
   for (int y = 0; y < h; ++y) {
@@ -398,14 +436,7 @@ void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, 
       const size_t i = size_t(rect_.y0 + y) * width + size_t(rect_.x0 + x);
       rgb[i * 3] = to_byte(c.r), rgb[i * 3 + 1] = to_byte(c.g), rgb[i * 3 + 2] = to_byte(c.b);
       // The id: the nearest layer over the centre, else the opaque surface there.
-      uint32_t top = centre;
-      const Layer* list = layers_.data() + pixel * max_translucent_layers;
-      for (int l = layers - 1; l >= 0; --l) {
-        if (list[l].mask >> S & 1u) {
-          top = list[l].tri;
-          break;
-        }
-      }
+      const uint32_t top = layers > 0 ? top_at_centre(pixel, centre) : centre;
       if (top != no_owner) ids[i] = shading.id(tris_[top].item);
     }
   }

@@ -149,6 +149,9 @@ class TileABuffer {
   Fragment fragment_at(const TileTriangle& t, int x, int y, int sample) const;
   void collect_records();
   void resolve_constant(TileShading& shading, Color background, uint8_t* rgb, uint32_t* ids, size_t width);
+  void shade_layers(TileShading& shading, bool constant);
+  uint32_t top_at_centre(size_t pixel, uint32_t centre) const;
+  Color composite_constant(size_t pixel, const uint32_t* own, Color background) const;
   Color composite(size_t pixel, const Record* first, const Record* last, Color background) const;
 
   PixelRect rect_;
