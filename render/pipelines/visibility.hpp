@@ -58,4 +58,9 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
 void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
                      unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings);
 
+// draw_visibility for options.antialias > 1 (visibility_aa.cpp): the same bins drawn through the
+// tile A-buffer (abuffer.hpp), shading each visible surface once per pixel. Times it as raster.
+void draw_visibility_aa(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
+                        unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings);
+
 }  // namespace rr
