@@ -7,10 +7,12 @@
 #include "cli/bench_render.hpp"
 #include "cli/request_flags.hpp"
 #include "render/core/png.hpp"
+#include "render/core/sample_pattern.hpp"
 #include "render/core/scene_id.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
 #include "render/import/import_files.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/measures_json.hpp"
 #include "render/scene_io/report_json.hpp"
@@ -30,15 +32,29 @@ namespace rr::cli {
 namespace {
 
 constexpr const char* render_synopsis =
-    "roomrender render REQUEST.json -o OUT.png|- [--ids FILE] [REQUEST FLAGS]\n"
+    "roomrender render REQUEST.json -o OUT.png|- [--ids FILE] [--reference-samples 256] [REQUEST FLAGS]\n"
     "  roomrender render --obj MODEL.obj [--scale S] -o OUT.png|- [...the same options]\n"
-    "  -o - writes the PNG to stdout and the timings line to stderr; -o /dev/null: the timings only";
+    "  -o - writes the PNG to stdout and the timings line to stderr; -o /dev/null: the timings only\n"
+    "  --reference-samples S: the reference pipeline's rays per pixel, 1, 4, 8, 16 or 256 (the 16x16\n"
+    "  grid: the edge-error ground truth, docs/antialiasing.md); overrides options.antialias";
 constexpr const char* import_synopsis =
     "roomrender import FILE [--format sh3d|r2v|obj] [--scale S] [--width N] [--height N] [--furniture boxes|models]";
 constexpr const char* export_synopsis = "roomrender export REQUEST.json --obj FILE";
 constexpr const char* serve_synopsis =
     "roomrender serve [--port 8080] [--bind 127.0.0.1] [OPTIONS]  (roomrender serve --help lists them)";
-constexpr const char* compare_synopsis = "roomrender compare REFERENCE.ids TEST.ids | roomrender compare REFERENCE.png TEST.png";
+constexpr const char* compare_synopsis =
+    "roomrender compare REFERENCE.ids TEST.ids | roomrender compare REFERENCE.png TEST.png [--edges REFERENCE.ids]\n"
+    "  --edges: also the edge error (mean and p99 colour error on the edge pixels of REFERENCE.ids)";
+
+// --reference-samples: any sample_pattern() count, for the reference pipeline only (the request
+// validator keeps options.antialias to 1, 4, 8 and 16; 256 rays per pixel is a measuring tool).
+std::optional<int> reference_samples(const ParsedArgs& args) {
+  auto text = flag(args, "--reference-samples");
+  if (!text) return std::nullopt;
+  const int samples = parse_int(*text, "--reference-samples", 1, 256);
+  if (!is_sample_count(samples) && samples != 256) throw UsageError("--reference-samples must be 1, 4, 8, 16 or 256");
+  return samples;
+}
 
 void write_number(std::string& out, double value) {
   char buffer[32];
@@ -65,7 +81,7 @@ int run_render(std::span<const std::string> argv) {
   ParsedArgs args;
   RequestPatch patch;
   try {
-    args = parse_args(argv, with_request_flags({"--output", "--ids", "--obj", "--scale"}));
+    args = parse_args(argv, with_request_flags({"--output", "--ids", "--obj", "--scale", "--reference-samples"}));
     if (args.help) return std::printf("usage: %s\n\n%s", render_synopsis, request_flags_help().c_str()), 0;
     if (args.positional.size() != (flag(args, "--obj") ? 0u : 1u)) {
       throw UsageError(flag(args, "--obj") ? "give either a request file or --obj, not both" : "expected one request file");
@@ -76,6 +92,7 @@ int run_render(std::span<const std::string> argv) {
     check_one_stdout(args, {"--output", "--ids"});
     // Parsed now so a malformed value is a usage error naming its flag, not a failed render.
     patch = request_patch(args);
+    reference_samples(args);
   } catch (const UsageError& e) {
     return usage_failure(render_synopsis, e.what());
   }
@@ -87,6 +104,12 @@ int run_render(std::span<const std::string> argv) {
         // total runs from here (parse) to the end of encoding, as the service's does.
         Stopwatch total, parse_clock;
         RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch));
+        if (auto samples = reference_samples(args)) {
+          if (request.options.pipeline != pipeline_id("reference")) {
+            throw std::runtime_error("--reference-samples needs the reference pipeline (--pipeline reference)");
+          }
+          request.options.antialias = *samples;
+        }
         RenderContext context;
         context.parse_ms = parse_clock.elapsed_ms();
         context.threads = std::max(1u, std::thread::hardware_concurrency());
@@ -110,7 +133,7 @@ int run_render(std::span<const std::string> argv) {
 int run_compare(std::span<const std::string> argv) {
   ParsedArgs args;
   try {
-    args = parse_args(argv, {});
+    args = parse_args(argv, {"--edges"});
     if (args.help) return std::printf("usage: %s\n", compare_synopsis), 0;
     if (args.positional.size() != 2) throw UsageError("expected two files: the reference, then the one to measure");
   } catch (const UsageError& e) {
@@ -130,17 +153,28 @@ int run_compare(std::span<const std::string> argv) {
         throw std::runtime_error(args.positional[k] + ": " + e.what());
       }
     };
+    if (flag(args, "--edges") && !is_png(a)) throw std::runtime_error("--edges measures PNGs: give two PNGs");
     ErrorMeasures m;
+    std::optional<EdgeError> edges;
     if (is_png(a)) {
       const Image ra = decode(a, 0, decode_png), rb = decode(b, 1, decode_png);
       m.width = ra.width, m.height = ra.height;
       m.shading = shading_error(ra, rb);
+      if (auto path = flag(args, "--edges")) {
+        const IdBuffer ids = decode_id_buffer(read_input(*path));
+        edges = edge_error(ids, ra, rb);
+      }
     } else {
       const IdBuffer ra = decode(a, 0, decode_id_buffer), rb = decode(b, 1, decode_id_buffer);
       m.width = ra.width, m.height = ra.height;
       m.visibility = visibility_error(ra, rb);
     }
-    print_json_line(stdout, error_measures_json(m));
+    nlohmann::ordered_json line = error_measures_json(m);
+    if (edges) {
+      line["edge"] = {{"pixels", edges->edge_pixels}, {"share", double(edges->edge_pixels) / double(edges->pixels)},
+                      {"mean", edges->mean}, {"p99", edges->p99}, {"max", edges->max}};
+    }
+    print_json_line(stdout, line);
   });
 }
 

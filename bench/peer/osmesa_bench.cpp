@@ -5,6 +5,10 @@
 // Conventions are roomrender's (docs/scene-format.md): world space, +Y up, glm::lookAt and
 // glm::perspective, pixel (0, 0) top-left in the files it writes; --light-dir points toward the light.
 // Faces are fan-triangulated (0, k+1, k+2) exactly as roomrender's rasterizer splits its polygons.
+// --mode ambient draws each face in one flat colour (--face-colors: one "r g b" byte line per face,
+// in f-line order) over --background, the matched setup of bench/antialias.py; --samples 4 renders
+// into a 4x multisample framebuffer object and resolves it with glBlitFramebuffer every frame
+// (OSMesa's own buffer has no multisample visual; an FBO in its context does).
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/osmesa.h>
 #include <GL/glext.h>
@@ -37,6 +41,7 @@ struct Vertex {
   float p[3];
   float n[3];
   uint32_t face;
+  float c[3];  // --mode ambient: the face's colour, 0..1
 };
 
 struct Mesh {
@@ -79,7 +84,7 @@ Mesh read_obj(const std::string& path) {
     double len = glm::length(newell);
     glm::vec3 n = len > 0.0 ? glm::vec3(newell / len) : glm::vec3(0, 1, 0);
     auto emit = [&](const glm::dvec3& p) {
-      mesh.vertices.push_back({{float(p.x), float(p.y), float(p.z)}, {n.x, n.y, n.z}, uint32_t(mesh.faces)});
+      mesh.vertices.push_back({{float(p.x), float(p.y), float(p.z)}, {n.x, n.y, n.z}, uint32_t(mesh.faces), {0.7f, 0.7f, 0.7f}});
       mesh.lo = glm::min(mesh.lo, p);
       mesh.hi = glm::max(mesh.hi, p);
     };
@@ -92,11 +97,26 @@ Mesh read_obj(const std::string& path) {
 }
 
 struct Options {
-  std::string obj, mode = "lambert", out, ids;
-  glm::dvec3 eye{0, 1.6, 5}, target{0, 1, 0}, up{0, 1, 0}, light_dir{0, 1, 0};
+  std::string obj, mode = "lambert", out, ids, face_colors;
+  glm::dvec3 eye{0, 1.6, 5}, target{0, 1, 0}, up{0, 1, 0}, light_dir{0, 1, 0}, background{0, 0, 0};
   double fovy = 60, near = 0.1, far = 100;
-  int width = 1280, height = 720, frames = 10, warmup = 1, shadow_size = 2048;
+  int width = 1280, height = 720, frames = 10, warmup = 1, shadow_size = 2048, samples = 1;
 };
+
+// --face-colors: "r g b" (0..255) per face, in the OBJ's f-line order, onto every vertex of the face.
+void apply_face_colors(Mesh& mesh, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  std::vector<glm::vec3> colors;
+  for (int r, g, b; in >> r >> g >> b;) colors.push_back(glm::vec3(float(r), float(g), float(b)) / 255.0f);
+  if (colors.size() != mesh.faces) {
+    throw std::runtime_error(path + " has " + std::to_string(colors.size()) + " colours for " +
+                             std::to_string(mesh.faces) + " faces");
+  }
+  for (Vertex& v : mesh.vertices) {
+    for (int k = 0; k < 3; ++k) v.c[k] = colors[v.face][k];
+  }
+}
 
 glm::dvec3 parse_vec3(const std::string& text) {
   glm::dvec3 v;
@@ -129,6 +149,9 @@ Options parse_options(int argc, char** argv) {
     else if (name == "--frames") o.frames = std::stoi(value);
     else if (name == "--warmup") o.warmup = std::stoi(value);
     else if (name == "--shadow-size") o.shadow_size = std::stoi(value);
+    else if (name == "--samples") o.samples = std::stoi(value);
+    else if (name == "--face-colors") o.face_colors = value;
+    else if (name == "--background") o.background = parse_vec3(value) / 255.0;
     else if (name == "--size") {
       if (std::sscanf(value.c_str(), "%dx%d", &o.width, &o.height) != 2) throw std::runtime_error("--size WxH");
     } else {
@@ -136,7 +159,11 @@ Options parse_options(int argc, char** argv) {
     }
   }
   if (o.obj.empty()) throw std::runtime_error("--obj FILE is required");
-  if (o.mode != "lambert" && o.mode != "phong_shadow") throw std::runtime_error("--mode lambert|phong_shadow");
+  if (o.mode != "lambert" && o.mode != "phong_shadow" && o.mode != "ambient") {
+    throw std::runtime_error("--mode lambert|phong_shadow|ambient");
+  }
+  if (o.mode == "ambient" && o.face_colors.empty()) throw std::runtime_error("--mode ambient needs --face-colors");
+  if (o.samples != 1 && o.samples != 4) throw std::runtime_error("--samples 1|4");
   if (o.frames < 1 || o.width < 1 || o.height < 1) throw std::runtime_error("--frames and --size must be positive");
   return o;
 }
@@ -147,13 +174,16 @@ constexpr const char* vertex_shader = R"(#version 330 core
 layout(location = 0) in vec3 p_world;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in uint face;
+layout(location = 3) in vec3 face_color;
 uniform mat4 clip_from_world;
 uniform mat4 light_clip_from_world;
 out vec3 v_normal;
 out vec3 v_world;
 out vec4 v_light_clip;
 flat out uint v_face;
+flat out vec3 v_color;
 void main() {
+  v_color = face_color;
   v_normal = normal;
   v_world = p_world;
   v_light_clip = light_clip_from_world * vec4(p_world, 1.0);
@@ -170,6 +200,13 @@ void main() {
   float diffuse = max(dot(n, to_light), 0.0);
   color = vec4(vec3(0.7) * (0.2 + diffuse), 1.0);
 })";
+
+// The matched setup of the anti-aliasing bench: the face's own colour, nothing lit.
+constexpr const char* ambient_fragment = R"(#version 330 core
+flat in vec3 v_color;
+out vec4 color;
+void main() { color = vec4(v_color, 1.0); }
+)";
 
 // Blinn-Phong with a hard (PCF 1: one nearest-texel compare) shadow-map lookup.
 constexpr const char* phong_fragment = R"(#version 330 core
@@ -322,6 +359,41 @@ std::vector<uint32_t> render_ids(GLsizei vertex_count, const glm::dmat4& clip_fr
   return ids;
 }
 
+// The --samples 4 target: colour and depth renderbuffers of `samples` samples, resolved by a blit
+// into a single-sample colour renderbuffer that glReadPixels reads.
+struct MsaaTarget {
+  GLuint draw = 0, resolve = 0;
+  GLint samples = 1;
+};
+
+MsaaTarget make_msaa_target(int samples, int w, int h) {
+  GLint max_samples = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  if (samples > max_samples) throw std::runtime_error("GL_MAX_SAMPLES is " + std::to_string(max_samples));
+  GLuint buffers[3] = {};
+  glGenRenderbuffers(3, buffers);
+  glBindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
+  glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, w, h);
+  glBindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
+  glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH_COMPONENT24, w, h);
+  glBindRenderbuffer(GL_RENDERBUFFER, buffers[2]);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+  MsaaTarget t;
+  glGenFramebuffers(1, &t.draw);
+  glBindFramebuffer(GL_FRAMEBUFFER, t.draw);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("MSAA framebuffer incomplete");
+  glGetIntegerv(GL_SAMPLES, &t.samples);  // what the driver allocated (it may round the request up)
+  if (t.samples != samples) throw std::runtime_error("asked for " + std::to_string(samples) + " samples, got " + std::to_string(t.samples));
+  glGenFramebuffers(1, &t.resolve);
+  glBindFramebuffer(GL_FRAMEBUFFER, t.resolve);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[2]);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("resolve framebuffer incomplete");
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return t;
+}
+
 double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -329,6 +401,7 @@ double now_ms() {
 int run(const Options& o) {
   if (!std::getenv("GALLIUM_DRIVER")) setenv("GALLIUM_DRIVER", "llvmpipe", 1);
   Mesh mesh = read_obj(o.obj);
+  if (!o.face_colors.empty()) apply_face_colors(mesh, o.face_colors);
   const double setup_start = now_ms();
   // Ask for GL 4.5 core; OSMesa returns a context of at least that version or null, so fall back
   // to 3.3 core, which has everything the shaders use.
@@ -354,14 +427,15 @@ int run(const Options& o) {
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, p)));
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, n)));
   glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, face)));
-  for (GLuint a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
+  glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, c)));
+  for (GLuint a = 0; a < 4; ++a) glEnableVertexAttribArray(a);
   const GLsizei vertex_count = GLsizei(mesh.vertices.size());
 
   const glm::dvec3 to_light = glm::normalize(o.light_dir);
   const glm::dmat4 clip_from_world = glm::perspective(glm::radians(o.fovy), double(o.width) / o.height, o.near, o.far) *
                                      glm::lookAt(o.eye, o.target, o.up);
   const glm::dmat4 light_clip = fit_light(mesh, to_light);
-  GLuint color_program = link(shadowed ? phong_fragment : lambert_fragment);
+  GLuint color_program = link(shadowed ? phong_fragment : o.mode == "ambient" ? ambient_fragment : lambert_fragment);
   glUseProgram(color_program);
   set_mat4(color_program, "clip_from_world", clip_from_world);
   set_mat4(color_program, "light_clip_from_world", light_clip);
@@ -378,7 +452,8 @@ int run(const Options& o) {
   }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);  // ties keep the first drawn, as roomrender's z-buffer
-  glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+  glClearColor(float(o.background.r), float(o.background.g), float(o.background.b), 1.0f);
+  const MsaaTarget msaa = o.samples > 1 ? make_msaa_target(o.samples, o.width, o.height) : MsaaTarget{};
   glFinish();
   const double setup_ms = now_ms() - setup_start;
 
@@ -399,9 +474,16 @@ int run(const Options& o) {
     }
     glViewport(0, 0, o.width, o.height);
     glUseProgram(color_program);
+    glBindFramebuffer(GL_FRAMEBUFFER, msaa.draw);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glDrawArrays(GL_TRIANGLES, 0, vertex_count);
+    if (msaa.draw) {
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, msaa.resolve);
+      glBlitFramebuffer(0, 0, o.width, o.height, 0, 0, o.width, o.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa.resolve);
+    }
     glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glFinish();
   };
   for (int i = 0; i < o.warmup; ++i) frame();  // the first draw JIT-compiles shader variants
@@ -421,12 +503,12 @@ int run(const Options& o) {
   const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
   const char* threads = std::getenv("LP_NUM_THREADS");
   std::printf("{\"peer\":\"osmesa\",\"renderer\":\"%s\",\"gl_version\":\"%s\",\"lp_num_threads\":\"%s\","
-              "\"mode\":\"%s\",\"faces\":%zu,\"triangles\":%zu,\"width\":%d,\"height\":%d,\"shadow_size\":%d,"
+              "\"mode\":\"%s\",\"samples\":%d,\"faces\":%zu,\"triangles\":%zu,\"width\":%d,\"height\":%d,\"shadow_size\":%d,"
               "\"frames\":%d,\"warmup\":%d,\"setup_ms\":%.3f,\"frame_ms_min\":%.3f,\"frame_ms_median\":%.3f,"
               "\"frame_ms_max\":%.3f}\n",
               reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
               reinterpret_cast<const char*>(glGetString(GL_VERSION)), threads ? threads : "default",
-              o.mode.c_str(), mesh.faces, mesh.vertices.size() / 3, o.width, o.height, shadowed ? o.shadow_size : 0,
+              o.mode.c_str(), o.samples, mesh.faces, mesh.vertices.size() / 3, o.width, o.height, shadowed ? o.shadow_size : 0,
               o.frames, o.warmup, setup_ms, sorted.front(), median, sorted.back());
   OSMesaDestroyContext(context);
   return 0;

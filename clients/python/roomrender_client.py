@@ -8,6 +8,7 @@ Standard library only (urllib, json, argparse). As a module:
     result = rr.render(json.load(open("examples/studio.json")))   # RenderResult: png, timings_ms, ...
     receipt = rr.store_scene(request["scene"])                     # stored scene -> id
     view = rr.render_stored(receipt["id"], camera={...}, options={"width": 320, "height": 240})
+    smooth = rr.render(with_antialias(request, 8))                 # 8 coverage sub-samples per pixel
     rr.render_path(request, orbit_cameras(request["camera"], 36), "frames/")  # frame_0001.png ...
 
 As a command (python3 roomrender_client.py --help): render, store, render-stored, import, orbit,
@@ -109,6 +110,17 @@ def view_query(camera: Optional[dict] = None, options: Optional[dict] = None) ->
         else:
             params.append((key, _query_value(value)))
     return urllib.parse.urlencode(params, safe=",")
+
+
+ANTIALIAS_SAMPLES = (1, 4, 8, 16)  # options.antialias: coverage sub-samples per pixel (docs/antialiasing.md)
+
+
+def with_antialias(request: dict, samples: int) -> dict:
+    """A copy of the request with options.antialias = samples (1: aliased, the default; 4, 8 or 16).
+    The same key in the options of render_stored / render_png_path becomes render.png's `antialias`."""
+    if samples not in ANTIALIAS_SAMPLES:
+        raise ValueError(f"antialias must be one of {ANTIALIAS_SAMPLES}, not {samples}")
+    return {**request, "options": {**request.get("options", {}), "antialias": samples}}
 
 
 class Client:
@@ -329,7 +341,7 @@ def _report(result: RenderResult, out: str) -> None:
 def _cmd_render(rr: Client, args) -> None:
     request = _load_json(args.request)
     options = request.setdefault("options", {})
-    for key in ("pipeline", "shading", "width", "height"):
+    for key in ("pipeline", "shading", "width", "height", "antialias"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
     result = rr.render(request)
@@ -365,6 +377,8 @@ def _cmd_orbit(rr: Client, args) -> None:
         options["width"] = args.width
     if args.height:
         options["height"] = args.height
+    if args.antialias:
+        options["antialias"] = args.antialias
     cameras = orbit_cameras(request.get("camera"), args.frames, args.turns)
     started = time.monotonic()
     paths = rr.render_path(request, cameras, args.out_dir, progress=ProgressBar(),
@@ -390,6 +404,7 @@ def make_parser() -> argparse.ArgumentParser:
     r.add_argument("--shading")
     r.add_argument("--width", type=int)
     r.add_argument("--height", type=int)
+    r.add_argument("--antialias", type=int, choices=ANTIALIAS_SAMPLES, help="coverage sub-samples per pixel")
     r.set_defaults(run=_cmd_render)
 
     s = sub.add_parser("store", help="store a scene (a scene document or a request's scene); prints the receipt")
@@ -419,6 +434,7 @@ def make_parser() -> argparse.ArgumentParser:
     o.add_argument("--out-dir", default="frames")
     o.add_argument("--width", type=int)
     o.add_argument("--height", type=int)
+    o.add_argument("--antialias", type=int, choices=ANTIALIAS_SAMPLES, help="coverage sub-samples per pixel")
     o.add_argument("--inline", action="store_true", help="send the whole scene with every frame")
     o.set_defaults(run=_cmd_orbit)
 

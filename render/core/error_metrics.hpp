@@ -1,8 +1,10 @@
 // Error measures of a render against the reference (docs/accuracy.md): visibility error (share of
 // pixels whose polygon id differs, over all pixels and over pixels off the reference's id edges),
 // shading error (RMSE and PSNR of the 8-bit RGB image) and shadow error (share of pixels whose
-// per-light lit state differs). The first argument is always the reference; buffers must have one
-// size (std::invalid_argument otherwise). `roomrender compare` prints these as JSON.
+// per-light lit state differs), and edge error (colour error on the pixels around the reference's id
+// edges, against the 256-sample reference: docs/antialiasing.md). The first argument is always the
+// reference; buffers must have one size (std::invalid_argument otherwise). `roomrender compare`
+// prints these as JSON.
 #pragma once
 
 #include "render/core/image.hpp"
@@ -44,6 +46,25 @@ struct ShadowError {
   double share() const { return pixels ? double(differing) / double(pixels) : 0.0; }
 };
 ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test);
+
+// An anti-aliasing edge pixel: its 3x3 neighbourhood (clipped to the image) in the reference's
+// centre-sample id buffer holds more than one id, background included. Every pixel that a straight
+// polygon border crosses is one (a line through the pixel square has a neighbouring centre on its
+// far side); a sliver that misses every centre of the 3x3 block is not seen.
+bool is_aa_edge_pixel(const IdBuffer& ids, int x, int y);
+
+// Colour error on the anti-aliasing edge pixels of `reference_ids`: a pixel's error is the mean of
+// |reference - test| over R, G and B (8-bit units); `mean` averages it over the edge pixels, `p99` is
+// its 99th percentile (nearest rank: the smallest value at least 99 % of the edge pixels reach or
+// stay below), `max` the largest. Zero everywhere when there is no edge pixel.
+struct EdgeError {
+  size_t pixels = 0;       // all pixels
+  size_t edge_pixels = 0;  // anti-aliasing edge pixels of the reference
+  double mean = 0.0;
+  double p99 = 0.0;
+  double max = 0.0;
+};
+EdgeError edge_error(const IdBuffer& reference_ids, const Image& reference, const Image& test);
 
 struct ErrorMeasures {
   int width = 0, height = 0;

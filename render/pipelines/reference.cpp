@@ -9,6 +9,7 @@
 #include "render/core/coplanar.hpp"
 #include "render/core/draw.hpp"
 #include "render/core/parallel.hpp"
+#include "render/core/sample_pattern.hpp"
 #include "render/pipelines/reference_detail.hpp"
 #include "render/core/timer.hpp"
 
@@ -121,13 +122,12 @@ bool nearer_opaque(const PolygonSoup& soup, double depth, uint32_t i, double bes
   return nearer(depth, i, best_depth, best);
 }
 
-PixelHits cast_pixel(const ReferenceScene& rs, int x, int y, std::vector<Hit>& translucent) {
+PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>& translucent) {
   const ViewTransform& view = rs.input.view;
-  const double x_ndc = 2.0 * (x + 0.5) / view.width - 1.0, y_ndc = 1.0 - 2.0 * (y + 0.5) / view.height;
+  const double x_ndc = 2.0 * sx / view.width - 1.0, y_ndc = 1.0 - 2.0 * sy / view.height;
   const Vec4 far = rs.world_from_clip * Vec4(x_ndc, y_ndc, 1.0, 1.0);
   const BvhRay ray(view.eye, Vec3(far) / far.w - view.eye);  // t = 1 on the far plane
   const double depth_per_t = -(view.view_from_world * Vec4(ray.direction, 0.0)).z;
-  const double sx = x + 0.5, sy = y + 0.5;
   const PolygonSoup& soup = rs.input.soup;
   PixelHits out;
   translucent.clear();
@@ -170,25 +170,59 @@ using namespace reference_detail;
 
 namespace {
 
-void draw_row(const ReferenceScene& rs, int y, Frame& frame, size_t& hits, std::vector<Hit>& translucent) {
+// One ray's colour, composited as the z-buffer draws: the opaque hit over the pixel's `rgb`
+// (the background), then each translucent hit far to near, each step rounded to bytes. `id` and
+// `mask` get the last polygon painted and its lit lights (left alone where nothing is hit).
+struct RayPaint {
+  uint8_t* rgb;
+  uint32_t* id;
+  uint8_t* mask;  // null: no shadow mask
+};
+
+bool paint_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>& translucent, const RayPaint& out) {
   const PolygonSoup& soup = rs.input.soup;
+  const PixelHits px = cast_ray(rs, sx, sy, translucent);
+  auto paint = [&](const Hit& hit, float alpha) {
+    uint8_t lit = 0;
+    const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, lit);
+    *out.id = soup.polygons[hit.polygon].id;
+    if (out.mask) *out.mask = lit;
+    for (int ch = 0; ch < 3; ++ch) {
+      out.rgb[ch] = alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(out.rgb[ch]) / 255.0f);
+    }
+  };
+  if (px.opaque.polygon != background_id) paint(px.opaque, 1.0f);
+  for (const Hit& h : translucent) paint(h, soup.materials[soup.polygons[h.polygon].material].opacity);
+  return px.opaque.polygon != background_id || !translucent.empty();
+}
+
+// Pixel (x, y) with `samples` rays on sample_pattern(samples): the id and shadow mask come from the
+// centre ray (the visibility checks keep their meaning), the colour is the mean of the sub-sample
+// rays' byte colours, each painted over the background as one centre ray is, rounded to nearest.
+bool paint_supersampled(const ReferenceScene& rs, int x, int y, std::span<const glm::vec2> pattern,
+                        std::vector<Hit>& translucent, const RayPaint& out) {
+  const uint8_t background[3] = {out.rgb[0], out.rgb[1], out.rgb[2]};
+  const bool hit = paint_ray(rs, x + 0.5, y + 0.5, translucent, out);
+  uint32_t sum[3] = {0, 0, 0}, scratch_id = 0;
+  for (const glm::vec2& offset : pattern) {
+    uint8_t rgb[3] = {background[0], background[1], background[2]};
+    paint_ray(rs, x + double(offset.x), y + double(offset.y), translucent, RayPaint{rgb, &scratch_id, nullptr});
+    for (int ch = 0; ch < 3; ++ch) sum[ch] += rgb[ch];
+  }
+  const uint32_t n = uint32_t(pattern.size());
+  for (int ch = 0; ch < 3; ++ch) out.rgb[ch] = uint8_t((sum[ch] + n / 2) / n);
+  return hit;
+}
+
+void draw_row(const ReferenceScene& rs, int y, Frame& frame, size_t& hits, std::vector<Hit>& translucent) {
+  const int samples = rs.input.options.antialias;
+  const std::span<const glm::vec2> pattern = sample_pattern(samples);
   for (int x = 0; x < frame.image.width; ++x) {
-    const PixelHits px = cast_pixel(rs, x, y, translucent);
     const size_t i = size_t(y) * size_t(frame.image.width) + size_t(x);
-    uint8_t* rgb = frame.image.rgb.data() + i * 3;
-    uint8_t* mask = frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i];
-    auto paint = [&](const Hit& hit, float alpha) {
-      uint8_t lit = 0;
-      const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, lit);
-      frame.ids.ids[i] = soup.polygons[hit.polygon].id;
-      if (mask) *mask = lit;
-      for (int ch = 0; ch < 3; ++ch) {
-        rgb[ch] = alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(rgb[ch]) / 255.0f);
-      }
-    };
-    if (px.opaque.polygon != background_id) paint(px.opaque, 1.0f);
-    for (const Hit& h : translucent) paint(h, soup.materials[soup.polygons[h.polygon].material].opacity);
-    hits += px.opaque.polygon != background_id || !translucent.empty();
+    const RayPaint out{frame.image.rgb.data() + i * 3, &frame.ids.ids[i],
+                       frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i]};
+    hits += samples == 1 ? paint_ray(rs, x + 0.5, y + 0.5, translucent, out)
+                         : paint_supersampled(rs, x, y, pattern, translucent, out);
   }
 }
 

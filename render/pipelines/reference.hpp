@@ -4,6 +4,9 @@
 // exact shadow rays to every light and translucent hits composited far to near. Ties follow the
 // rasterizer: the pixel-centre test runs on the same projected, clipped polygon with the top-left
 // rule, and equal depths keep the lower id. Used as the test oracle and the accuracy yardstick.
+// options.antialias = S > 1 casts S more rays per pixel on sample_pattern(S) (S = 256, the 16 x 16
+// grid, through the C++ API only: the edge-error ground truth) and averages their colours; the id
+// and shadow mask stay the centre ray's.
 #pragma once
 
 #include "render/core/bvh.hpp"

@@ -34,8 +34,9 @@ struct PixelHits {
 };
 
 ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats);
-// The nearest opaque hit, and in `translucent` the translucent hits in front of it, far to near.
-PixelHits cast_pixel(const ReferenceScene& rs, int x, int y, std::vector<Hit>& translucent);
+// The nearest opaque hit, and in `translucent` the translucent hits in front of it, far to near,
+// along the ray through screen point (sx, sy) in pixels (x + 0.5, y + 0.5 is pixel (x, y)'s centre).
+PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>& translucent);
 // Colour of `hit` at world point p (ambient + each light reaching its lit side, scaled by an exact
 // shadow ray when shadows are on); `lit` gets bit l set for each light l < 8 that reaches p.
 Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, uint8_t& lit);

@@ -138,6 +138,24 @@ class StoredScenes(ServerTest):
         png = self.client.get_png(self.client.render_png_path(receipt["id"], {"fov_y": 50}, {"width": 64, "height": 48}))
         self.assertEqual(rc.png_size(png), (64, 48))
 
+    def test_antialias_reaches_both_render_paths(self):
+        # The reference casts S rays per pixel for antialias = S, so its bytes change with S whatever
+        # the other pipelines do; the stored scene's render.png gets the option as its query parameter.
+        request = small(load_example("tetrahedron"), 96, 72)
+        request["options"]["pipeline"] = "reference"
+        self.assertEqual(rc.view_query(None, {"antialias": 8}), "antialias=8")
+        aliased = self.client.render(request, json_answer=False).png
+        smooth = self.client.render(rc.with_antialias(request, 8), json_answer=False).png
+        self.assertNotEqual(smooth, aliased)
+        receipt = self.client.store_scene(request["scene"])
+        options = rc.with_antialias(request, 8)["options"]
+        self.assertEqual(self.client.get_png(self.client.render_png_path(receipt["id"], request["camera"], options)), smooth)
+        with self.assertRaises(ValueError):
+            rc.with_antialias(request, 3)
+        with self.assertRaises(rc.RoomrenderError) as caught:
+            self.client.render({**request, "options": {**request["options"], "antialias": 3}})
+        self.assertIn("/options/antialias", "\n".join(caught.exception.lines()))
+
     def test_delete_forgets_the_scene(self):
         receipt = self.client.store_scene(load_example("tri_parallel")["scene"])
         self.client.delete_scene(receipt["id"])
@@ -218,6 +236,15 @@ class CommandLine(ServerTest):
         self.assertEqual((report["width"], report["height"]), (120, 90))
         self.assertGreater(report["timings_ms"]["total"], 0)
         self.read_png(out, (120, 90))
+
+    def test_render_antialias_flag_sets_the_option(self):
+        request = small(load_example("tetrahedron"), 96, 72)
+        request["options"]["pipeline"] = "reference"
+        out = os.path.join(self.tmpdir(), "aa.png")
+        self.run_cli("render", self.write_json(request), "-o", out, "--antialias", "4")
+        self.assertEqual(self.read_png(out, (96, 72)), self.client.render(rc.with_antialias(request, 4), json_answer=False).png)
+        self.assertNotEqual(self.read_png(out, (96, 72)), self.client.render(request, json_answer=False).png)
+        self.assertEqual(self.run_cli("render", self.write_json(request), "-o", out, "--antialias", "3", check=False).returncode, 2)
 
     def test_errors_print_pointer_and_detail_and_exit_1(self):
         bad = self.write_json({"options": {"width": 0}})
