@@ -109,7 +109,13 @@ class TileShading {
   // True when shade() does not depend on the triangle's binding (one colour per polygon): the
   // resolve then shades in pixel order without grouping by triangle.
   virtual bool constant() const = 0;
+  // The colours of pixels x .. x + n - 1 (n <= abuffer_tile) of row y, each wholly triangle t's and
+  // shaded at its centre. The default calls shade() per pixel; a pipeline may shade them as a span.
+  virtual void shade_run(const TileTriangle& t, int x, int y, int n, Color* out);
 };
+
+// raster.hpp's fragment of triangle t at the centre of pixel (x, y): 1/w and weights.
+Fragment centre_fragment(const TileTriangle& t, int x, int y);
 
 // Per-tile state; one per worker thread, reused across tiles and frames (no allocation once grown).
 class TileABuffer {

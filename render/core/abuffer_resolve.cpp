@@ -10,6 +10,25 @@
 
 namespace rr {
 
+namespace {
+
+// Runs shorter than this are shaded pixel by pixel, as in the one-sample z-buffer (visibility.cpp).
+constexpr int min_run = 4;
+
+}  // namespace
+
+Fragment centre_fragment(const TileTriangle& t, int x, int y) {
+  const int64_t e[3] = {t.setup.edge(0, x, y), t.setup.edge(1, x, y), t.setup.edge(2, x, y)};
+  Fragment f;
+  f.x = x, f.y = y;
+  pixel_weights(t.setup, t.inv_w, e, f);
+  return f;
+}
+
+void TileShading::shade_run(const TileTriangle& t, int x, int y, int n, Color* out) {
+  for (int i = 0; i < n; ++i) out[i] = shade(t, centre_fragment(t, x + i, y));
+}
+
 Fragment TileABuffer::fragment_at(const TileTriangle& t, int x, int y, int sample) const {
   const TriangleSetup& s = t.setup;
   int64_t e[3];
@@ -200,7 +219,7 @@ Color TileABuffer::composite_constant(size_t pixel, const uint32_t* own, Color b
 void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, uint32_t* ids, size_t width) {
   if (shading.constant()) return resolve_constant(shading, background, rgb, ids, width);
   collect_records();
-  const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0;
+  const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0, S = set_.count;
   auto shade_record = [&](Record& r) {
     const TileTriangle& t = tris_[r.tri];
     r.colour = shading.shade(t, fragment_at(t, rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, r.sample));
@@ -212,10 +231,33 @@ void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, 
   for (size_t t = 0; t < tris_.size(); ++t) start[t + 1] += start[t];
   order_.resize(records_.size());
   for (uint32_t n = 0; n < records_.size(); ++n) order_[start[records_[n].tri]++] = n;
-  for (uint32_t n : order_) shade_record(records_[n]);
+  // A triangle's records come in pixel order: pixels wholly its own and shaded at the centre that
+  // follow each other on a row are shaded as one run.
+  Color run_colours[abuffer_tile];
+  for (size_t a = 0; a < order_.size();) {
+    const Record& r = records_[order_[a]];
+    size_t b = a + 1;
+    if (r.mask == set_.colour_bits && r.sample == S) {
+      while (b < order_.size()) {
+        const Record& q = records_[order_[b]];
+        if (q.tri != r.tri || q.mask != r.mask || q.sample != S || q.pixel != r.pixel + (b - a) ||
+            q.pixel / abuffer_tile != r.pixel / abuffer_tile) {
+          break;
+        }
+        ++b;
+      }
+    }
+    if (b - a < size_t(min_run)) {
+      for (size_t n = a; n < b; ++n) shade_record(records_[order_[n]]);
+    } else {
+      shading.shade_run(tris_[r.tri], rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, int(b - a),
+                        run_colours);
+      for (size_t n = a; n < b; ++n) records_[order_[n]].colour = run_colours[n - a];
+    }
+    a = b;
+  }
   if (has_layers_) shade_layers(shading, false);
   const float share = 1.0f / float(set_.count);
-  const int S = set_.count;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const size_t pixel = size_t(y) * abuffer_tile + size_t(x);
