@@ -158,7 +158,12 @@ class TileABuffer {
   void shade_layers(TileShading& shading, bool constant);
   uint32_t top_at_centre(size_t pixel, uint32_t centre) const;
   Color composite_constant(size_t pixel, const uint32_t* own, Color background) const;
-  Color composite(size_t pixel, const Record* first, const Record* last, Color background) const;
+  struct Run {  // solo pixels of one triangle following each other on a row
+    uint32_t tri;
+    uint16_t pixel, n;
+  };
+  Color composite(size_t pixel, const Color* sample_colour) const;
+  void shade_opaque(TileShading& shading);
 
   PixelRect rect_;
   SampleSet set_;
@@ -171,6 +176,10 @@ class TileABuffer {
   std::vector<Record> records_;
   std::vector<uint32_t> record_begin_;  // per tile pixel + 1
   std::vector<uint32_t> order_;         // records sorted by triangle
+  std::vector<uint32_t> solo_;          // per tile pixel: its one triangle, else no_owner
+  std::vector<Color> solo_colour_;      // per tile pixel, for solo pixels
+  std::vector<Run> runs_;
+  std::vector<uint32_t> run_start_, run_order_;
   std::vector<uint32_t> tri_start_;
   std::vector<Color> tri_colour_;  // one colour per polygon: per triangle
   std::vector<uint32_t> tri_id_;
