@@ -109,7 +109,13 @@ class TileShading {
   // True when shade() does not depend on the triangle's binding (one colour per polygon): the
   // resolve then shades in pixel order without grouping by triangle.
   virtual bool constant() const = 0;
+  // The colours of pixels x .. x + n - 1 (n <= abuffer_tile) of row y, each wholly triangle t's and
+  // shaded at its centre. The default calls shade() per pixel; a pipeline may shade them as a span.
+  virtual void shade_run(const TileTriangle& t, int x, int y, int n, Color* out);
 };
+
+// raster.hpp's fragment of triangle t at the centre of pixel (x, y): 1/w and weights.
+Fragment centre_fragment(const TileTriangle& t, int x, int y);
 
 // Per-tile state; one per worker thread, reused across tiles and frames (no allocation once grown).
 class TileABuffer {
@@ -152,7 +158,12 @@ class TileABuffer {
   void shade_layers(TileShading& shading, bool constant);
   uint32_t top_at_centre(size_t pixel, uint32_t centre) const;
   Color composite_constant(size_t pixel, const uint32_t* own, Color background) const;
-  Color composite(size_t pixel, const Record* first, const Record* last, Color background) const;
+  struct Run {  // solo pixels of one triangle following each other on a row
+    uint32_t tri;
+    uint16_t pixel, n;
+  };
+  Color composite(size_t pixel, const Color* sample_colour) const;
+  void shade_opaque(TileShading& shading);
 
   PixelRect rect_;
   SampleSet set_;
@@ -165,6 +176,10 @@ class TileABuffer {
   std::vector<Record> records_;
   std::vector<uint32_t> record_begin_;  // per tile pixel + 1
   std::vector<uint32_t> order_;         // records sorted by triangle
+  std::vector<uint32_t> solo_;          // per tile pixel: its one triangle, else no_owner
+  std::vector<Color> solo_colour_;      // per tile pixel, for solo pixels
+  std::vector<Run> runs_;
+  std::vector<uint32_t> run_start_, run_order_;
   std::vector<uint32_t> tri_start_;
   std::vector<Color> tri_colour_;  // one colour per polygon: per triangle
   std::vector<uint32_t> tri_id_;

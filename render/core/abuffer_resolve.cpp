@@ -10,6 +10,25 @@
 
 namespace rr {
 
+namespace {
+
+// Runs shorter than this are shaded pixel by pixel, as in the one-sample z-buffer (visibility.cpp).
+constexpr int min_run = 4;
+
+}  // namespace
+
+Fragment centre_fragment(const TileTriangle& t, int x, int y) {
+  const int64_t e[3] = {t.setup.edge(0, x, y), t.setup.edge(1, x, y), t.setup.edge(2, x, y)};
+  Fragment f;
+  f.x = x, f.y = y;
+  pixel_weights(t.setup, t.inv_w, e, f);
+  return f;
+}
+
+void TileShading::shade_run(const TileTriangle& t, int x, int y, int n, Color* out) {
+  for (int i = 0; i < n; ++i) out[i] = shade(t, centre_fragment(t, x + i, y));
+}
+
 Fragment TileABuffer::fragment_at(const TileTriangle& t, int x, int y, int sample) const {
   const TriangleSetup& s = t.setup;
   int64_t e[3];
@@ -24,10 +43,14 @@ Fragment TileABuffer::fragment_at(const TileTriangle& t, int x, int y, int sampl
 
 // Per pixel, one record per opaque item owning colour samples: its mask and where it is shaded
 // (the centre when it owns it, else its sample nearest the centre, so no attribute extrapolates).
+// A pixel whose samples and centre are all one triangle's takes no record: it is `solo`, and
+// neighbouring solo pixels of one triangle on a row form a run.
 void TileABuffer::collect_records() {
   const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0;
   records_.clear();
+  runs_.clear();
   record_begin_.assign(size_t(abuffer_tile) * abuffer_tile + 1, 0);
+  solo_.assign(size_t(abuffer_tile) * abuffer_tile, no_owner);
   const int S = set_.count;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
@@ -36,9 +59,14 @@ void TileABuffer::collect_records() {
       const size_t begin = records_.size();
       bool one_owner = own[S] != no_owner;
       for (int s = 0; s < S; ++s) one_owner &= own[s] == own[S];
-      if (one_owner) {  // the common interior pixel: one triangle owns every sample and the centre
-        records_.push_back({own[S], set_.colour_bits, uint16_t(pixel), uint8_t(S), Color(0.0f)});
-        record_begin_[pixel + 1] = uint32_t(records_.size());
+      solo_[pixel] = one_owner ? own[S] : no_owner;
+      record_begin_[pixel + 1] = uint32_t(begin);
+      if (one_owner) {  // the common interior pixel, one triangle's: no record, a run of the row
+        if (x > 0 && solo_[pixel - 1] == own[S] && !runs_.empty() && runs_.back().pixel + runs_.back().n == pixel) {
+          ++runs_.back().n;
+        } else {
+          runs_.push_back({own[S], uint16_t(pixel), 1});
+        }
         continue;
       }
       for (int s = 0; s < S; ++s) {
@@ -75,19 +103,14 @@ void TileABuffer::collect_records() {
 
 // The colour of a pixel with translucent layers: per sample, its opaque owner's colour (or the
 // background) with the layers covering it composited over in order, averaged over the samples.
-Color TileABuffer::composite(size_t pixel, const Record* first, const Record* last, Color background) const {
+Color TileABuffer::composite(size_t pixel, const Color* sample_colour) const {
   const Layer* list = layers_.data() + pixel * max_translucent_layers;
   const int count = layer_count_[pixel];
   Color sum(0.0f);
   for (int s = 0; s < set_.count; ++s) {
-    Color c = background;
-    for (const Record* r = first; r != last; ++r) {
-      if (r->mask >> s & 1u) c = r->colour;
-    }
+    Color c = sample_colour[s];
     for (int l = 0; l < count; ++l) {
-      if (list[l].mask >> s & 1u) {
-        c = list[l].alpha * list[l].colour + (1.0f - list[l].alpha) * c;
-      }
+      if (list[l].mask >> s & 1u) c = list[l].alpha * list[l].colour + (1.0f - list[l].alpha) * c;
     }
     sum += c;
   }
@@ -182,40 +205,20 @@ uint32_t TileABuffer::top_at_centre(size_t pixel, uint32_t centre) const {
   return centre;
 }
 
-// composite() with one colour per triangle (tri_colour_): the same colours, in the same order.
+// composite() with one colour per triangle (tri_colour_).
 Color TileABuffer::composite_constant(size_t pixel, const uint32_t* own, Color background) const {
-  const Layer* list = layers_.data() + pixel * max_translucent_layers;
-  const int count = layer_count_[pixel];
-  Color sum(0.0f);
-  for (int s = 0; s < set_.count; ++s) {
-    Color c = own[s] == no_owner ? background : tri_colour_[own[s]];
-    for (int l = 0; l < count; ++l) {
-      if (list[l].mask >> s & 1u) c = list[l].alpha * list[l].colour + (1.0f - list[l].alpha) * c;
-    }
-    sum += c;
-  }
-  return sum / float(set_.count);
+  Color sample_colour[16];
+  for (int s = 0; s < set_.count; ++s) sample_colour[s] = own[s] == no_owner ? background : tri_colour_[own[s]];
+  return composite(pixel, sample_colour);
 }
 
 void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, uint32_t* ids, size_t width) {
   if (shading.constant()) return resolve_constant(shading, background, rgb, ids, width);
   collect_records();
-  const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0;
-  auto shade_record = [&](Record& r) {
-    const TileTriangle& t = tris_[r.tri];
-    r.colour = shading.shade(t, fragment_at(t, rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, r.sample));
-  };
-  // Grouped by triangle (a counting sort), so each polygon is bound once per tile.
-  std::vector<uint32_t>& start = tri_start_;
-  start.assign(tris_.size() + 1, 0);
-  for (const Record& r : records_) ++start[r.tri + 1];
-  for (size_t t = 0; t < tris_.size(); ++t) start[t + 1] += start[t];
-  order_.resize(records_.size());
-  for (uint32_t n = 0; n < records_.size(); ++n) order_[start[records_[n].tri]++] = n;
-  for (uint32_t n : order_) shade_record(records_[n]);
+  shade_opaque(shading);
   if (has_layers_) shade_layers(shading, false);
-  const float share = 1.0f / float(set_.count);
-  const int S = set_.count;
+  const int w = rect_.x1 - rect_.x0, h = rect_.y1 - rect_.y0, S = set_.count;
+  const float share = 1.0f / float(S);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const size_t pixel = size_t(y) * abuffer_tile + size_t(x);
@@ -223,10 +226,18 @@ void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, 
       const Record* last = records_.data() + record_begin_[pixel + 1];
       const int layers = has_layers_ ? layer_count_[pixel] : 0;
       const uint32_t centre = owner_[pixel * size_t(stride_) + size_t(S)];
-      if (first == last && layers == 0 && centre == no_owner) continue;
+      const bool solo = solo_[pixel] != no_owner;
+      if (!solo && first == last && layers == 0 && centre == no_owner) continue;
       Color c;
       if (layers > 0) {
-        c = composite(pixel, first, last, background);
+        Color sample_colour[16];
+        for (int s = 0; s < S; ++s) sample_colour[s] = solo ? solo_colour_[pixel] : background;
+        for (const Record* r = first; r != last; ++r) {
+          for (int s = 0; s < S; ++s) sample_colour[s] = r->mask >> s & 1u ? r->colour : sample_colour[s];
+        }
+        c = composite(pixel, sample_colour);
+      } else if (solo) {
+        c = solo_colour_[pixel];  // colour x (S x 1/S) + background x 0, exactly
       } else {
         int covered = 0;
         c = Color(0.0f);
@@ -242,6 +253,40 @@ void TileABuffer::resolve(TileShading& shading, Color background, uint8_t* rgb, 
       // The id: the nearest layer over the centre, else the opaque surface there.
       const uint32_t top = layers > 0 ? top_at_centre(pixel, centre) : centre;
       if (top != no_owner) ids[i] = shading.id(tris_[top].item);
+    }
+  }
+}
+
+// Shades the runs and records triangle by triangle (counting sorts), so each polygon is bound once
+// per tile: runs of at least min_run pixels as one span, the rest per fragment.
+void TileABuffer::shade_opaque(TileShading& shading) {
+  std::vector<uint32_t>& start = tri_start_;
+  start.assign(tris_.size() + 1, 0);
+  for (const Record& r : records_) ++start[r.tri + 1];
+  for (size_t t = 0; t < tris_.size(); ++t) start[t + 1] += start[t];
+  order_.resize(records_.size());
+  for (uint32_t n = 0; n < records_.size(); ++n) order_[start[records_[n].tri]++] = n;
+  run_start_.assign(tris_.size() + 1, 0);
+  for (const Run& r : runs_) ++run_start_[r.tri + 1];
+  for (size_t t = 0; t < tris_.size(); ++t) run_start_[t + 1] += run_start_[t];
+  run_order_.resize(runs_.size());
+  for (uint32_t n = 0; n < runs_.size(); ++n) run_order_[run_start_[runs_[n].tri]++] = n;
+  solo_colour_.resize(size_t(abuffer_tile) * abuffer_tile);
+  size_t next_record = 0, next_run = 0;
+  for (uint32_t t = 0; t < tris_.size(); ++t) {
+    const TileTriangle& tri = tris_[t];
+    for (; next_run < run_order_.size() && runs_[run_order_[next_run]].tri == t; ++next_run) {
+      const Run& run = runs_[run_order_[next_run]];
+      const int x = rect_.x0 + run.pixel % abuffer_tile, y = rect_.y0 + run.pixel / abuffer_tile;
+      if (run.n >= min_run) {
+        shading.shade_run(tri, x, y, run.n, solo_colour_.data() + run.pixel);
+        continue;
+      }
+      for (int i = 0; i < run.n; ++i) solo_colour_[run.pixel + size_t(i)] = shading.shade(tri, centre_fragment(tri, x + i, y));
+    }
+    for (; next_record < order_.size() && records_[order_[next_record]].tri == t; ++next_record) {
+      Record& r = records_[order_[next_record]];
+      r.colour = shading.shade(tri, fragment_at(tri, rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, r.sample));
     }
   }
 }

@@ -9,6 +9,7 @@
 #include "render/core/abuffer.hpp"
 #include "render/core/parallel.hpp"
 #include "render/core/shading.hpp"
+#include "render/pipelines/visibility.hpp"
 
 #include <algorithm>
 #include <memory>
@@ -23,6 +24,8 @@ struct AaWorker {
   std::vector<std::unique_ptr<SurfaceShader>> shaders;  // binding copies, one per source
   DrawScratch scratch;
   uint32_t bound = no_owner;  // the set position bound, if any
+  SurfaceShader::Span span;
+  SurfaceShader::SpanColors colors;
   size_t lights = 0, fragments = 0;
 };
 
@@ -35,20 +38,27 @@ class OrderedShading final : public TileShading {
   Color shade(const TileTriangle& t, const Fragment& f) override {
     const ProjectedPolygon& p = set_.polygons[t.item];
     if (constant_) return sources_[p.item.source].shader->polygon_color(p.item.index);
-    SurfaceShader& shader = *w_.shaders[p.item.source];
-    if (w_.bound != t.item) {
-      w_.scratch.clipped.assign(set_.clipped.begin() + p.first, set_.clipped.begin() + p.first + p.count);
-      w_.scratch.screen.assign(set_.screen.begin() + p.first, set_.screen.begin() + p.first + p.count);
-      shader.bind(p.item.index, w_.scratch);
-      w_.bound = t.item;
-    }
-    return shader.fragment(f, t.k);
+    return bound(t.item).fragment(f, t.k);
+  }
+  void shade_run(const TileTriangle& t, int x, int y, int n, Color* out) override {
+    shade_as_span(bound(t.item), t, x, y, n, w_.span, w_.colors, out);
   }
   uint32_t id(uint32_t item) const override { return set_.polygons[item].id; }
   float alpha(uint32_t item) const override { return set_.polygons[item].alpha; }
   bool constant() const override { return constant_; }
 
  private:
+  SurfaceShader& bound(uint32_t item) {
+    const ProjectedPolygon& p = set_.polygons[item];
+    SurfaceShader& shader = *w_.shaders[p.item.source];
+    if (w_.bound != item) {
+      w_.scratch.clipped.assign(set_.clipped.begin() + p.first, set_.clipped.begin() + p.first + p.count);
+      w_.scratch.screen.assign(set_.screen.begin() + p.first, set_.screen.begin() + p.first + p.count);
+      shader.bind(p.item.index, w_.scratch);
+      w_.bound = item;
+    }
+    return shader;
+  }
   std::span<const DrawSource> sources_;
   const ProjectedSet& set_;
   AaWorker& w_;

@@ -25,6 +25,8 @@ struct AaWorker {
   std::unique_ptr<SurfaceShader> shader;  // a binding copy of the prepared shader
   DrawScratch scratch;
   uint32_t bound = no_owner;  // the item bound in `shader`
+  SurfaceShader::Span span;
+  SurfaceShader::SpanColors colors;
   size_t lights = 0, fragments = 0;
 };
 
@@ -37,12 +39,10 @@ class ZShading final : public TileShading {
   Color shade(const TileTriangle& t, const Fragment& f) override {
     const uint32_t index = soup_index(t.item);
     if (constant_) return prepared_.polygon_color(index);
-    if (w_.bound != t.item) {
-      project_polygon(input_.view, input_.soup, input_.soup.polygons[index], w_.scratch);
-      w_.shader->bind(index, w_.scratch);
-      w_.bound = t.item;
-    }
-    return w_.shader->fragment(f, t.k);
+    return bound(t.item).fragment(f, t.k);
+  }
+  void shade_run(const TileTriangle& t, int x, int y, int n, Color* out) override {
+    shade_as_span(bound(t.item), t, x, y, n, w_.span, w_.colors, out);
   }
   uint32_t id(uint32_t item) const override { return input_.soup.polygons[soup_index(item)].id; }
   float alpha(uint32_t item) const override {
@@ -51,6 +51,15 @@ class ZShading final : public TileShading {
   bool constant() const override { return constant_; }
 
  private:
+  SurfaceShader& bound(uint32_t item) {
+    if (w_.bound != item) {
+      const uint32_t index = soup_index(item);
+      project_polygon(input_.view, input_.soup, input_.soup.polygons[index], w_.scratch);
+      w_.shader->bind(index, w_.scratch);
+      w_.bound = item;
+    }
+    return *w_.shader;
+  }
   uint32_t soup_index(uint32_t item) const {
     const size_t opaque = vis_.polygons.size();
     return item < opaque ? vis_.polygons[item] : vis_.translucent[item - opaque];
@@ -96,6 +105,14 @@ void draw_tile(const FrameInput& input, const VisibilityInput& vis, const Surfac
 }
 
 }  // namespace
+
+void shade_as_span(const SurfaceShader& shader, const TileTriangle& t, int x, int y, int n, SurfaceShader::Span& span,
+                   SurfaceShader::SpanColors& colors, Color* out) {
+  span_weights(t.setup, t.inv_w, x, y, n, span);
+  span.k = t.k;
+  shader.shade_span(span, colors);
+  for (int i = 0; i < n; ++i) out[i] = Color(colors.r[i], colors.g[i], colors.b[i]);
+}
 
 void draw_visibility_aa(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
                         unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {
