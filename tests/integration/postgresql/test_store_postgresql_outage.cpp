@@ -1,7 +1,10 @@
 // The shared store when its database is stopped (store requests 503 + Retry-After within the store's
 // timeout, inline renders 200, /readyz 503 naming the store; all back when the database returns),
-// and its budget: 507 once the database holds the most scenes, whichever server is asked.
+// its budget (507 once the database holds the most scenes, whichever server is asked) and its
+// retention (counted from the last access through any server).
 #include "postgres_cluster.hpp"
+
+#include <thread>
 
 namespace {
 
@@ -91,6 +94,30 @@ TEST_F(PostgresStoreTest, FullStoreGives507OnEveryServerUntilAScenesIsDeleted) {
   EXPECT_EQ(a.client().Delete(("/v1/scenes/" + ids[0]).c_str())->status, 204);
   EXPECT_EQ(post_scene(b, scene_with_box_at(5.0))->status, 201);
   EXPECT_EQ(sql("SELECT count(*) || ' ' || (SELECT entries FROM rr_usage WHERE kind = 'scene') FROM rr_scenes"), "3 3");
+}
+
+TEST_F(PostgresStoreTest, ScenesExpireAfterTheirLastAccessThroughAnyServer) {
+  using namespace std::chrono_literals;
+  rr::server::ServerConfig retained = config();
+  retained.scene_ttl_s = 2;
+  TestServer a(retained), b(retained);
+  auto res = post_scene(a, scene_with_box_at(5.0));
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 201) << res->body;
+  EXPECT_TRUE(json::parse(res->body)["expires"].is_string()) << res->body;
+  const std::string read = json::parse(res->body)["id"];
+  auto idle_res = post_scene(a, scene_with_box_at(5.1));
+  ASSERT_TRUE(idle_res);
+  const std::string idle = json::parse(idle_res->body)["id"];
+
+  std::this_thread::sleep_for(1300ms);
+  EXPECT_EQ(b.client().Get(("/v1/scenes/" + read).c_str())->status, 200);
+  std::this_thread::sleep_for(1300ms);
+  EXPECT_EQ(a.client().Get(("/v1/scenes/" + read).c_str())->status, 200) << "read through b 1.3 s ago, retention 2 s";
+  EXPECT_EQ(a.client().Get(("/v1/scenes/" + idle).c_str())->status, 404) << "untouched for 2.6 s";
+  // The next write sweeps it out of the database and the fill.
+  ASSERT_EQ(post_scene(b, scene_with_box_at(5.2))->status, 201);
+  EXPECT_EQ(sql("SELECT count(*) || ' ' || (SELECT entries FROM rr_usage WHERE kind = 'scene') FROM rr_scenes"), "2 2");
 }
 
 }  // namespace
