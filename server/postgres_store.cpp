@@ -68,7 +68,10 @@ void PostgresStore<T>::add_statements() {
   expired += ")";
   auto add = [&](const char* name, const std::string& sql) { pool_->add_statement(statement(name), sql); };
   add("lock", "SELECT entries, bytes FROM rr_usage WHERE kind = " + kind + " FOR UPDATE");
-  add("sweep", "WITH gone AS (DELETE FROM " + items + " i WHERE " + expired + " RETURNING i.bytes) UPDATE rr_usage SET "
+  // SKIP LOCKED: an entry another transaction holds (a scene being stored that places this mesh)
+  // is left for a later sweep rather than waited for or failed on.
+  add("sweep", "WITH gone AS (DELETE FROM " + items + " WHERE id IN (SELECT i.id FROM " + items + " i WHERE " + expired +
+               " FOR UPDATE SKIP LOCKED) RETURNING bytes) UPDATE rr_usage SET "
                "entries = entries - (SELECT count(*) FROM gone), bytes = bytes - (SELECT coalesce(sum(bytes), 0) FROM gone) "
                "WHERE kind = " + kind + " RETURNING entries, bytes, (SELECT count(*) FROM gone)");
   add("get", "SELECT i.body = $3::bytea, " + expired + " FROM " + items + " i WHERE i.id = $2 FOR UPDATE");
