@@ -126,10 +126,15 @@ void PostgresStore<T>::sweep(PostgresSession& session, bool force) {
 
 template <class T>
 typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSession& s, const T& item, const std::string& owner) {
-  PostgresRows fill = s.run(statement("lock"), {});
-  sweep(s, false);
   const PostgresParam id{item.id}, body{item.text, true};
+  // Storing what is stored needs only its row's lock; the fill row (which serialises every new
+  // entry of this kind) is taken only to add one.
   PostgresRows held = s.run(statement("get"), {ttl_param(), id, body});
+  if (held.size() == 0 || held.at(0, 1) == pg_true) {
+    s.run(statement("lock"), {});
+    sweep(s, false);
+    held = s.run(statement("get"), {ttl_param(), id, body});  // stored meanwhile by another replica?
+  }
   if (held.size() == 1 && held.at(0, 1) == pg_true) {  // gone, though not swept yet
     sweep(s, true);
     held = s.run(statement("get"), {ttl_param(), id, body});
@@ -141,7 +146,7 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
     return PutResult::existed;
   }
   if (item.bytes > config_.max_bytes) return PutResult::too_large;
-  fill = s.run(statement("usage"), {});
+  PostgresRows fill = s.run(statement("usage"), {});
   auto fits = [&] {
     return size_t(to_int(fill.at(0, 0))) < config_.max_entries && size_t(to_int(fill.at(0, 1))) + item.bytes <= config_.max_bytes;
   };
