@@ -551,6 +551,9 @@ void Service::start() {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
   }
+  if (!config_.store_url.empty() && !config_.data_dir.empty()) {  // said, so nobody backs up an empty directory
+    state_->log("warn", {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});
+  }
   const TokenTable& tokens = state_->access.tokens;
   // Said once at start, so an operator sees an open server for what it is.
   const bool loopback = config_.bind == "127.0.0.1" || config_.bind == "::1" || config_.bind == "localhost";
