@@ -242,12 +242,14 @@ def check_k8s(source_dir, data_dir):
                                       for c in s["spec"]["template"]["spec"]["containers"])]
     check("k8s: PostgreSQL (official image) is the one StatefulSet", len(sets) == 1 and len(db_sets) == 1,
           f"{[s['metadata']['name'] for s in sets]}")
+    secrets = set()
     if db_sets:
         spec = db_sets[0]["spec"]
         claims = {t["metadata"]["name"] for t in spec.get("volumeClaimTemplates", [])}
         db = spec["template"]["spec"]["containers"][0]
         password = (env_named(db, "POSTGRES_PASSWORD") or {}).get("valueFrom", {}).get("secretKeyRef")
         db_service = [s for s in services if s["spec"].get("selector") == spec["selector"]["matchLabels"]]
+        secrets.add((password or {}).get("name"))
         check("k8s postgres: data on a claimed volume, password from a Secret, a Service in front",
               any(m["name"] in claims and m["mountPath"] == "/var/lib/postgresql/data"
                   for m in db.get("volumeMounts", [])) and password is not None and len(db_service) == 1,
@@ -263,9 +265,9 @@ def check_k8s(source_dir, data_dir):
         store = (env_named(container, "ROOMRENDER_STORE") or {}).get("valueFrom", {}).get("secretKeyRef")
         escalation = container.get("securityContext", {}).get("allowPrivilegeEscalation")
         live = container.get("livenessProbe", {}).get("httpGet", {}).get("path")
-        check(f"k8s {container['name']}: ROOMRENDER_STORE from a Secret, no --data-dir, liveness on /livez, "
+        check(f"k8s {container['name']}: ROOMRENDER_STORE from the database's Secret, no --data-dir, liveness on /livez, "
               "no privilege escalation",
-              store is not None and data_dir_arg(container.get("args")) is None and live == "/livez"
+              store is not None and store.get("name") in secrets and data_dir_arg(container.get("args")) is None and live == "/livez"
               and escalation is False and not container.get("volumeMounts"),
               f"store {store}, args {container.get('args')}, liveness {live}, "
               f"allowPrivilegeEscalation {escalation}")
