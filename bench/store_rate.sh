@@ -5,15 +5,17 @@
 #           settings): bench/store_rate.py stores SCENES distinct scenes and reads each back 4 times
 #           from CONNECTIONS connections, giving throughput and p50/p99 latency of each;
 #   renders: wrk POST /v1/render (examples/apartment.json) through Debian's nginx with
-#           deploy/nginx/roomrender.conf in front of 1, 2 and 3 replicas on the PostgreSQL store.
+#           deploy/nginx/roomrender.conf in front of 1, 2 and 3 replicas (inline renders: no store).
 # Writes bench/results/store.json (every round, medians, uptime). Not part of the test run.
-# Usage: bench/store_rate.sh [ROUNDS=3]; env SCENES (1000), CONNECTIONS (4), RENDER_SECONDS (10)
+# Usage: bench/store_rate.sh [ROUNDS=3]; env SCENES (1000), CONNECTIONS (4), RENDER_SECONDS (10),
+#        STORES ("embedded postgresql")
 set -euo pipefail
 source_dir="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$source_dir"
 rounds="${1:-3}"
 scenes="${SCENES:-1000}"
 connections="${CONNECTIONS:-4}"
+stores="${STORES:-embedded postgresql}"
 seconds="${RENDER_SECONDS:-10}"  # not SECONDS: bash counts that one itself
 binary="$source_dir/build/roomrender"
 work="$(mktemp -d)"
@@ -21,7 +23,7 @@ fail() { echo "store_rate: $*" >&2; exit 1; }
 source "$source_dir/tests/deploy/cluster.sh"
 trap 'cluster_cleanup; rm -rf "$work"' EXIT
 command -v wrk >/dev/null || fail "wrk is missing (bench/install-bench-deps.sh)"
-[ -n "$pg_bin" ] || fail "PostgreSQL's server binaries are missing (scripts/install-deps.sh)"
+[ -n "$pg_bin" ] || [ "$stores" = embedded ] || fail "PostgreSQL's server binaries are missing (scripts/install-deps.sh)"
 [ -x "$binary" ] || fail "build roomrender first (nice ninja -j2 -C build roomrender)"
 
 cat >"$work/post.lua" <<LUA
@@ -32,22 +34,23 @@ wrk.body = f:read("*a")
 f:close()
 LUA
 
-pg_init
+case " $stores " in *" postgresql "*) pg_init ;; esac
 for r in $(seq "$rounds"); do
-  echo "store_rate: round $r: embedded store, $scenes scenes" >&2
-  rm -rf "$work/data"
-  start_replica --data-dir "$work/data"
-  python3 bench/store_rate.py "http://127.0.0.1:${replica_ports[0]}" --scenes "$scenes" \
-    --concurrency "$connections" --seed "$r" >"$work/embedded.$r.json"
-  stop_replicas
-  echo "store_rate: round $r: PostgreSQL store, $scenes scenes" >&2
-  start_replica --store "$store_url"
-  python3 bench/store_rate.py "http://127.0.0.1:${replica_ports[0]}" --scenes "$scenes" \
-    --concurrency "$connections" --seed "$((1000 + r))" >"$work/postgresql.$r.json"
-  stop_replicas
+  for store in $stores; do
+    echo "store_rate: round $r: $store store, $scenes scenes" >&2
+    rm -rf "$work/data"
+    case "$store" in
+      embedded) start_replica --data-dir "$work/data" ;;
+      postgresql) start_replica --store "$store_url" ;;
+      *) fail "unknown store $store" ;;
+    esac
+    python3 bench/store_rate.py "http://127.0.0.1:${replica_ports[0]}" --scenes "$scenes" \
+      --concurrency "$connections" --seed "$r$RANDOM" >"$work/$store.$r.json"
+    stop_replicas
+  done
   for n in 1 2 3; do
     echo "store_rate: round $r: renders through nginx, $n replicas, ${seconds}s" >&2
-    for _ in $(seq "$n"); do start_replica --store "$store_url"; done
+    for _ in $(seq "$n"); do start_replica; done
     start_nginx "${replica_ports[@]}"
     curl -sf -o /dev/null -H 'Content-Type: application/json' --data-binary @examples/apartment.json \
       "http://127.0.0.1:$nginx_port/v1/render" || fail "warm-up render failed"
@@ -59,14 +62,14 @@ for r in $(seq "$rounds"); do
 done
 
 mkdir -p bench/results
-python3 - "$work" "$rounds" "$scenes" "$connections" "$seconds" "$(uptime)" <<'PY'
+python3 - "$work" "$rounds" "$scenes" "$connections" "$seconds" "$(uptime)" "$stores" <<'PY'
 import json, re, statistics, sys
-work, rounds, scenes, connections, seconds, uptime = sys.argv[1:7]
+work, rounds, scenes, connections, seconds, uptime, stores = sys.argv[1:8]
 rounds = int(rounds)
 out = {"scenes_per_round": int(scenes), "connections": int(connections), "render_seconds": int(seconds),
        "render_request": "examples/apartment.json", "uptime_at_end": uptime.strip(), "stores": {}, "renders": {}}
 keys = ["write_per_s", "write_p50_ms", "write_p99_ms", "read_per_s", "read_p50_ms", "read_p99_ms"]
-for store in ("embedded", "postgresql"):
+for store in stores.split():
     runs = [json.load(open(f"{work}/{store}.{r}.json")) for r in range(1, rounds + 1)]
     out["stores"][store] = {"rounds": runs, "median": {k: statistics.median(x[k] for x in runs) for k in keys}}
 def wrk_ms(text, label):
