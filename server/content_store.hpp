@@ -9,7 +9,7 @@
 // the old state or the new, never a torn file); start-up loads them back.
 #pragma once
 
-#include "render/core/lru_cache.hpp"  // CacheStats
+#include "server/document_store.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -40,31 +40,20 @@ struct ContentStoreConfig {
   std::function<bool(const std::string& id)> pinned;
   // Told of every entry added (put, load) or removed (release, expiry), under the writer's lock.
   std::function<void(const T& item, bool added)> on_change;
+  // Up to `most` entries of another store that pin an entry (pinned_by()); null: none do.
+  std::function<std::vector<std::string>(const std::string& id, size_t most)> pinned_by;
 };
 
 template <class T>
-class ContentStore {
+class ContentStore : public DocumentStore<T> {
  public:
-  using Clock = std::chrono::system_clock;  // persisted (file times), so wall-clock time
-  // conflict: another content with the same id is stored (ids are 64-bit FNV-1a hashes, not a
-  // cryptographic commitment, so a crafted collision is possible; it is refused, never merged).
-  // full: storing it would pass max_entries or max_bytes; nothing stored is given up for it.
-  enum class PutResult { created, existed, too_large, full, conflict };
-  // not_owner: stored, but the caller holds no reference to it. pinned: the last reference, but
-  // config.pinned holds the entry (a mesh that a stored scene places).
-  enum class ReleaseResult { removed, reference_dropped, not_found, not_owner, pinned };
+  using Base = DocumentStore<T>;
+  using Clock = std::chrono::system_clock;  // as DocumentStore<T>::Clock
+  using typename Base::PutResult;
+  using typename Base::ReleaseResult;
+  using typename Base::Listed;
+  using typename Base::Page;
   using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
-
-  struct Listed {
-    std::string id;
-    int64_t created_us = 0;  // microseconds since the epoch; unique within the store
-    std::optional<Clock::time_point> expires;
-    size_t bytes = 0;
-  };
-  struct Page {
-    std::vector<Listed> scenes;  // newest first
-    std::optional<std::string> next_cursor;
-  };
 
   using Config = ContentStoreConfig<T>;
   ContentStore(Config config, Log log);
@@ -74,23 +63,27 @@ class ContentStore {
   // Reads the data directory (if any): removes temporary files a crash left and metadata without a
   // scene, loads every scene file whose content still hashes to its name (also beyond the budget:
   // it was acknowledged), drops those whose retention ran out. Returns how many were loaded.
-  size_t load();
+  size_t load() override;
 
   // Stores `scene` with `owner` holding a reference (on disk first when persistent); storing it again
   // adds the owner's reference. Throws std::runtime_error when a file cannot be written (the caller
   // answers 500; nothing changes).
-  PutResult put(const std::shared_ptr<const T>& item, const std::string& owner);
+  PutResult put(const std::shared_ptr<const T>& item, const std::string& owner) override;
   // The scene, counting as an access (it restarts the retention clock).
-  std::shared_ptr<const T> find(const std::string& id);
+  std::shared_ptr<const T> find(const std::string& id) override;
   // Drops `owner`'s reference; nullopt (a server without tokens) drops every reference.
-  ReleaseResult release(const std::string& id, const std::optional<std::string>& owner);
+  ReleaseResult release(const std::string& id, const std::optional<std::string>& owner) override;
   // Scenes newest first, those `owner` holds a reference to (nullopt: all), after `cursor` (from
   // an earlier page). Throws std::invalid_argument for a cursor this store did not make.
-  Page list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor);
+  Page list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor) override;
   // When a scene accessed now expires (nullopt: no retention is set).
-  std::optional<Clock::time_point> expiry_from_now() const;
+  std::optional<Clock::time_point> expiry_from_now() const override;
   // Fill (entries, bytes and their budgets) and find()'s hits and misses; evictions stay 0.
-  CacheStats stats();
+  CacheStats stats() override;
+  std::vector<std::string> pinned_by(const std::string& id, size_t most) override {
+    return config_.pinned_by ? config_.pinned_by(id, most) : std::vector<std::string>{};
+  }
+  size_t max_bytes() const override { return config_.max_bytes; }
   const Config& config() const { return config_; }
 
  private:

@@ -58,10 +58,11 @@ MeshStoreConfig mesh_store_config(const ServerConfig& c, MeshPins& pins) {
   out.plural = "meshes";
   out.read = [limits = c.limits](const std::string& text) { return read_stored_mesh(text, limits); };
   out.pinned = [&pins](const std::string& id) { return pins.pinned(id); };
+  out.pinned_by = [&pins](const std::string& id, size_t most) { return pins.scenes_placing(id, most); };
   return out;
 }
 
-ParseLimits limits_with_meshes(ParseLimits limits, MeshStore& meshes) {
+ParseLimits limits_with_meshes(ParseLimits limits, MeshDocuments& meshes) {
   limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
     auto stored = meshes.find(id);
     return stored ? stored->mesh : nullptr;
@@ -87,13 +88,23 @@ ServiceState::ServiceState(const ServerConfig& c)
       gate(render_workers(c), render_queue_length(c)),
       bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
       shadow_cache(c.shadow_cache_bytes),
-      meshes(mesh_store_config(c, mesh_pins), [this](const std::string& level, nlohmann::ordered_json fields) {
-        log(level, std::move(fields));
-      }),
-      limits(limits_with_meshes(c.limits, meshes)),
-      scenes(scene_store_config(c, limits, mesh_pins),
-             [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
-      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
+      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {
+  auto to_log = [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); };
+  MeshStoreConfig mesh_config = mesh_store_config(c, mesh_pins);
+  if (c.store_url.empty()) {
+    meshes = std::make_unique<MeshStore>(mesh_config, to_log);
+  } else {
+    store_pool = std::make_shared<PostgresPool>(postgres_config(c), to_log);
+    meshes = std::make_unique<PostgresStore<StoredMesh>>(store_pool, mesh_config, c.store_cache_bytes, to_log);
+  }
+  limits = limits_with_meshes(c.limits, *meshes);
+  SceneStoreConfig scene_config = scene_store_config(c, limits, mesh_pins);
+  if (c.store_url.empty()) {
+    scenes = std::make_unique<SceneStore>(scene_config, to_log);
+  } else {
+    scenes = std::make_unique<PostgresStore<StoredScene>>(store_pool, scene_config, c.store_cache_bytes, to_log);
+  }
+}
 
 void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {
   if (level_rank(level) < level_rank(config.log_level)) return;

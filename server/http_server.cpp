@@ -25,6 +25,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstring>
+#include <regex>
 #include <stdexcept>
 
 #ifndef ROOMRENDER_SOURCE_DIR
@@ -495,6 +496,13 @@ size_t max_pending_requests(const ServerConfig& config) {
   return request_workers(config);
 }
 
+// The store URL as the start-up line prints it: without a password.
+static std::string redacted_store_url(const std::string& url) {
+  if (url.empty()) return "embedded";
+  static const std::regex password("(://[^:/@]*:)[^@]*@|(password=)[^ ]*");
+  return std::regex_replace(url, password, "$1$2***@");
+}
+
 std::string config_json(const ServerConfig& c) {
   const ParseLimits& l = c.limits;
   nlohmann::ordered_json j = {
@@ -512,7 +520,9 @@ std::string config_json(const ServerConfig& c) {
       {"shadow_cache_bytes", c.shadow_cache_bytes},
       {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
       {"scene_ttl_s", c.scene_ttl_s}, {"mesh_store_bytes", c.mesh_store_bytes},
-      {"mesh_store_entries", c.mesh_store_entries}, {"cors_origins", c.cors_origins},
+      {"mesh_store_entries", c.mesh_store_entries}, {"store", redacted_store_url(c.store_url)},
+      {"store_pool", c.store_pool_size}, {"store_timeout_ms", c.store_timeout_ms},
+      {"store_cache_bytes", c.store_cache_bytes}, {"cors_origins", c.cors_origins},
       {"api_token_file", c.api_token_file.string()}, {"allow_listing", c.allow_listing},
       {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
       {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},
@@ -535,8 +545,8 @@ void Service::start() {
   if (server_) throw std::logic_error("Service::start called twice");
   state_ = std::make_unique<ServiceState>(config_);
   // Meshes first: stored scenes place them by ref.
-  size_t meshes_loaded = state_->meshes.load();
-  size_t loaded = state_->scenes.load();
+  size_t meshes_loaded = state_->meshes->load();
+  size_t loaded = state_->scenes->load();
   if (!config_.data_dir.empty()) {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});

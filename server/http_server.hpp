@@ -55,6 +55,12 @@ struct ServerConfig {
   int scene_ttl_s = 0;                 // stored scenes go this long after their last access; 0: kept
   size_t mesh_store_bytes = 512u << 20;  // stored meshes (POST /v1/meshes); their ttl is scene_ttl_s
   size_t mesh_store_entries = 10000;
+  // The shared store (server/postgres_store.hpp): stored scenes and meshes in PostgreSQL, so any
+  // replica answers any stored id. Empty: the embedded store (memory, and data_dir when given).
+  std::string store_url;              // postgresql://user:password@host:port/database
+  size_t store_pool_size = 8;         // database connections per replica
+  int store_timeout_ms = 2000;        // connect, wait for a connection, each statement; then 503
+  size_t store_cache_bytes = 64u << 20;  // parsed stored documents a replica keeps (read-through)
   // Access (server/access.hpp). Reads are open to every origin; writes come from these origins (or
   // the server's own pages) only, and need a bearer token from this file when one is given.
   std::vector<std::string> cors_origins;

@@ -58,7 +58,7 @@ void handle_post_mesh(ServiceState& state, const Request& req, Response& res, co
 }
 
 void handle_get_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto mesh = state.meshes.find(match.params.at(0));
+  auto mesh = state.meshes->find(match.params.at(0));
   if (!mesh) throw HttpError(404, "There is no stored mesh " + match.params[0] + ".");
   send_stored_document(req, res, mesh->id, mesh->text);
 }
@@ -69,15 +69,15 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
   std::lock_guard pins(state.mesh_pins.writers());
-  switch (state.meshes.release(id, owner)) {
-    case MeshStore::ReleaseResult::not_found: throw HttpError(404, "There is no stored mesh " + id + ".");
-    case MeshStore::ReleaseResult::not_owner:
+  switch (state.meshes->release(id, owner)) {
+    case MeshDocuments::ReleaseResult::not_found: throw HttpError(404, "There is no stored mesh " + id + ".");
+    case MeshDocuments::ReleaseResult::not_owner:
       throw HttpError(403, "The mesh " + id + " is stored, but not by this token's owner; only an owner can "
                            "drop its reference.");
-    case MeshStore::ReleaseResult::pinned: {
+    case MeshDocuments::ReleaseResult::pinned: {
       std::vector<FieldError> errors;
       std::string list;
-      for (const std::string& scene : state.mesh_pins.scenes_placing(id, 5)) {
+      for (const std::string& scene : state.meshes->pinned_by(id, 5)) {
         errors.push_back({"", "placed by stored scene " + scene});
         list += (list.empty() ? "" : ", ") + scene;
       }
@@ -86,13 +86,13 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
                                "); delete those scenes first. A mesh stays while a stored scene places it.",
                       errors);
     }
-    case MeshStore::ReleaseResult::removed:
-    case MeshStore::ReleaseResult::reference_dropped: res.status = 204;
+    case MeshDocuments::ReleaseResult::removed:
+    case MeshDocuments::ReleaseResult::reference_dropped: res.status = 204;
   }
 }
 
 [[noreturn]] void throw_mesh_store_full(ServiceState& state) {
-  CacheStats fill = state.meshes.stats();
+  CacheStats fill = state.meshes->stats();
   throw HttpError(507,
                   "The mesh store is full: it holds " + std::to_string(fill.entries) + " meshes of at most " +
                       std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
@@ -106,18 +106,19 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
 
 StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shared_ptr<const MeshData> mesh) {
   std::shared_ptr<const StoredMesh> stored = prepare_mesh(std::move(mesh));
-  switch (state.meshes.put(stored, owner)) {
-    case MeshStore::PutResult::conflict:
+  switch (state.meshes->put(stored, owner)) {
+    case MeshDocuments::PutResult::conflict:
       throw HttpError(409, "A different mesh with the id " + stored->id + " is stored already (a hash collision).",
                       {{"", "content differs from the stored mesh with this id"}});
-    case MeshStore::PutResult::too_large:
+    case MeshDocuments::PutResult::too_large:
       throw HttpError(413, "The stored form of this mesh takes about " + std::to_string(stored->bytes) +
                                " bytes; the mesh store holds at most " +
-                               std::to_string(state.meshes.config().max_bytes) + ".",
+                               std::to_string(state.meshes->max_bytes()) + ".",
                       {{"", "mesh too large to store"}});
-    case MeshStore::PutResult::full: throw_mesh_store_full(state);
-    case MeshStore::PutResult::created: return {stored->id, true};
-    case MeshStore::PutResult::existed: break;
+    case MeshDocuments::PutResult::full: throw_mesh_store_full(state);
+    case MeshDocuments::PutResult::missing_reference: throw std::logic_error("a mesh places no stored document");
+    case MeshDocuments::PutResult::created: return {stored->id, true};
+    case MeshDocuments::PutResult::existed: break;
   }
   return {stored->id, false};
 }

@@ -2,6 +2,8 @@
 // HTTP reason phrases so a problem with type "about:blank" reads like its status line.
 #include "server/problem.hpp"
 
+#include "server/document_store.hpp"
+
 #include <nlohmann/json.hpp>
 
 namespace rr::server {
@@ -98,6 +100,8 @@ Problem problem_from_exception(std::exception_ptr error, std::string& log_detail
     return problem_from_input_error(e);
   } catch (const HttpError& e) {
     return {e.status(), make_problem(e.status(), "", e.what(), e.errors()), e.headers()};
+  } catch (const StoreUnavailable& e) {
+    return {503, make_problem(503, "", e.what()), {{"Retry-After", std::to_string(e.retry_after_s())}}};
   } catch (const std::exception& e) {
     log_detail = e.what();
   } catch (...) {

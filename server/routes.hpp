@@ -11,6 +11,7 @@
 #include "server/http_server.hpp"
 #include "server/metrics.hpp"
 #include "server/mesh_store.hpp"
+#include "server/postgres_store.hpp"
 #include "server/render_gate.hpp"
 #include "server/scene_store.hpp"
 
@@ -40,10 +41,12 @@ struct ServiceState {
   RenderGate gate;
   BspCache bsp_cache;
   ShadowCache shadow_cache;
-  MeshPins mesh_pins;  // which stored scenes place which stored meshes
-  MeshStore meshes;
+  MeshPins mesh_pins;  // which stored scenes place which stored meshes (the embedded store)
+  std::shared_ptr<PostgresPool> store_pool;  // the shared store's connections; null: embedded
+  // The embedded store (ContentStore) or the shared one (--store): handlers see only the interface.
+  std::unique_ptr<DocumentStore<StoredMesh>> meshes;
   ParseLimits limits;  // config.limits with "ref" resolved through `meshes`: parse requests with these
-  SceneStore scenes;
+  std::unique_ptr<DocumentStore<StoredScene>> scenes;
   AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
   std::atomic<bool> draining{false};

@@ -23,7 +23,7 @@ namespace {
 using httplib::Request;
 using httplib::Response;
 using nlohmann::json;
-using Clock = SceneStore::Clock;
+using Clock = SceneDocuments::Clock;
 
 std::string scene_location(const std::string& id) { return "/v1/scenes/" + id; }
 
@@ -67,7 +67,7 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
 }
 
 [[noreturn]] void throw_store_full(ServiceState& state) {
-  CacheStats fill = state.scenes.stats();
+  CacheStats fill = state.scenes->stats();
   throw HttpError(507,
                   "The scene store is full: it holds " + std::to_string(fill.entries) + " scenes of at most " +
                       std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) + " bytes of at most " +
@@ -75,6 +75,13 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
                       ". Stored scenes are kept, not evicted: delete scenes you no longer need, or ask the "
                       "operator to raise --scene-store-entries or --scene-store-bytes.",
                   {{"", "scene store full"}});
+}
+
+// `meshes`: those the scene places, one of which (the first when it is not known which) is gone.
+[[noreturn]] void throw_mesh_deleted(const std::vector<std::string>& meshes) {
+  const std::string& mesh = meshes.at(0);
+  throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
+                  {{"", "there is no stored mesh \"" + mesh + "\""}});
 }
 
 void answer_stored(ServiceState& state, Response& res, const SceneBody& sent) {
@@ -103,7 +110,7 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
 }
 
 void handle_get_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = state.scenes.find(match.params.at(0));
+  auto scene = state.scenes->find(match.params.at(0));
   if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
   request_context().scene_id = scene->static_id;
   res.set_header("X-Scene-Id", scene->static_id);
@@ -114,14 +121,14 @@ void handle_get_scene(ServiceState& state, const Request& req, Response& res, co
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  switch (state.scenes.release(id, owner)) {
-    case SceneStore::ReleaseResult::not_found: throw HttpError(404, "There is no stored scene " + id + ".");
-    case SceneStore::ReleaseResult::not_owner:
+  switch (state.scenes->release(id, owner)) {
+    case SceneDocuments::ReleaseResult::not_found: throw HttpError(404, "There is no stored scene " + id + ".");
+    case SceneDocuments::ReleaseResult::not_owner:
       throw HttpError(403, "The scene " + id + " is stored, but not by this token's owner; only an owner can "
                            "drop its reference.");
-    case SceneStore::ReleaseResult::pinned:  // scenes are never pinned
-    case SceneStore::ReleaseResult::removed:
-    case SceneStore::ReleaseResult::reference_dropped: res.status = 204;
+    case SceneDocuments::ReleaseResult::pinned:  // scenes are never pinned
+    case SceneDocuments::ReleaseResult::removed:
+    case SceneDocuments::ReleaseResult::reference_dropped: res.status = 204;
   }
 }
 
@@ -148,15 +155,15 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
   }
   const size_t limit = limit_param(req);
   const std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
-  SceneStore::Page page;
+  SceneDocuments::Page page;
   try {
-    page = state.scenes.list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
+    page = state.scenes->list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
   } catch (const std::invalid_argument&) {
     throw HttpError(400, "The query parameter cursor must be the \"next\" of an earlier page.",
                     {{"", "not a cursor: \"" + quote_input(cursor) + "\"", "cursor"}});
   }
   json scenes = json::array();
-  for (const SceneStore::Listed& s : page.scenes) {
+  for (const SceneDocuments::Listed& s : page.scenes) {
     scenes.push_back({{"id", s.id}, {"location", scene_location(s.id)},
                       {"created", rfc3339(Clock::time_point(std::chrono::microseconds(s.created_us)))},
                       {"expires", time_or_null(s.expires)}, {"bytes", s.bytes}});
@@ -174,29 +181,27 @@ json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const
   // The meshes it places are pinned once it is stored; one deleted since the parse is refused here.
   std::lock_guard pins(state.mesh_pins.writers());
   for (const std::string& mesh : scene->mesh_refs) {
-    if (!state.meshes.find(mesh)) {
-      throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
-                      {{"", "there is no stored mesh \"" + mesh + "\""}});
-    }
+    if (!state.meshes->find(mesh)) throw_mesh_deleted({mesh});
   }
-  SceneStore::PutResult result = state.scenes.put(scene, request_context().owner);
+  SceneDocuments::PutResult result = state.scenes->put(scene, request_context().owner);
   switch (result) {
-    case SceneStore::PutResult::conflict:
+    case SceneDocuments::PutResult::conflict:
       throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
                       {{"", "content differs from the stored scene with this id"}});
-    case SceneStore::PutResult::too_large:
+    case SceneDocuments::PutResult::too_large:
       throw HttpError(413, "The stored form of this scene takes about " + std::to_string(scene->bytes) +
                                " bytes; the scene store holds at most " +
-                               std::to_string(state.scenes.config().max_bytes) + ".",
+                               std::to_string(state.scenes->max_bytes()) + ".",
                       {{"", "scene too large to store"}});
-    case SceneStore::PutResult::full: throw_store_full(state);
-    case SceneStore::PutResult::created:
-    case SceneStore::PutResult::existed: break;
+    case SceneDocuments::PutResult::full: throw_store_full(state);
+    case SceneDocuments::PutResult::missing_reference: throw_mesh_deleted(scene->mesh_refs);
+    case SceneDocuments::PutResult::created:
+    case SceneDocuments::PutResult::existed: break;
   }
   res.set_header("Location", scene_location(scene->id));
   res.set_header("X-Scene-Id", scene->static_id);
   return {{"id", scene->id}, {"location", scene_location(scene->id)}, {"scene_id", scene->static_id},
-          {"created", result == SceneStore::PutResult::created}, {"expires", time_or_null(state.scenes.expiry_from_now())}};
+          {"created", result == SceneDocuments::PutResult::created}, {"expires", time_or_null(state.scenes->expiry_from_now())}};
 }
 
 std::vector<Route> scene_routes() {

@@ -34,6 +34,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
 std::string scene_document_pointer(const std::string& request_pointer);
 
 using SceneStoreConfig = ContentStoreConfig<StoredScene>;
-using SceneStore = ContentStore<StoredScene>;
+using SceneStore = ContentStore<StoredScene>;  // the embedded store
+using SceneDocuments = DocumentStore<StoredScene>;  // either store, as the handlers see it
 
 }  // namespace rr::server

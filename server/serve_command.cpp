@@ -3,6 +3,8 @@
 // SIGTERM or SIGINT, drain, exit 0. Declared in cli.hpp.
 #include "server/serve_command.hpp"
 
+#include "server/postgres_pool.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <pthread.h>
@@ -129,6 +131,21 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string&) { c.api_token_file = v; }},
   {"--allow-listing", "1: GET /v1/scenes lists every stored scene on a server without tokens (default 0)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.allow_listing = parse_integer(v, s, 0, 1) == 1; }},
+  {"--store", "postgresql://user:password@host:port/db: stored scenes and meshes in PostgreSQL, shared by every replica (default: embedded, in memory and --data-dir)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) {
+     try {
+       check_postgres_url(v);
+     } catch (const std::invalid_argument& e) {
+       throw UsageError(s + " is not a PostgreSQL connection URL: " + e.what());
+     }
+     c.store_url = v;
+   }},
+  {"--store-pool", "connections to the --store database per replica (default 8)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.store_pool_size = size_t(parse_integer(v, s, 1, 1000)); }},
+  {"--store-timeout-ms", "connect, wait for a connection and run each store statement within this, then 503 (default 2000)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.store_timeout_ms = int(parse_integer(v, s, 1, 3'600'000)); }},
+  {"--store-cache-bytes", "parsed stored scenes and meshes kept per replica with --store (default 67108864)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.store_cache_bytes = size_t(parse_integer(v, s, 0, big)); }},
   {"--data-dir", "directory where stored scenes and meshes persist (default: none, memory only)",
    [](ServerConfig& c, const std::string& v, const std::string&) { c.data_dir = v; }},
   {"--web-dir", "directory holding index.html (default: the source tree's clients/web)",
