@@ -33,7 +33,8 @@ if [ -z "$pg_bin" ] || [ ! -x "$pg_bin/initdb" ]; then
   exit 77
 fi
 command -v nginx >/dev/null || fail "nginx is not installed (scripts/install-deps.sh installs it)"
-"$binary" serve --help 2>&1 | grep -q -- '--store' || fail "$binary has no --store option"
+help="$("$binary" serve --help 2>&1 || true)"
+grep -q -- '--store ' <<<"$help" || fail "$binary has no --store option"
 
 # Two owners: each scene's owners are the names of the tokens that stored it.
 export ROOMRENDER_TEST_TOKENS="alice:alice-token-0123456789abcdef,bob:bob-token-0123456789abcdef"
