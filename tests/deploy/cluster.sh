@@ -17,9 +17,9 @@ cluster_cleanup() {
   wait 2>/dev/null || true
 }
 
-free_port() {  # a port nothing listens on just now: good enough on loopback
+free_port() {  # a port nothing listens on just now, below the kernel's ephemeral range (32768-)
   local port
-  for port in $(shuf -i 20000-60000 -n 50); do
+  for port in $(shuf -i 20000-32000 -n 50); do
     (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null || { echo "$port"; return; }
   done
   fail "no free port"
@@ -41,6 +41,11 @@ pg_init() {  # initdb with trust auth for the one local user `roomrender`, datab
   pg_as_owner "$pg_bin/createdb" -h 127.0.0.1 -p "$pg_port" -U roomrender roomrender \
     || fail "createdb failed"
   store_url="postgresql://roomrender@127.0.0.1:$pg_port/roomrender"
+}
+
+pg_reset_db() {  # an empty database `roomrender` again
+  pg_as_owner "$pg_bin/dropdb" -h 127.0.0.1 -p "$pg_port" -U roomrender roomrender || fail "dropdb failed"
+  pg_as_owner "$pg_bin/createdb" -h 127.0.0.1 -p "$pg_port" -U roomrender roomrender || fail "createdb failed"
 }
 
 pg_start() {
@@ -108,11 +113,12 @@ start_nginx() {
   nginx -t -q -c "$work/nginx.conf" -p "$work" 2>"$work/nginx-t.log" || fail "nginx -t: $(cat "$work/nginx-t.log")"
   nginx -c "$work/nginx.conf" -p "$work" &
   nginx_pid=$!
-  for _ in $(seq 1 100); do
+  for _ in $(seq 1 200); do
     curl -sf "http://127.0.0.1:$nginx_port/livez" >/dev/null 2>&1 && return
+    kill -0 "$nginx_pid" 2>/dev/null || break
     sleep 0.05
   done
-  fail "nginx did not come up"
+  fail "nginx did not come up on port $nginx_port"
 }
 
 stop_nginx() { kill "$nginx_pid" 2>/dev/null || true; wait "$nginx_pid" 2>/dev/null || true; nginx_pid=""; }

@@ -9,7 +9,8 @@ ROOMRENDER_TEST_TOKENS ("alice:TOKEN,bob:TOKEN"). Out: one summary line; exit 1 
   race URL_A URL_B N      N fresh scenes, each stored at once by alice on A and bob on B: one
                           created, in both owners' lists; prints their ids
   release URL_A URL_B IDS each owner DELETEs: the scene stays for the other owner, then goes
-  outage URL MANIFEST     the database is down: stores 503 + Retry-After, inline renders 200
+  outage URL MANIFEST RENDER.json   the database is down or frozen: stores 503 + Retry-After
+                          within 15 s, inline renders 200
   recovered URL MANIFEST  the database is back: a new scene stores (retried up to 30 s)
 """
 import hashlib
@@ -172,7 +173,11 @@ def release(base_a, base_b, ids_path):
 
 def timed(base, method, path, body=None, content_type="application/json", token=None):
     started = time.monotonic()
-    status, headers, answer = request(base, method, path, body, content_type, token, timeout=OUTAGE_ANSWER_WITHIN)
+    try:
+        status, headers, answer = request(base, method, path, body, content_type, token,
+                                          timeout=OUTAGE_ANSWER_WITHIN)
+    except OSError as e:  # no answer within the bound (socket.timeout is an OSError)
+        status, headers, answer = 0, {}, repr(e).encode()
     return status, headers, answer, time.monotonic() - started
 
 
@@ -203,9 +208,12 @@ def outage(base, manifest_path, render_path):
         status, headers, body, took = timed(base, "POST", "/v1/render", render)
         if status != 200 or not body.startswith(b"\x89PNG"):
             failures.append(f"inline render {i}: {status} ({took:.1f} s)")
+    status, _, body, _ = timed(base, "GET", "/readyz")
+    if status != 503 or b"store_unavailable" not in body:
+        failures.append(f"/readyz: {status} {body[:120]!r}")
     if failures:
         sys.exit(f"store_check: FAIL: with the database down: {failures[:6]}")
-    print(f"store_check: database down: stores 503 + Retry-After, reads {reads}, inline renders 200")
+    print(f"store_check: database down: stores 503 + Retry-After, reads {reads}, /readyz 503, inline renders 200")
 
 
 def recovered(base, manifest_path):

@@ -6,8 +6,9 @@
 #   1. right away (stores spread over the replicas);  2. after one replica is SIGKILLed;
 #   3. with a replacement and a fourth replica;  4. after every replica and nginx restarted;
 # then: 5. the same content stored at once by two owners on two replicas is one row with two owners;
-#   6. with PostgreSQL stopped, stores answer 503 + Retry-After within 15 s while inline renders
-#      answer 200, and once it is back new stores succeed and every item still reads back.
+#   6. with PostgreSQL frozen (SIGSTOP) and 7. stopped, stores answer 503 + Retry-After within 15 s
+#      while inline renders answer 200, and once it is back new stores succeed and every item still
+#      reads back.
 # Writes build/test-output/deploy/shared_store.json. Exit 77 (skipped) without PostgreSQL's server
 # binaries. Usage: tests/deploy/test_shared_store.sh BUILD_DIR   (scripts/install-deps.sh)
 set -euo pipefail
@@ -87,7 +88,14 @@ for id in $(cat "$work/race.ids"); do
 done
 python3 "$check" release "$a" "$b" "$work/race.ids" || fail "releasing the concurrently stored scenes"
 
-echo "test_shared_store: 6. PostgreSQL stopped, then back"
+echo "test_shared_store: 6. PostgreSQL frozen (SIGSTOP: connections hang, as with a stuck host)"
+pg_pids="$(head -1 "$work/pg/data/postmaster.pid") $(ps -o pid= --ppid "$(head -1 "$work/pg/data/postmaster.pid")")"
+kill -STOP $pg_pids
+python3 "$check" outage "$front" "$work/manifest.json" "$work/render.json" || { kill -CONT $pg_pids; fail "with the database frozen"; }
+kill -CONT $pg_pids
+python3 "$check" recovered "$front" "$work/manifest.json" || fail "after the database thawed"
+
+echo "test_shared_store: 7. PostgreSQL stopped, then back"
 pg_stop
 python3 "$check" outage "$front" "$work/manifest.json" "$work/render.json" || fail "with the database down"
 pg_start
