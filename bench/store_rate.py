@@ -77,6 +77,8 @@ def main():
     w_lat, w_s, w_ans = run(args.url, writes, args.concurrency)
     ids = [json.loads(body)["id"] for status, body in w_ans if status in (200, 201)]
     errors = sum(1 for status, _ in w_ans if status != 201)
+    if not ids:
+        raise SystemExit(f"store_rate: no scene stored; first answer {w_ans[0]}")
     reads = [("GET", f"/v1/scenes/{i}", None) for i in ids for _ in range(args.reads_per_scene)]
     rng.shuffle(reads)
     r_lat, r_s, r_ans = run(args.url, reads, args.concurrency)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Store and scale-out rates on this machine, in interleaved rounds:
 #   stores: one server with the embedded store (--data-dir on local disk, fsync per scene) against
-#           one with PostgreSQL (Debian's package in a temporary directory, fsync on, default
+#           one with PostgreSQL (each empty at the start of its round) (Debian's package in a temporary directory, fsync on, default
 #           settings): bench/store_rate.py stores SCENES distinct scenes and reads each back 4 times
 #           from CONNECTIONS connections, giving throughput and p50/p99 latency of each;
 #   renders: wrk POST /v1/render (examples/apartment.json) through Debian's nginx with
@@ -41,11 +41,12 @@ for r in $(seq "$rounds"); do
     rm -rf "$work/data"
     case "$store" in
       embedded) start_replica --data-dir "$work/data" ;;
-      postgresql) start_replica --store "$store_url" ;;
+      postgresql) pg_reset_db; start_replica --store "$store_url" ;;
       *) fail "unknown store $store" ;;
     esac
     python3 bench/store_rate.py "http://127.0.0.1:${replica_ports[0]}" --scenes "$scenes" \
       --concurrency "$connections" --seed "$r$RANDOM" >"$work/$store.$r.json"
+    grep -q '"errors": 0}' "$work/$store.$r.json" || fail "$store: failed requests: $(cat "$work/$store.$r.json")"
     stop_replicas
   done
   for n in 1 2 3; do
