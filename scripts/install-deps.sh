@@ -12,9 +12,11 @@ build_packages=(
   build-essential cmake pkg-config
   libcpp-httplib-dev nlohmann-json3-dev libglm-dev libstb-dev googletest libgtest-dev
   zlib1g-dev libpugixml-dev libzip-dev
+  libpq-dev
 )
 test_packages=(
   curl ca-certificates python3 python3-yaml nginx-light chromium fonts-dejavu-core
+  postgresql
 )
 
 mode=all

@@ -135,6 +135,9 @@ pg_conn* PostgresPool::connect(SteadyClock::time_point deadline) {
     state = PQconnectPoll(conn);
   }
   PQsetnonblocking(conn, 1);
+  // The server's notices ("relation ... already exists, skipping") would go to stderr, beside the
+  // service's JSON log lines.
+  PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
   return conn;
 }
 
