@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Reads the Dockerfile, .dockerignore, deploy/compose.yaml and deploy/k8s/roomrender.yaml and checks
 what no engine on the test machine can run: the image builds from every tracked source file, runs as
-uid 10001 with a data directory it owns, serves its schemas, and compose and Kubernetes mount their
-volumes where that directory is, writable by that user. One PASS/FAIL line per check; exit 1 on any
+uid 10001 with a data directory it owns (the single-container embedded store) and serves its
+schemas; compose and Kubernetes run PostgreSQL on a volume of its own and point every stateless
+replica at it, and their nginx upstreams name those replicas. One PASS/FAIL line per check; exit 1 on any
 failure. Usage: tests/deploy/check_manifests.py [SOURCE_DIR]   (python3 and python3-yaml)
 """
 import os
@@ -188,47 +189,97 @@ def data_dir_arg(args):
     return None
 
 
+def store_url_ok(value, host):
+    return isinstance(value, str) and value.startswith("postgresql://") and f"@{host}:5432/" in value
+
+
 def check_compose(source_dir, data_dir):
     path = os.path.join(source_dir, "deploy", "compose.yaml")
     doc = yaml.safe_load(open(path))
+    services = doc["services"]
     named = set((doc.get("volumes") or {}).keys())
-    replicas = {n: s for n, s in doc["services"].items() if "build" in s}
+    replicas = {n: s for n, s in services.items() if "build" in s}
     check("compose builds the replicas from the repository's Dockerfile",
-          len(replicas) > 0 and all(os.path.isfile(os.path.join(os.path.dirname(path),
+          len(replicas) > 1 and all(os.path.isfile(os.path.join(os.path.dirname(path),
                                                                  s["build"] if isinstance(s["build"], str)
                                                                  else s["build"].get("context", "."),
                                                                  "Dockerfile"))
-                                    for s in replicas.values()), f"services {list(doc['services'])}")
+                                    for s in replicas.values()), f"services {list(services)}")
+    db = services.get("postgres", {})
+    db_mounts = [v.split(":") for v in db.get("volumes", []) if isinstance(v, str)]
+    check("compose runs the official postgres image with its data on a named volume",
+          str(db.get("image", "")).startswith("postgres:")
+          and any(m[0] in named and m[1] == "/var/lib/postgresql/data" for m in db_mounts)
+          and "POSTGRES_PASSWORD" in db.get("environment", {}), f"postgres service {db}")
     for name, service in replicas.items():
+        env = service.get("environment", {})
         mounts = [v.split(":") for v in service.get("volumes", []) if isinstance(v, str)]
-        at_data = [m for m in mounts if len(m) >= 2 and m[1] == data_dir]
-        arg = data_dir_arg(service.get("command"))
         user = str(service.get("user", RUNTIME_UID)).split(":")[0]
-        check(f"compose {name}: a named volume at {data_dir}, run as uid {RUNTIME_UID}",
-              len(at_data) == 1 and at_data[0][0] in named and arg in (None, data_dir)
-              and user in (str(RUNTIME_UID), RUNTIME_USER),
-              f"volumes {service.get('volumes')}, --data-dir {arg}, user {user}")
+        depends = service.get("depends_on", {})
+        check(f"compose {name}: ROOMRENDER_STORE names the postgres service, no volume of its own, "
+              f"uid {RUNTIME_UID}",
+              store_url_ok(env.get("ROOMRENDER_STORE"), "postgres") and data_dir_arg(service.get("command")) is None
+              and not any(m[0] in named for m in mounts) and user in (str(RUNTIME_UID), RUNTIME_USER)
+              and "postgres" in depends,
+              f"environment {env}, volumes {service.get('volumes')}, user {user}, depends_on {depends}")
+    upstream = open(os.path.join(source_dir, "deploy", "nginx", "upstream-compose.conf")).read()
+    listed = set(re.findall(r"^\s*server\s+([\w-]+):8080\b", upstream, re.MULTILINE))
+    check("upstream-compose.conf lists exactly the replicas", listed == set(replicas),
+          f"upstream {sorted(listed)}, replicas {sorted(replicas)}")
+
+
+def env_named(container, name):
+    return next((e for e in container.get("env", []) if e["name"] == name), None)
 
 
 def check_k8s(source_dir, data_dir):
     docs = [d for d in yaml.safe_load_all(open(os.path.join(source_dir, "deploy", "k8s", "roomrender.yaml"))) if d]
-    sets = [d for d in docs if d["kind"] == "StatefulSet"]
-    check("k8s: one StatefulSet", len(sets) == 1, f"{len(sets)}")
-    if len(sets) != 1:
+    by_kind = lambda kind: [d for d in docs if d["kind"] == kind]
+    sets, deployments, services = by_kind("StatefulSet"), by_kind("Deployment"), by_kind("Service")
+    replicas = [d for d in deployments if d["metadata"]["name"] == "roomrender"]
+    check("k8s: the replicas are a Deployment named roomrender", len(replicas) == 1, f"{len(replicas)}")
+    db_sets = [s for s in sets if any(c["image"].startswith("postgres:")
+                                      for c in s["spec"]["template"]["spec"]["containers"])]
+    check("k8s: PostgreSQL (official image) is the one StatefulSet", len(sets) == 1 and len(db_sets) == 1,
+          f"{[s['metadata']['name'] for s in sets]}")
+    secrets = set()
+    if db_sets:
+        spec = db_sets[0]["spec"]
+        claims = {t["metadata"]["name"] for t in spec.get("volumeClaimTemplates", [])}
+        db = spec["template"]["spec"]["containers"][0]
+        password = (env_named(db, "POSTGRES_PASSWORD") or {}).get("valueFrom", {}).get("secretKeyRef")
+        db_service = [s for s in services if s["spec"].get("selector") == spec["selector"]["matchLabels"]]
+        secrets.add((password or {}).get("name"))
+        check("k8s postgres: data on a claimed volume, password from a Secret, a Service in front",
+              any(m["name"] in claims and m["mountPath"] == "/var/lib/postgresql/data"
+                  for m in db.get("volumeMounts", [])) and password is not None and len(db_service) == 1,
+              f"mounts {db.get('volumeMounts')}, claims {claims}, password {password}")
+    if len(replicas) != 1:
         return
-    pod = sets[0]["spec"]["template"]["spec"]
+    pod = replicas[0]["spec"]["template"]["spec"]
     security = pod.get("securityContext", {})
-    check(f"k8s: pod runs as uid {RUNTIME_UID}, non-root, fsGroup {RUNTIME_UID}",
+    check(f"k8s: replica pods run as uid {RUNTIME_UID}, non-root, without volumes",
           security.get("runAsUser") == RUNTIME_UID and security.get("runAsNonRoot") is True
-          and security.get("fsGroup") == RUNTIME_UID, f"{security}")
-    claims = {t["metadata"]["name"] for t in sets[0]["spec"].get("volumeClaimTemplates", [])}
+          and not pod.get("volumes"), f"{security}, volumes {pod.get('volumes')}")
     for container in pod["containers"]:
-        mounts = [m for m in container.get("volumeMounts", []) if m["mountPath"] == data_dir]
-        arg = data_dir_arg(container.get("args"))
+        store = (env_named(container, "ROOMRENDER_STORE") or {}).get("valueFrom", {}).get("secretKeyRef")
         escalation = container.get("securityContext", {}).get("allowPrivilegeEscalation")
-        check(f"k8s {container['name']}: a claimed volume at {data_dir}, no privilege escalation",
-              len(mounts) == 1 and mounts[0]["name"] in claims and arg in (None, data_dir) and escalation is False,
-              f"mounts {container.get('volumeMounts')}, --data-dir {arg}, allowPrivilegeEscalation {escalation}")
+        live = container.get("livenessProbe", {}).get("httpGet", {}).get("path")
+        check(f"k8s {container['name']}: ROOMRENDER_STORE from the database's Secret, no --data-dir, liveness on /livez, "
+              "no privilege escalation",
+              store is not None and store.get("name") in secrets and data_dir_arg(container.get("args")) is None and live == "/livez"
+              and escalation is False and not container.get("volumeMounts"),
+              f"store {store}, args {container.get('args')}, liveness {live}, "
+              f"allowPrivilegeEscalation {escalation}")
+    labels = replicas[0]["spec"]["selector"]["matchLabels"]
+    headless = [s for s in services if s["spec"].get("selector") == labels and s["spec"].get("clusterIP") == "None"]
+    upstream = open(os.path.join(source_dir, "deploy", "nginx", "upstream-k8s.conf")).read()
+    names = re.findall(r"^\s*server\s+([\w.-]+):8080\b.*\bresolve\b", upstream, re.MULTILINE)
+    check("k8s: nginx re-resolves the replicas' headless Service, which lists not-ready pods",
+          len(headless) == 1 and headless[0]["spec"].get("publishNotReadyAddresses") is True
+          and names == [f"{headless[0]['metadata']['name']}.default.svc.cluster.local"]
+          and re.search(r"^\s*zone\s", upstream, re.MULTILINE) is not None,
+          f"headless {[s['metadata']['name'] for s in headless]}, upstream servers {names}")
 
 
 def main():

@@ -6,7 +6,9 @@
 #   2. the same traffic with nginx's default round robin (fresh replicas), for comparison;
 #   3. one replica killed: the others keep answering every scene.
 # First it reads the Dockerfile, compose file and k8s manifest (tests/deploy/check_manifests.py): the
-# image's user owns its data directory and both deployments mount their volumes there.
+# image's user owns its data directory, and both deployments run stateless replicas on PostgreSQL.
+# These replicas keep the default in-memory store: only inline renders go through them here
+# (tests/deploy/test_shared_store.sh covers stored scenes).
 # Prints the cache-hit rates and writes them to build/test-output/deploy/replicas.json.
 # Usage: tests/deploy/test_replicas.sh BUILD_DIR   (needs nginx, curl, python3, python3-yaml:
 #        scripts/install-deps.sh)
