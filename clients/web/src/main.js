@@ -310,6 +310,7 @@ attachViewer($("views"), {
     img: $("image"),
     pick: (request, x, y) => loading(() => sharing.pick(request, x, y)),
     onError: (error) => showError(error),
+    enabled: () => api.has("/v1/pick"),
   }),
 });
 $("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0, warningClicks));

@@ -21,9 +21,10 @@ export function pageToView(img, options, x, y) {
 
 // Returns viewer.js's grab hook: for a press on `img` with the Select tool, an object the viewer asks
 // mode() ("pending" until the pick answers, then "move" or "orbit") and gives move(e) and end(e).
-export function viewGrabber({ designer, img, pick, onError }) {
+// `enabled()`: whether the server picks at all (an older one has no POST /v1/pick: drags orbit).
+export function viewGrabber({ designer, img, pick, onError, enabled = () => true }) {
   return (e) => {
-    if (designer.tool !== "select" || e.target !== img) return null;
+    if (designer.tool !== "select" || e.target !== img || !enabled()) return null;
     const request = designer.request();
     const start = request && pageToView(img, request.options, e.clientX, e.clientY);
     if (!start?.inside) return null;
