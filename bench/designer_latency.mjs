@@ -2,7 +2,8 @@
 // step to the reduced-size (320×240) image of that step being on screen, for the apartment example
 // at 640×480, in real Chromium against the real server on loopback.
 //   node bench/designer_latency.mjs BUILD/roomrender [--steps 50] [--out bench/results/designer_latency.json]
-// Two drags: orbit on the 3D view, and moving chair_north in the plan (select tool, 10 cm a step).
+// Three drags: orbit on the 3D view, moving chair_north in the plan (select tool, 10 cm a step), and
+// moving it on the 3D image (the press picks it through POST /v1/pick; 10 cm a step on the floor).
 // A step is one pointer move; the next step starts once the image of the previous one is shown, so
 // each step gets its own render (none is aborted by the next). The clock runs in the page: from the
 // pointermove event to the first animation frame after the new image was decoded and put in place.
@@ -48,11 +49,14 @@ function installClock(page) {
 
 const sampleCount = (page) => page.evaluate(() => window.latencyClock.samples.length);
 
-// Moves the pointer through `points` (page pixels), button held, one measured step each.
+// Moves the pointer through `points` (page pixels), button held, one measured step each. After the
+// press the page is let settle (a press on the image waits for its pick), so no step counts it.
 async function measureDrag(page, points) {
   await page.evaluate(() => { window.latencyClock.samples = []; window.latencyClock.start = 0; });
   await page.mouse.move(points[0].x, points[0].y);
   await page.mouse.down();
+  await page.evaluate(() => window.roomrenderDesigner.idle());
+  await page.evaluate(() => { window.latencyClock.start = 0; });
   for (let i = 1; i < points.length; i++) {
     const before = await sampleCount(page);
     await page.mouse.move(points[i].x, points[i].y);
@@ -61,6 +65,22 @@ async function measureDrag(page, points) {
   await page.mouse.up();
   await page.evaluate(() => window.roomrenderDesigner.idle());
   return page.evaluate(() => window.latencyClock.samples.slice());
+}
+
+// The page point over world point p on the image (the look-at projection, as the server draws it).
+function worldToPage(page, camera, p) {
+  const sub = (a, b) => a.map((v, i) => v - b[i]);
+  const dot = (a, b) => a.reduce((t, v, i) => t + v * b[i], 0);
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+  const unit = (a) => a.map((v) => v / Math.hypot(...a));
+  const forward = unit(sub(camera.target, camera.position));
+  const right = unit(cross(forward, camera.up || [0, 1, 0]));
+  const up = cross(right, forward);
+  const d = sub(p, camera.position);
+  const tanY = Math.tan(((camera.fov_y ?? 60) * Math.PI) / 360);
+  const u = ((dot(d, right) / dot(d, forward) / (tanY * (640 / 480)) + 1) / 2) * 640;
+  const v = ((1 - dot(d, up) / dot(d, forward) / tanY) / 2) * 480;
+  return page.evaluate(([a, b]) => window.roomrenderDesigner.viewToPage(a, b), [u - 0.5, v - 0.5]);
 }
 
 const require = createRequire(path.join(repoRoot, "clients/web/package.json"));
@@ -91,6 +111,14 @@ try {
   const plan = await measureDrag(page, planPoints);
   const moved = (await page.evaluate(() => window.roomrenderDesigner.request())).scene.solids.find((s) => s.id === "chair_north");
 
+  // The 3D image: the same chair grabbed at the middle of its top, the grabbed point moved 10 cm a step on the
+  // horizontal plane through it, east then back west.
+  const y = chair.size[1];  // the top face: what the camera above sees and the press picks
+  const viewPoints = [];
+  for (const x of xs) viewPoints.push(await worldToPage(page, request.camera, [x, y, chair.center[1]]));
+  const view = await measureDrag(page, viewPoints);
+  const movedInView = (await page.evaluate(() => window.roomrenderDesigner.request())).scene.solids.find((s) => s.id === "chair_north");
+
   const result = {
     what: "time from one drag step (pointermove) to the 320×240 image of that step on screen (first frame after it is decoded); apartment example, 640×480, zbuffer, flat",
     machine: { cpus: os.cpus().length, load_average_before: loadBefore.map(round), load_average_after: os.loadavg().map(round),
@@ -102,11 +130,13 @@ try {
     chromium: browser.version(),
     orbit: summary(orbit),
     plan_move_chair: { ...summary(plan), chair_back_at_start: Math.abs(moved.center[0] - chair.center[0]) < 1e-6 },
+    view_move_chair: { ...summary(view), chair_back_at_start: Math.abs(movedInView.center[0] - chair.center[0]) < 0.051 },
   };
   fs.mkdirSync(path.dirname(outPath), { recursive: true });
   fs.writeFileSync(outPath, JSON.stringify(result, null, 2) + "\n");
   console.log(`orbit: median ${result.orbit.median_ms} ms, p90 ${result.orbit.p90_ms} ms; ` +
     `plan (chair): median ${result.plan_move_chair.median_ms} ms, p90 ${result.plan_move_chair.p90_ms} ms; ` +
+    `3D image (chair): median ${result.view_move_chair.median_ms} ms, p90 ${result.view_move_chair.p90_ms} ms; ` +
     `load ${loadBefore[0].toFixed(1)} -> ${os.loadavg()[0].toFixed(1)}; wrote ${outPath}`);
 } finally {
   await browser.close();

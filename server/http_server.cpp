@@ -335,7 +335,7 @@ void configure_limits(httplib::Server& server, const ServerConfig& config) {
 std::shared_ptr<std::vector<Route>> make_routes(const ServerConfig& config) {
   auto routes = std::make_shared<std::vector<Route>>();
   for (std::vector<Route> list : {render_routes(), scene_routes(), mesh_routes(config), import_routes(config),
-                                  meta_routes(config)}) {
+                                  meta_routes(config), pick_routes()}) {
     routes->insert(routes->end(), list.begin(), list.end());
   }
   for (Route& r : *routes) r.regex = std::regex(r.pattern);

@@ -110,6 +110,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
     body["cache"] = report.stats.bsp_cache.empty() ? "none" : report.stats.bsp_cache;
     body["etag"] = plan.etag;
     body["warnings"] = warnings_json(plan.scene.warnings, plan.scene.scene, plan.scene_pointer);
+    if (plan.view.camera.frame_all) body["camera"] = camera_json(out.camera);  // the frame chosen, to continue from
     body["png_base64"] = base64_encode(out.png);
     res.set_content(body.dump(), "application/json");
   } else {
@@ -198,6 +199,7 @@ constexpr QueryParam query_params[] = {
     {"fov_y", "/camera/fov_y", ParamKind::number},
     {"near", "/camera/near", ParamKind::number},
     {"far", "/camera/far", ParamKind::number},
+    {"frame", "/camera/frame", ParamKind::text},
     {"width", "/options/width", ParamKind::integer},
     {"height", "/options/height", ParamKind::integer},
     {"pipeline", "/options/pipeline", ParamKind::text},

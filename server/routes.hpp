@@ -93,8 +93,11 @@ std::vector<Route> scene_routes();                          // scene_endpoints.c
 std::vector<Route> mesh_routes(const ServerConfig& config);  // mesh_endpoints.cpp
 std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
 std::vector<Route> meta_routes(const ServerConfig& config); // meta_endpoints.cpp
+std::vector<Route> pick_routes();                           // pick_endpoints.cpp
 
 // Helpers shared by the endpoint files.
+// A drawn camera as a request's camera object (pick answers; render answers of a framed view).
+nlohmann::json camera_json(const Camera& camera);
 void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
 // Answers 304 (and returns true) when If-None-Match matches `etag`; sets ETag either way.
 bool answer_not_modified(const httplib::Request& req, httplib::Response& res, const std::string& etag);

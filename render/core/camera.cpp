@@ -3,7 +3,9 @@
 // camera.hpp and docs/scene-format.md.
 #include "render/core/camera.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace rr {
 
@@ -19,6 +21,27 @@ ViewTransform make_view(const Camera& camera, int width, int height) {
   view.clip_from_view = glm::perspective(radians(camera.fov_y_deg), aspect, camera.near, camera.far);
   view.clip_from_world = view.clip_from_view * view.view_from_world;
   return view;
+}
+
+Vec3 frame_direction() {
+  const double elevation = radians(55.0);
+  return {0.0, -std::sin(elevation), -std::cos(elevation)};
+}
+
+Camera frame_bounds(const Camera& base, Vec3 lo, Vec3 hi, int width, int height) {
+  Camera out = base;
+  out.frame_all = false;
+  const Vec3 centre = (lo + hi) * 0.5;
+  const double radius = std::max(0.5, glm::length(hi - lo) * 0.5);  // an empty or tiny scene: 1 m across
+  const double half_y = radians(base.fov_y_deg) * 0.5;
+  const double half_x = std::atan(std::tan(half_y) * double(width) / double(height));
+  // A sphere of radius r lies inside a cone of half-angle a seen from distance r / sin(a); the cone
+  // of the narrower half-angle lies inside the view pyramid.
+  const double distance = radius / std::sin(std::min(half_x, half_y)) * 1.05;
+  out.target = centre;
+  out.position = centre - frame_direction() * distance;
+  out.far = std::max(base.far, (distance + radius) * 1.01);
+  return out;
 }
 
 Vec2 screen_from_clip(const ViewTransform& view, Vec4 p_clip) {

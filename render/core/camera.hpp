@@ -24,6 +24,15 @@ struct ViewTransform {
 
 ViewTransform make_view(const Camera& camera, int width, int height);
 
+// The framing view direction (eye towards target): from the +Z side, 55 degrees down.
+Vec3 frame_direction();
+
+// `base` moved to frame the axis-aligned box [lo, hi] in a width x height image: it looks along
+// frame_direction() at the box's centre from the distance at which the box's bounding sphere fits
+// the narrower of the two fields of view, with 5 % to spare; far grows to reach past the sphere.
+// The web page's frameBounds (clients/web/src/camera.js) computes the same camera.
+Camera frame_bounds(const Camera& base, Vec3 lo, Vec3 hi, int width, int height);
+
 // Clip space -> screen space (x right, y down, in pixels). `w` must be > 0.
 Vec2 screen_from_clip(const ViewTransform& view, Vec4 p_clip);
 

@@ -152,6 +152,9 @@ struct Camera {
   double fov_y_deg = 60.0;
   double near = 0.1;
   double far = 100.0;
+  // "frame": "all": position and target are chosen to frame the scene (frame_bounds in camera.hpp)
+  // once its bounds are known; up, fov_y, near and far still apply.
+  bool frame_all = false;
 };
 
 // A row of the pipeline table (render/pipelines/pipeline_table.cpp), which sits above this floor:

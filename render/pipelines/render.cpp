@@ -9,6 +9,7 @@
 #include "render/pipelines/view_selection.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace rr {
 
@@ -24,21 +25,34 @@ PreparedScene prepare_scene(Scene scene) {
   return out;
 }
 
+Camera view_camera(const Camera& camera, const RenderOptions& options, const PolygonSoup& soup) {
+  if (!camera.frame_all) return camera;
+  Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const Vec3& p : soup.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  if (soup.positions.empty()) lo = hi = Vec3(0.0);
+  return frame_bounds(camera, lo, hi, options.width, options.height);
+}
+
 RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, const RenderContext& context) {
   Stopwatch clock;
   RenderContext frame_context = context;
   if (frame_context.scene_id.empty()) frame_context.scene_id = scene.static_id;
   const std::string static_id = frame_context.scene_id;
   // A view that leaves levels or ceilings out draws a copy without them, cached under its own keys.
-  const SoupSelection selection = select_objects(scene.scene.geometry, scene.soup, view.camera, view.options);
+  const Camera camera = view_camera(view.camera, view.options, scene.soup);
+  const SoupSelection selection = select_objects(scene.scene.geometry, scene.soup, camera, view.options);
   PolygonSoup selected;
   if (!selection.everything) {
     selected = selected_soup(scene.soup, selection);
     frame_context.scene_id += selection.key_suffix;
   }
   const PolygonSoup& soup = selection.everything ? scene.soup : selected;
-  RenderResult result = render_frame(scene.scene, soup, view.camera, view.options, frame_context);
+  RenderResult result = render_frame(scene.scene, soup, camera, view.options, frame_context);
   RenderOutcome out;
+  out.camera = camera;
   out.frame = std::move(result.frame);
   RenderReport& report = out.report;
   report.stats = std::move(result.stats);

@@ -35,9 +35,14 @@ struct RenderReport {
 
 struct RenderOutcome {
   Frame frame;
+  Camera camera;    // the camera drawn: the view's, or the frame it asked for (Camera::frame_all)
   std::string png;  // in view.options.png_compression; empty when context.encode is false
   RenderReport report;
 };
+
+// The camera a view is drawn with: `camera` itself, or with frame_all the frame of `soup`'s bounds
+// at the view's image size (frame_bounds in render/core/camera.hpp).
+Camera view_camera(const Camera& camera, const RenderOptions& options, const PolygonSoup& soup);
 
 // Draws `view` of `scene` and encodes it. Throws RenderCancelled when context.cancel expires.
 RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, const RenderContext& context = {});

@@ -12,6 +12,7 @@
 #include "render/scene_io/scene_json_detail.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_checks.hpp"
+#include "render/core/camera.hpp"
 #include "render/core/sample_pattern.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/solids.hpp"
@@ -300,7 +301,7 @@ Scene read_scene(const json& value, const std::string& pointer, const Bounds& sc
 // --- camera and options ------------------------------------------------------------------------------
 
 void check_view(const ObjectReader& r, const Camera& c) {
-  Vec3 view = c.target - c.position;
+  Vec3 view = c.frame_all ? frame_direction() : c.target - c.position;
   double view_length = glm::length(view);
   if (!(view_length > 0.0)) {
     throw_invalid(r.at(r.find("target") ? "target" : "position"), "camera position and target coincide");
@@ -313,9 +314,15 @@ void check_view(const ObjectReader& r, const Camera& c) {
 }
 
 Camera read_camera(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"position", "target", "up", "fov_y", "near", "far"});
+  ObjectReader r(value, pointer, b.errors, {"position", "target", "up", "fov_y", "near", "far", "frame"});
   const size_t errors_before = b.errors.size();
   Camera c;
+  r.member("frame", [&](const json& v, const std::string& p) {
+    if (v != "all") throw_invalid(p, "must be \"all\" (frame the whole scene)");
+    const char* placed = r.find("position") ? "position" : r.find("target") ? "target" : nullptr;
+    if (placed) throw_invalid(p, std::string("frames the scene by choosing position and target; leave out ") + placed);
+    c.frame_all = true;
+  });
   c.position = r.vec3("position", c.position, b.coordinate);
   c.target = r.vec3("target", c.target, b.coordinate);
   c.up = r.vec3("up", c.up, b.coordinate);

@@ -112,6 +112,22 @@ export class Api {
     return { ...result, warnings: result.warnings.map((w) => ({ ...w, pointer: sceneScoped(w.pointer) })) };
   }
 
+  // POST /v1/pick: the element visible at pixel (x, y) of the request's image, {pointer, point,
+  // depth, camera, ...} (pointer null on the background); stored: POST /v1/scenes/{id}/pick with the
+  // view, its pointer given as one into the request (/scene/solids/3).
+  async pick(request, x, y, { storedId = null, signal } = {}) {
+    const { scene, ...view } = request;
+    const [path, body] = storedId ? [`/v1/scenes/${encodeURIComponent(storedId)}/pick`, { ...view, x, y }]
+      : ["/v1/pick", { ...request, x, y }];
+    const res = await fetch(this.url(path), {
+      method: "POST", headers: { "Content-Type": "application/json", Accept: "application/json" },
+      body: JSON.stringify(body), signal,
+    });
+    if (!res.ok) throw storedId ? scopedError(res.status, await problemOf(res)) : new ApiError(res.status, await problemOf(res));
+    const answer = await res.json();
+    return storedId && answer.pointer !== null ? { ...answer, pointer: sceneScoped(answer.pointer) } : answer;
+  }
+
   async renderAt(path, body, { signal, stored = false } = {}) {
     const res = await fetch(this.url(path), {
       method: "POST",
@@ -132,6 +148,7 @@ export class Api {
         sceneId: answer.scene_id,
         cache: answer.cache,
         pipeline: answer.pipeline,
+        camera: answer.camera ?? null,  // the camera drawn, when the request asked for a frame
       };
     }
     return {

@@ -130,3 +130,25 @@ export function frameBounds([lo, hi], fovDeg = cameraDefaults.fov_y) {
   const e = rad(55);
   return { position: roundVec(add(centre, [0, d * Math.sin(e), d * Math.cos(e)])), target: roundVec(centre) };
 }
+
+// The ray through point (u, v) of a width x height image (pixels from its top-left corner; a pixel's
+// centre is at +0.5), as the server's look-at and perspective projection draw it: {origin, dir},
+// dir of unit length.
+export function pixelRay(camera, width, height, u, v) {
+  const c = withDefaults(camera);
+  const forward = normalize(sub(c.target, c.position));
+  const right = normalize(cross(forward, c.up || [0, 1, 0]));
+  const up = cross(right, forward);
+  const tanY = Math.tan(rad(c.fov_y) / 2);
+  const x = ((u / width) * 2 - 1) * tanY * (width / height);
+  const y = (1 - (v / height) * 2) * tanY;
+  return { origin: c.position, dir: normalize(add(forward, add(scale(right, x), scale(up, y)))) };
+}
+
+// Where a ray meets the horizontal plane at height `y`: [x, z] in plan, or null when it runs
+// parallel to it or meets it behind the eye.
+export function rayAtHeight({ origin, dir }, y) {
+  if (Math.abs(dir[1]) < 1e-9) return null;
+  const t = (y - origin[1]) / dir[1];
+  return t > 0 ? [origin[0] + dir[0] * t, origin[2] + dir[2] * t] : null;
+}

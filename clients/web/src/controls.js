@@ -1,4 +1,4 @@
-// The toolbar's selectors (pipeline, shading, shadows, size, compare) and the examples list. They
+// The toolbar's selectors (pipeline, shading, shadows, size, anti-aliasing, compare) and the examples list. They
 // mirror the request's options: reading the request sets them, and changing one calls
 // setOptions([{pointer, value}]), which edits the request. Pipelines and shading modes come from
 // GET /v1/pipelines, so a pipeline added to the server's table appears here by itself.
@@ -29,6 +29,7 @@ export class Controls {
       const [w, h] = e.target.value.split("x").map(Number);
       setOptions([{ pointer: "/options/width", value: w }, { pointer: "/options/height", value: h }]);
     });
+    $("antialias").addEventListener("change", (e) => setOption("/options/antialias", Number(e.target.value)));
     $("compare").addEventListener("change", onCompareChange);
     $("pipeline-b").addEventListener("change", () => { if ($("compare").checked) onCompareChange(); });
     this.onCompareChange = onCompareChange;
@@ -86,6 +87,7 @@ export class Controls {
     if (this.pipelines.includes(pipeline)) $("pipeline").value = pipeline;
     if ([...$("shading").options].some((opt) => opt.value === (o.shading || "flat"))) $("shading").value = o.shading || "flat";
     $("shadows").checked = o.shadows === true;
+    $("antialias").value = String([1, 4, 8, 16].includes(o.antialias) ? o.antialias : 1);
     const key = `${o.width ?? 640}x${o.height ?? 480}`;
     const entries = sizes.map(([w, h]) => [`${w}x${h}`, `${w} × ${h}`]);
     if (!entries.some(([v]) => v === key)) entries.push([key, key.replace("x", " × ")]);

@@ -31,7 +31,7 @@ export const newRequest = () => ({
 
 export class Designer {
   constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null,
-    onDragPreview = () => {} }) {
+    onDragPreview = () => {}, frameCamera = async () => null }) {
     this.editor = editor;
     this.onEdited = onEdited;      // a designer edit was applied: render
     this.onStatus = onStatus;
@@ -39,6 +39,7 @@ export class Designer {
     this.onReplaced = onReplaced;  // a whole new text is about to be loaded
     this.autosaveText = autosaveText;  // what the browser keeps (null: not this text), default the text
     this.onDragPreview = onDragPreview;  // (scene) while a plan drag moves an element; null when it ends
+    this.frameCamera = frameCamera;  // async (request) -> the server's frame of the scene, or null
     this.plan = new PlanView($("plan"));
     this.tool = "select";
     this.item = "table";

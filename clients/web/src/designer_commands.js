@@ -3,7 +3,7 @@
 // and key events outside the editor and the form fields. Out: designer steps, or camera edits that
 // are no steps. Mixed into Designer.prototype (designer.js), so `this` is the designer.
 import { moveSolid, solidAnchor, sceneBounds, wallsProblem } from "./plan_math.js";
-import { withDefaults, atEyeHeight, walkStep, frameBounds } from "./camera.js";
+import { withDefaults, atEyeHeight, walkStep, frameBounds, roundVec } from "./camera.js";
 import { at, setAt, clone } from "./designer_util.js";
 
 const $ = (id) => document.getElementById(id);
@@ -90,11 +90,18 @@ export const commandMethods = {
     if (request) this.moveCamera(walkStep(request.camera, forward, right, metres));
   },
 
-  // The plan fitted to the scene, and the camera over all of it.
-  frameAll() {
+  // The plan fitted to the scene, and the camera over all of it: the frame the server chooses for
+  // "camera": {"frame": "all"} (so the page and API users get the same view), or, from a server
+  // without framing, one over the plan's bounds.
+  async frameAll() {
     const request = this.request();
     if (!request) return;
     this.fit();
+    const framed = await this.frameCamera(request).catch(() => null);
+    if (framed) {
+      this.moveCamera({ position: roundVec(framed.position), target: roundVec(framed.target) });
+      return;
+    }
     const bounds = sceneBounds(request.scene || {}) || [[0, 0], [5, 4]];
     this.moveCamera(frameBounds(bounds, withDefaults(request.camera).fov_y));
   },

@@ -16,6 +16,7 @@ import { showProblems, replaceImage, showStats, download } from "./result_view.j
 import { Sharing, storedSceneLink } from "./sharing.js";
 import { parsePermalink, viewOf } from "./share.js";
 import { bigSceneChars } from "./big_scene.js";
+import { viewGrabber } from "./view_select.js";
 
 const $ = (id) => document.getElementById(id);
 const defaultExample = "apartment";
@@ -265,6 +266,13 @@ const designer = new Designer(editor, {
   autosaveText: () => sharing.autosaveText(),
   // A plan drag renders at reduced size, at most once a frame; a big scene would be stored each
   // step, so it waits for the drop.
+  // Frame all asks the server for its frame of the scene (a JSON render with "frame": "all").
+  frameCamera: (request) => loading(async () => {
+    const { up, fov_y, near, far } = request.camera || {};
+    const view = { ...request, camera: { frame: "all", up, fov_y, near, far } };
+    const answer = (await sharing.render(view)) ?? (await api.render(view));
+    return answer.camera;
+  }),
   onDragPreview: (scene) => {
     app.planScene = scene;
     if (!scene || sharing.isBig()) {
@@ -295,6 +303,15 @@ attachViewer($("views"), {
   onReset: resetCamera,
   onToggleCompare: () => controls.toggleCompare(),
   onDragEnd: endDrag,
+  // With the Select tool a click on the image selects what the server's picking finds there, and a
+  // drag that starts on a solid moves it.
+  onGrab: viewGrabber({
+    designer,
+    img: $("image"),
+    pick: (request, x, y) => loading(() => sharing.pick(request, x, y)),
+    onError: (error) => showError(error),
+    enabled: () => api.has("/v1/pick"),
+  }),
 });
 $("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0, warningClicks));
 

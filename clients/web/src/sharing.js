@@ -52,6 +52,13 @@ export class Sharing {
     return this.api.renderStored(id, viewOf(request), { signal });
   }
 
+  // The element at pixel (x, y) of the request's image (api.pick): by stored id when the scene is
+  // big, as it renders; inline otherwise.
+  async pick(request, x, y, { signal } = {}) {
+    const storedId = this.big ? await this.storedId(request.scene || {}, { signal }) : null;
+    return this.api.pick(request, x, y, { storedId, signal });
+  }
+
   // Loads a scene document (text) with a view into the editor: whole when small, else as a big
   // scene with its meshes kept out. `id`: where it is stored already (null: stored on first render).
   load(sceneText, id, view, { step = true } = {}) {

@@ -2,6 +2,8 @@
 // wheel and key events on the image area. Out: calls of onMove(kind, ...args) with kind "orbit"
 // (degrees of azimuth, elevation), "pan" (pixels dx, dy, image height) or "zoom" (distance factor),
 // at most once per animation frame: a drag produces many events, and each move asks for a render.
+// onGrab(e) may take a left press over (view_select.js): it answers mode() "pending" (moves are held),
+// "move" (it gets move(e) and the camera stays) or "orbit" (the held moves turn the camera), and end(e).
 import { wheelFactor } from "./camera.js";
 
 const degreesPerPixel = 0.4;
@@ -9,7 +11,7 @@ const keyOrbitDeg = 5;
 const keyPanPx = 24;
 const keyZoom = 0.9;
 
-export function attachViewer(area, { onMove, onReset, onToggleCompare, onDragEnd = () => {} }) {
+export function attachViewer(area, { onMove, onReset, onToggleCompare, onDragEnd = () => {}, onGrab = () => null }) {
   let drag = null;  // {x, y, mode, height}
   let pending = { orbit: [0, 0], pan: [0, 0], height: 1, zoom: 1 };
   let frame = 0;
@@ -35,7 +37,8 @@ export function attachViewer(area, { onMove, onReset, onToggleCompare, onDragEnd
   area.addEventListener("pointerdown", (e) => {
     if (!e.target.closest("figure")) return;
     const mode = e.button === 0 && !e.shiftKey ? "orbit" : "pan";
-    drag = { x: e.clientX, y: e.clientY, mode, height: imageHeight(e.target), id: e.pointerId };
+    const grab = mode === "orbit" ? onGrab(e) : null;
+    drag = { x: e.clientX, y: e.clientY, mode, height: imageHeight(e.target), id: e.pointerId, grab, held: [0, 0] };
     area.setPointerCapture(e.pointerId);
     area.classList.add("dragging");
     area.focus({ preventScroll: true });
@@ -47,6 +50,19 @@ export function attachViewer(area, { onMove, onReset, onToggleCompare, onDragEnd
     const dy = e.clientY - drag.y;
     drag.x = e.clientX;
     drag.y = e.clientY;
+    const grabbed = drag.grab ? drag.grab.mode() : "orbit";
+    if (drag.grab) drag.grab.move(e);
+    if (grabbed === "move") return;
+    if (grabbed === "pending") {
+      drag.held[0] += dx;
+      drag.held[1] += dy;
+      return;
+    }
+    if (drag.held[0] || drag.held[1]) {
+      pending.orbit[0] += drag.held[0] * degreesPerPixel;
+      pending.orbit[1] += drag.held[1] * degreesPerPixel;
+      drag.held = [0, 0];
+    }
     if (drag.mode === "orbit") {
       pending.orbit[0] += dx * degreesPerPixel;
       pending.orbit[1] += dy * degreesPerPixel;
@@ -59,6 +75,7 @@ export function attachViewer(area, { onMove, onReset, onToggleCompare, onDragEnd
   });
   const end = (e) => {
     if (!drag || e.pointerId !== drag.id) return;
+    if (drag.grab) drag.grab.end(e);
     drag = null;
     if (frame) {
       cancelAnimationFrame(frame);

@@ -3,7 +3,7 @@
 // keeps the direction, and a full circle of orbit steps comes back to the start.
 import { test } from "node:test";
 import assert from "node:assert/strict";
-import { orbit, pan, zoom, toSpherical, fromSpherical, wheelFactor } from "../src/camera.js";
+import { orbit, pan, zoom, toSpherical, fromSpherical, wheelFactor, pixelRay, rayAtHeight } from "../src/camera.js";
 
 const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 const near = (a, b, eps = 2e-3) => a.every((x, i) => Math.abs(x - b[i]) <= eps);
@@ -63,4 +63,24 @@ test("a camera without position and target uses the documented defaults", () => 
   const moved = orbit({}, 90, 0);
   assert.deepEqual(moved.target, [0, 1, 0]);
   assert.ok(Math.abs(dist(moved.position, [0, 1, 0]) - Math.hypot(0.6, 5)) < 2e-3);
+});
+
+// pixelRay is the server's projection run backwards: the image centre looks at the target, the
+// image's corners lie at the field of view's edges, and a ray meets a plane where rayAtHeight says.
+test("pixelRay follows the look-at projection", () => {
+  const c = { position: [4, 3, 6], target: [1, 1, 1], fov_y: 50 };
+  const centre = pixelRay(c, 640, 480, 320, 240);
+  const toTarget = [c.target[0] - 4, c.target[1] - 3, c.target[2] - 6].map((v) => v / dist(c.target, c.position));
+  assert.ok(near(centre.dir, toTarget, 1e-12));
+  const top = pixelRay(c, 640, 480, 320, 0);
+  const angle = Math.acos(top.dir.reduce((s, v, i) => s + v * centre.dir[i], 0));
+  assert.ok(Math.abs(angle - (25 * Math.PI) / 180) < 1e-12, `top edge at half the fov: ${angle}`);
+  const corner = pixelRay(c, 640, 480, 640, 0);
+  const horizontal = Math.atan(Math.tan((25 * Math.PI) / 180) * (640 / 480));
+  const side = pixelRay(c, 640, 480, 640, 240);
+  assert.ok(Math.abs(Math.acos(side.dir.reduce((s, v, i) => s + v * centre.dir[i], 0)) - horizontal) < 1e-12);
+  assert.ok(corner.dir[1] > side.dir[1], "the top-right corner looks higher than the right edge");
+  const floor = rayAtHeight(centre, 1);
+  assert.ok(near([floor[0], 1, floor[1]], c.target, 1e-9), `the centre ray meets y = 1 at the target: ${floor}`);
+  assert.equal(rayAtHeight(centre, 5), null, "a plane above a downward ray is behind the eye");
 });
