@@ -504,7 +504,7 @@ std::string config_json(const ServerConfig& c) {
       {"render_timeout_ms", c.render_timeout_ms}, {"trim_after_work_ms", c.trim_after_work_ms},
       {"retry_after_s", c.retry_after_s},
       {"drain_timeout_ms", c.drain_timeout_ms}, {"max_body_bytes", c.max_body_bytes}, {"max_import_bytes", c.max_import_bytes},
-      {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels},
+      {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels}, {"max_render_bytes", l.max_render_bytes},
       {"max_polygons", l.max_polygons}, {"max_cylinder_segments", l.max_cylinder_segments},
       {"max_floor_cells", l.max_floor_cells}, {"max_abs_coordinate", l.max_abs_coordinate},
       {"max_far_over_near", l.max_far_over_near}, {"max_mesh_vertices", l.max_mesh_vertices},

@@ -105,6 +105,8 @@ const Setting settings[] = {
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.limits.max_image_side = int(parse_integer(v, s, 1, 65536)); }},
   {"--max-pixels", "largest width * height (default 16800000)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.limits.max_pixels = parse_integer(v, s, 1, big); }},
+  {"--max-render-bytes", "a frame's buffer memory, the A-buffer of options.antialias included (default 536870912)",
+   [](ServerConfig& c, const std::string& v, const std::string& s) { c.limits.max_render_bytes = parse_integer(v, s, 1, big); }},
   {"--max-polygons", "most polygons after tessellation (default 2000000)",
    [](ServerConfig& c, const std::string& v, const std::string& s) { c.limits.max_polygons = size_t(parse_integer(v, s, 1, big)); }},
   {"--bsp-cache-bytes", "BSP tree cache budget (default 268435456)",

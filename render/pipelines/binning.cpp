@@ -34,6 +34,7 @@ void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, siz
   out.tiles.clear();
   out.triangles_drawn = 0;
   const int width = input.view.width, height = input.view.height;
+  const int margin = input.options.antialias > 1 ? 1 : 0;
   thread_local DrawScratch scratch;
   for (size_t n = begin; n < end; ++n) {
     const uint32_t i = opaque[n];
@@ -56,8 +57,9 @@ void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, siz
                        {scratch.screen[v[0]].inv_w, scratch.screen[v[1]].inv_w, scratch.screen[v[2]].inv_w}, slot, k};
       TriangleSetup s;
       if (!setup_binned(t, s)) continue;
-      const int px0 = std::max(0, s.px0), px1 = std::min(width - 1, s.px1);
-      const int py0 = std::max(0, s.py0), py1 = std::min(height - 1, s.py1);
+      // Sub-samples lie within half a pixel of the centres: with them, one pixel more each way.
+      const int px0 = std::max(0, s.px0 - margin), px1 = std::min(width - 1, s.px1 + margin);
+      const int py0 = std::max(0, s.py0 - margin), py1 = std::min(height - 1, s.py1 + margin);
       if (px0 > px1 || py0 > py1) continue;
       out.triangles.push_back(t);
       out.tiles.push_back({px0 / tile_size, py0 / tile_size, std::min(tiles_x, px1 / tile_size + 1),

@@ -5,8 +5,11 @@
 // walk ends when every pixel is. Then the tiles are shaded on the thread pool (draw_first_wins):
 // each pixel by its writer, and the translucent polygons met on the way, back to front, where they
 // lie in front of the pixel's opaque writer, which is what the back-to-front walk leaves there.
+// With options.antialias > 1 the walk claims sub-samples instead and a pixel is written when all of
+// them and its centre are; the tiles then resolve through the A-buffer (ordered_draw_aa.cpp).
 #include "render/pipelines/bsp.hpp"
 
+#include "render/core/abuffer.hpp"
 #include "render/core/draw.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
@@ -30,9 +33,40 @@ class Coverage {
  public:
   static constexpr int tile = 8;
 
-  explicit Coverage(IdBuffer& ids)
+  // With samples > 1 a pixel is written when its sub-samples and its centre are all claimed, in a
+  // mask per pixel (kept by the thread for its next frame); the id buffer is left to the drawing.
+  Coverage(IdBuffer& ids, int samples)
       : width_(ids.width), height_(ids.height), tiles_x_((ids.width + tile - 1) / tile), writer_(ids.ids),
-        written_(size_t(tiles_x_) * size_t((ids.height + tile - 1) / tile), 0) {}
+        written_(size_t(tiles_x_) * size_t((ids.height + tile - 1) / tile), 0) {
+    if (samples <= 1) return;
+    thread_local std::vector<uint32_t> kept_masks;
+    masks_ = &kept_masks;
+    masks_->assign(writer_.size(), 0u);
+    set_ = make_sample_set(samples);
+    full_mask_ = (uint32_t{2} << samples) - 1;  // the samples and the centre
+  }
+
+  bool sampled() const { return masks_ != nullptr; }
+  // Claims the sub-samples a triangle covers; returns the pixels where it covers any.
+  size_t claim_samples(const TriangleSetup& s, const double inv_w[3]) {
+    SampleEdges se;
+    setup_sample_edges(s, inv_w, set_, se);
+    size_t covered = 0;
+    sample_spans(s, se, PixelRect{0, 0, width_, height_}, [&](int y, int x, int n, const int64_t e0[3]) {
+      int64_t e[3] = {e0[0], e0[1], e0[2]};
+      uint32_t* const row = masks_->data() + size_t(y) * size_t(width_);
+      uint16_t* const written = written_.data() + size_t(y / tile) * size_t(tiles_x_);
+      for (int i = x; i < x + n; ++i, e[0] += s.step_x[0], e[1] += s.step_x[1], e[2] += s.step_x[2]) {
+        const uint32_t m = sample_mask(se, e);
+        if (m == 0) continue;
+        ++covered;
+        const uint32_t before = row[i], after = before | m;
+        row[i] = after;
+        if (before != full_mask_ && after == full_mask_) ++written[i / tile], ++total_;
+      }
+    });
+    return covered;
+  }
 
   bool full() const { return total_ == writer_.size(); }
   // Claims the unwritten pixels of x .. x + n - 1 on row y for the polygon at walk position `seq`.
@@ -63,7 +97,7 @@ class Coverage {
         if (ax >= x0 && bx <= x1 && ay >= y0 && by <= y1) return false;  // a hole inside the rectangle
         for (int y = std::max(ay, y0); y < std::min(by, y1); ++y) {
           for (int x = std::max(ax, x0); x < std::min(bx, x1); ++x) {
-            if (writer_[size_t(y) * size_t(width_) + size_t(x)] == background_id) return false;
+            if (!written(size_t(y) * size_t(width_) + size_t(x))) return false;
           }
         }
       }
@@ -71,8 +105,13 @@ class Coverage {
     return true;
   }
  private:
+  bool written(size_t i) const { return masks_ ? (*masks_)[i] == full_mask_ : writer_[i] != background_id; }
+
   int width_, height_, tiles_x_;
   std::vector<uint32_t>& writer_;
+  std::vector<uint32_t>* masks_ = nullptr;
+  SampleSet set_;
+  uint32_t full_mask_ = 0;
   std::vector<uint16_t> written_;  // at most tile^2 = 64
   size_t total_ = 0;
 };
@@ -119,7 +158,7 @@ class FrontToBack {
  public:
   FrontToBack(const BspTree& tree, const FrameInput& input, Frame& frame, RenderStats& stats, ProjectedSet& drawn)
       : tree_(tree), soup_(tree.fragments), input_(input), view_(input.view), frame_(frame), stats_(stats),
-        frustum_(input.view), coverage_(frame.ids), shader_(input, soup_), drawn_(drawn) {
+        frustum_(input.view), coverage_(frame.ids, input.options.antialias), shader_(input, soup_), drawn_(drawn) {
     drawn_.clear();
   }
 
@@ -200,6 +239,11 @@ class FrontToBack {
     for (size_t k = 0; k + 2 < v.size(); ++k) {
       TriangleSetup s;
       if (!setup_screen_triangle(v[0], v[k + 1], v[k + 2], s)) continue;
+      if (coverage_.sampled()) {
+        const double inv_w[3] = {v[0].inv_w, v[k + 1].inv_w, v[k + 2].inv_w};
+        stats_.fragments += coverage_.claim_samples(s, inv_w);
+        continue;
+      }
       triangle_spans(s, frame_rect, [&](int y, int x, int n, const int64_t*) {
         stats_.fragments += size_t(n);
         coverage_.claim_span(y, x, n, position);

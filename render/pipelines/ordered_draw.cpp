@@ -281,6 +281,7 @@ void last_wins_shaded_tile(const Context& c, const PixelRect& r, const std::vect
 
 size_t draw_last_wins(const FrameInput& input, std::span<const DrawSource> sources, const ProjectedSet& set,
                       const TileGrid& grid, unsigned threads, Frame& frame) {
+  if (input.options.antialias > 1) return draw_ordered_aa(input, sources, set, grid, false, threads, frame);
   threads = std::max(1u, threads);
   std::vector<Worker> workers = make_workers(sources, threads);
   const Context c{sources, set, frame, size_t(frame.image.width)};
@@ -364,6 +365,7 @@ void translucent_tile(const Context& c, const PixelRect& r, const std::vector<ui
 
 size_t draw_first_wins(const FrameInput& input, std::span<const DrawSource> sources, const ProjectedSet& set,
                        const std::vector<uint32_t>& id_of, const TileGrid& grid, unsigned threads, Frame& frame) {
+  if (input.options.antialias > 1) return draw_ordered_aa(input, sources, set, grid, true, threads, frame);
   threads = std::max(1u, threads);
   std::vector<Worker> workers = make_workers(sources, threads);
   const Context c{sources, set, frame, size_t(frame.image.width)};

@@ -88,6 +88,13 @@ size_t draw_last_wins(const FrameInput& input, std::span<const DrawSource> sourc
 size_t draw_first_wins(const FrameInput& input, std::span<const DrawSource> sources, const ProjectedSet& set,
                        const std::vector<uint32_t>& id_of, const TileGrid& grid, unsigned threads, Frame& frame);
 
+// draw_last_wins (first_wins = false) or draw_first_wins (true) for options.antialias > 1
+// (ordered_draw_aa.cpp): per tile, the polygons' order decides each sub-sample's owner, translucent
+// ones composite over the samples they are in front of, and each surface is shaded once per pixel.
+// Ids are polygon ids (the surface under the pixel centre); for first wins frame.ids is not read.
+size_t draw_ordered_aa(const FrameInput& input, std::span<const DrawSource> sources, const ProjectedSet& set,
+                       const TileGrid& grid, bool first_wins, unsigned threads, Frame& frame);
+
 // Calls fn(y, x, n, e) for each row of the triangle's covered pixels in `rect` (x .. x + n - 1 on
 // row y, edge values e[] at (x, y)): the pixels rasterize_triangle visits, in its order.
 template <class Fn>

@@ -278,6 +278,7 @@ void span_weights(const TriangleSetup& s, const double inv_w[3], int x, int y, i
 
 void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
                      unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {
+  if (input.options.antialias > 1) return draw_visibility_aa(input, vis, shader, threads, frame, stats, timings);
   Stopwatch clock;
   const int width = frame.image.width, height = frame.image.height;
   // Reused by this thread's next frame: no fresh pages (and page faults) per frame. References,

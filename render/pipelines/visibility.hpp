@@ -58,4 +58,15 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
 void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
                      unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings);
 
+struct TileTriangle;
+// The tile A-buffer's run of pixels x .. x + n - 1 of row y wholly triangle t's, shaded at their
+// centres as one span of the bound `shader` (weights from span_weights), into out[0 .. n).
+void shade_as_span(const SurfaceShader& shader, const TileTriangle& t, int x, int y, int n, SurfaceShader::Span& span,
+                   SurfaceShader::SpanColors& colors, Color* out);
+
+// draw_visibility for options.antialias > 1 (visibility_aa.cpp): the same bins drawn through the
+// tile A-buffer (abuffer.hpp), shading each visible surface once per pixel. Times it as raster.
+void draw_visibility_aa(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
+                        unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings);
+
 }  // namespace rr

@@ -5,6 +5,8 @@
 // lists every independent problem; a rule that combines members runs only when they read cleanly.
 #include "render/scene_io/scene_json.hpp"
 
+#include "render/core/abuffer.hpp"
+
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/json_reader.hpp"
 #include "render/scene_io/scene_json_detail.hpp"
@@ -407,6 +409,23 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   o.ceilings = read_choice(r, "ceilings", o.ceilings, ceiling_mode_names);
   o.antialias = int(r.integer("antialias", o.antialias, NumberRange{1.0, 16.0}));
   if (!is_sample_count(o.antialias)) throw_invalid(r.at("antialias"), "must be 1, 4, 8 or 16");
+  // The memory budget: named at the width when one sample per pixel already exceeds it, else at
+  // the sub-samples whose A-buffer does.
+  const bool plain_over = render_bytes(o.width, o.height, 1) > b.limits.max_render_bytes;
+  if (long long bytes = render_bytes(o.width, o.height, o.antialias); bytes > b.limits.max_render_bytes) {
+    std::string detail = "a ";
+    detail += std::to_string(o.width);
+    detail += "x";
+    detail += std::to_string(o.height);
+    detail += " frame at antialias ";
+    detail += std::to_string(o.antialias);
+    detail += " needs ";
+    detail += std::to_string(bytes);
+    detail += " bytes of frame buffers and A-buffer; at most ";
+    detail += std::to_string(b.limits.max_render_bytes);
+    detail += " are allowed";
+    throw_too_large(r.at(plain_over ? "width" : "antialias"), detail);
+  }
   return o;
 }
 

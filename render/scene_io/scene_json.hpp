@@ -20,6 +20,7 @@ struct ParseLimits {
   size_t max_depth = 64;                // JSON nesting, checked while parsing
   int max_image_side = 4096;            // width and height
   long long max_pixels = 16'800'000;    // width * height
+  long long max_render_bytes = 512LL << 20;  // a frame's buffers, the A-buffer included (render_bytes)
   size_t max_polygons = 2'000'000;      // after tessellation, estimated before it runs
   int max_cylinder_segments = 1024;
   long long max_floor_cells = 1'000'000;
