@@ -221,4 +221,10 @@ long long render_bytes(int width, int height, int samples) {
   return pixels * 19 + workers * (long long)TileABuffer::bytes(samples);
 }
 
+std::vector<TileABuffer>& kept_tile_buffers(unsigned count) {
+  thread_local std::vector<TileABuffer> kept;
+  if (kept.size() < count) kept.resize(count);
+  return kept;
+}
+
 }  // namespace rr

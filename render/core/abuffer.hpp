@@ -188,6 +188,10 @@ class TileABuffer {
   SampleEdges edges_;
 };
 
+// The calling thread's tile buffers, at least `count` of them, kept for its next frame: a frame's
+// workers reuse them tile after tile, so no frame faults in fresh pages.
+std::vector<TileABuffer>& kept_tile_buffers(unsigned count);
+
 // The memory budget's count for one frame (docs/antialiasing.md, "Memory"): per pixel the image
 // (3 bytes), ids (4), the z-buffer's depth and triangle (8) and, with samples > 1, the front-to-back
 // walk's coverage mask (4); plus, with samples > 1, one tile buffer per tile worked on at once (at

@@ -91,10 +91,7 @@ size_t draw_ordered_aa(const FrameInput& input, std::span<const DrawSource> sour
                        const TileGrid& grid, bool first_wins, unsigned threads, Frame& frame) {
   const SampleSet samples = make_sample_set(input.options.antialias);
   threads = std::max(1u, threads);
-  // A tile buffer per worker, kept by this thread for its next frame (see visibility_aa.cpp).
-  thread_local std::vector<TileABuffer> kept_buffers;
-  std::vector<TileABuffer>& buffers = kept_buffers;
-  if (buffers.size() < threads) buffers.resize(threads);
+  std::vector<TileABuffer>& buffers = kept_tile_buffers(threads);  // one per worker
   std::vector<AaWorker> workers(threads);
   for (unsigned t = 0; t < threads; ++t) {
     workers[t].buffer_ptr = &buffers[t];

@@ -119,12 +119,7 @@ void draw_visibility_aa(const FrameInput& input, const VisibilityInput& vis, con
   Stopwatch clock;
   const SampleSet set = make_sample_set(input.options.antialias);
   threads = std::max(1u, threads);
-  // A tile buffer per worker, reused tile after tile and kept by this thread for its next frame:
-  // no fresh pages (and page faults) per frame. A reference, because inside the workers' lambda
-  // the name would mean the workers' own thread_local.
-  thread_local std::vector<TileABuffer> kept_buffers;
-  std::vector<TileABuffer>& buffers = kept_buffers;
-  if (buffers.size() < threads) buffers.resize(threads);
+  std::vector<TileABuffer>& buffers = kept_tile_buffers(threads);  // one per worker
   std::vector<AaWorker> workers(threads);
   for (unsigned t = 0; t < threads; ++t) {
     workers[t].buffer_ptr = &buffers[t];
