@@ -1,4 +1,4 @@
-# Sourced by tests/deploy/test_shared_store.sh and bench/store_rate.sh: a PostgreSQL from Debian's
+# Sourced by tests/deploy/test_shared_store.sh, test_replicas.sh and bench/store_rate.sh: a PostgreSQL from Debian's
 # package in a temporary directory (as an unprivileged user when run as root), roomrender replicas on
 # free loopback ports, and Debian's nginx with deploy/nginx/roomrender.conf in front of them.
 # Needs: $work (a fresh temporary directory), $binary (roomrender), $source_dir; defines fail() first.
@@ -94,7 +94,12 @@ stop_replicas() {
 
 # nginx with the shipped server block and an upstream of "$@" (loopback ports), hashed as the
 # shipped upstream files hash.
-start_nginx() {
+start_nginx() { start_nginx_balanced 'hash $roomrender_affinity consistent;' "$@"; }
+
+# The same with the upstream's balancing line $1 ("" = round robin) and the ports after it.
+start_nginx_balanced() {
+  local balance="$1"
+  shift
   [ -n "$nginx_port" ] || nginx_port=$(free_port)
   {
     echo "worker_processes 1; daemon off; pid $work/nginx.pid; error_log $work/error.log warn;"
@@ -103,7 +108,7 @@ start_nginx() {
     echo "  access_log off;"
     for t in client_body proxy fastcgi uwsgi scgi; do echo "  ${t}_temp_path $work/$t;"; done
     echo "  upstream roomrender {"
-    echo "    hash \$roomrender_affinity consistent;"
+    [ -n "$balance" ] && echo "    $balance"
     for p in "$@"; do echo "    server 127.0.0.1:$p max_fails=1 fail_timeout=5s;"; done
     echo "    keepalive 16;"
     echo "  }"

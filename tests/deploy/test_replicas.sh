@@ -32,17 +32,11 @@ cleanup() {
 }
 trap cleanup EXIT
 fail() { echo "test_replicas: FAIL: $*" >&2; [ -f "$work/error.log" ] && tail -5 "$work/error.log" >&2; exit 1; }
+# shellcheck source=tests/deploy/cluster.sh
+source "$source_dir/tests/deploy/cluster.sh"  # free_port, start_nginx, stop_nginx
 command -v nginx >/dev/null || fail "nginx is not installed (scripts/install-deps.sh installs it)"
 # The Dockerfile, compose file and k8s manifest, read rather than run (no container engine here).
 python3 "$source_dir/tests/deploy/check_manifests.py" "$source_dir" || fail "deploy manifests (above)"
-
-free_port() {  # a port the kernel just handed out and released: good enough on loopback
-  local port
-  for port in $(shuf -i 20000-60000 -n 50); do
-    (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null || { echo "$port"; return; }
-  done
-  fail "no free port"
-}
 
 replica_ports=()
 start_replicas() {
@@ -69,34 +63,6 @@ stop_replicas() {
   pids=()
 }
 
-nginx_port=$(free_port)
-start_nginx() {  # $1: the upstream's balancing line ("" = round robin)
-  local balance="$1"
-  {
-    echo "worker_processes 1; daemon off; pid $work/nginx.pid; error_log $work/error.log warn;"
-    echo "events { worker_connections 256; }"
-    echo "http {"
-    echo "  access_log off;"
-    for t in client_body proxy fastcgi uwsgi scgi; do echo "  ${t}_temp_path $work/$t;"; done
-    echo "  upstream roomrender {"
-    [ -n "$balance" ] && echo "    $balance"
-    for p in "${replica_ports[@]}"; do echo "    server 127.0.0.1:$p max_fails=1 fail_timeout=5s;"; done
-    echo "    keepalive 8;"
-    echo "  }"
-    sed -e "s|^  listen 8080;|  listen 127.0.0.1:$nginx_port;|" "$source_dir/deploy/nginx/roomrender.conf" | sed 's/^/  /'
-    echo "}"
-  } >"$work/nginx.conf"
-  nginx -t -q -c "$work/nginx.conf" -p "$work" 2>"$work/nginx-t.log" || fail "nginx -t: $(cat "$work/nginx-t.log")"
-  nginx -c "$work/nginx.conf" -p "$work" &
-  nginx_pid=$!
-  for _ in $(seq 1 100); do
-    curl -sf "http://127.0.0.1:$nginx_port/livez" >/dev/null 2>&1 && return
-    sleep 0.05
-  done
-  fail "nginx did not come up"
-}
-stop_nginx() { kill "$nginx_pid" 2>/dev/null || true; wait "$nginx_pid" 2>/dev/null || true; nginx_pid=""; }
-
 # Renders every scene $renders_per_scene times through nginx with the bsp pipeline; after the first
 # answer of a scene, sends its X-Scene-Id as clients do. Prints "scene upstream cache" lines.
 render_all() {
@@ -120,7 +86,7 @@ hit_rate() { awk '{n++; if ($3 == "hit") h++} END {printf "%.3f", h / n}' "$1"; 
 
 # 1. Consistent hashing.
 start_replicas
-start_nginx 'hash $roomrender_affinity consistent;'
+start_nginx "${replica_ports[@]}"
 render_all >"$work/hashed.txt"
 grep -qv ' hit$\| miss$' "$work/hashed.txt" && fail "an answer had no X-Cache: $(grep -v ' hit$\| miss$' "$work/hashed.txt" | head -1)"
 for scene in "${scenes[@]}"; do
@@ -144,14 +110,14 @@ stop_nginx
 # 2. Round robin, fresh replicas (cold caches).
 stop_replicas
 start_replicas
-start_nginx ''
+start_nginx_balanced '' "${replica_ports[@]}"
 render_all >"$work/round_robin.txt"
 round_robin=$(hit_rate "$work/round_robin.txt")
 awk '{print $3}' "$work/round_robin.txt" | grep -q . || fail "no answers with round robin"
 
 # 3. Kill a replica: with hashing, every scene still renders.
 stop_nginx
-start_nginx 'hash $roomrender_affinity consistent;'
+start_nginx "${replica_ports[@]}"
 kill -KILL "${pids[0]}"
 wait "${pids[0]}" 2>/dev/null || true
 render_all >"$work/after_kill.txt" || fail "renders failed after a replica died"
