@@ -8,7 +8,8 @@
 #      check, schemas and data directories, volume);
 #   4. the image's server run with buildah (`podman run` needs cgroups this kind of machine lacks)
 #      with the image's own environment: a render, the web page, /openapi.json, a schema, an OBJ
-#      import stored with store=1, the stored scene rendered by id, /metrics, the health check;
+#      import stored with store=1, the stored scene rendered by id (also anti-aliased) and picked,
+#      /metrics, the health check;
 #   5. SIGTERM, a second start of the same container, and the stored scene still there (the data
 #      directory is the image's VOLUME, written by the image's user).
 #   6. with --attacks, bench/attacks.py against the image's server (second start; its attacks share
@@ -215,6 +216,15 @@ if [ -n "$id" ]; then
   got=$(fetch "/v1/scenes/$id/render.png?width=320&height=240")
   [ "${got%% *}" = 200 ] && is_png "$work/out" && pass "GET /v1/scenes/$id/render.png -> $got, PNG" ||
     fail "GET /v1/scenes/$id/render.png -> $got"
+  got=$(fetch "/v1/scenes/$id/render.png?width=320&height=240&antialias=4")
+  [ "${got%% *}" = 200 ] && is_png "$work/out" && pass "GET /v1/scenes/$id/render.png?antialias=4 -> $got, PNG" ||
+    fail "GET /v1/scenes/$id/render.png?antialias=4 -> $got"
+  # The pixel at the centre of a framed view of the cube is the cube: the only element, /solids/0.
+  got=$(fetch "/v1/scenes/$id/pick" -H 'Content-Type: application/json' \
+          --data '{"camera":{"frame":"all"},"options":{"width":64,"height":48},"x":32,"y":24}')
+  picked=$(json_field "$work/out" pointer || true)
+  [ "${got%% *}" = 200 ] && [ "$picked" = /solids/0 ] && pass "POST /v1/scenes/$id/pick (framed, centre) -> $picked" ||
+    fail "POST /v1/scenes/$id/pick -> $got: $(head -c 300 "$work/out")"
   owner=$(buildah run --isolation chroot "$ctr" -- stat -c %u "$data_dir/scenes/$id.json" 2>&1 | tail -1 || true)
   [ "$owner" = "$runtime_uid" ] && pass "$data_dir/scenes/$id.json written, owned by uid $owner" ||
     fail "$data_dir/scenes/$id.json: $owner"
