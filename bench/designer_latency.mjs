@@ -12,6 +12,7 @@ import os from "node:os";
 import path from "node:path";
 import { createRequire } from "node:module";
 import { startServer, chromiumPath, repoRoot } from "../tests/browser/support.mjs";
+import { worldToPage } from "../tests/browser/designer_support.mjs";
 
 const args = process.argv.slice(2);
 const binary = args[0];
@@ -67,22 +68,6 @@ async function measureDrag(page, points) {
   return page.evaluate(() => window.latencyClock.samples.slice());
 }
 
-// The page point over world point p on the image (the look-at projection, as the server draws it).
-function worldToPage(page, camera, p) {
-  const sub = (a, b) => a.map((v, i) => v - b[i]);
-  const dot = (a, b) => a.reduce((t, v, i) => t + v * b[i], 0);
-  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-  const unit = (a) => a.map((v) => v / Math.hypot(...a));
-  const forward = unit(sub(camera.target, camera.position));
-  const right = unit(cross(forward, camera.up || [0, 1, 0]));
-  const up = cross(right, forward);
-  const d = sub(p, camera.position);
-  const tanY = Math.tan(((camera.fov_y ?? 60) * Math.PI) / 360);
-  const u = ((dot(d, right) / dot(d, forward) / (tanY * (640 / 480)) + 1) / 2) * 640;
-  const v = ((1 - dot(d, up) / dot(d, forward) / tanY) / 2) * 480;
-  return page.evaluate(([a, b]) => window.roomrenderDesigner.viewToPage(a, b), [u - 0.5, v - 0.5]);
-}
-
 const require = createRequire(path.join(repoRoot, "clients/web/package.json"));
 const { chromium } = require("playwright-core");
 const loadBefore = os.loadavg();
@@ -115,7 +100,7 @@ try {
   // horizontal plane through it, east then back west.
   const y = chair.size[1];  // the top face: what the camera above sees and the press picks
   const viewPoints = [];
-  for (const x of xs) viewPoints.push(await worldToPage(page, request.camera, [x, y, chair.center[1]]));
+  for (const x of xs) viewPoints.push(await worldToPage(page, request.camera, { width: 640, height: 480 }, [x, y, chair.center[1]]));
   const view = await measureDrag(page, viewPoints);
   const movedInView = (await page.evaluate(() => window.roomrenderDesigner.request())).scene.solids.find((s) => s.id === "chair_north");
 

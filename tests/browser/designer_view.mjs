@@ -5,7 +5,7 @@
 // sent, and "Frame all" shows the camera the service frames with "camera": {"frame": "all"}.
 //   node tests/browser/designer_view.mjs BUILD/roomrender OUT_DIR SCENARIO
 import { runScenario, assert, httpRequest, serverHas, skip } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, openEmpty } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, openEmpty, worldToPage } from "./designer_support.mjs";
 import { execFileSync } from "node:child_process";
 import fs from "node:fs";
 import path from "node:path";
@@ -48,23 +48,6 @@ function regionPixels(ids) {
   }
   return [...found.values()].sort((a, b) => b.count - a.count)
     .map((e) => ({ id: e.id, pixel: e.pixels[Math.floor(e.pixels.length / 2)] }));
-}
-
-// The page point over world point p in the page's image (the inverse of camera.js's pixelRay).
-async function worldToPage(page, camera, options, p) {
-  const sub = (a, b) => a.map((v, i) => v - b[i]);
-  const dot = (a, b) => a.reduce((s, v, i) => s + v * b[i], 0);
-  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-  const unit = (a) => a.map((v) => v / Math.hypot(...a));
-  const forward = unit(sub(camera.target, camera.position));
-  const right = unit(cross(forward, camera.up || [0, 1, 0]));
-  const up = cross(right, forward);
-  const d = sub(p, camera.position);
-  const tanY = Math.tan(((camera.fov_y ?? 60) * Math.PI) / 360);
-  const aspect = options.width / options.height;
-  const u = ((dot(d, right) / dot(d, forward) / (tanY * aspect) + 1) / 2) * options.width;
-  const v = ((1 - dot(d, up) / dot(d, forward) / tanY) / 2) * options.height;
-  return hooks(page, "viewToPage", u - 0.5, v - 0.5);
 }
 
 async function openApartment(page, server) {
