@@ -4,6 +4,7 @@
 // colour "r g b" in 8-bit units, in the same order: material colour x ambient irradiance, rounded
 // as roomrender's flat shading does) and prints the camera and background as one JSON line.
 // usage: bench_antialias_peer_scene REQUEST.json OUTDIR
+#include "bench/bench_io.hpp"
 #include "cli/cli.hpp"
 #include "render/core/image.hpp"
 #include "render/core/shading_detail.hpp"
@@ -22,16 +23,9 @@
 #include <vector>
 
 using namespace rr;
+using rr::bench::read_text;
 
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  if (!in) throw std::runtime_error("cannot read " + path);
-  return s.str();
-}
 
 void write_text(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);

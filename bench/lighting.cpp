@@ -3,6 +3,7 @@
 // median over --frames frames of every stage of the whole request path (parse, tessellate, shadow,
 // raster, shade, encode, total). Per-pixel shading runs inside the rasterizer's loop, so Phong's
 // cost shows in `raster`; `shade` is the per-polygon preparation. Writes JSON to --out.
+#include "bench/bench_io.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
@@ -22,6 +23,7 @@
 namespace {
 
 using json = nlohmann::ordered_json;
+using rr::bench::read_text;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -42,14 +44,6 @@ rr::RenderOutcome render_text(const std::string& text) {
   context.tessellate_ms = scene.tessellate_ms;
   context.before_ms = total.elapsed_ms();
   return rr::render(request, scene, context);
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 struct Stage {

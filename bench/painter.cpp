@@ -4,6 +4,7 @@
 // classic scenes that need splits; then the sort time of generated scenes of about 10^3, 10^4 and
 // 10^5 polygons (a square grid of the same tubes, seen the same way). Writes JSON to --out. The
 // classic reference: 12 ms for the painter's sort of the 240 quads.
+#include "bench/bench_io.hpp"
 #include "render/pipelines/painter.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/render.hpp"
@@ -26,6 +27,7 @@
 namespace {
 
 using json = nlohmann::ordered_json;
+using rr::bench::read_text;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -35,14 +37,6 @@ double median(std::vector<double> v) {
 }
 
 double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 constexpr rr::PainterKey keys[] = {rr::PainterKey::mean, rr::PainterKey::min, rr::PainterKey::max,
                                    rr::PainterKey::newell};

@@ -3,6 +3,7 @@
 // that bench_gen_scenes writes) or as OBJ files through the importer (--obj FILE, e.g. the conference
 // room). Parsing and importing are not timed. Writes JSON to --out.
 // usage: bench_scene_id --out OUT.json [--runs N] [--request FILE]... [--obj FILE]...
+#include "bench/bench_io.hpp"
 #include "render/import/import_files.hpp"
 #include "render/core/scene_id.hpp"
 #include "render/scene_io/scene_json.hpp"
@@ -20,16 +21,9 @@
 #include <vector>
 
 using namespace rr;
+using rr::bench::read_text;
 
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  if (!in) throw std::runtime_error("cannot read " + path);
-  return s.str();
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
