@@ -14,9 +14,11 @@ build_packages=(
   zlib1g-dev libpugixml-dev libzip-dev
   libpq-dev
 )
+# clang-format-14 is pinned: another version formats differently and scripts/check-format.sh, run by
+# .ci/run, holds the tree to this one.
 test_packages=(
   curl ca-certificates python3 python3-yaml nginx-light chromium fonts-dejavu-core
-  postgresql
+  postgresql clang-format-14
 )
 
 mode=all
