@@ -9,9 +9,9 @@
 #include "bench/accuracy/errors.hpp"
 #include "bench/accuracy/runs.hpp"
 #include "bench/accuracy/suite.hpp"
-#include "render/scene_io/errors.hpp"
 #include "render/core/image.hpp"
 #include "render/core/scene_id.hpp"
+#include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
 
 #include <cstdio>
@@ -77,8 +77,10 @@ ordered_json machine_json(const char* when) {
   std::ifstream load("/proc/loadavg");
   std::string load_text;
   std::getline(load, load_text);
-  return {{"when", when}, {"nproc", std::thread::hardware_concurrency()},
-          {"cpu", first_line_with("/proc/cpuinfo", "model name")}, {"loadavg", load_text}};
+  return {{"when", when},
+          {"nproc", std::thread::hardware_concurrency()},
+          {"cpu", first_line_with("/proc/cpuinfo", "model name")},
+          {"loadavg", load_text}};
 }
 
 std::string utc_now() {
@@ -112,20 +114,29 @@ struct ReferenceCache {
   }
 };
 
-ordered_json run_row(const BenchScene& scene, const rr::bench::BenchConfig& config,
-                     const rr::bench::TimedRender& timed, const rr::bench::TimedRender& reference) {
-  ordered_json row = {{"scene", scene.name}, {"class", scene.scene_class}, {"config", config.label},
-                      {"group", config.group}, {"options", config.options_json}, {"status", timed.status},
-                      {"frames", timed.frames}, {"frame_ms", timed.frame_ms_median}, {"build_ms", timed.build_ms},
-                      {"stage_ms", timed.stage_ms_median}, {"reference_ms", reference.frame_ms_median}};
+ordered_json run_row(const BenchScene& scene, const rr::bench::BenchConfig& config, const rr::bench::TimedRender& timed,
+                     const rr::bench::TimedRender& reference) {
+  ordered_json row = {{"scene", scene.name},
+                      {"class", scene.scene_class},
+                      {"config", config.label},
+                      {"group", config.group},
+                      {"options", config.options_json},
+                      {"status", timed.status},
+                      {"frames", timed.frames},
+                      {"frame_ms", timed.frame_ms_median},
+                      {"build_ms", timed.build_ms},
+                      {"stage_ms", timed.stage_ms_median},
+                      {"reference_ms", reference.frame_ms_median}};
   if (timed.status == "ok" && reference.status == "ok") {
     row["errors"] = rr::bench::measure_errors(reference.last.frame, timed.last.frame);
   } else if (reference.status != "ok") {
     row["status"] = "reference " + reference.status;
   }
   const rr::RenderStats& s = timed.last.stats;
-  row["counts"] = {{"polygons_drawn", s.polygons_drawn}, {"painter_splits", s.painter_splits},
-                   {"bsp_fragments", s.bsp_fragments}, {"bsp_depth", s.bsp_depth}};
+  row["counts"] = {{"polygons_drawn", s.polygons_drawn},
+                   {"painter_splits", s.painter_splits},
+                   {"bsp_fragments", s.bsp_fragments},
+                   {"bsp_depth", s.bsp_depth}};
   return row;
 }
 
@@ -146,15 +157,20 @@ void bench_scene(const BenchScene& scene, const Args& args, ordered_json& runs) 
       write_png(args.images_dir + "/" + scene.name + ".reference.png", reference.last.frame.image);
       write_png(args.images_dir + "/" + scene.name + ".painter-mean.png", timed.last.frame.image);
     }
-    std::fprintf(stderr, "%-28s %-30s %9.2f ms  %s\n", scene.name.c_str(), config.label.c_str(),
-                 timed.frame_ms_median, runs.back().contains("errors") ? runs.back()["errors"].dump().c_str()
-                                                                      : runs.back()["status"].get<std::string>().c_str());
+    std::fprintf(stderr, "%-28s %-30s %9.2f ms  %s\n", scene.name.c_str(), config.label.c_str(), timed.frame_ms_median,
+                 runs.back().contains("errors") ? runs.back()["errors"].dump().c_str()
+                                                : runs.back()["status"].get<std::string>().c_str());
   }
   for (const auto& [key, timed] : references.frames) {  // the reference's own run time, at zero error
     const ordered_json k = ordered_json::parse(key);
-    runs.push_back({{"scene", scene.name}, {"class", scene.scene_class}, {"config", "reference"},
-                    {"group", "reference"}, {"options", {{"pipeline", "reference"}, {"shadows", k["shadows"]}}},
-                    {"status", timed.status}, {"frames", timed.frames}, {"frame_ms", timed.frame_ms_median}});
+    runs.push_back({{"scene", scene.name},
+                    {"class", scene.scene_class},
+                    {"config", "reference"},
+                    {"group", "reference"},
+                    {"options", {{"pipeline", "reference"}, {"shadows", k["shadows"]}}},
+                    {"status", timed.status},
+                    {"frames", timed.frames},
+                    {"frame_ms", timed.frame_ms_median}});
   }
 }
 
@@ -163,14 +179,22 @@ void bench_scene(const BenchScene& scene, const Args& args, ordered_json& runs) 
 int main(int argc, char** argv) {
   try {
     const Args args = parse_args(argc, argv);
-    ordered_json doc = {{"benchmark", "accuracy"}, {"date", utc_now()}, {"width", args.suite.width},
-                        {"height", args.suite.height}, {"max_frames", args.frames}, {"timeout_s", args.timeout_s},
+    ordered_json doc = {{"benchmark", "accuracy"},
+                        {"date", utc_now()},
+                        {"width", args.suite.width},
+                        {"height", args.suite.height},
+                        {"max_frames", args.frames},
+                        {"timeout_s", args.timeout_s},
                         {"machine_start", machine_json("start")}};
     ordered_json scenes = ordered_json::array(), runs = ordered_json::array();
     for (const BenchScene& scene : rr::bench::load_suite(args.suite)) {
-      scenes.push_back({{"name", scene.name}, {"class", scene.scene_class}, {"source", scene.source},
-                        {"polygons", scene.prepared.soup.polygons.size()}, {"lights", scene.prepared.scene.lights.size()},
-                        {"light_added", scene.light_added}, {"camera", scene.camera_note},
+      scenes.push_back({{"name", scene.name},
+                        {"class", scene.scene_class},
+                        {"source", scene.source},
+                        {"polygons", scene.prepared.soup.polygons.size()},
+                        {"lights", scene.prepared.scene.lights.size()},
+                        {"light_added", scene.light_added},
+                        {"camera", scene.camera_note},
                         {"large", rr::bench::is_large(scene)},
                         {"few_shadow_settings", rr::bench::has_few_shadow_settings(scene)}});
       bench_scene(scene, args, runs);

@@ -47,7 +47,8 @@ std::string face_colors(const Scene& scene, const PolygonSoup& soup) {
     const Material& m = soup.materials[soup.polygons[i].material];
     if (m.opacity < 1.0f) throw std::runtime_error("the matched setup is opaque: set every opacity to 1");
     const Color c = Color(glm::dvec3(m.color) * irradiance);
-    out += std::to_string(to_byte(c.r)) + " " + std::to_string(to_byte(c.g)) + " " + std::to_string(to_byte(c.b)) + "\n";
+    out +=
+        std::to_string(to_byte(c.r)) + " " + std::to_string(to_byte(c.g)) + " " + std::to_string(to_byte(c.b)) + "\n";
   }
   return out;
 }
@@ -55,7 +56,8 @@ std::string face_colors(const Scene& scene, const PolygonSoup& soup) {
 int run(const std::string& request_path, const std::string& outdir) {
   RenderRequest request = parse_request(read_text(request_path));
   const PreparedScene prepared = prepare_scene(std::move(request.scene));
-  const SoupSelection selection = select_objects(prepared.scene.geometry, prepared.soup, request.camera, request.options);
+  const SoupSelection selection =
+      select_objects(prepared.scene.geometry, prepared.soup, request.camera, request.options);
   const PolygonSoup soup = selection.everything ? prepared.soup : selected_soup(prepared.soup, selection);
   write_text(outdir + "/scene.obj", cli::encode_obj(soup, "bench_antialias_peer_scene: " + request_path));
   write_text(outdir + "/faces.txt", face_colors(prepared.scene, soup));

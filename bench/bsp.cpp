@@ -7,10 +7,10 @@
 // threads). Writes JSON to --out. The classic reference: 4.1 s to build the 240-quad tree, 2 ms to
 // traverse it.
 #include "render/pipelines/bsp.hpp"
+#include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "render/core/timer.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -40,7 +40,8 @@ std::string read_text(const std::string& path) {
 }
 
 RenderRequest example(const std::string& stem, int width, int height) {
-  nlohmann::json r = nlohmann::json::parse(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/" + stem + ".json"));
+  nlohmann::json r =
+      nlohmann::json::parse(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/" + stem + ".json"));
   r["options"]["width"] = width;
   r["options"]["height"] = height;
   return request_from_json(r);
@@ -78,7 +79,8 @@ PolygonSoup inside_sphere(size_t faces) {
     const double theta = M_PI * i / rows;
     for (int j = 0; j < cols; ++j) {
       const double phi = 2.0 * M_PI * j / cols;
-      vertices.push_back({10.0 * std::sin(theta) * std::cos(phi), 10.0 * std::cos(theta), 10.0 * std::sin(theta) * std::sin(phi)});
+      vertices.push_back(
+          {10.0 * std::sin(theta) * std::cos(phi), 10.0 * std::cos(theta), 10.0 * std::sin(theta) * std::sin(phi)});
     }
   }
   auto at = [&](int i, int j) { return i * cols + j % cols; };
@@ -129,12 +131,11 @@ int main(int argc, char** argv) {
       total.push_back(res.timings.total_ms);
       stats = res.stats;
     }
-    result["four_cylinders"] = {{"polygons", soup.polygons.size()}, {"build_ms", median(build)},
-                                {"traverse_ms", median(traverse)}, {"draw_ms", median(draw)},
-                                {"frame_ms", median(total)}, {"nodes", stats.bsp_nodes},
-                                {"depth", stats.bsp_depth}, {"fragments", stats.bsp_fragments},
-                                {"splits", stats.bsp_splits},
-                                {"classic_build_ms", 4100.0}, {"classic_traverse_ms", 2.0}};
+    result["four_cylinders"] = {
+        {"polygons", soup.polygons.size()}, {"build_ms", median(build)},        {"traverse_ms", median(traverse)},
+        {"draw_ms", median(draw)},          {"frame_ms", median(total)},        {"nodes", stats.bsp_nodes},
+        {"depth", stats.bsp_depth},         {"fragments", stats.bsp_fragments}, {"splits", stats.bsp_splits},
+        {"classic_build_ms", 4100.0},       {"classic_traverse_ms", 2.0}};
     std::cout << "four_cylinders " << result["four_cylinders"].dump() << "\n";
   }
 
@@ -157,7 +158,8 @@ int main(int argc, char** argv) {
       bsp_ms.push_back(b);
       z_ms.push_back(z);
     }
-    result["apartment_1280x720"] = {{"bsp_frame_ms", median(bsp_ms)}, {"zbuffer_frame_ms", median(z_ms)},
+    result["apartment_1280x720"] = {{"bsp_frame_ms", median(bsp_ms)},
+                                    {"zbuffer_frame_ms", median(z_ms)},
                                     {"bsp_over_zbuffer", median(bsp_ms) / median(z_ms)}};
     std::cout << "apartment " << result["apartment_1280x720"].dump() << "\n";
   }
@@ -175,8 +177,12 @@ int main(int argc, char** argv) {
       int copies = int(std::max<size_t>(1, (target + one.polygons.size() / 2) / one.polygons.size()));
       PolygonSoup soup = grid_of(one, copies, src.pitch);
       BspTree tree = build_bsp(soup, r.options.bsp);
-      json row = {{"scene", src.name}, {"polygons", soup.polygons.size()}, {"build_ms", tree.build_ms},
-                  {"depth", tree.depth}, {"nodes", tree.nodes.size()}, {"fragments", tree.fragments.polygons.size()},
+      json row = {{"scene", src.name},
+                  {"polygons", soup.polygons.size()},
+                  {"build_ms", tree.build_ms},
+                  {"depth", tree.depth},
+                  {"nodes", tree.nodes.size()},
+                  {"fragments", tree.fragments.polygons.size()},
                   {"fragment_ratio", double(tree.fragments.polygons.size()) / double(soup.polygons.size())},
                   {"tree_mib", double(tree.bytes()) / (1 << 20)}};
       std::cout << row.dump() << "\n";
@@ -195,9 +201,10 @@ int main(int argc, char** argv) {
         tree = build_bsp(soup, BspOptions{}, nullptr, threads);
         ms.push_back(tree.build_ms);
       }
-      json row = {{"scene", "inside sphere"}, {"polygons", soup.polygons.size()}, {"threads", threads},
-                  {"build_ms", median(ms)}, {"depth", tree.depth}, {"nodes", tree.nodes.size()},
-                  {"splits", tree.splits}, {"fragments", tree.fragments.polygons.size()}};
+      json row = {{"scene", "inside sphere"}, {"polygons", soup.polygons.size()},
+                  {"threads", threads},       {"build_ms", median(ms)},
+                  {"depth", tree.depth},      {"nodes", tree.nodes.size()},
+                  {"splits", tree.splits},    {"fragments", tree.fragments.polygons.size()}};
       std::cout << row.dump() << "\n";
       convex.push_back(row);
     }

@@ -5,11 +5,11 @@
 // Scenes: the four open 60-quad cylinders, a 6-room apartment of ~2,700 triangles with doors and
 // windows (a bird's-eye and an eye-level camera), and seeded random triangle soups of 10^3..10^6.
 // usage: bench_gen_scenes --dir DIR --out MANIFEST.json [--soups 1000,10000,...] [--seed N]
-#include "render/scene_io/errors.hpp"
-#include "render/scene_io/scene_json.hpp"
-#include "render/core/tessellate.hpp"
 #include "cli/bench_render.hpp"
 #include "cli/cli.hpp"
+#include "render/core/tessellate.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -39,17 +39,22 @@ struct SceneSpec {
   std::string kind;  // "room" or "soup"
   json request;      // camera = cameras[0], 1280x720, one directional light
   std::vector<CameraSpec> cameras;
-  json light_to;     // unit-free direction toward the light
+  json light_to;  // unit-free direction toward the light
 };
 
 // Every scene gets the same frame and one directional light, given as the peer takes it.
 json finish_request(json scene, const CameraSpec& camera, const json& light_to) {
-  scene["lights"] = json::array({{{"type", "directional"},
-                                  {"direction", {-light_to[0].get<double>(), -light_to[1].get<double>(),
-                                                 -light_to[2].get<double>()}}}});
+  scene["lights"] = json::array(
+      {{{"type", "directional"},
+        {"direction", {-light_to[0].get<double>(), -light_to[1].get<double>(), -light_to[2].get<double>()}}}});
   return {{"scene", scene},
-          {"camera", {{"position", camera.eye}, {"target", camera.target}, {"up", camera.up},
-                      {"fov_y", camera.fovy}, {"near", camera.near}, {"far", camera.far}}},
+          {"camera",
+           {{"position", camera.eye},
+            {"target", camera.target},
+            {"up", camera.up},
+            {"fov_y", camera.fovy},
+            {"near", camera.near},
+            {"far", camera.far}}},
           {"options", {{"width", 1280}, {"height", 720}, {"pipeline", "zbuffer"}, {"shading", "flat"}}}};
 }
 
@@ -67,9 +72,10 @@ json box(const char* id, const char* color, double x, double z, double sx, doubl
   return {{"type", "box"}, {"id", id}, {"color", color}, {"center", {x, z}}, {"size", {sx, sy, sz}}, {"base", base}};
 }
 
-json cylinder(const char* id, const char* color, double x, double z, double r, double h, int segments, double base = 0) {
-  return {{"type", "cylinder"}, {"id", id}, {"color", color}, {"center", {x, z}}, {"radius", r},
-          {"height", h}, {"segments", segments}, {"base", base}};
+json cylinder(const char* id, const char* color, double x, double z, double r, double h, int segments,
+              double base = 0) {
+  return {{"type", "cylinder"}, {"id", id},    {"color", color},       {"center", {x, z}},
+          {"radius", r},        {"height", h}, {"segments", segments}, {"base", base}};
 }
 
 json door(double offset, double width, bool leaf) {
@@ -81,8 +87,9 @@ json window(double offset, double width) {
 }
 
 json wall(const char* id, double x0, double z0, double x1, double z1, double thickness, json openings) {
-  return {{"id", id}, {"start", {x0, z0}}, {"end", {x1, z1}}, {"thickness", thickness}, {"height", 2.7},
-          {"openings", std::move(openings)}};
+  return {{"id", id},        {"start", {x0, z0}},
+          {"end", {x1, z1}}, {"thickness", thickness},
+          {"height", 2.7},   {"openings", std::move(openings)}};
 }
 
 // A 12 m x 8 m apartment: living room, kitchen and bathroom along the south side; two bedrooms and a
@@ -90,8 +97,8 @@ json wall(const char* id, double x0, double z0, double x1, double z1, double thi
 // joints; doors with and without leaves, windows in every room, furniture in every room.
 SceneSpec make_apartment() {
   json walls = json::array({
-      wall("south", 0, 0, 12, 0, 0.25, {door(5.6, 1.0, true), window(1.0, 1.8), window(3.2, 1.6), window(6.9, 1.3),
-                                         window(10.0, 0.9)}),
+      wall("south", 0, 0, 12, 0, 0.25,
+           {door(5.6, 1.0, true), window(1.0, 1.8), window(3.2, 1.6), window(6.9, 1.3), window(10.0, 0.9)}),
       wall("east", 12, 0, 12, 8, 0.25, {window(1.0, 1.0), window(5.2, 1.6)}),
       wall("north", 12, 8, 0, 8, 0.25, {window(1.0, 1.6), window(5.2, 1.6), window(9.3, 1.6)}),
       wall("west", 0, 8, 0, 0, 0.25, {window(1.2, 1.4), window(5.3, 1.8)}),
@@ -103,24 +110,39 @@ SceneSpec make_apartment() {
   });
   json solids = json::array({
       // Living room.
-      box("sofa", "#4a6fa5", 2.0, 3.7, 2.2, 0.8, 0.9), box("coffee_table", "#8a5a32", 2.0, 2.4, 1.1, 0.4, 0.6),
-      box("tv_stand", "#333333", 2.0, 0.45, 1.6, 0.5, 0.4), cylinder("dining_table", "#b07840", 3.9, 1.5, 0.55, 0.75, 48),
-      cylinder("dining_stool_1", "#604030", 3.1, 1.5, 0.2, 0.45, 32), cylinder("dining_stool_2", "#604030", 4.7, 1.5, 0.2, 0.45, 32),
-      cylinder("lamp_pole", "#dddddd", 0.5, 4.0, 0.04, 1.6, 16), cylinder("lamp_shade", "#f0e0b0", 0.5, 4.0, 0.25, 0.3, 32, 1.5),
+      box("sofa", "#4a6fa5", 2.0, 3.7, 2.2, 0.8, 0.9),
+      box("coffee_table", "#8a5a32", 2.0, 2.4, 1.1, 0.4, 0.6),
+      box("tv_stand", "#333333", 2.0, 0.45, 1.6, 0.5, 0.4),
+      cylinder("dining_table", "#b07840", 3.9, 1.5, 0.55, 0.75, 48),
+      cylinder("dining_stool_1", "#604030", 3.1, 1.5, 0.2, 0.45, 32),
+      cylinder("dining_stool_2", "#604030", 4.7, 1.5, 0.2, 0.45, 32),
+      cylinder("lamp_pole", "#dddddd", 0.5, 4.0, 0.04, 1.6, 16),
+      cylinder("lamp_shade", "#f0e0b0", 0.5, 4.0, 0.25, 0.3, 32, 1.5),
       // Kitchen.
-      box("counter_south", "#c8c8c0", 6.75, 0.45, 3.2, 0.9, 0.6), box("counter_east", "#c8c8c0", 8.1, 2.0, 0.6, 0.9, 2.4),
-      box("fridge", "#eeeeee", 5.5, 0.45, 0.7, 1.9, 0.65), cylinder("kitchen_table", "#a06a3a", 6.6, 2.9, 0.45, 0.75, 40),
+      box("counter_south", "#c8c8c0", 6.75, 0.45, 3.2, 0.9, 0.6),
+      box("counter_east", "#c8c8c0", 8.1, 2.0, 0.6, 0.9, 2.4),
+      box("fridge", "#eeeeee", 5.5, 0.45, 0.7, 1.9, 0.65),
+      cylinder("kitchen_table", "#a06a3a", 6.6, 2.9, 0.45, 0.75, 40),
       // Bathroom.
-      box("bathtub", "#f4f4f4", 10.2, 0.55, 1.7, 0.55, 0.75), box("basin", "#f4f4f4", 11.5, 3.2, 0.5, 0.85, 0.45),
+      box("bathtub", "#f4f4f4", 10.2, 0.55, 1.7, 0.55, 0.75),
+      box("basin", "#f4f4f4", 11.5, 3.2, 0.5, 0.85, 0.45),
       cylinder("toilet", "#f4f4f4", 11.4, 1.9, 0.22, 0.42, 24),
       // Bedroom 1 and 2.
-      box("bed1", "#a05060", 1.9, 6.9, 1.6, 0.5, 2.0), box("wardrobe1", "#6b4a30", 3.6, 5.6, 0.6, 2.0, 1.2),
-      box("bed2", "#5060a0", 6.0, 6.9, 1.4, 0.5, 2.0), box("desk2", "#8a6a4a", 4.7, 5.2, 1.2, 0.75, 0.6),
+      box("bed1", "#a05060", 1.9, 6.9, 1.6, 0.5, 2.0),
+      box("wardrobe1", "#6b4a30", 3.6, 5.6, 0.6, 2.0, 1.2),
+      box("bed2", "#5060a0", 6.0, 6.9, 1.4, 0.5, 2.0),
+      box("desk2", "#8a6a4a", 4.7, 5.2, 1.2, 0.75, 0.6),
       cylinder("stool2", "#505050", 4.7, 5.9, 0.2, 0.45, 24),
       // Study.
-      box("desk", "#8a6a4a", 10.0, 7.5, 1.8, 0.75, 0.7), box("shelf", "#6b4a30", 11.7, 6.0, 0.35, 2.0, 1.6),
+      box("desk", "#8a6a4a", 10.0, 7.5, 1.8, 0.75, 0.7),
+      box("shelf", "#6b4a30", 11.7, 6.0, 0.35, 2.0, 1.6),
       cylinder("chair", "#505050", 10.0, 6.7, 0.25, 0.45, 32),
-      {{"type", "pyramid"}, {"id", "plant_leaves"}, {"color", "#3f8f3f"}, {"center", {8.6, 7.4}}, {"size", {0.6, 1.2, 0.6}}, {"base", 0.4}},
+      {{"type", "pyramid"},
+       {"id", "plant_leaves"},
+       {"color", "#3f8f3f"},
+       {"center", {8.6, 7.4}},
+       {"size", {0.6, 1.2, 0.6}},
+       {"base", 0.4}},
       cylinder("plant_pot", "#9a5a3a", 8.6, 7.4, 0.25, 0.4, 32),
   });
   json scene = {{"background", "#1e2a36"},
@@ -170,8 +192,11 @@ SceneSpec make_soup(size_t n, uint64_t seed) {
     faces.push_back({first, first + 1, first + 2});
   }
   json scene = {{"background", "#202020"},
-                {"solids", json::array({{{"type", "mesh"}, {"id", "soup"}, {"color", "#b0b0b0"},
-                                         {"vertices", std::move(vertices)}, {"faces", std::move(faces)}}})}};
+                {"solids", json::array({{{"type", "mesh"},
+                                         {"id", "soup"},
+                                         {"color", "#b0b0b0"},
+                                         {"vertices", std::move(vertices)},
+                                         {"faces", std::move(faces)}}})}};
   CameraSpec camera{"default", {0.0, 2.0, 14.0}, {0.0, 0.0, 0.0}};
   camera.far = 50;
   json light_to = {0.3, 1.0, 0.5};
@@ -191,16 +216,26 @@ json write_scene(const SceneSpec& spec, const fs::path& dir) {
   write_file(request_path, spec.request.dump());
   rr::RenderRequest request = rr::request_from_json(spec.request);
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
-  write_file(obj_path, rr::cli::encode_obj(soup, "roomrender benchmark scene " + spec.name +
-                                                        ": the tessellation of " + request_path.filename().string()));
+  write_file(obj_path, rr::cli::encode_obj(soup, "roomrender benchmark scene " + spec.name + ": the tessellation of " +
+                                                     request_path.filename().string()));
   json cameras = json::array();
   for (const CameraSpec& c : spec.cameras) {
-    cameras.push_back({{"name", c.name}, {"eye", c.eye}, {"target", c.target}, {"up", c.up}, {"fovy", c.fovy},
-                       {"near", c.near}, {"far", c.far}});
+    cameras.push_back({{"name", c.name},
+                       {"eye", c.eye},
+                       {"target", c.target},
+                       {"up", c.up},
+                       {"fovy", c.fovy},
+                       {"near", c.near},
+                       {"far", c.far}});
   }
-  return {{"name", spec.name}, {"kind", spec.kind}, {"request", request_path.string()}, {"obj", obj_path.string()},
-          {"polygons", soup.polygons.size()}, {"triangles", rr::cli::fan_triangle_count(soup)},
-          {"cameras", cameras}, {"light_dir", spec.light_to}};
+  return {{"name", spec.name},
+          {"kind", spec.kind},
+          {"request", request_path.string()},
+          {"obj", obj_path.string()},
+          {"polygons", soup.polygons.size()},
+          {"triangles", rr::cli::fan_triangle_count(soup)},
+          {"cameras", cameras},
+          {"light_dir", spec.light_to}};
 }
 
 std::vector<size_t> parse_counts(const std::string& text) {
@@ -228,7 +263,8 @@ int main(int argc, char** argv) {
     const uint64_t seed = std::stoull(flags["--seed"]);
     for (size_t n : parse_counts(flags["--soups"])) scenes.push_back(write_scene(make_soup(n, seed + n), dir));
     write_file(flags["--out"], json{{"seed", seed}, {"scenes", scenes}}.dump(2) + "\n");
-    for (const json& s : scenes) std::printf("%s: %zu triangles\n", s["name"].get<std::string>().c_str(), s["triangles"].get<size_t>());
+    for (const json& s : scenes)
+      std::printf("%s: %zu triangles\n", s["name"].get<std::string>().c_str(), s["triangles"].get<size_t>());
     return 0;
   } catch (const rr::InputError& e) {  // a generator bug: the request it wrote is invalid
     std::fprintf(stderr, "bench_gen_scenes: %s at %s\n", e.what(), e.pointer().c_str());

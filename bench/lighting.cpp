@@ -50,9 +50,9 @@ struct Stage {
   const char* name;
   double rr::StageTimings::*field;
 };
-constexpr Stage stages[] = {{"parse", &rr::StageTimings::parse_ms},     {"tessellate", &rr::StageTimings::tessellate_ms},
-                            {"shadow", &rr::StageTimings::shadow_ms},   {"raster", &rr::StageTimings::raster_ms},
-                            {"shade", &rr::StageTimings::shade_ms},     {"encode", &rr::StageTimings::encode_ms},
+constexpr Stage stages[] = {{"parse", &rr::StageTimings::parse_ms},   {"tessellate", &rr::StageTimings::tessellate_ms},
+                            {"shadow", &rr::StageTimings::shadow_ms}, {"raster", &rr::StageTimings::raster_ms},
+                            {"shade", &rr::StageTimings::shade_ms},   {"encode", &rr::StageTimings::encode_ms},
                             {"total", &rr::StageTimings::total_ms}};
 
 }  // namespace
@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  nlohmann::json request = nlohmann::json::parse(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/apartment.json"));
+  nlohmann::json request =
+      nlohmann::json::parse(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/apartment.json"));
   request["options"]["width"] = 1280;
   request["options"]["height"] = 720;
   request["options"]["pipeline"] = "zbuffer";
@@ -107,14 +108,10 @@ int main(int argc, char** argv) {
                          {"fragments", stats.fragments}});
     }
   }
-  json doc = {{"benchmark", "lighting"},
-              {"scene", "examples/apartment.json"},
-              {"pipeline", "zbuffer"},
-              {"width", 1280},
-              {"height", 720},
-              {"shadow_map", {{"size", 2048}, {"pcf", 1}}},
-              {"frames", frames},
-              {"results", results}};
+  json doc = {{"benchmark", "lighting"}, {"scene", "examples/apartment.json"},
+              {"pipeline", "zbuffer"},   {"width", 1280},
+              {"height", 720},           {"shadow_map", {{"size", 2048}, {"pcf", 1}}},
+              {"frames", frames},        {"results", results}};
   if (!out_path.empty()) {
     std::ofstream out(out_path);
     out << doc.dump(2) << "\n";

@@ -100,11 +100,17 @@ int main(int argc, char** argv) {
     Stopwatch c3;
     const size_t inline_polygons = tessellate(copied).polygons.size();
     inlined.push_back(c3.elapsed_ms());
-    if (inline_polygons != polygons) std::cerr << "polygon counts differ: " << inline_polygons << " vs " << polygons << "\n";
+    if (inline_polygons != polygons)
+      std::cerr << "polygon counts differ: " << inline_polygons << " vs " << polygons << "\n";
   }
-  nlohmann::json row = {{"benchmark", "mesh_instancing"}, {"mesh_faces", raw.faces.size()},
-                        {"mesh_vertices", raw.vertices.size()}, {"copies", copies}, {"polygons", polygons},
-                        {"runs", runs}, {"ref_cold_ms", median(cold)}, {"ref_warm_ms", median(warm)},
+  nlohmann::json row = {{"benchmark", "mesh_instancing"},
+                        {"mesh_faces", raw.faces.size()},
+                        {"mesh_vertices", raw.vertices.size()},
+                        {"copies", copies},
+                        {"polygons", polygons},
+                        {"runs", runs},
+                        {"ref_cold_ms", median(cold)},
+                        {"ref_warm_ms", median(warm)},
                         {"inline_ms", median(inlined)}};
   std::cout << row.dump() << "\n";
   std::ofstream(out_path) << row.dump(2) << "\n";

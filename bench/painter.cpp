@@ -4,12 +4,12 @@
 // classic scenes that need splits; then the sort time of generated scenes of about 10^3, 10^4 and
 // 10^5 polygons (a square grid of the same tubes, seen the same way). Writes JSON to --out. The
 // classic reference: 12 ms for the painter's sort of the 240 quads.
-#include "bench/bench_io.hpp"
 #include "render/pipelines/painter.hpp"
+#include "bench/bench_io.hpp"
+#include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "render/core/timer.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -50,14 +50,20 @@ nlohmann::json tube_grid(int side) {
   const double half = 0.8 * (side - 1);
   for (int j = 0; j < side; ++j) {
     for (int i = 0; i < side; ++i) {
-      solids.push_back({{"type", "cylinder"}, {"color", colors[(i + 2 * j) % 4]},
-                        {"center", {-half + 1.6 * i, -half + 1.6 * j}}, {"radius", 0.5},
-                        {"height", 1.5}, {"segments", 60}, {"caps", false}});
+      solids.push_back({{"type", "cylinder"},
+                        {"color", colors[(i + 2 * j) % 4]},
+                        {"center", {-half + 1.6 * i, -half + 1.6 * j}},
+                        {"radius", 0.5},
+                        {"height", 1.5},
+                        {"segments", 60},
+                        {"caps", false}});
     }
   }
   const double s = (half + 0.5) / 1.3;  // four_cylinders: tubes within +-1.3 m
-  return {{"scene", {{"background", "#202428"}, {"solids", solids},
-                     {"lights", {{{"type", "directional"}, {"direction", {-0.6, -1.0, -0.4}}, {"intensity", 0.8}}}}}},
+  return {{"scene",
+           {{"background", "#202428"},
+            {"solids", solids},
+            {"lights", {{{"type", "directional"}, {"direction", {-0.6, -1.0, -0.4}}, {"intensity", 0.8}}}}}},
           {"camera", {{"position", {3.1 * s, 0.6 + 2.0 * s, 3.9 * s}}, {"target", {0.0, 0.6, 0.0}}, {"far", 1000.0}}},
           {"options", {{"width", 640}, {"height", 480}, {"pipeline", "painter"}}}};
 }
@@ -83,13 +89,15 @@ int main(int argc, char** argv) {
 
   json result;
   result["benchmark"] = "painter";
-  result["machine"] = {{"hardware_threads", std::thread::hardware_concurrency()},
+  result["machine"] = {
+    {"hardware_threads", std::thread::hardware_concurrency()},
 #if defined(__clang__)
-                       {"compiler", __VERSION__},
+    {"compiler", __VERSION__},
 #elif defined(__GNUC__)
-                       {"compiler", "g++ " __VERSION__},
+    {"compiler", "g++ " __VERSION__},
 #endif
-                       {"build", "Release, single thread"}};
+    {"build", "Release, single thread"}
+  };
   {
     std::ifstream load("/proc/loadavg");  // other work on the machine inflates the larger sizes' times
     std::string one;
@@ -98,14 +106,18 @@ int main(int argc, char** argv) {
   result["reference"] = {{"classic_painter_sort_ms_240_quads", 12.0}};
 
   // The example: sort and draw per key, from the pipeline's own stage timings.
-  rr::RenderRequest request = rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/four_cylinders.json"));
+  rr::RenderRequest request =
+      rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/four_cylinders.json"));
   const rr::PreparedScene scene = rr::prepare_scene(request.scene);
   const rr::PolygonSoup& soup = scene.soup;
   rr::RenderContext no_png;
   no_png.encode = false;  // frames up to the image, as bench-render measures them
   request.options.pipeline = rr::pipeline_id("painter");
-  json example = {{"scene", "examples/four_cylinders.json"}, {"polygons", soup.polygons.size()},
-                  {"width", request.options.width}, {"height", request.options.height}, {"frames", frames}};
+  json example = {{"scene", "examples/four_cylinders.json"},
+                  {"polygons", soup.polygons.size()},
+                  {"width", request.options.width},
+                  {"height", request.options.height},
+                  {"frames", frames}};
   json per_key = json::object();
   std::printf("four_cylinders (%zu polygons, %dx%d), median of %d frames:\n", soup.polygons.size(),
               request.options.width, request.options.height, frames);
@@ -123,9 +135,9 @@ int main(int argc, char** argv) {
       total.push_back(r.timings.total_ms);
       stats = r.stats;
     }
-    per_key[key_names[k]] = {{"sort_ms", round3(median(sort))},     {"draw_ms", round3(median(draw))},
-                             {"raster_ms", round3(median(raster))}, {"shade_ms", round3(median(shade))},
-                             {"total_ms", round3(median(total))},   {"polygons_culled", stats.polygons_culled},
+    per_key[key_names[k]] = {{"sort_ms", round3(median(sort))},        {"draw_ms", round3(median(draw))},
+                             {"raster_ms", round3(median(raster))},    {"shade_ms", round3(median(shade))},
+                             {"total_ms", round3(median(total))},      {"polygons_culled", stats.polygons_culled},
                              {"polygons_drawn", stats.polygons_drawn}, {"pairs_tested", stats.painter_pairs_tested},
                              {"splits", stats.painter_splits}};
     std::printf("  %-6s sort %8.3f ms  draw %8.3f ms  (drawn %zu, pairs tested %zu, splits %zu)\n", key_names[k],
@@ -138,7 +150,8 @@ int main(int argc, char** argv) {
   json classic = json::object();
   std::printf("newell on scenes that need splits (median of %d frames):\n", frames);
   for (const char* name : {"tri_intersecting", "cubes_45_pyramid_cylinder"}) {
-    rr::RenderRequest c = rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/" + name + ".json"));
+    rr::RenderRequest c =
+        rr::parse_request(read_text(std::string(ROOMRENDER_SOURCE_DIR) + "/examples/" + name + ".json"));
     const rr::PreparedScene cscene = rr::prepare_scene(c.scene);
     const rr::PolygonSoup& csoup = cscene.soup;
     c.options.pipeline = rr::pipeline_id("painter");
@@ -151,9 +164,12 @@ int main(int argc, char** argv) {
       draw.push_back(r.timings.raster_ms + r.timings.shade_ms);
       stats = r.stats;
     }
-    classic[name] = {{"polygons", csoup.polygons.size()}, {"sort_ms", round3(median(sort))},
-                     {"draw_ms", round3(median(draw))}, {"polygons_drawn", stats.polygons_drawn},
-                     {"pairs_tested", stats.painter_pairs_tested}, {"splits", stats.painter_splits}};
+    classic[name] = {{"polygons", csoup.polygons.size()},
+                     {"sort_ms", round3(median(sort))},
+                     {"draw_ms", round3(median(draw))},
+                     {"polygons_drawn", stats.polygons_drawn},
+                     {"pairs_tested", stats.painter_pairs_tested},
+                     {"splits", stats.painter_splits}};
     std::printf("  %-26s sort %.3f ms  draw %.3f ms  (pairs tested %zu, splits %zu)\n", name, median(sort),
                 median(draw), stats.painter_pairs_tested, stats.painter_splits);
   }
@@ -181,8 +197,8 @@ int main(int argc, char** argv) {
         times.push_back(clock.elapsed_ms());
       }
       row_keys[key_names[k]] = {{"sort_ms", round3(median(times))}, {"sorted", order.items.size()},
-                                {"culled", order.culled}, {"pairs_tested", order.pairs_tested},
-                                {"splits", order.splits}, {"budget_exhausted", order.budget_exhausted}};
+                                {"culled", order.culled},           {"pairs_tested", order.pairs_tested},
+                                {"splits", order.splits},           {"budget_exhausted", order.budget_exhausted}};
       std::printf("  %s %.3f ms", key_names[k], median(times));
       if (keys[k] == rr::PainterKey::newell) {
         std::printf(" (pairs %zu, splits %zu%s)", order.pairs_tested, order.splits,

@@ -2,10 +2,10 @@
 // (the reference) and of each mode (and of `fast` on one thread), with the ratios the performance
 // issue targets: fast >= 5x faster than the reference and no more than 1.5x its size. Writes JSON
 // to --out.
-#include "render/pipelines/render.hpp"
-#include "render/scene_io/scene_json.hpp"
 #include "render/core/png.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 

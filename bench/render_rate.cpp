@@ -69,9 +69,9 @@ int main(int argc, char** argv) {
   stop = true;
   for (std::thread& t : pool) t.join();
   const double elapsed = clock.elapsed_ms() / 1000.0;
-  nlohmann::ordered_json j{{"request", request_path}, {"workers", workers}, {"threads", threads},
-                           {"renders", renders.load()}, {"seconds", elapsed},
-                           {"renders_per_s", double(renders.load()) / elapsed}};
+  nlohmann::ordered_json j{{"request", request_path}, {"workers", workers},
+                           {"threads", threads},      {"renders", renders.load()},
+                           {"seconds", elapsed},      {"renders_per_s", double(renders.load()) / elapsed}};
   std::cout << j.dump() << "\n";
   if (!out_path.empty()) std::ofstream(out_path) << j.dump(1) << "\n";
   return 0;

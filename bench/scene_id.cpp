@@ -3,11 +3,11 @@
 // that bench_gen_scenes writes) or as OBJ files through the importer (--obj FILE, e.g. the conference
 // room). Parsing and importing are not timed. Writes JSON to --out.
 // usage: bench_scene_id --out OUT.json [--runs N] [--request FILE]... [--obj FILE]...
-#include "bench/bench_io.hpp"
-#include "render/import/import_files.hpp"
 #include "render/core/scene_id.hpp"
-#include "render/scene_io/scene_json.hpp"
+#include "bench/bench_io.hpp"
 #include "render/core/timer.hpp"
+#include "render/import/import_files.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -55,10 +55,14 @@ nlohmann::json measure(const Input& input, int runs) {
     id = scene_id(input.geometry);
     ms.push_back(clock.elapsed_ms());
   }
-  return {{"scene", input.name},   {"solids", input.geometry.solids.size()},
-          {"mesh_faces", mesh_faces(input.geometry)}, {"mesh_vertices", mesh_vertices(input.geometry)},
-          {"scene_id", id},        {"median_ms", median(ms)},
-          {"min_ms", *std::min_element(ms.begin(), ms.end())}, {"runs_ms", ms}};
+  return {{"scene", input.name},
+          {"solids", input.geometry.solids.size()},
+          {"mesh_faces", mesh_faces(input.geometry)},
+          {"mesh_vertices", mesh_vertices(input.geometry)},
+          {"scene_id", id},
+          {"median_ms", median(ms)},
+          {"min_ms", *std::min_element(ms.begin(), ms.end())},
+          {"runs_ms", ms}};
 }
 
 }  // namespace

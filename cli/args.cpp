@@ -53,8 +53,8 @@ int parse_int(const std::string& text, const std::string& what, int lo, int hi) 
   int value = 0;
   auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || text.empty() || value < lo || value > hi) {
-    throw UsageError(what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                     "], not '" + text + "'");
+    throw UsageError(what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], not '" +
+                     text + "'");
   }
   return value;
 }

@@ -40,7 +40,7 @@ nlohmann::json parse_vec3_flag(const std::string& text, const std::string& what)
 bool parse_switch_flag(const std::string& text, const std::string& what, const char* on, const char* off);
 double parse_scale(const std::string& text);  // --scale, metres per file unit
 
-std::string read_input(const std::string& path);                   // "-" reads stdin
+std::string read_input(const std::string& path);                       // "-" reads stdin
 void write_output(const std::string& path, const std::string& bytes);  // "-" writes stdout
 // At most one of the named output flags may be "-": stdout carries one stream of bytes.
 void check_one_stdout(const ParsedArgs& args, std::initializer_list<const char*> output_flags);

@@ -143,8 +143,8 @@ int run_bench_render(std::span<const std::string> argv) {
         // is the k-th `f` line when groups do not interleave and no face needed repair (docs/import.md).
         const bool from_obj = flag(args, "--obj").has_value();
         std::string input = from_obj ? *flag(args, "--obj") : *flag(args, "--request");
-        std::string text = from_obj ? imported_request_text(input, ImportFormat::obj, import_options(args, patch))
-                                    : read_input(input);
+        std::string text =
+            from_obj ? imported_request_text(input, ImportFormat::obj, import_options(args, patch)) : read_input(input);
         RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch));
         const PreparedScene scene = prepare_scene(std::move(request.scene));
         BenchReport report = bench_frames(request, scene, run);
@@ -152,11 +152,13 @@ int run_bench_render(std::span<const std::string> argv) {
           write_output(*out, encode_png(report.last.frame.image, request.options.png_compression, run.threads));
         }
         if (auto ids = flag(args, "--ids")) write_output(*ids, encode_id_buffer(report.last.frame.ids));
-        nlohmann::ordered_json line = {{"source", from_obj ? "obj" : "request"}, {"input", input},
+        nlohmann::ordered_json line = {{"source", from_obj ? "obj" : "request"},
+                                       {"input", input},
                                        {"pipeline", pipeline_info(request.options.pipeline).name},
                                        {"shading", shading_names.name(request.options.shading)},
                                        {"shadows", request.options.shadows},
-                                       {"width", request.options.width}, {"height", request.options.height},
+                                       {"width", request.options.width},
+                                       {"height", request.options.height},
                                        {"polygons", scene.soup.polygons.size()},
                                        {"triangles", fan_triangle_count(scene.soup)},
                                        {"setup_ms", std::round(scene.tessellate_ms * 1000.0) / 1000.0}};

@@ -1,7 +1,7 @@
 // The measuring core of `roomrender bench-render`: renders one prepared scene K times (after
-// untimed warm-up frames) through render(), as the service does but without encoding, and reports the wall-clock frame time
-// (min / median / max) and the median of every stage in StageTimings. Parsing and tessellation are
-// not frame work: the caller times its own setup. Output is one JSON object (cli.cpp prints it).
+// untimed warm-up frames) through render(), as the service does but without encoding, and reports the wall-clock frame
+// time (min / median / max) and the median of every stage in StageTimings. Parsing and tessellation are not frame work:
+// the caller times its own setup. Output is one JSON object (cli.cpp prints it).
 #pragma once
 
 #include "render/pipelines/render.hpp"

@@ -64,11 +64,10 @@ void write_number(std::string& out, double value) {
 
 }  // namespace
 
-
 std::string usage_text() {
   return "roomrender " + std::string(version()) + ": a CPU room renderer served over HTTP\n\nusage:\n  " +
-         render_synopsis + "\n  " + import_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis +
-         "\n  " + bench_synopsis + "\n  " + compare_synopsis +
+         render_synopsis + "\n  " + import_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis + "\n  " +
+         bench_synopsis + "\n  " + compare_synopsis +
          "\n  roomrender help | --help\n  roomrender --version\n\n"
          "REQUEST.json may be '-' for stdin. render prints one JSON line of timings (ms) and counts;\n"
          "errors are one JSON line on stderr: {\"error\": ..., \"pointer\": ...}. Exit codes: 0 ok,\n"
@@ -84,7 +83,8 @@ int run_render(std::span<const std::string> argv) {
     args = parse_args(argv, with_request_flags({"--output", "--ids", "--obj", "--scale", "--reference-samples"}));
     if (args.help) return std::printf("usage: %s\n\n%s", render_synopsis, request_flags_help().c_str()), 0;
     if (args.positional.size() != (flag(args, "--obj") ? 0u : 1u)) {
-      throw UsageError(flag(args, "--obj") ? "give either a request file or --obj, not both" : "expected one request file");
+      throw UsageError(flag(args, "--obj") ? "give either a request file or --obj, not both"
+                                           : "expected one request file");
     }
     if (flag(args, "--scale") && !flag(args, "--obj")) throw UsageError("--scale goes with --obj");
     if (auto scale = flag(args, "--scale")) parse_scale(*scale);
@@ -98,9 +98,9 @@ int run_render(std::span<const std::string> argv) {
   }
   return run_reporting_errors(
       [&] {
-        std::string text = flag(args, "--obj")
-                               ? imported_request_text(*flag(args, "--obj"), ImportFormat::obj, import_options(args, patch))
-                               : read_input(args.positional[0]);
+        std::string text = flag(args, "--obj") ? imported_request_text(*flag(args, "--obj"), ImportFormat::obj,
+                                                                       import_options(args, patch))
+                                               : read_input(args.positional[0]);
         // total runs from here (parse) to the end of encoding, as the service's does.
         Stopwatch total, parse_clock;
         RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch));
@@ -143,8 +143,8 @@ int run_compare(std::span<const std::string> argv) {
     const std::string a = read_input(args.positional[0]), b = read_input(args.positional[1]);
     auto is_png = [](const std::string& bytes) { return bytes.starts_with("\x89PNG\r\n\x1a\n"); };
     if (is_png(a) != is_png(b)) {
-      throw std::runtime_error(args.positional[is_png(a) ? 0 : 1] + " is a PNG but " + args.positional[is_png(a) ? 1 : 0] +
-                               " is not: compare two id buffers or two PNGs");
+      throw std::runtime_error(args.positional[is_png(a) ? 0 : 1] + " is a PNG but " +
+                               args.positional[is_png(a) ? 1 : 0] + " is not: compare two id buffers or two PNGs");
     }
     auto decode = [&](const std::string& bytes, size_t k, auto&& fn) {
       try {
@@ -171,8 +171,11 @@ int run_compare(std::span<const std::string> argv) {
     }
     nlohmann::ordered_json line = error_measures_json(m);
     if (edges) {
-      line["edge"] = {{"pixels", edges->edge_pixels}, {"share", double(edges->edge_pixels) / double(edges->pixels)},
-                      {"mean", edges->mean}, {"p99", edges->p99}, {"max", edges->max}};
+      line["edge"] = {{"pixels", edges->edge_pixels},
+                      {"share", double(edges->edge_pixels) / double(edges->pixels)},
+                      {"mean", edges->mean},
+                      {"p99", edges->p99},
+                      {"max", edges->max}};
     }
     print_json_line(stdout, line);
   });
@@ -254,8 +257,10 @@ int run_export(std::span<const std::string> argv) {
                           std::to_string(soup.polygons.size()) + " polygons, world space, metres, +Y up.\n" +
                           "Polygon id k is the k-th f line; faces wind counter-clockwise seen from the front.";
     write_output(*flag(args, "--obj"), encode_obj(soup, comment));
-    print_json_line(stdout, {{"polygons", soup.polygons.size()}, {"vertices", soup.positions.size()},
-                             {"scene_id", id}, {"obj", *flag(args, "--obj")}});
+    print_json_line(stdout, {{"polygons", soup.polygons.size()},
+                             {"vertices", soup.positions.size()},
+                             {"scene_id", id},
+                             {"obj", *flag(args, "--obj")}});
   });
 }
 

@@ -19,8 +19,8 @@ struct RequestFlag {
   const char* name;
   const char* pointer;  // the member it sets (--size: width, then height beside it)
   Kind kind;
-  const char* value;    // how --help shows the value
-  Names names;          // for Kind::name: the table whose names it takes
+  const char* value;  // how --help shows the value
+  Names names;        // for Kind::name: the table whose names it takes
   const char* help;
 };
 
@@ -38,7 +38,8 @@ constexpr RequestFlag request_flag_rows[] = {
     {"--pipeline", "/options/pipeline", Kind::name, nullptr, Names::pipelines, "hidden-surface pipeline"},
     {"--shading", "/options/shading", Kind::name, nullptr, Names::shadings, "shading mode"},
     {"--shadows", "/options/shadows", Kind::boolean, "true|false", Names::none, "shadow maps"},
-    {"--antialias", "/options/antialias", Kind::integer, "S", Names::none, "coverage sub-samples per pixel: 1, 4, 8 or 16"},
+    {"--antialias", "/options/antialias", Kind::integer, "S", Names::none,
+     "coverage sub-samples per pixel: 1, 4, 8 or 16"},
     {"--png", "/options/png/compression", Kind::name, nullptr, Names::png, "PNG encoder (none: stored, unfiltered)"},
     {"--light-dir", "/scene/lights", Kind::light, "x,y,z", Names::none, "one white light toward x,y,z, no others"},
 };
@@ -94,8 +95,7 @@ void add_flag(RequestPatch& patch, const RequestFlag& row, const std::string& te
       // the one the light travels.
       json toward = parse_vec3_flag(text, row.name);
       json travels = {-toward[0].get<double>(), -toward[1].get<double>(), -toward[2].get<double>()};
-      return add_entry(patch, row.pointer, json::array({{{"type", "directional"}, {"direction", travels}}}),
-                       row.name);
+      return add_entry(patch, row.pointer, json::array({{{"type", "directional"}, {"direction", travels}}}), row.name);
     }
   }
 }

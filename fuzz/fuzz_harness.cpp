@@ -1,15 +1,16 @@
 // The fuzz path (fuzz_harness.hpp): parse, then prepare_scene and render() as every caller does,
-// with the request shrunk to a tiny render and its variant picked from the input's hash. No state survives between calls.
+// with the request shrunk to a tiny render and its variant picked from the input's hash. No state survives between
+// calls.
 #include "fuzz/fuzz_harness.hpp"
 
 #include "render/core/hash.hpp"
-#include "render/core/scene_id.hpp"
-#include "render/scene_io/errors.hpp"
-#include "render/pipelines/render.hpp"
-#include "render/pipelines/pipeline.hpp"
 #include "render/core/png.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/tessellate.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/errors.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,7 @@ namespace rr::fuzz {
 
 ParseLimits fuzz_limits() {
   ParseLimits limits;
-  limits.max_polygons = 4000;           // BSP/Newell splitting is superlinear: keep each run short
+  limits.max_polygons = 4000;  // BSP/Newell splitting is superlinear: keep each run short
   limits.max_cylinder_segments = 256;
   limits.max_floor_cells = 4096;
   return limits;

@@ -35,9 +35,9 @@ Variant variant_of(std::string_view bytes);
 void shrink_for_fuzzing(RenderRequest& request, const Variant& variant);
 
 struct Outcome {
-  bool rendered = false;     // false: the input was refused with an InputError
-  std::string error_pointer; // the InputError's JSON Pointer when refused
-  std::string png;           // the encoded image when rendered
+  bool rendered = false;      // false: the input was refused with an InputError
+  std::string error_pointer;  // the InputError's JSON Pointer when refused
+  std::string png;            // the encoded image when rendered
 };
 
 // Runs the whole path with the given variant. Throws nothing but what the renderer would let escape
@@ -45,8 +45,6 @@ struct Outcome {
 Outcome run_request_bytes(std::string_view bytes, const Variant& variant);
 
 // What the fuzz target runs: the variant chosen by the input's hash.
-inline Outcome run_request_bytes(std::string_view bytes) {
-  return run_request_bytes(bytes, variant_of(bytes));
-}
+inline Outcome run_request_bytes(std::string_view bytes) { return run_request_bytes(bytes, variant_of(bytes)); }
 
 }  // namespace rr::fuzz

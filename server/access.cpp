@@ -67,8 +67,9 @@ bool origin_may_write(const AccessPolicy& policy, const httplib::Request& req, c
 }
 
 Refusal origin_refusal(const std::string& origin) {
-  return {403, "Writes from the origin " + origin +
-                   " are not allowed; the server's operator lists the origins that may write with --cors-origins.",
+  return {403,
+          "Writes from the origin " + origin +
+              " are not allowed; the server's operator lists the origins that may write with --cors-origins.",
           {}};
 }
 
@@ -77,10 +78,13 @@ Refusal origin_refusal(const std::string& origin) {
 bool is_write(Access access, const httplib::Request& req) {
   switch (access) {
     case Access::read:
-    case Access::owner_read: return false;
-    case Access::write: return true;
+    case Access::owner_read:
+      return false;
+    case Access::write:
+      return true;
     // Anything but "0" counts, so no spelling of store=1 the handler accepts ("1.0") passes as a read.
-    case Access::write_when_stored: return req.has_param("store") && req.get_param_value("store") != "0";
+    case Access::write_when_stored:
+      return req.has_param("store") && req.get_param_value("store") != "0";
   }
   return true;
 }
@@ -152,12 +156,14 @@ std::optional<Refusal> screen_token(const AccessPolicy& policy, const httplib::R
   owner.clear();
   if (policy.tokens.empty()) return std::nullopt;
   if (!req.has_header("Authorization")) {
-    return Refusal{401, "This server takes writes only with a token: send Authorization: Bearer <token>.",
+    return Refusal{401,
+                   "This server takes writes only with a token: send Authorization: Bearer <token>.",
                    {{"WWW-Authenticate", bearer_challenge}}};
   }
   std::optional<std::string> found = policy.tokens.owner_of(req.get_header_value("Authorization"));
   if (!found) {
-    return Refusal{401, "The Authorization header holds no bearer token this server accepts.",
+    return Refusal{401,
+                   "The Authorization header holds no bearer token this server accepts.",
                    {{"WWW-Authenticate", std::string(bearer_challenge) + ", error=\"invalid_token\""}}};
   }
   owner = *found;

@@ -26,8 +26,8 @@
 #include <condition_variable>
 #include <cstring>
 #include <deque>
-#include <optional>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <thread>
@@ -38,14 +38,22 @@ namespace rr::server {
 
 std::string_view close_reason_name(CloseReason reason) {
   switch (reason) {
-    case CloseReason::header_timeout: return "header_timeout";
-    case CloseReason::body_timeout: return "body_timeout";
-    case CloseReason::idle_timeout: return "idle_timeout";
-    case CloseReason::idle_evicted: return "idle_evicted";
-    case CloseReason::head_evicted: return "head_evicted";
-    case CloseReason::write_timeout: return "write_timeout";
-    case CloseReason::refused: return "refused";
-    case CloseReason::count: break;
+    case CloseReason::header_timeout:
+      return "header_timeout";
+    case CloseReason::body_timeout:
+      return "body_timeout";
+    case CloseReason::idle_timeout:
+      return "idle_timeout";
+    case CloseReason::idle_evicted:
+      return "idle_evicted";
+    case CloseReason::head_evicted:
+      return "head_evicted";
+    case CloseReason::write_timeout:
+      return "write_timeout";
+    case CloseReason::refused:
+      return "refused";
+    case CloseReason::count:
+      break;
   }
   return "?";
 }
@@ -69,15 +77,15 @@ struct Connection {
   int fd = -1;
   uint64_t id = 0;
   Phase phase = Phase::head;
-  Clock::time_point since;                             // entered this phase
+  Clock::time_point since;  // entered this phase
   Clock::time_point deadline = Clock::time_point::max();
-  uint32_t interest = 0;                               // epoll events asked for
-  std::string in;                                      // received and not yet handed on
-  size_t in_scanned = 0;                               // bytes of `in` already looked at for a newline
-  size_t line_start = 0;                               // where the unfinished line of `in` begins
-  bool head_started = false;                           // a byte of the current request arrived
+  uint32_t interest = 0;      // epoll events asked for
+  std::string in;             // received and not yet handed on
+  size_t in_scanned = 0;      // bytes of `in` already looked at for a newline
+  size_t line_start = 0;      // where the unfinished line of `in` begins
+  bool head_started = false;  // a byte of the current request arrived
   RequestHead head;
-  uint64_t budget = 0;                                 // counted in buffered_body_bytes
+  uint64_t budget = 0;  // counted in buffered_body_bytes
   std::string out;
   size_t out_sent = 0;
   bool close_after_write = false;
@@ -263,7 +271,8 @@ struct ConnectionFront::Loop {
       ++counters.accepted;
       if (connections.size() >= config.max_connections && !evict_one()) {
         // Every connection is busy with a request: refuse this one rather than queue it unseen.
-        std::string answer_bytes = refusal(503, "The server holds as many connections as it takes; retry shortly.", true);
+        std::string answer_bytes =
+            refusal(503, "The server holds as many connections as it takes; retry shortly.", true);
         [[maybe_unused]] ssize_t n = ::send(fd, answer_bytes.data(), answer_bytes.size(), MSG_NOSIGNAL);
         ::close(fd);
         ++counters.closed[size_t(CloseReason::refused)];
@@ -284,7 +293,8 @@ struct ConnectionFront::Loop {
     address_text(peer, c.remote_ip, c.remote_port);
     sockaddr_storage local{};
     socklen_t length = sizeof local;
-    if (getsockname(fd, reinterpret_cast<sockaddr*>(&local), &length) == 0) address_text(local, c.local_ip, c.local_port);
+    if (getsockname(fd, reinterpret_cast<sockaddr*>(&local), &length) == 0)
+      address_text(local, c.local_ip, c.local_port);
     epoll_event event{};
     event.events = EPOLLIN;
     event.data.u64 = c.id;
@@ -425,8 +435,8 @@ struct ConnectionFront::Loop {
     size_t newline = c.in.find('\n', c.in_scanned);
     c.in_scanned = c.in.size();
     if (newline == std::string::npos) {
-      bool cap_reached = c.in.size() - c.line_start > limits.max_request_line_bytes + 1 ||
-                         c.in.size() > limits.max_header_bytes;
+      bool cap_reached =
+          c.in.size() - c.line_start > limits.max_request_line_bytes + 1 || c.in.size() > limits.max_header_bytes;
       if (!cap_reached) return false;
     } else {
       c.line_start = c.in.rfind('\n') + 1;
@@ -505,7 +515,8 @@ struct ConnectionFront::Loop {
     // No reading while an answer is written: a client that sends without reading would otherwise
     // grow `in` for as long as it likes.
     set_interest(c, 0);
-    set_deadline(c, now + transfer_allowance(config.write_timeout, bytes.size() + c.out.size(), config.min_transfer_rate));
+    set_deadline(c,
+                 now + transfer_allowance(config.write_timeout, bytes.size() + c.out.size(), config.min_transfer_rate));
     send_bytes(c, std::move(bytes));
   }
 
@@ -629,14 +640,16 @@ struct ConnectionFront::Loop {
           close_connection(c, CloseReason::header_timeout);
         } else {
           ++counters.closed[size_t(CloseReason::header_timeout)];
-          refuse(c, 408, "The request head did not arrive within " + std::to_string(config.header_timeout.count()) + " ms.",
+          refuse(c, 408,
+                 "The request head did not arrive within " + std::to_string(config.header_timeout.count()) + " ms.",
                  true, now);
         }
         break;
       case Phase::body:
         ++counters.closed[size_t(CloseReason::body_timeout)];
-        refuse(c, 408, "The request body did not arrive in time (" + std::to_string(config.body_timeout.count()) +
-                           " ms plus 1 s per " + std::to_string(config.min_transfer_rate) + " bytes).",
+        refuse(c, 408,
+               "The request body did not arrive in time (" + std::to_string(config.body_timeout.count()) +
+                   " ms plus 1 s per " + std::to_string(config.min_transfer_rate) + " bytes).",
                true, now);
         break;
       case Phase::writing:

@@ -24,15 +24,15 @@ struct FrontConfig {
   std::string bind = "127.0.0.1";
   int port = 8080;  // 0: any free port
   int listen_backlog = 1024;
-  size_t workers = 8;           // threads running `answer`
-  size_t max_pending = 8;       // complete requests waiting for a worker; beyond: 503
+  size_t workers = 8;      // threads running `answer`
+  size_t max_pending = 8;  // complete requests waiting for a worker; beyond: 503
   size_t max_connections = 4096;
   size_t max_idle_connections = 512;
   std::chrono::milliseconds keep_alive_timeout{5000};
   std::chrono::milliseconds header_timeout{10000};
-  std::chrono::milliseconds body_timeout{20000};  // plus length / min_transfer_rate
-  std::chrono::milliseconds write_timeout{10000}; // plus length / min_transfer_rate
-  uint64_t min_transfer_rate = 256u << 10;        // bytes per second
+  std::chrono::milliseconds body_timeout{20000};   // plus length / min_transfer_rate
+  std::chrono::milliseconds write_timeout{10000};  // plus length / min_transfer_rate
+  uint64_t min_transfer_rate = 256u << 10;         // bytes per second
   uint64_t max_buffered_body_bytes = 512ull << 20;
   size_t max_requests_per_connection = 100;
   HeadLimits head_limits;
@@ -57,8 +57,16 @@ struct FrontAnswer {
 };
 
 // Why the front closed a connection itself (a label of roomrender_connections_closed_total).
-enum class CloseReason { header_timeout, body_timeout, idle_timeout, idle_evicted, head_evicted, write_timeout,
-                         refused, count };
+enum class CloseReason {
+  header_timeout,
+  body_timeout,
+  idle_timeout,
+  idle_evicted,
+  head_evicted,
+  write_timeout,
+  refused,
+  count
+};
 std::string_view close_reason_name(CloseReason reason);
 
 struct FrontStats {

@@ -11,15 +11,15 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
-#include <limits>
-#include <tuple>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 namespace rr::server {
@@ -85,9 +85,13 @@ template <class T>
 ContentStore<T>::ContentStore(Config config, Log log) : config_(std::move(config)), log_(std::move(log)) {}
 
 template <class T>
-fs::path ContentStore<T>::file_for(const std::string& id) const { return config_.data_dir / config_.plural / (id + ".json"); }
+fs::path ContentStore<T>::file_for(const std::string& id) const {
+  return config_.data_dir / config_.plural / (id + ".json");
+}
 template <class T>
-fs::path ContentStore<T>::meta_for(const std::string& id) const { return config_.data_dir / (config_.kind + "-meta") / (id + ".json"); }
+fs::path ContentStore<T>::meta_for(const std::string& id) const {
+  return config_.data_dir / (config_.kind + "-meta") / (id + ".json");
+}
 
 template <class T>
 void ContentStore<T>::write_meta(const std::string& id, int64_t created_us, const std::set<std::string>& owners) const {
@@ -185,8 +189,11 @@ size_t ContentStore<T>::load() {
     }
   }
   if (entries_.size() > config_.max_entries || bytes_ > config_.max_bytes) {
-    log_("warn", {{"event", config_.kind + "_store_over_budget"}, {"entries", entries_.size()}, {"bytes", bytes_},
-                  {"max_entries", config_.max_entries}, {"max_bytes", config_.max_bytes}});
+    log_("warn", {{"event", config_.kind + "_store_over_budget"},
+                  {"entries", entries_.size()},
+                  {"bytes", bytes_},
+                  {"max_entries", config_.max_entries},
+                  {"max_bytes", config_.max_bytes}});
   }
   return loaded;
 }
@@ -221,7 +228,8 @@ bool ContentStore<T>::load_one(const fs::path& path, Clock::time_point modified)
 }
 
 template <class T>
-typename ContentStore<T>::PutResult ContentStore<T>::put(const std::shared_ptr<const T>& item, const std::string& owner) {
+typename ContentStore<T>::PutResult ContentStore<T>::put(const std::shared_ptr<const T>& item,
+                                                         const std::string& owner) {
   std::lock_guard write(mutation_);
   const Clock::time_point now = Clock::now();
   expire(now, false);
@@ -310,7 +318,8 @@ std::shared_ptr<const T> ContentStore<T>::find(const std::string& id) {
 }
 
 template <class T>
-typename ContentStore<T>::ReleaseResult ContentStore<T>::release(const std::string& id, const std::optional<std::string>& owner) {
+typename ContentStore<T>::ReleaseResult ContentStore<T>::release(const std::string& id,
+                                                                 const std::optional<std::string>& owner) {
   std::lock_guard write(mutation_);
   const Clock::time_point now = Clock::now();
   expire(now, false);
@@ -342,7 +351,8 @@ typename ContentStore<T>::ReleaseResult ContentStore<T>::release(const std::stri
 }
 
 template <class T>
-typename ContentStore<T>::Page ContentStore<T>::list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor) {
+typename ContentStore<T>::Page ContentStore<T>::list(const std::optional<std::string>& owner, size_t limit,
+                                                     const std::string& cursor) {
   // A cursor is "<created_us>-<id>" of the last item of the previous page.
   std::pair<int64_t, std::string> after{std::numeric_limits<int64_t>::max(), ""};
   if (!cursor.empty()) {
@@ -394,7 +404,6 @@ CacheStats ContentStore<T>::stats() {
   s.max_entries = config_.max_entries;
   return s;
 }
-
 
 template class ContentStore<StoredScene>;
 template class ContentStore<StoredMesh>;

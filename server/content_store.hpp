@@ -49,10 +49,10 @@ class ContentStore : public DocumentStore<T> {
  public:
   using Base = DocumentStore<T>;
   using Clock = std::chrono::system_clock;  // as DocumentStore<T>::Clock
-  using typename Base::PutResult;
-  using typename Base::ReleaseResult;
   using typename Base::Listed;
   using typename Base::Page;
+  using typename Base::PutResult;
+  using typename Base::ReleaseResult;
   using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
 
   using Config = ContentStoreConfig<T>;

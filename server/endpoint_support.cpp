@@ -164,8 +164,10 @@ void require_admission(ServiceState& state, RenderGate::Admission admission) {
       throw HttpError(503, "Every render slot is busy and the queue is full; retry shortly.", {}, retry);
     case Admission::expired:
       state.metrics.record_rejection("expired");
-      throw HttpError(503, "The render waited in the queue past its deadline of " +
-                               std::to_string(state.config.render_timeout_ms) + " ms; retry shortly.", {}, retry);
+      throw HttpError(503,
+                      "The render waited in the queue past its deadline of " +
+                          std::to_string(state.config.render_timeout_ms) + " ms; retry shortly.",
+                      {}, retry);
     default:
       state.metrics.record_rejection("draining");
       throw HttpError(503, "The server is shutting down and takes no new renders.", {}, retry);

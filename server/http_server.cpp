@@ -42,9 +42,9 @@ using Clock = std::chrono::steady_clock;
 
 // Headers a handler may have set for a success that must not survive into an error answer (an
 // immutable Cache-Control on a 422 would pin the error in caches for a year).
-constexpr const char* success_headers[] = {"Server-Timing", "X-Scene-Id",      "X-Cache",       "X-Shadow-Cache",
-                                           "ETag",          "X-Warning-Count", "Cache-Control", "Location",
-                                           "Vary"};
+constexpr const char* success_headers[] = {"Server-Timing",  "X-Scene-Id", "X-Cache",
+                                           "X-Shadow-Cache", "ETag",       "X-Warning-Count",
+                                           "Cache-Control",  "Location",   "Vary"};
 
 void send_problem(Response& res, const Problem& problem) {
   for (const char* name : success_headers) res.headers.erase(name);
@@ -143,8 +143,9 @@ bool screen_body_headers(const Route& route, const ServerConfig& config, const R
     }
     uint64_t limit = takes_body ? (route.max_body_bytes ? route.max_body_bytes : config.max_body_bytes) : 0;
     if (ec == std::errc::result_out_of_range || length > limit) {
-      send_problem(res, 413, takes_body ? "The body exceeds the limit of " + std::to_string(limit) + " bytes."
-                                        : "This request takes no body.");
+      send_problem(res, 413,
+                   takes_body ? "The body exceeds the limit of " + std::to_string(limit) + " bytes."
+                              : "This request takes no body.");
       return false;
     }
   } else if (takes_body) {
@@ -251,8 +252,12 @@ void log_request(ServiceState& state, const Request& req, const Response& res) {
   if (state.config.log_requests) {
     // httplib has set Content-Length by now, also for bodies written through a provider.
     nlohmann::ordered_json line = {
-        {"event", "request"}, {"method", req.method}, {"route", route}, {"path", req.path},
-        {"status", res.status}, {"bytes", res.get_header_value<uint64_t>("Content-Length")},
+        {"event", "request"},
+        {"method", req.method},
+        {"route", route},
+        {"path", req.path},
+        {"status", res.status},
+        {"bytes", res.get_header_value<uint64_t>("Content-Length")},
         {"duration_ms", screened ? nlohmann::ordered_json(seconds * 1000.0) : nlohmann::ordered_json(nullptr)},
         {"remote", req.remote_addr}};  // the socket's peer, never a client-supplied header
     if (!context.scene_id.empty()) line["scene_id"] = context.scene_id;
@@ -269,7 +274,8 @@ void answer_exception(ServiceState& state, const Request& req, Response& res, st
   std::string log_detail;
   Problem problem = problem_from_exception(error, log_detail);
   if (!log_detail.empty()) {  // our fault: logged with the text the client does not see
-    state.log("error", {{"event", "internal_error"}, {"method", req.method}, {"path", req.path}, {"detail", log_detail}});
+    state.log("error",
+              {{"event", "internal_error"}, {"method", req.method}, {"path", req.path}, {"detail", log_detail}});
   }
   send_problem(res, problem);
 }
@@ -419,8 +425,7 @@ std::string front_refusal(ServiceState& state, int status, std::string_view deta
 // True when the answer's head says "Connection: close" (close_after_response, or httplib's own).
 bool answer_closes(std::string_view answer) {
   std::string_view head = answer.substr(0, answer.find("\r\n\r\n"));
-  return head.find("\r\nConnection: close\r\n") != std::string_view::npos ||
-         head.ends_with("\r\nConnection: close");
+  return head.find("\r\nConnection: close\r\n") != std::string_view::npos || head.ends_with("\r\nConnection: close");
 }
 
 FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontRequest& request) {
@@ -505,35 +510,63 @@ static std::string redacted_store_url(const std::string& url) {
 
 std::string config_json(const ServerConfig& c) {
   const ParseLimits& l = c.limits;
-  nlohmann::ordered_json j = {
-      {"bind", c.bind}, {"port", c.port}, {"threads", request_workers(c)},
-      {"render_workers", render_workers(c)}, {"render_threads", render_threads(c)},
-      {"render_queue", render_queue_length(c)},
-      {"render_timeout_ms", c.render_timeout_ms}, {"trim_after_work_ms", c.trim_after_work_ms},
-      {"retry_after_s", c.retry_after_s},
-      {"drain_timeout_ms", c.drain_timeout_ms}, {"max_body_bytes", c.max_body_bytes}, {"max_import_bytes", c.max_import_bytes},
-      {"max_json_depth", l.max_depth}, {"max_image_side", l.max_image_side}, {"max_pixels", l.max_pixels}, {"max_render_bytes", l.max_render_bytes},
-      {"max_polygons", l.max_polygons}, {"max_cylinder_segments", l.max_cylinder_segments},
-      {"max_floor_cells", l.max_floor_cells}, {"max_abs_coordinate", l.max_abs_coordinate},
-      {"max_far_over_near", l.max_far_over_near}, {"max_mesh_vertices", l.max_mesh_vertices},
-      {"bsp_cache_bytes", c.bsp_cache_bytes}, {"bsp_cache_entries", c.bsp_cache_entries},
-      {"shadow_cache_bytes", c.shadow_cache_bytes},
-      {"scene_store_bytes", c.scene_store_bytes}, {"scene_store_entries", c.scene_store_entries},
-      {"scene_ttl_s", c.scene_ttl_s}, {"mesh_store_bytes", c.mesh_store_bytes},
-      {"mesh_store_entries", c.mesh_store_entries}, {"store", redacted_store_url(c.store_url)},
-      {"store_pool", c.store_pool_size}, {"store_timeout_ms", c.store_timeout_ms},
-      {"store_cache_bytes", c.store_cache_bytes}, {"cors_origins", c.cors_origins},
-      {"api_token_file", c.api_token_file.string()}, {"allow_listing", c.allow_listing},
-      {"data_dir", c.data_dir.string()}, {"web_dir", c.web_dir.string()},
-      {"examples_dir", c.examples_dir.string()}, {"schemas_dir", c.schemas_dir.string()},
-      {"max_connections", c.max_connections}, {"max_idle_connections", c.max_idle_connections},
-      {"keep_alive_timeout_s", c.keep_alive_timeout_s}, {"keep_alive_max_requests", c.keep_alive_max_requests},
-      {"header_timeout_ms", c.header_timeout_ms}, {"body_timeout_ms", c.body_timeout_ms},
-      {"write_timeout_s", c.write_timeout_s}, {"min_transfer_rate", c.min_transfer_rate},
-      {"max_request_line_bytes", c.max_request_line_bytes}, {"max_header_bytes", c.max_header_bytes},
-      {"max_header_count", c.max_header_count}, {"max_pending_requests", max_pending_requests(c)},
-      {"max_buffered_body_bytes", c.max_buffered_body_bytes},
-      {"listen_backlog", c.listen_backlog}, {"log_level", c.log_level}, {"log_requests", c.log_requests}};
+  nlohmann::ordered_json j = {{"bind", c.bind},
+                              {"port", c.port},
+                              {"threads", request_workers(c)},
+                              {"render_workers", render_workers(c)},
+                              {"render_threads", render_threads(c)},
+                              {"render_queue", render_queue_length(c)},
+                              {"render_timeout_ms", c.render_timeout_ms},
+                              {"trim_after_work_ms", c.trim_after_work_ms},
+                              {"retry_after_s", c.retry_after_s},
+                              {"drain_timeout_ms", c.drain_timeout_ms},
+                              {"max_body_bytes", c.max_body_bytes},
+                              {"max_import_bytes", c.max_import_bytes},
+                              {"max_json_depth", l.max_depth},
+                              {"max_image_side", l.max_image_side},
+                              {"max_pixels", l.max_pixels},
+                              {"max_render_bytes", l.max_render_bytes},
+                              {"max_polygons", l.max_polygons},
+                              {"max_cylinder_segments", l.max_cylinder_segments},
+                              {"max_floor_cells", l.max_floor_cells},
+                              {"max_abs_coordinate", l.max_abs_coordinate},
+                              {"max_far_over_near", l.max_far_over_near},
+                              {"max_mesh_vertices", l.max_mesh_vertices},
+                              {"bsp_cache_bytes", c.bsp_cache_bytes},
+                              {"bsp_cache_entries", c.bsp_cache_entries},
+                              {"shadow_cache_bytes", c.shadow_cache_bytes},
+                              {"scene_store_bytes", c.scene_store_bytes},
+                              {"scene_store_entries", c.scene_store_entries},
+                              {"scene_ttl_s", c.scene_ttl_s},
+                              {"mesh_store_bytes", c.mesh_store_bytes},
+                              {"mesh_store_entries", c.mesh_store_entries},
+                              {"store", redacted_store_url(c.store_url)},
+                              {"store_pool", c.store_pool_size},
+                              {"store_timeout_ms", c.store_timeout_ms},
+                              {"store_cache_bytes", c.store_cache_bytes},
+                              {"cors_origins", c.cors_origins},
+                              {"api_token_file", c.api_token_file.string()},
+                              {"allow_listing", c.allow_listing},
+                              {"data_dir", c.data_dir.string()},
+                              {"web_dir", c.web_dir.string()},
+                              {"examples_dir", c.examples_dir.string()},
+                              {"schemas_dir", c.schemas_dir.string()},
+                              {"max_connections", c.max_connections},
+                              {"max_idle_connections", c.max_idle_connections},
+                              {"keep_alive_timeout_s", c.keep_alive_timeout_s},
+                              {"keep_alive_max_requests", c.keep_alive_max_requests},
+                              {"header_timeout_ms", c.header_timeout_ms},
+                              {"body_timeout_ms", c.body_timeout_ms},
+                              {"write_timeout_s", c.write_timeout_s},
+                              {"min_transfer_rate", c.min_transfer_rate},
+                              {"max_request_line_bytes", c.max_request_line_bytes},
+                              {"max_header_bytes", c.max_header_bytes},
+                              {"max_header_count", c.max_header_count},
+                              {"max_pending_requests", max_pending_requests(c)},
+                              {"max_buffered_body_bytes", c.max_buffered_body_bytes},
+                              {"listen_backlog", c.listen_backlog},
+                              {"log_level", c.log_level},
+                              {"log_requests", c.log_requests}};
   return j.dump();
 }
 
@@ -552,14 +585,17 @@ void Service::start() {
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
   }
   if (!config_.store_url.empty() && !config_.data_dir.empty()) {  // said, so nobody backs up an empty directory
-    state_->log("warn", {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});
+    state_->log("warn",
+                {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});
   }
   const TokenTable& tokens = state_->access.tokens;
   // Said once at start, so an operator sees an open server for what it is.
   const bool loopback = config_.bind == "127.0.0.1" || config_.bind == "::1" || config_.bind == "localhost";
-  state_->log(tokens.empty() && !loopback ? "warn" : "info",
-              {{"event", "write_access"}, {"writes", tokens.empty() ? "open" : "token"}, {"tokens", tokens.size()},
-               {"cors_origins", config_.cors_origins}, {"listing", !tokens.empty() || config_.allow_listing}});
+  state_->log(tokens.empty() && !loopback ? "warn" : "info", {{"event", "write_access"},
+                                                              {"writes", tokens.empty() ? "open" : "token"},
+                                                              {"tokens", tokens.size()},
+                                                              {"cors_origins", config_.cors_origins},
+                                                              {"listing", !tokens.empty() || config_.allow_listing}});
   auto routes = make_routes(config_);
   auto server = make_server(*state_, routes);
   RequestProcessor& processor = *server;
@@ -570,11 +606,14 @@ void Service::start() {
         return route_body_limit(*routes, state.config, method, target);
       },
       [&processor, &state](FrontRequest& request) { return answer_request(processor, state, request); },
-      [&state](int status, std::string_view detail, bool close) { return front_refusal(state, status, detail, close); });
+      [&state](int status, std::string_view detail, bool close) {
+        return front_refusal(state, status, detail, close);
+      });
   server_ = std::move(server);
   port_ = front_->bind();
   if (front_->max_connections() < config_.max_connections) {
-    state_->log("warn", {{"event", "connection_cap_lowered"}, {"max_connections", front_->max_connections()},
+    state_->log("warn", {{"event", "connection_cap_lowered"},
+                         {"max_connections", front_->max_connections()},
                          {"configured", config_.max_connections},
                          {"reason", "the open-file limit (ulimit -n) leaves no room for more"}});
   }
@@ -589,8 +628,8 @@ DrainReport Service::stop() {
   stopped_ = true;
   auto begin = Clock::now();
   state_->draining = true;
-  state_->gate.close();     // new renders get 503; queued and running ones go on
-  front_->stop_accepting(); // no new connections; idle ones close, open ones after their answer
+  state_->gate.close();      // new renders get 503; queued and running ones go on
+  front_->stop_accepting();  // no new connections; idle ones close, open ones after their answer
   report.drained = state_->gate.wait_idle(begin + std::chrono::milliseconds(config_.drain_timeout_ms));
   if (!report.drained) state_->gate.abort();  // cancelled renders answer 503
   // Answers still being written get the write timeout, then whatever is left is closed.

@@ -33,8 +33,9 @@ double number_param(const Request& req, const std::string& name, double fallback
   double value = 0.0;
   auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value) || value < lo || value > hi) {
-    throw HttpError(400, "The query parameter " + name + " must be a number in [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "].",
+    throw HttpError(400,
+                    "The query parameter " + name + " must be a number in [" + std::to_string(lo) + ", " +
+                        std::to_string(hi) + "].",
                     {{"", "not a number in range: \"" + quote_input(text) + "\"", name}});
   }
   return value;
@@ -106,9 +107,9 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
 
 std::vector<Route> import_routes(const ServerConfig& config) {
   // What clients send files as; the format comes from the path, not the media type.
-  const std::vector<std::string> files = {"application/octet-stream", "application/xml", "text/xml",
-                                          "application/zip", "application/vnd.sweethome3d", "text/plain",
-                                          "model/obj"};
+  const std::vector<std::string> files = {
+      "application/octet-stream",    "application/xml", "text/xml", "application/zip",
+      "application/vnd.sweethome3d", "text/plain",      "model/obj"};
   Route route{"POST", "/v1/import/{format}", "/v1/import/([a-z0-9]+)", files, {"application/json"}, handle_import};
   route.max_body_bytes = config.max_import_bytes;
   route.access = Access::write_when_stored;

@@ -23,7 +23,8 @@ std::string mesh_location(const std::string& id) { return "/v1/meshes/" + id; }
 json vec_json(Vec3 v) { return json::array({v.x, v.y, v.z}); }
 
 // The body as a mesh; parsing holds a render slot, as storing a scene does.
-std::shared_ptr<const MeshData> read_mesh_body(ServiceState& state, const Request& req, std::vector<std::string>& warnings) {
+std::shared_ptr<const MeshData> read_mesh_body(ServiceState& state, const Request& req,
+                                               std::vector<std::string>& warnings) {
   std::shared_ptr<const MeshData> mesh;
   with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
     const std::string type = req.get_header_value("Content-Type");
@@ -70,10 +71,12 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
   const std::string& id = match.params.at(0);
   std::lock_guard pins(state.mesh_pins.writers());
   switch (state.meshes->release(id, owner)) {
-    case MeshDocuments::ReleaseResult::not_found: throw HttpError(404, "There is no stored mesh " + id + ".");
+    case MeshDocuments::ReleaseResult::not_found:
+      throw HttpError(404, "There is no stored mesh " + id + ".");
     case MeshDocuments::ReleaseResult::not_owner:
-      throw HttpError(403, "The mesh " + id + " is stored, but not by this token's owner; only an owner can "
-                           "drop its reference.");
+      throw HttpError(403, "The mesh " + id +
+                               " is stored, but not by this token's owner; only an owner can "
+                               "drop its reference.");
     case MeshDocuments::ReleaseResult::pinned: {
       std::vector<FieldError> errors;
       std::string list;
@@ -81,13 +84,14 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
         errors.push_back({"", "placed by stored scene " + scene});
         list += (list.empty() ? "" : ", ") + scene;
       }
-      throw HttpError(409, "The mesh " + id + " is placed by stored scenes (" + list +
-                               (errors.size() == 5 ? ", ..." : "") +
-                               "); delete those scenes first. A mesh stays while a stored scene places it.",
+      throw HttpError(409,
+                      "The mesh " + id + " is placed by stored scenes (" + list + (errors.size() == 5 ? ", ..." : "") +
+                          "); delete those scenes first. A mesh stays while a stored scene places it.",
                       errors);
     }
     case MeshDocuments::ReleaseResult::removed:
-    case MeshDocuments::ReleaseResult::reference_dropped: res.status = 204;
+    case MeshDocuments::ReleaseResult::reference_dropped:
+      res.status = 204;
   }
 }
 
@@ -111,21 +115,24 @@ StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shar
       throw HttpError(409, "A different mesh with the id " + stored->id + " is stored already (a hash collision).",
                       {{"", "content differs from the stored mesh with this id"}});
     case MeshDocuments::PutResult::too_large:
-      throw HttpError(413, "The stored form of this mesh takes about " + std::to_string(stored->bytes) +
-                               " bytes; the mesh store holds at most " +
-                               std::to_string(state.meshes->max_bytes()) + ".",
+      throw HttpError(413,
+                      "The stored form of this mesh takes about " + std::to_string(stored->bytes) +
+                          " bytes; the mesh store holds at most " + std::to_string(state.meshes->max_bytes()) + ".",
                       {{"", "mesh too large to store"}});
-    case MeshDocuments::PutResult::full: throw_mesh_store_full(state);
-    case MeshDocuments::PutResult::missing_reference: throw std::logic_error("a mesh places no stored document");
-    case MeshDocuments::PutResult::created: return {stored->id, true};
-    case MeshDocuments::PutResult::existed: break;
+    case MeshDocuments::PutResult::full:
+      throw_mesh_store_full(state);
+    case MeshDocuments::PutResult::missing_reference:
+      throw std::logic_error("a mesh places no stored document");
+    case MeshDocuments::PutResult::created:
+      return {stored->id, true};
+    case MeshDocuments::PutResult::existed:
+      break;
   }
   return {stored->id, false};
 }
 
 std::vector<Route> mesh_routes(const ServerConfig& config) {
-  const std::vector<std::string> bodies = {"application/json", "text/plain", "model/obj",
-                                           "application/octet-stream"};
+  const std::vector<std::string> bodies = {"application/json", "text/plain", "model/obj", "application/octet-stream"};
   const std::vector<std::string> json_answer = {"application/json"};
   const char* one = "/v1/meshes/([0-9a-f]{16})";
   std::vector<Route> routes = {

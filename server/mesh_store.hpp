@@ -31,7 +31,7 @@ std::shared_ptr<const StoredMesh> prepare_mesh(std::shared_ptr<const MeshData> m
 std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, const ParseLimits& limits);
 
 using MeshStoreConfig = ContentStoreConfig<StoredMesh>;
-using MeshStore = ContentStore<StoredMesh>;  // the embedded store
+using MeshStore = ContentStore<StoredMesh>;       // the embedded store
 using MeshDocuments = DocumentStore<StoredMesh>;  // either store, as the handlers see it
 
 class MeshPins {

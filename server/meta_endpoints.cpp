@@ -6,8 +6,8 @@
 #include "server/routes.hpp"
 
 #include "render/core/scene_names.hpp"
-#include "server/serve_command.hpp"
 #include "server/problem.hpp"
+#include "server/serve_command.hpp"
 
 #include <httplib.h>
 
@@ -78,9 +78,14 @@ void handle_readyz(ServiceState& state, const Request&, Response& res, const Rou
 
 void handle_metrics(ServiceState& state, const Request&, Response& res, const RouteMatch&) {
   no_store(res);
-  MetricsSnapshot snapshot{state.gate.load(),  state.bsp_cache.stats(), state.shadow_cache.stats(),
-                           state.scenes->stats(), resident_bytes(),      std::string(version()),
-                           state.front_stats ? state.front_stats() : FrontStats{}, state.meshes->stats()};
+  MetricsSnapshot snapshot{state.gate.load(),
+                           state.bsp_cache.stats(),
+                           state.shadow_cache.stats(),
+                           state.scenes->stats(),
+                           resident_bytes(),
+                           std::string(version()),
+                           state.front_stats ? state.front_stats() : FrontStats{},
+                           state.meshes->stats()};
   res.set_content(state.metrics.prometheus_text(snapshot), "text/plain; version=0.0.4; charset=utf-8");
 }
 
@@ -206,17 +211,33 @@ std::vector<Route> meta_routes(const ServerConfig& config) {
       {"GET", "/metrics", "/metrics", {}, {"text/plain"}, handle_metrics},
       {"GET", "/v1/pipelines", "/v1/pipelines", {}, json_answer, handle_pipelines},
       {"GET", "/openapi.json", "/openapi\\.json", {}, json_answer, openapi_handler(config.schemas_dir)},
-      {"GET", "/v1/schemas/openapi.json", "/v1/schemas/openapi\\.json", {}, json_answer,
+      {"GET",
+       "/v1/schemas/openapi.json",
+       "/v1/schemas/openapi\\.json",
+       {},
+       json_answer,
        openapi_file_handler(config.schemas_dir)},
       {"GET", "/v1/schemas", "/v1/schemas/?", {}, json_answer, schema_list_handler(config.schemas_dir)},
-      {"GET", "/v1/schemas/{name}.json", "/v1/schemas/([a-z0-9_-]+)\\.schema\\.json", {},
-       {"application/schema+json", "application/json"}, schema_handler(config.schemas_dir)},
+      {"GET",
+       "/v1/schemas/{name}.json",
+       "/v1/schemas/([a-z0-9_-]+)\\.schema\\.json",
+       {},
+       {"application/schema+json", "application/json"},
+       schema_handler(config.schemas_dir)},
       {"GET", "/", "/", {}, {"text/html"}, index_handler(config.web_dir)},
       {"GET", "/docs", "/docs", {}, {"text/html"}, docs_handler(config.web_dir)},
-      {"GET", "/docs/{file}", "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)", {}, {},
+      {"GET",
+       "/docs/{file}",
+       "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)",
+       {},
+       {},
        docs_asset_handler(config.web_dir)},
       {"GET", "/examples/", "/examples/?", {}, json_answer, examples_list_handler(config.examples_dir)},
-      {"GET", "/examples/{name}.json", "/examples/([a-z0-9_]+)\\.json", {}, json_answer,
+      {"GET",
+       "/examples/{name}.json",
+       "/examples/([a-z0-9_]+)\\.json",
+       {},
+       json_answer,
        example_handler(config.examples_dir)},
   };
 }

@@ -14,7 +14,7 @@ namespace rr::server {
 namespace {
 
 const std::vector<double> duration_buckets = {0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05,
-                                              0.1,    0.25,  0.5,    1.0,   2.5,  5.0,  10.0};
+                                              0.1,    0.25,  0.5,    1.0,   2.5,  5.0,   10.0};
 
 // Label values are our own constants or numbers, but escape them anyway as the format requires.
 std::string escape_label(std::string_view value) {
@@ -78,12 +78,14 @@ const CacheFamily cache_families[] = {
 };
 
 void cache_samples(std::string& out, const MetricsSnapshot& snap) {
-  const std::pair<const char*, const CacheStats*> caches[] = {
-      {"bsp", &snap.bsp_cache}, {"shadow", &snap.shadow_cache}, {"scenes", &snap.scene_store},
-      {"meshes", &snap.mesh_store}};
+  const std::pair<const char*, const CacheStats*> caches[] = {{"bsp", &snap.bsp_cache},
+                                                              {"shadow", &snap.shadow_cache},
+                                                              {"scenes", &snap.scene_store},
+                                                              {"meshes", &snap.mesh_store}};
   for (const CacheFamily& family : cache_families) {
     header(out, family.name, family.type, family.help);
-    for (const auto& [cache, stats] : caches) sample(out, family.name, label("cache", cache), double(stats->*family.field));
+    for (const auto& [cache, stats] : caches)
+      sample(out, family.name, label("cache", cache), double(stats->*family.field));
   }
 }
 
@@ -117,21 +119,23 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   cache_samples(out, snap);
   // The scene store keeps what it stored (507 when full), so its fill against both budgets matters;
   // the byte budget is roomrender_cache_budget_bytes{cache="scenes"} above.
-  header(out, "roomrender_scene_store_max_entries", "gauge", "Most scenes the store holds; beyond, storing answers 507.");
+  header(out, "roomrender_scene_store_max_entries", "gauge",
+         "Most scenes the store holds; beyond, storing answers 507.");
   sample(out, "roomrender_scene_store_max_entries", "", double(snap.scene_store.max_entries));
-  header(out, "roomrender_mesh_store_max_entries", "gauge", "Most meshes the store holds; beyond, storing answers 507.");
+  header(out, "roomrender_mesh_store_max_entries", "gauge",
+         "Most meshes the store holds; beyond, storing answers 507.");
   sample(out, "roomrender_mesh_store_max_entries", "", double(snap.mesh_store.max_entries));
   connection_samples(out, snap.connections);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);
   header(out, "roomrender_build_info", "gauge", "Build information; the value is always 1.");
-  sample(out, "roomrender_build_info", label("version", snap.version) + "," + label("httplib", CPPHTTPLIB_VERSION), 1.0);
+  sample(out, "roomrender_build_info", label("version", snap.version) + "," + label("httplib", CPPHTTPLIB_VERSION),
+         1.0);
 }
 
 }  // namespace
 
-Histogram::Histogram(std::vector<double> upper_bounds)
-    : bounds(std::move(upper_bounds)), counts(bounds.size(), 0) {}
+Histogram::Histogram(std::vector<double> upper_bounds) : bounds(std::move(upper_bounds)), counts(bounds.size(), 0) {}
 
 void Histogram::observe(double value) {
   for (size_t i = 0; i < bounds.size(); ++i) {
@@ -155,7 +159,8 @@ void Metrics::record_render(std::string_view pipeline, const StageTimings& timin
   for (const StageField& stage : stage_table) {
     const double ms = timings.*stage.ms;
     if (ms <= 0.0) continue;
-    stage_seconds_.try_emplace({std::string(pipeline), stage.name}, duration_buckets).first->second.observe(ms / 1000.0);
+    stage_seconds_.try_emplace({std::string(pipeline), stage.name}, duration_buckets)
+        .first->second.observe(ms / 1000.0);
   }
 }
 
@@ -168,7 +173,8 @@ std::string Metrics::prometheus_text(const MetricsSnapshot& snapshot) const {
   std::string out;
   {
     std::lock_guard lock(mutex_);
-    header(out, "roomrender_http_requests_total", "counter", "HTTP requests answered, by route template, method and status.");
+    header(out, "roomrender_http_requests_total", "counter",
+           "HTTP requests answered, by route template, method and status.");
     for (const auto& [key, count] : requests_) {
       const auto& [route, method, status] = key;
       sample(out, "roomrender_http_requests_total",
@@ -180,7 +186,8 @@ std::string Metrics::prometheus_text(const MetricsSnapshot& snapshot) const {
     for (const auto& [route, h] : request_seconds_) {
       histogram_samples(out, "roomrender_http_request_duration_seconds", label("route", route), h);
     }
-    header(out, "roomrender_render_stage_duration_seconds", "histogram", "Render stage durations by pipeline and stage.");
+    header(out, "roomrender_render_stage_duration_seconds", "histogram",
+           "Render stage durations by pipeline and stage.");
     for (const auto& [key, h] : stage_seconds_) {
       histogram_samples(out, "roomrender_render_stage_duration_seconds",
                         label("pipeline", key.first) + "," + label("stage", key.second), h);

@@ -52,8 +52,8 @@ class Metrics {
  private:
   mutable std::mutex mutex_;
   std::map<std::tuple<std::string, std::string, int>, uint64_t> requests_;  // route, method, status
-  std::map<std::string, Histogram> request_seconds_;                         // route
-  std::map<std::pair<std::string, std::string>, Histogram> stage_seconds_;   // pipeline, stage
+  std::map<std::string, Histogram> request_seconds_;                        // route
+  std::map<std::pair<std::string, std::string>, Histogram> stage_seconds_;  // pipeline, stage
   std::map<std::string, uint64_t> rejections_;
 };
 

@@ -47,8 +47,8 @@ PixelRequest split_pixel(json body) {
 int pixel_coordinate(const json& value, const char* name, int size, const char* side) {
   const std::string pointer = std::string("/") + name;
   const std::string range = std::to_string(size - 1);
-  const std::string expected = "an integer pixel index from 0 to " + range + " (the image is " +
-                               std::to_string(size) + " pixels " + side + ")";
+  const std::string expected =
+      "an integer pixel index from 0 to " + range + " (the image is " + std::to_string(size) + " pixels " + side + ")";
   if (value.is_null()) throw InputError(InputError::Kind::invalid, pointer, "is required: " + expected);
   if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() >= size) {
     throw InputError(InputError::Kind::invalid, pointer, "must be " + expected);
@@ -81,8 +81,14 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
     context.encode = false;
     const RenderOutcome out = render(view, scene, context);
     const uint32_t id = out.frame.ids.at(x, y);
-    json body = {{"x", x}, {"y", y}, {"scene_id", scene.static_id}, {"pointer", nullptr}, {"polygon", nullptr},
-                 {"point", nullptr}, {"depth", nullptr}, {"camera", camera_json(out.camera)}};
+    json body = {{"x", x},
+                 {"y", y},
+                 {"scene_id", scene.static_id},
+                 {"pointer", nullptr},
+                 {"polygon", nullptr},
+                 {"point", nullptr},
+                 {"depth", nullptr},
+                 {"camera", camera_json(out.camera)}};
     if (id != background_id && id < scene.soup.polygons.size()) {
       const Polygon& polygon = scene.soup.polygons[id];
       const Vec3 point = point_on_polygon(out.camera, view.options.width, view.options.height, x, y, polygon);
@@ -129,8 +135,12 @@ void handle_stored_pick(ServiceState& state, const Request& req, Response& res, 
 }  // namespace
 
 nlohmann::json camera_json(const Camera& c) {
-  return {{"position", vec_json(c.position)}, {"target", vec_json(c.target)}, {"up", vec_json(c.up)},
-          {"fov_y", c.fov_y_deg}, {"near", c.near}, {"far", c.far}};
+  return {{"position", vec_json(c.position)},
+          {"target", vec_json(c.target)},
+          {"up", vec_json(c.up)},
+          {"fov_y", c.fov_y_deg},
+          {"near", c.near},
+          {"far", c.far}};
 }
 
 std::vector<Route> pick_routes() {

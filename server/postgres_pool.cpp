@@ -127,7 +127,8 @@ pg_conn* PostgresPool::connect(SteadyClock::time_point deadline) {
   }
   for (PostgresPollingStatusType state = PGRES_POLLING_WRITING;;) {
     if (state == PGRES_POLLING_OK) break;
-    if (state == PGRES_POLLING_FAILED || !wait_socket(conn, state == PGRES_POLLING_READING ? POLLIN : POLLOUT, deadline)) {
+    if (state == PGRES_POLLING_FAILED ||
+        !wait_socket(conn, state == PGRES_POLLING_READING ? POLLIN : POLLOUT, deadline)) {
       std::string why = state == PGRES_POLLING_FAILED ? error_text(conn) : "connecting timed out";
       PQfinish(conn);
       unavailable("cannot connect: " + why);
@@ -137,7 +138,8 @@ pg_conn* PostgresPool::connect(SteadyClock::time_point deadline) {
   PQsetnonblocking(conn, 1);
   // The server's notices ("relation ... already exists, skipping") would go to stderr, beside the
   // service's JSON log lines.
-  PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
+  PQsetNoticeProcessor(
+      conn, [](void*, const char*) {}, nullptr);
   return conn;
 }
 
@@ -153,9 +155,9 @@ PostgresRows PostgresSession::collect(bool sent) {
     while (PQisBusy(conn_)) {
       if (!wait_socket(conn_, POLLIN, deadline_) || !PQconsumeInput(conn_)) {
         PQclear(last);
-        pool_.unavailable(PQstatus(conn_) == CONNECTION_OK ? "the database did not answer within " +
-                                                                 std::to_string(pool_.config_.timeout_ms) + " ms"
-                                                           : error_text(conn_));
+        pool_.unavailable(PQstatus(conn_) == CONNECTION_OK
+                              ? "the database did not answer within " + std::to_string(pool_.config_.timeout_ms) + " ms"
+                              : error_text(conn_));
       }
     }
     PGresult* next = PQgetResult(conn_);

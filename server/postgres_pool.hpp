@@ -115,7 +115,7 @@ class PostgresPool {
   std::mutex mutex_;
   std::condition_variable returned_;
   std::vector<pg_conn*> idle_;
-  size_t open_ = 0;  // leased now; with idle_ never more than pool_size
+  size_t open_ = 0;                                              // leased now; with idle_ never more than pool_size
   std::vector<std::pair<std::string, std::string>> statements_;  // name, sql; fixed once in use
   std::atomic<bool> schema_ready_{false};
   std::atomic<bool> healthy_{true};

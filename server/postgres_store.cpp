@@ -53,7 +53,7 @@ PostgresConfig postgres_config(const ServerConfig& c) {
 
 template <class T>
 PostgresStore<T>::PostgresStore(std::shared_ptr<PostgresPool> pool, ContentStoreConfig<T> config, size_t cache_bytes,
-                                 Log log)
+                                Log log)
     : pool_(std::move(pool)), config_(std::move(config)), log_(std::move(log)), cache_(cache_bytes) {
   add_statements();
 }
@@ -70,32 +70,41 @@ void PostgresStore<T>::add_statements() {
   add("lock", "SELECT entries, bytes FROM rr_usage WHERE kind = " + kind + " FOR UPDATE");
   // SKIP LOCKED: an entry another transaction holds (a scene being stored that places this mesh)
   // is left for a later sweep rather than waited for or failed on.
-  add("sweep", "WITH gone AS (DELETE FROM " + items + " WHERE id IN (SELECT i.id FROM " + items + " i WHERE " + expired +
-               " FOR UPDATE SKIP LOCKED) RETURNING bytes) UPDATE rr_usage SET "
-               "entries = entries - (SELECT count(*) FROM gone), bytes = bytes - (SELECT coalesce(sum(bytes), 0) FROM gone) "
-               "WHERE kind = " + kind + " RETURNING entries, bytes, (SELECT count(*) FROM gone)");
+  add("sweep",
+      "WITH gone AS (DELETE FROM " + items + " WHERE id IN (SELECT i.id FROM " + items + " i WHERE " + expired +
+          " FOR UPDATE SKIP LOCKED) RETURNING bytes) UPDATE rr_usage SET "
+          "entries = entries - (SELECT count(*) FROM gone), bytes = bytes - (SELECT coalesce(sum(bytes), 0) FROM gone) "
+          "WHERE kind = " +
+          kind + " RETURNING entries, bytes, (SELECT count(*) FROM gone)");
   add("get", "SELECT i.body = $3::bytea, " + expired + " FROM " + items + " i WHERE i.id = $2 FOR UPDATE");
   add("touch", "UPDATE " + items + " SET last_access = now() WHERE id = $1");
   add("add_owner", "INSERT INTO " + owners + " (id, owner) VALUES ($1, $2) ON CONFLICT DO NOTHING");
-  add("reserve", "UPDATE rr_usage SET entries = entries + 1, bytes = bytes + $1::bigint, last_created_us = "
-                 "GREATEST(last_created_us + 1, (extract(epoch FROM clock_timestamp()) * 1000000)::bigint) WHERE kind = " +
-                     kind + " RETURNING last_created_us");
+  add("reserve",
+      "UPDATE rr_usage SET entries = entries + 1, bytes = bytes + $1::bigint, last_created_us = "
+      "GREATEST(last_created_us + 1, (extract(epoch FROM clock_timestamp()) * 1000000)::bigint) WHERE kind = " +
+          kind + " RETURNING last_created_us");
   add("insert", "INSERT INTO " + items + " (id, body, bytes, created_us, last_access) VALUES ($1, $2, $3, $4, now())");
   add("place", "INSERT INTO rr_placements (scene_id, mesh_id) SELECT $1, unnest($2::text[])");
   // A read restarts the retention clock, written at most every $3 seconds (not on every read).
-  add("find", "WITH touched AS (UPDATE " + items + " i SET last_access = now() WHERE i.id = $2 AND $1::float8 > 0 AND "
-              "i.last_access < now() - make_interval(secs => $3::float8) AND NOT " + expired + " RETURNING 1) "
-              "SELECT CASE WHEN $4::boolean THEN i.body END FROM " + items + " i WHERE i.id = $2 AND NOT " + expired);
+  add("find", "WITH touched AS (UPDATE " + items +
+                  " i SET last_access = now() WHERE i.id = $2 AND $1::float8 > 0 AND "
+                  "i.last_access < now() - make_interval(secs => $3::float8) AND NOT " +
+                  expired +
+                  " RETURNING 1) "
+                  "SELECT CASE WHEN $4::boolean THEN i.body END FROM " +
+                  items + " i WHERE i.id = $2 AND NOT " + expired);
   add("owners", "SELECT owner FROM " + owners + " WHERE id = $1");
   add("drop_owner", "DELETE FROM " + owners + " WHERE id = $1 AND owner = $2");
-  add("remove", "WITH gone AS (DELETE FROM " + items + " WHERE id = $1 RETURNING bytes) UPDATE rr_usage SET "
-                "entries = entries - 1, bytes = bytes - (SELECT bytes FROM gone) WHERE kind = " + kind +
-                    " AND EXISTS (SELECT 1 FROM gone)");
+  add("remove", "WITH gone AS (DELETE FROM " + items +
+                    " WHERE id = $1 RETURNING bytes) UPDATE rr_usage SET "
+                    "entries = entries - 1, bytes = bytes - (SELECT bytes FROM gone) WHERE kind = " +
+                    kind + " AND EXISTS (SELECT 1 FROM gone)");
   add("pinned_by", "SELECT scene_id FROM rr_placements WHERE mesh_id = $1 ORDER BY scene_id LIMIT $2::bigint");
-  add("list", "SELECT i.id, i.created_us, (extract(epoch FROM i.last_access) * 1000000)::bigint, i.bytes FROM " + items +
-              " i WHERE NOT " + expired + " AND ($2::text IS NULL OR EXISTS (SELECT 1 FROM " + owners +
-              " o WHERE o.id = i.id AND o.owner = $2)) AND ($3::bigint IS NULL OR (i.created_us, i.id) < ($3::bigint, $4::text)) "
-              "ORDER BY i.created_us DESC, i.id DESC LIMIT $5::bigint");
+  add("list", "SELECT i.id, i.created_us, (extract(epoch FROM i.last_access) * 1000000)::bigint, i.bytes FROM " +
+                  items + " i WHERE NOT " + expired + " AND ($2::text IS NULL OR EXISTS (SELECT 1 FROM " + owners +
+                  " o WHERE o.id = i.id AND o.owner = $2)) AND ($3::bigint IS NULL OR (i.created_us, i.id) < "
+                  "($3::bigint, $4::text)) "
+                  "ORDER BY i.created_us DESC, i.id DESC LIMIT $5::bigint");
   add("usage", "SELECT entries, bytes FROM rr_usage WHERE kind = " + kind);
 }
 
@@ -125,7 +134,8 @@ void PostgresStore<T>::sweep(PostgresSession& session, bool force) {
 }
 
 template <class T>
-typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSession& s, const T& item, const std::string& owner) {
+typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSession& s, const T& item,
+                                                                  const std::string& owner) {
   const PostgresParam id{item.id}, body{item.text, true};
   // Storing what is stored needs only its row's lock; the fill row (which serialises every new
   // entry of this kind) is taken only to add one.
@@ -148,7 +158,8 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
   if (item.bytes > config_.max_bytes) return PutResult::too_large;
   PostgresRows fill = s.run(statement("usage"), {});
   auto fits = [&] {
-    return size_t(to_int(fill.at(0, 0))) < config_.max_entries && size_t(to_int(fill.at(0, 1))) + item.bytes <= config_.max_bytes;
+    return size_t(to_int(fill.at(0, 0))) < config_.max_entries &&
+           size_t(to_int(fill.at(0, 1))) + item.bytes <= config_.max_bytes;
   };
   if (!fits()) {
     sweep(s, true);
@@ -162,7 +173,7 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
     try {
       s.run(statement("place"), {id, {refs}});
     } catch (const PostgresError& e) {
-      if (e.sqlstate() != "23503") throw;  // a foreign key: a mesh it places was deleted meanwhile
+      if (e.sqlstate() != "23503") throw;   // a foreign key: a mesh it places was deleted meanwhile
       return PutResult::missing_reference;  // the commit that follows rolls the aborted transaction back
     }
   }
@@ -170,7 +181,8 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
 }
 
 template <class T>
-typename PostgresStore<T>::PutResult PostgresStore<T>::put(const std::shared_ptr<const T>& item, const std::string& owner) {
+typename PostgresStore<T>::PutResult PostgresStore<T>::put(const std::shared_ptr<const T>& item,
+                                                           const std::string& owner) {
   PutResult result = PutResult::full;
   pool_->transaction([&](PostgresSession& s) { result = put_locked(s, *item, owner); });
   if (result == PutResult::created || result == PutResult::existed) cache_.put(item->id, item, item->bytes);
@@ -213,7 +225,8 @@ typename PostgresStore<T>::ReleaseResult PostgresStore<T>::release_locked(Postgr
   if (held.size() == 0 || held.at(0, 1) == pg_true) return ReleaseResult::not_found;
   if (owner) {
     PostgresRows owners = s.run(statement("owners"), {{id}});
-    auto holds = std::any_of(owners.rows.begin(), owners.rows.end(), [&](const auto& row) { return row.at(0) == *owner; });
+    auto holds =
+        std::any_of(owners.rows.begin(), owners.rows.end(), [&](const auto& row) { return row.at(0) == *owner; });
     if (!holds) return ReleaseResult::not_owner;
     if (owners.size() > 1) {
       s.run(statement("drop_owner"), {{id}, {*owner}});

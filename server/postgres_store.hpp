@@ -20,10 +20,10 @@ class PostgresStore : public DocumentStore<T> {
  public:
   using Base = DocumentStore<T>;
   using Clock = std::chrono::system_clock;  // as DocumentStore<T>::Clock
-  using typename Base::PutResult;
-  using typename Base::ReleaseResult;
   using typename Base::Listed;
   using typename Base::Page;
+  using typename Base::PutResult;
+  using typename Base::ReleaseResult;
   using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
 
   // Uses config's max_entries, max_bytes, ttl, kind ("scene" or "mesh") and read; data_dir, pinned
@@ -50,7 +50,8 @@ class PostgresStore : public DocumentStore<T> {
   // once a second unless forced. Inside the caller's transaction, which holds the fill row.
   void sweep(PostgresSession& session, bool force);
   PutResult put_locked(PostgresSession& session, const T& item, const std::string& owner);
-  ReleaseResult release_locked(PostgresSession& session, const std::string& id, const std::optional<std::string>& owner);
+  ReleaseResult release_locked(PostgresSession& session, const std::string& id,
+                               const std::optional<std::string>& owner);
 
   std::shared_ptr<PostgresPool> pool_;
   ContentStoreConfig<T> config_;

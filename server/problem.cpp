@@ -10,29 +10,51 @@ namespace rr::server {
 
 std::string_view status_title(int status) {
   switch (status) {
-    case 400: return "Bad Request";
-    case 401: return "Unauthorized";
-    case 403: return "Forbidden";
-    case 404: return "Not Found";
-    case 405: return "Method Not Allowed";
-    case 406: return "Not Acceptable";
-    case 408: return "Request Timeout";
-    case 409: return "Conflict";
-    case 411: return "Length Required";
+    case 400:
+      return "Bad Request";
+    case 401:
+      return "Unauthorized";
+    case 403:
+      return "Forbidden";
+    case 404:
+      return "Not Found";
+    case 405:
+      return "Method Not Allowed";
+    case 406:
+      return "Not Acceptable";
+    case 408:
+      return "Request Timeout";
+    case 409:
+      return "Conflict";
+    case 411:
+      return "Length Required";
     // httplib writes the status line with the RFC 7231 names for 413 and 422, so titles use them too.
-    case 413: return "Payload Too Large";
-    case 414: return "URI Too Long";
-    case 415: return "Unsupported Media Type";
-    case 416: return "Range Not Satisfiable";
-    case 422: return "Unprocessable Entity";
-    case 429: return "Too Many Requests";
-    case 431: return "Request Header Fields Too Large";
-    case 500: return "Internal Server Error";
-    case 501: return "Not Implemented";
-    case 503: return "Service Unavailable";
-    case 504: return "Gateway Timeout";
-    case 507: return "Insufficient Storage";
-    default: return "Error";
+    case 413:
+      return "Payload Too Large";
+    case 414:
+      return "URI Too Long";
+    case 415:
+      return "Unsupported Media Type";
+    case 416:
+      return "Range Not Satisfiable";
+    case 422:
+      return "Unprocessable Entity";
+    case 429:
+      return "Too Many Requests";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 500:
+      return "Internal Server Error";
+    case 501:
+      return "Not Implemented";
+    case 503:
+      return "Service Unavailable";
+    case 504:
+      return "Gateway Timeout";
+    case 507:
+      return "Insufficient Storage";
+    default:
+      return "Error";
   }
 }
 
@@ -61,21 +83,35 @@ std::string make_problem(int status, std::string_view title, std::string_view de
 Problem status_problem(int status) {
   std::string_view detail;
   switch (status) {
-    case 400: detail = "The request could not be read as HTTP."; break;
-    case 404: detail = "There is no resource at this path."; break;
-    case 413: detail = "The request body exceeds the size limit."; break;
-    case 414: detail = "The request target is longer than the server accepts."; break;
-    case 415: detail = "The request body's encoding or media type is not accepted."; break;
-    default: detail = status >= 500 ? "The server failed to handle the request." : "The request was refused.";
+    case 400:
+      detail = "The request could not be read as HTTP.";
+      break;
+    case 404:
+      detail = "There is no resource at this path.";
+      break;
+    case 413:
+      detail = "The request body exceeds the size limit.";
+      break;
+    case 414:
+      detail = "The request target is longer than the server accepts.";
+      break;
+    case 415:
+      detail = "The request body's encoding or media type is not accepted.";
+      break;
+    default:
+      detail = status >= 500 ? "The server failed to handle the request." : "The request was refused.";
   }
   return {status, make_problem(status, "", detail)};
 }
 
 int status_for(InputError::Kind kind) {
   switch (kind) {
-    case InputError::Kind::malformed: return 400;
-    case InputError::Kind::invalid: return 422;
-    case InputError::Kind::too_large: return 413;
+    case InputError::Kind::malformed:
+      return 400;
+    case InputError::Kind::invalid:
+      return 422;
+    case InputError::Kind::too_large:
+      return 413;
   }
   return 400;  // unreachable for valid enumerators; keeps -Wreturn-type quiet
 }

@@ -27,7 +27,7 @@ using HeaderList = std::vector<std::pair<std::string, std::string>>;
 
 struct Problem {
   int status = 500;
-  std::string body;  // problem+json text
+  std::string body;         // problem+json text
   HeaderList headers = {};  // e.g. Retry-After with 503, Allow with 405
 };
 

@@ -7,12 +7,12 @@
 #include "server/routes.hpp"
 
 #include "render/core/timer.hpp"
-#include "render/scene_io/element_pointer.hpp"
 #include "render/pipelines/render.hpp"
+#include "render/scene_io/element_pointer.hpp"
 #include "render/scene_io/report_json.hpp"
 #include "server/http_util.hpp"
-#include "server/serve_command.hpp"
 #include "server/problem.hpp"
+#include "server/serve_command.hpp"
 
 #include <httplib.h>
 
@@ -35,11 +35,11 @@ const std::vector<std::string> render_types = {"image/png", "application/json"};
 // A render about to be drawn: the prepared scene (stored, or prepared from the request) and the view.
 struct FramePlan {
   const PreparedScene& scene;
-  const RenderRequest& view;  // camera and options (its scene is unused)
+  const RenderRequest& view;       // camera and options (its scene is unused)
   std::string_view scene_pointer;  // where the scene sits in the client's document: "/scene" or ""
   std::string etag;
   double parse_ms = 0.0;
-  double tessellate_ms = 0.0;  // 0 for a stored scene: it was prepared when it was stored
+  double tessellate_ms = 0.0;   // 0 for a stored scene: it was prepared when it was stored
   double before_slot_ms = 0.0;  // spent on this request before it queued for a slot (parse start on)
 };
 
@@ -222,8 +222,7 @@ constexpr QueryParam query_params[] = {
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {
-  throw HttpError(400, "Query parameter '" + std::string(p.name) + "' " + detail + ".",
-                  {{p.pointer, detail, p.name}});
+  throw HttpError(400, "Query parameter '" + std::string(p.name) + "' " + detail + ".", {{p.pointer, detail, p.name}});
 }
 
 // A finite decimal number, all of `text` (no "nan", "inf", hex or leading '+'), as JSON: "50" is
@@ -245,7 +244,8 @@ std::optional<json> parse_number(std::string_view text) {
 
 json parse_param(const QueryParam& p, const std::string& text) {
   switch (p.kind) {
-    case ParamKind::text: return text;
+    case ParamKind::text:
+      return text;
     case ParamKind::boolean:
       if (text == "true" || text == "false") return text == "true";
       bad_parameter(p, "must be true or false");
@@ -328,7 +328,11 @@ std::vector<Route> render_routes() {
       {"POST", "/v1/render", "/v1/render", json_body, render_types, handle_render},
       {"POST", "/v1/scenes/{id}/render", "/v1/scenes/([0-9a-f]{16})/render", json_body, render_types,
        handle_stored_render},
-      {"GET", "/v1/scenes/{id}/render.png", "/v1/scenes/([0-9a-f]{16})/render\\.png", {}, {"image/png"},
+      {"GET",
+       "/v1/scenes/{id}/render.png",
+       "/v1/scenes/([0-9a-f]{16})/render\\.png",
+       {},
+       {"image/png"},
        handle_render_png},
   };
 }

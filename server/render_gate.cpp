@@ -19,9 +19,8 @@ RenderGate::Admission RenderGate::enter(CancelToken& token) {
   if (queue_.size() >= queue_limit_) return Admission::saturated;
   const uint64_t ticket = next_ticket_++;
   queue_.push_back(ticket);
-  bool ready = changed_.wait_until(lock, token.deadline, [&] {
-    return aborted_ || (queue_.front() == ticket && running_.size() < concurrency_);
-  });
+  bool ready = changed_.wait_until(
+      lock, token.deadline, [&] { return aborted_ || (queue_.front() == ticket && running_.size() < concurrency_); });
   queue_.erase(std::find(queue_.begin(), queue_.end(), ticket));
   changed_.notify_all();  // the next ticket may be at the front now
   if (aborted_) return Admission::aborted;

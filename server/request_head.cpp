@@ -4,8 +4,8 @@
 #include "server/request_head.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cctype>
+#include <charconv>
 
 namespace rr::server {
 namespace {
@@ -149,10 +149,14 @@ HeadScan scan_head(std::string_view bytes, const HeadLimits& limits) {
 
 int head_status_code(HeadStatus status) {
   switch (status) {
-    case HeadStatus::bad: return 400;
-    case HeadStatus::request_line_too_long: return 414;
-    case HeadStatus::header_too_large: return 431;
-    default: return 0;
+    case HeadStatus::bad:
+      return 400;
+    case HeadStatus::request_line_too_long:
+      return 414;
+    case HeadStatus::header_too_large:
+      return 431;
+    default:
+      return 0;
   }
 }
 

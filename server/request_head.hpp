@@ -20,7 +20,7 @@ struct HeadLimits {
 struct RequestHead {
   size_t head_bytes = 0;  // up to and including the empty line that ends the head
   std::string method;
-  std::string target;     // as sent: path and query
+  std::string target;  // as sent: path and query
   uint64_t content_length = 0;
   bool has_content_length = false;
   bool has_transfer_encoding = false;

@@ -5,12 +5,12 @@
 // POST /v1/import/{format}) is one row in a *_routes() list and one handler.
 #pragma once
 
-#include "render/pipelines/pipeline.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "server/access.hpp"
 #include "server/http_server.hpp"
-#include "server/metrics.hpp"
 #include "server/mesh_store.hpp"
+#include "server/metrics.hpp"
 #include "server/postgres_store.hpp"
 #include "server/render_gate.hpp"
 #include "server/scene_store.hpp"
@@ -41,7 +41,7 @@ struct ServiceState {
   RenderGate gate;
   BspCache bsp_cache;
   ShadowCache shadow_cache;
-  MeshPins mesh_pins;  // which stored scenes place which stored meshes (the embedded store)
+  MeshPins mesh_pins;                        // which stored scenes place which stored meshes (the embedded store)
   std::shared_ptr<PostgresPool> store_pool;  // the shared store's connections; null: embedded
   // The embedded store (ContentStore) or the shared one (--store): handlers see only the interface.
   std::unique_ptr<DocumentStore<StoredMesh>> meshes;
@@ -61,14 +61,14 @@ struct RouteMatch {
 using RouteHandler = std::function<void(ServiceState&, const httplib::Request&, httplib::Response&, const RouteMatch&)>;
 
 struct Route {
-  std::string method;         // "GET" routes also answer HEAD
-  std::string path_template;  // "/v1/scenes/{id}": logs, metrics, Allow lookups
-  std::string pattern;        // regex for the whole decoded path; groups become RouteMatch::params
+  std::string method;                 // "GET" routes also answer HEAD
+  std::string path_template;          // "/v1/scenes/{id}": logs, metrics, Allow lookups
+  std::string pattern;                // regex for the whole decoded path; groups become RouteMatch::params
   std::vector<std::string> consumes;  // body media types accepted; empty: the route takes no body
   std::vector<std::string> produces;  // response types offered, preferred first; empty: not negotiated
   RouteHandler handler;
   std::regex regex = {};
-  size_t max_body_bytes = 0;  // 0: ServerConfig::max_body_bytes
+  size_t max_body_bytes = 0;     // 0: ServerConfig::max_body_bytes
   Access access = Access::read;  // which origins may call it, and whether it needs a token
 };
 
@@ -82,18 +82,18 @@ struct RequestContext {
   std::string scene_id;
   std::string pipeline;
   std::string cache;
-  bool vary_origin = false;  // the answer depends on Origin (writes): error answers keep Vary: Origin
-  std::string owner;  // the token's owner name on a server with tokens (never the token itself)
+  bool vary_origin = false;               // the answer depends on Origin (writes): error answers keep Vary: Origin
+  std::string owner;                      // the token's owner name on a server with tokens (never the token itself)
   bool trim_heap_after_response = false;  // a large render ran: give free heap back once answered
 };
 RequestContext& request_context();
 
-std::vector<Route> render_routes();                         // render_endpoints.cpp
-std::vector<Route> scene_routes();                          // scene_endpoints.cpp
-std::vector<Route> mesh_routes(const ServerConfig& config);  // mesh_endpoints.cpp
+std::vector<Route> render_routes();                            // render_endpoints.cpp
+std::vector<Route> scene_routes();                             // scene_endpoints.cpp
+std::vector<Route> mesh_routes(const ServerConfig& config);    // mesh_endpoints.cpp
 std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
-std::vector<Route> meta_routes(const ServerConfig& config); // meta_endpoints.cpp
-std::vector<Route> pick_routes();                           // pick_endpoints.cpp
+std::vector<Route> meta_routes(const ServerConfig& config);    // meta_endpoints.cpp
+std::vector<Route> pick_routes();                              // pick_endpoints.cpp
 
 // Helpers shared by the endpoint files.
 // A drawn camera as a request's camera object (pick answers; render answers of a framed view).
@@ -111,7 +111,8 @@ nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req
 // Stores `scene` for the caller (request_context().owner) and answers its id: sets Location and
 // X-Scene-Id, returns {id, location, scene_id, created, expires} for the caller to complete and send
 // (201 when created, else 200). Throws HttpError 409, 413 (larger than the store) or 507 (store full).
-nlohmann::json store_scene(ServiceState& state, httplib::Response& res, const std::shared_ptr<const StoredScene>& scene);
+nlohmann::json store_scene(ServiceState& state, httplib::Response& res,
+                           const std::shared_ptr<const StoredScene>& scene);
 // Stores a parsed mesh for `owner` (as POST /v1/meshes does) and returns its id and whether it was
 // created. Throws HttpError 409 (hash collision), 413 (larger than the store) or 507 (store full).
 struct StoredMeshId {

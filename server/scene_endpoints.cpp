@@ -70,8 +70,8 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
   CacheStats fill = state.scenes->stats();
   throw HttpError(507,
                   "The scene store is full: it holds " + std::to_string(fill.entries) + " scenes of at most " +
-                      std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) + " bytes of at most " +
-                      std::to_string(fill.budget_bytes) +
+                      std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
+                      " bytes of at most " + std::to_string(fill.budget_bytes) +
                       ". Stored scenes are kept, not evicted: delete scenes you no longer need, or ask the "
                       "operator to raise --scene-store-entries or --scene-store-bytes.",
                   {{"", "scene store full"}});
@@ -102,8 +102,10 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
   SceneBody sent = read_scene_body(state, req);
   const std::shared_ptr<const StoredScene>& scene = sent.scene;
   if (scene->id != match.params.at(0)) {
-    throw HttpError(422, "Scene ids are content hashes: this scene's id is " + scene->id + ", not " +
-                             quote_input(match.params[0]) + "; PUT it at " + scene_location(scene->id) + " (or POST it to /v1/scenes).",
+    throw HttpError(422,
+                    "Scene ids are content hashes: this scene's id is " + scene->id + ", not " +
+                        quote_input(match.params[0]) + "; PUT it at " + scene_location(scene->id) +
+                        " (or POST it to /v1/scenes).",
                     {{sent.pointer, "content hashes to " + scene->id}});
   }
   answer_stored(state, res, sent);
@@ -122,13 +124,16 @@ void handle_delete_scene(ServiceState& state, const Request&, Response& res, con
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
   switch (state.scenes->release(id, owner)) {
-    case SceneDocuments::ReleaseResult::not_found: throw HttpError(404, "There is no stored scene " + id + ".");
+    case SceneDocuments::ReleaseResult::not_found:
+      throw HttpError(404, "There is no stored scene " + id + ".");
     case SceneDocuments::ReleaseResult::not_owner:
-      throw HttpError(403, "The scene " + id + " is stored, but not by this token's owner; only an owner can "
-                           "drop its reference.");
+      throw HttpError(403, "The scene " + id +
+                               " is stored, but not by this token's owner; only an owner can "
+                               "drop its reference.");
     case SceneDocuments::ReleaseResult::pinned:  // scenes are never pinned
     case SceneDocuments::ReleaseResult::removed:
-    case SceneDocuments::ReleaseResult::reference_dropped: res.status = 204;
+    case SceneDocuments::ReleaseResult::reference_dropped:
+      res.status = 204;
   }
 }
 
@@ -150,8 +155,9 @@ size_t limit_param(const Request& req) {
 void handle_list_scenes(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
   const bool tokens = !state.access.tokens.empty();
   if (!tokens && !state.access.allow_listing) {
-    throw HttpError(403, "Listing stored scenes is off on this server: stored ids act as capabilities. The "
-                         "operator turns it on with --allow-listing 1, or gives tokens (--api-token-file).");
+    throw HttpError(403,
+                    "Listing stored scenes is off on this server: stored ids act as capabilities. The "
+                    "operator turns it on with --allow-listing 1, or gives tokens (--api-token-file).");
   }
   const size_t limit = limit_param(req);
   const std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
@@ -164,9 +170,11 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
   }
   json scenes = json::array();
   for (const SceneDocuments::Listed& s : page.scenes) {
-    scenes.push_back({{"id", s.id}, {"location", scene_location(s.id)},
+    scenes.push_back({{"id", s.id},
+                      {"location", scene_location(s.id)},
                       {"created", rfc3339(Clock::time_point(std::chrono::microseconds(s.created_us)))},
-                      {"expires", time_or_null(s.expires)}, {"bytes", s.bytes}});
+                      {"expires", time_or_null(s.expires)},
+                      {"bytes", s.bytes}});
   }
   json next = nullptr;
   if (page.next_cursor) next = "/v1/scenes?limit=" + std::to_string(limit) + "&cursor=" + *page.next_cursor;
@@ -189,19 +197,25 @@ json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const
       throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
                       {{"", "content differs from the stored scene with this id"}});
     case SceneDocuments::PutResult::too_large:
-      throw HttpError(413, "The stored form of this scene takes about " + std::to_string(scene->bytes) +
-                               " bytes; the scene store holds at most " +
-                               std::to_string(state.scenes->max_bytes()) + ".",
+      throw HttpError(413,
+                      "The stored form of this scene takes about " + std::to_string(scene->bytes) +
+                          " bytes; the scene store holds at most " + std::to_string(state.scenes->max_bytes()) + ".",
                       {{"", "scene too large to store"}});
-    case SceneDocuments::PutResult::full: throw_store_full(state);
-    case SceneDocuments::PutResult::missing_reference: throw_mesh_deleted(scene->mesh_refs);
+    case SceneDocuments::PutResult::full:
+      throw_store_full(state);
+    case SceneDocuments::PutResult::missing_reference:
+      throw_mesh_deleted(scene->mesh_refs);
     case SceneDocuments::PutResult::created:
-    case SceneDocuments::PutResult::existed: break;
+    case SceneDocuments::PutResult::existed:
+      break;
   }
   res.set_header("Location", scene_location(scene->id));
   res.set_header("X-Scene-Id", scene->static_id);
-  return {{"id", scene->id}, {"location", scene_location(scene->id)}, {"scene_id", scene->static_id},
-          {"created", result == SceneDocuments::PutResult::created}, {"expires", time_or_null(state.scenes->expiry_from_now())}};
+  return {{"id", scene->id},
+          {"location", scene_location(scene->id)},
+          {"scene_id", scene->static_id},
+          {"created", result == SceneDocuments::PutResult::created},
+          {"expires", time_or_null(state.scenes->expiry_from_now())}};
 }
 
 std::vector<Route> scene_routes() {

@@ -6,8 +6,8 @@
 #pragma once
 
 #include "render/pipelines/render.hpp"
-#include "server/content_store.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "server/content_store.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -20,9 +20,9 @@ namespace rr::server {
 // The prepared scene (render() draws it as is; its warnings point into the scene document,
 // "/solids/2") with the document it came from.
 struct StoredScene : PreparedScene {
-  std::string id;         // hash_hex(text)
-  std::string text;       // canonical JSON of the scene document
-  size_t bytes = 0;       // charged against the store's budget
+  std::string id;                      // hash_hex(text)
+  std::string text;                    // canonical JSON of the scene document
+  size_t bytes = 0;                    // charged against the store's budget
   std::vector<std::string> mesh_refs;  // the stored meshes it places, each once, sorted
 };
 
@@ -34,7 +34,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
 std::string scene_document_pointer(const std::string& request_pointer);
 
 using SceneStoreConfig = ContentStoreConfig<StoredScene>;
-using SceneStore = ContentStore<StoredScene>;  // the embedded store
+using SceneStore = ContentStore<StoredScene>;       // the embedded store
 using SceneDocuments = DocumentStore<StoredScene>;  // either store, as the handlers see it
 
 }  // namespace rr::server

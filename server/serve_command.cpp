@@ -45,8 +45,8 @@ long long parse_integer(const std::string& text, const std::string& what, long l
   long long value = 0;
   auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || text.empty() || value < lo || value > hi) {
-    throw UsageError(what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                     "], not '" + text + "'");
+    throw UsageError(what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], not '" +
+                     text + "'");
   }
   return value;
 }
@@ -237,8 +237,9 @@ void print_json_line(std::FILE* stream, const nlohmann::ordered_json& line) {
 }  // namespace
 
 std::string serve_usage() {
-  std::string text = "usage: roomrender serve [OPTIONS]\n\nEvery option may also come from the variable named "
-                     "after it (--render-queue: ROOMRENDER_RENDER_QUEUE); flags win.\n\n";
+  std::string text =
+      "usage: roomrender serve [OPTIONS]\n\nEvery option may also come from the variable named "
+      "after it (--render-queue: ROOMRENDER_RENDER_QUEUE); flags win.\n\n";
   for (const Setting& s : settings) {
     std::string flag = std::string(s.flag) + " VALUE";
     flag.resize(std::max<size_t>(flag.size() + 1, 26), ' ');
@@ -300,7 +301,8 @@ int run_serve(std::span<const std::string> argv) {
     limit_malloc_arenas();
     Service service(config);
     service.start();
-    nlohmann::ordered_json line = {{"event", "listening"}, {"port", service.port()},
+    nlohmann::ordered_json line = {{"event", "listening"},
+                                   {"port", service.port()},
                                    {"url", "http://" + config.bind + ":" + std::to_string(service.port()) + "/"},
                                    {"version", version()}};
     line["config"] = nlohmann::ordered_json::parse(config_json(config));
@@ -308,8 +310,9 @@ int run_serve(std::span<const std::string> argv) {
     int signal_number = 0;
     sigwait(&stop_signals, &signal_number);
     DrainReport report = service.stop();
-    print_json_line(stdout, {{"event", "stopped"}, {"signal", signal_number}, {"drained", report.drained},
-                             {"seconds", report.seconds}});
+    print_json_line(
+        stdout,
+        {{"event", "stopped"}, {"signal", signal_number}, {"drained", report.drained}, {"seconds", report.seconds}});
     return 0;
   } catch (const std::exception& e) {
     print_json_line(stderr, {{"error", e.what()}, {"pointer", nullptr}});

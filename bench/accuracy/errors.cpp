@@ -9,8 +9,11 @@ namespace rr::bench {
 
 nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame) {
   const ErrorMeasures m = compare_frames(reference, frame);
-  nlohmann::ordered_json j = {{"visibility_all", nullptr}, {"visibility_non_edge", nullptr}, {"rmse", nullptr},
-                              {"psnr_db", nullptr},        {"shadow_disagreement", nullptr}};
+  nlohmann::ordered_json j = {{"visibility_all", nullptr},
+                              {"visibility_non_edge", nullptr},
+                              {"rmse", nullptr},
+                              {"psnr_db", nullptr},
+                              {"shadow_disagreement", nullptr}};
   if (m.visibility) {
     j["visibility_all"] = m.visibility->share();
     j["visibility_non_edge"] = m.visibility->non_edge_share();

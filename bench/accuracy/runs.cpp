@@ -1,8 +1,8 @@
 // The accuracy benchmark's configurations and timed renders (runs.hpp).
 #include "bench/accuracy/runs.hpp"
 
-#include "render/core/timer.hpp"
 #include "cli/bench_render.hpp"  // median_of
+#include "render/core/timer.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -25,7 +25,8 @@ BenchConfig bsp_config(double w1, double w2, double w3, double epsilon) {
   BenchConfig c{"", "visibility", {}, {}};
   c.options.pipeline = pipeline_id("bsp");
   c.options.bsp.w1 = w1, c.options.bsp.w2 = w2, c.options.bsp.w3 = w3, c.options.bsp.epsilon = epsilon;
-  c.label = "bsp w=" + short_number(w1) + "/" + short_number(w2) + "/" + short_number(w3) + " eps=" + short_number(epsilon);
+  c.label =
+      "bsp w=" + short_number(w1) + "/" + short_number(w2) + "/" + short_number(w3) + " eps=" + short_number(epsilon);
   c.options_json = {{"pipeline", "bsp"}, {"bsp", {{"w1", w1}, {"w2", w2}, {"w3", w3}, {"epsilon", epsilon}}}};
   return c;
 }
@@ -53,7 +54,8 @@ std::vector<BenchConfig> make_configs(const BenchScene& scene) {
   const std::pair<PainterKey, const char*> keys[] = {
       {PainterKey::mean, "mean"}, {PainterKey::min, "min"}, {PainterKey::max, "max"}, {PainterKey::newell, "newell"}};
   for (const auto& [key, name] : keys) {
-    BenchConfig c{std::string("painter-") + name, "visibility", {}, {{"pipeline", "painter"}, {"painter", {{"key", name}}}}};
+    BenchConfig c{
+        std::string("painter-") + name, "visibility", {}, {{"pipeline", "painter"}, {"painter", {{"key", name}}}}};
     c.options.pipeline = pipeline_id("painter");
     c.options.painter_key = key;
     configs.push_back(c);
@@ -88,8 +90,8 @@ TimedRender time_render(const BenchScene& scene, const std::string& scene_id, co
                         int max_frames, double timeout_s) {
   TimedRender out;
   CancelToken cancel;
-  cancel.deadline = std::chrono::steady_clock::now() +
-                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(timeout_s));
+  cancel.deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                           std::chrono::duration<double>(timeout_s));
   BspCache bsp_cache(size_t{2} << 30);
   RenderContext context{&bsp_cache, &cancel, scene_id};
   RenderRequest view = scene.request;
@@ -127,12 +129,10 @@ TimedRender time_render(const BenchScene& scene, const std::string& scene_id, co
   };
   out.frames = int(frame_ms.size());
   out.frame_ms_median = std::round(cli::median_of(frame_ms) * 1000.0) / 1000.0;
-  out.stage_ms_median = {{"sort", median_stage(&StageTimings::sort_ms)},
-                         {"traverse", median_stage(&StageTimings::traverse_ms)},
-                         {"shadow", median_stage(&StageTimings::shadow_ms)},
-                         {"raster", median_stage(&StageTimings::raster_ms)},
-                         {"shade", median_stage(&StageTimings::shade_ms)},
-                         {"total", median_stage(&StageTimings::total_ms)}};
+  out.stage_ms_median = {
+      {"sort", median_stage(&StageTimings::sort_ms)},     {"traverse", median_stage(&StageTimings::traverse_ms)},
+      {"shadow", median_stage(&StageTimings::shadow_ms)}, {"raster", median_stage(&StageTimings::raster_ms)},
+      {"shade", median_stage(&StageTimings::shade_ms)},   {"total", median_stage(&StageTimings::total_ms)}};
   return out;
 }
 

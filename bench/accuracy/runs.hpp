@@ -16,9 +16,9 @@
 namespace rr::bench {
 
 struct BenchConfig {
-  std::string label;     // e.g. "painter-newell", "bsp w=1/4/-1 eps=1e-7", "phong shadows 2048 pcf3"
-  std::string group;     // "visibility" (flat, no shadows) or "shading" (zbuffer, lights and shadows)
-  RenderOptions options;  // width and height are the scene's
+  std::string label;                    // e.g. "painter-newell", "bsp w=1/4/-1 eps=1e-7", "phong shadows 2048 pcf3"
+  std::string group;                    // "visibility" (flat, no shadows) or "shading" (zbuffer, lights and shadows)
+  RenderOptions options;                // width and height are the scene's
   nlohmann::ordered_json options_json;  // the same options as the request's "options" would say them
 };
 
@@ -39,9 +39,9 @@ struct TimedRender {
   std::string status = "ok";  // "ok" or "timeout" (the config's deadline passed: no frame)
   int frames = 0;             // timed frames (after one untimed warm-up frame)
   double frame_ms_median = 0.0;
-  double build_ms = 0.0;      // BSP tree build, measured on the warm-up frame (a cache miss)
+  double build_ms = 0.0;                   // BSP tree build, measured on the warm-up frame (a cache miss)
   nlohmann::ordered_json stage_ms_median;  // sort / traverse / shadow / raster / shade / total
-  RenderResult last;          // the warm-up frame, with its shadow mask (for the error measures)
+  RenderResult last;                       // the warm-up frame, with its shadow mask (for the error measures)
 };
 
 // Renders `scene` with `options` (size from the scene): one warm-up frame, then up to `max_frames`

@@ -4,8 +4,8 @@
 #include "bench/accuracy/suite.hpp"
 
 #include "render/import/import.hpp"
-#include "render/scene_io/scene_json.hpp"
 #include "render/import/import_files.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -54,8 +54,9 @@ BenchScene finish(std::string name, std::string scene_class, std::string source,
 
 // The classic test scenes and the hand-written rooms of examples/ (empty.json has nothing to compare).
 void add_examples(const SuiteOptions& options, std::vector<BenchScene>& out) {
-  const char* classic[] = {"tri_parallel", "tri_intersecting", "tetrahedron", "cylinders_8_16_32", "four_cylinders",
-                           "cube_pyramid_cylinder", "cubes_45_pyramid_cylinder", "rows"};
+  const char* classic[] = {
+      "tri_parallel",          "tri_intersecting",          "tetrahedron", "cylinders_8_16_32", "four_cylinders",
+      "cube_pyramid_cylinder", "cubes_45_pyramid_cylinder", "rows"};
   const char* rooms[] = {"studio", "studio_lamp", "apartment"};
   auto add = [&](const char* name, const char* scene_class) {
     if (!wanted(options, name)) return;
@@ -117,12 +118,14 @@ void add_floorplans(const SuiteOptions& options, std::vector<BenchScene>& out) {
   for (const fs::path& path : sorted_files(sh3d_dir, ".xml")) {
     const std::string name = "sh3d_" + path.stem().string();
     if (!wanted(options, name)) continue;
-    out.push_back(finish(name, "sh3d", path.filename().string(), import_request(path, ImportFormat::sweethome3d, options),
-                         options, "the home's observer camera (import)"));
+    out.push_back(finish(name, "sh3d", path.filename().string(),
+                         import_request(path, ImportFormat::sweethome3d, options), options,
+                         "the home's observer camera (import)"));
   }
   if (!fs::is_directory(r2v_dir)) std::fprintf(stderr, "skipped: no %s\n", r2v_dir.c_str());
   std::vector<fs::path> plans = sorted_files(r2v_dir, ".txt");
-  std::erase_if(plans, [](const fs::path& p) { return p.filename().string().rfind("r2v_", 0) != 0; });  // LICENSE-MIT.txt
+  std::erase_if(plans,
+                [](const fs::path& p) { return p.filename().string().rfind("r2v_", 0) != 0; });  // LICENSE-MIT.txt
   if (plans.size() > size_t(options.r2v_plans)) plans.resize(size_t(options.r2v_plans));
   for (const fs::path& path : plans) {
     const std::string name = "r2v_" + path.stem().string().substr(4, 2);
@@ -151,8 +154,11 @@ json interior_camera(const PolygonSoup& soup, const InteriorView& view) {
   const Vec3 eye = lo + extent * view.eye, target = lo + extent * view.target;
   const double diagonal = glm::length(extent);
   auto vec = [](const Vec3& v) { return json::array({v.x, v.y, v.z}); };
-  return {{"position", vec(eye)}, {"target", vec(target)}, {"fov_y", 60.0},
-          {"near", 1e-3 * diagonal}, {"far", 2.0 * diagonal}};
+  return {{"position", vec(eye)},
+          {"target", vec(target)},
+          {"fov_y", 60.0},
+          {"near", 1e-3 * diagonal},
+          {"far", 2.0 * diagonal}};
 }
 
 void add_interiors(const SuiteOptions& options, std::vector<BenchScene>& out) {

@@ -10,8 +10,8 @@
 // into a 4x multisample framebuffer object and resolves it with glBlitFramebuffer every frame
 // (OSMesa's own buffer has no multisample visual; an FBO in its context does).
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>
 #include <GL/glext.h>
+#include <GL/osmesa.h>
 
 #define GLM_FORCE_SILENT_WARNINGS
 #include <glm/glm.hpp>
@@ -76,7 +76,8 @@ Mesh read_obj(const std::string& path) {
       long i = index < 0 ? long(positions.size()) + index : index - 1;
       if (i < 0 || size_t(i) >= positions.size()) throw std::runtime_error("bad face index in " + path);
       face.push_back(positions[size_t(i)]);
-      for (s = end; *s && *s != ' ' && *s != '\t'; ++s) {}  // skip /t/n
+      for (s = end; *s && *s != ' ' && *s != '\t'; ++s) {
+      }  // skip /t/n
     }
     if (face.size() < 3) throw std::runtime_error("face with fewer than 3 vertices in " + path);
     glm::dvec3 newell(0.0);  // twice the vector area; robust for any planar polygon
@@ -84,7 +85,8 @@ Mesh read_obj(const std::string& path) {
     double len = glm::length(newell);
     glm::vec3 n = len > 0.0 ? glm::vec3(newell / len) : glm::vec3(0, 1, 0);
     auto emit = [&](const glm::dvec3& p) {
-      mesh.vertices.push_back({{float(p.x), float(p.y), float(p.z)}, {n.x, n.y, n.z}, uint32_t(mesh.faces), {0.7f, 0.7f, 0.7f}});
+      mesh.vertices.push_back(
+          {{float(p.x), float(p.y), float(p.z)}, {n.x, n.y, n.z}, uint32_t(mesh.faces), {0.7f, 0.7f, 0.7f}});
       mesh.lo = glm::min(mesh.lo, p);
       mesh.hi = glm::max(mesh.hi, p);
     };
@@ -383,13 +385,16 @@ MsaaTarget make_msaa_target(int samples, int w, int h) {
   glBindFramebuffer(GL_FRAMEBUFFER, t.draw);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("MSAA framebuffer incomplete");
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("MSAA framebuffer incomplete");
   glGetIntegerv(GL_SAMPLES, &t.samples);  // what the driver allocated (it may round the request up)
-  if (t.samples != samples) throw std::runtime_error("asked for " + std::to_string(samples) + " samples, got " + std::to_string(t.samples));
+  if (t.samples != samples)
+    throw std::runtime_error("asked for " + std::to_string(samples) + " samples, got " + std::to_string(t.samples));
   glGenFramebuffers(1, &t.resolve);
   glBindFramebuffer(GL_FRAMEBUFFER, t.resolve);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[2]);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("resolve framebuffer incomplete");
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("resolve framebuffer incomplete");
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   return t;
 }
@@ -407,9 +412,17 @@ int run(const Options& o) {
   // to 3.3 core, which has everything the shaders use.
   OSMesaContext context = nullptr;
   for (int minor_major : {45, 33}) {
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION, minor_major / 10, OSMESA_CONTEXT_MINOR_VERSION,
-                           minor_major % 10, 0};
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           minor_major / 10,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           minor_major % 10,
+                           0};
     if ((context = OSMesaCreateContextAttribs(attribs, nullptr))) break;
   }
   if (!context) throw std::runtime_error("OSMesaCreateContextAttribs failed");
@@ -423,7 +436,8 @@ int run(const Options& o) {
   glBindVertexArray(vao);
   glGenBuffers(1, &vbo);
   glBindBuffer(GL_ARRAY_BUFFER, vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(),
+               GL_STATIC_DRAW);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, p)));
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, n)));
   glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, face)));
@@ -502,14 +516,14 @@ int run(const Options& o) {
   const size_t n = sorted.size();  // the median of an even count is the mean of the middle two
   const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
   const char* threads = std::getenv("LP_NUM_THREADS");
-  std::printf("{\"peer\":\"osmesa\",\"renderer\":\"%s\",\"gl_version\":\"%s\",\"lp_num_threads\":\"%s\","
-              "\"mode\":\"%s\",\"samples\":%d,\"faces\":%zu,\"triangles\":%zu,\"width\":%d,\"height\":%d,\"shadow_size\":%d,"
-              "\"frames\":%d,\"warmup\":%d,\"setup_ms\":%.3f,\"frame_ms_min\":%.3f,\"frame_ms_median\":%.3f,"
-              "\"frame_ms_max\":%.3f}\n",
-              reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
-              reinterpret_cast<const char*>(glGetString(GL_VERSION)), threads ? threads : "default",
-              o.mode.c_str(), o.samples, mesh.faces, mesh.vertices.size() / 3, o.width, o.height, shadowed ? o.shadow_size : 0,
-              o.frames, o.warmup, setup_ms, sorted.front(), median, sorted.back());
+  std::printf(
+      "{\"peer\":\"osmesa\",\"renderer\":\"%s\",\"gl_version\":\"%s\",\"lp_num_threads\":\"%s\","
+      "\"mode\":\"%s\",\"samples\":%d,\"faces\":%zu,\"triangles\":%zu,\"width\":%d,\"height\":%d,\"shadow_size\":%d,"
+      "\"frames\":%d,\"warmup\":%d,\"setup_ms\":%.3f,\"frame_ms_min\":%.3f,\"frame_ms_median\":%.3f,"
+      "\"frame_ms_max\":%.3f}\n",
+      reinterpret_cast<const char*>(glGetString(GL_RENDERER)), reinterpret_cast<const char*>(glGetString(GL_VERSION)),
+      threads ? threads : "default", o.mode.c_str(), o.samples, mesh.faces, mesh.vertices.size() / 3, o.width, o.height,
+      shadowed ? o.shadow_size : 0, o.frames, o.warmup, setup_ms, sorted.front(), median, sorted.back());
   OSMesaDestroyContext(context);
   return 0;
 }

@@ -102,7 +102,8 @@ size_t TileABuffer::cover_opaque(bool depth_keyed, uint32_t key) {
   sample_spans(ts, edges_, rect_, [&](int y, int x, int n, const int64_t e0[3]) {
     int zx = x;  // where 1/w is summed; stepped from there along the row
     const double z0 = depth_keyed ? centre_row_inv_w(t, x, e0, zx) : 0.0;
-    uint32_t* const keys_row = key_.data() + (size_t(y - rect_.y0) * abuffer_tile + size_t(x - rect_.x0)) * size_t(stride_);
+    uint32_t* const keys_row =
+        key_.data() + (size_t(y - rect_.y0) * abuffer_tile + size_t(x - rect_.x0)) * size_t(stride_);
     uint32_t* const owners_row = owner_.data() + (keys_row - key_.data());
     // The pixels whose samples are all inside form one run (the triangle is convex): found exactly
     // from the edges less each one's farthest-in sample offset.
@@ -216,7 +217,8 @@ size_t TileABuffer::bytes(int samples) {
 long long render_bytes(int width, int height, int samples) {
   const long long pixels = 1LL * width * height;
   if (samples <= 1) return pixels * 15;
-  const long long tiles = 1LL * ((width + abuffer_tile - 1) / abuffer_tile) * ((height + abuffer_tile - 1) / abuffer_tile);
+  const long long tiles =
+      1LL * ((width + abuffer_tile - 1) / abuffer_tile) * ((height + abuffer_tile - 1) / abuffer_tile);
   const long long workers = std::min<long long>(tiles, max_pool_threads + 1);
   return pixels * 19 + workers * (long long)TileABuffer::bytes(samples);
 }

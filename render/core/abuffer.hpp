@@ -17,29 +17,29 @@
 
 namespace rr {
 
-constexpr int abuffer_tile = 64;            // pixels per tile side, as the pipelines' screen tiles
-constexpr int max_translucent_layers = 8;   // per pixel; past it the first-composited layer is dropped
+constexpr int abuffer_tile = 64;           // pixels per tile side, as the pipelines' screen tiles
+constexpr int max_translucent_layers = 8;  // per pixel; past it the first-composited layer is dropped
 constexpr uint32_t no_owner = 0xFFFFFFFFu;
 
 // A pattern's samples in 1/256 pixel from the pixel centre; sample `count` is the centre itself,
 // which decides the id buffer and the shading point but carries no colour weight.
 struct SampleSet {
-  int count = 1;                 // S, colour samples
-  uint32_t colour_bits = 1;      // bits 0 .. S-1
+  int count = 1;             // S, colour samples
+  uint32_t colour_bits = 1;  // bits 0 .. S-1
   int32_t dx[17] = {}, dy[17] = {};
-  int nearest[17] = {};          // sample indices by distance from the centre (ties by index)
+  int nearest[17] = {};  // sample indices by distance from the centre (ties by index)
 };
 SampleSet make_sample_set(int samples);
 
 // One triangle's edge-function offsets at each sample (exact integers: the sample offsets are whole
 // 1/256 pixels and step_x, step_y multiples of 256).
 struct SampleEdges {
-  int n = 1;                     // samples tested: S + 1
+  int n = 1;  // samples tested: S + 1
   int64_t de[3][17] = {};
-  int64_t reach[3] = {};         // max of de[k]: no sample of a pixel is inside where e[k] + reach[k] < 0
-  int64_t inner[3] = {};         // min of de[k]: every sample is inside where all e[k] + inner[k] >= 0
-  double dz[17] = {};            // 1/w at each sample less 1/w at the centre
-  double dz_dx = 0.0;            // 1/w step per pixel along x
+  int64_t reach[3] = {};  // max of de[k]: no sample of a pixel is inside where e[k] + reach[k] < 0
+  int64_t inner[3] = {};  // min of de[k]: every sample is inside where all e[k] + inner[k] >= 0
+  double dz[17] = {};     // 1/w at each sample less 1/w at the centre
+  double dz_dx = 0.0;     // 1/w step per pixel along x
 };
 void setup_sample_edges(const TriangleSetup& s, const double inv_w[3], const SampleSet& set, SampleEdges& out);
 
@@ -167,7 +167,7 @@ class TileABuffer {
 
   PixelRect rect_;
   SampleSet set_;
-  int stride_ = 1;                 // S + 1 samples per pixel
+  int stride_ = 1;  // S + 1 samples per pixel
   std::vector<TileTriangle> tris_;
   std::vector<uint32_t> key_, owner_;  // per tile pixel x stride
   std::vector<Layer> layers_;          // per tile pixel x max_translucent_layers

@@ -33,7 +33,8 @@ Fragment TileABuffer::fragment_at(const TileTriangle& t, int x, int y, int sampl
   const TriangleSetup& s = t.setup;
   int64_t e[3];
   for (int k = 0; k < 3; ++k) {
-    e[k] = s.edge(k, x, y) + (s.step_x[k] / subpixel_one) * set_.dx[sample] + (s.step_y[k] / subpixel_one) * set_.dy[sample];
+    e[k] = s.edge(k, x, y) + (s.step_x[k] / subpixel_one) * set_.dx[sample] +
+           (s.step_y[k] / subpixel_one) * set_.dy[sample];
   }
   Fragment f;
   f.x = x, f.y = y;
@@ -97,7 +98,8 @@ void TileABuffer::collect_records() {
       }
       record_begin_[pixel + 1] = uint32_t(records_.size());
     }
-    for (int x = w; x < abuffer_tile; ++x) record_begin_[size_t(y) * abuffer_tile + size_t(x) + 1] = uint32_t(records_.size());
+    for (int x = w; x < abuffer_tile; ++x)
+      record_begin_[size_t(y) * abuffer_tile + size_t(x) + 1] = uint32_t(records_.size());
   }
 }
 
@@ -182,7 +184,8 @@ void TileABuffer::shade_layers(TileShading& shading, bool constant) {
   layer_order_.clear();
   for (size_t pixel = 0; pixel < layer_count_.size(); ++pixel) {
     for (uint32_t l = 0; l < layer_count_[pixel]; ++l) {
-      layer_order_.push_back({layers_[pixel * max_translucent_layers + l].tri, uint32_t(pixel * max_translucent_layers + l)});
+      layer_order_.push_back(
+          {layers_[pixel * max_translucent_layers + l].tri, uint32_t(pixel * max_translucent_layers + l)});
     }
   }
   std::sort(layer_order_.begin(), layer_order_.end());
@@ -190,8 +193,9 @@ void TileABuffer::shade_layers(TileShading& shading, bool constant) {
     Layer& l = layers_[at];
     const TileTriangle& t = tris_[tri];
     const size_t pixel = at / max_translucent_layers;
-    l.colour = shading.shade(t, constant ? Fragment{} : fragment_at(t, rect_.x0 + int(pixel % abuffer_tile),
-                                                                   rect_.y0 + int(pixel / abuffer_tile), l.sample));
+    l.colour = shading.shade(t, constant ? Fragment{}
+                                         : fragment_at(t, rect_.x0 + int(pixel % abuffer_tile),
+                                                       rect_.y0 + int(pixel / abuffer_tile), l.sample));
     l.alpha = shading.alpha(t.item);
   }
 }
@@ -282,11 +286,13 @@ void TileABuffer::shade_opaque(TileShading& shading) {
         shading.shade_run(tri, x, y, run.n, solo_colour_.data() + run.pixel);
         continue;
       }
-      for (int i = 0; i < run.n; ++i) solo_colour_[run.pixel + size_t(i)] = shading.shade(tri, centre_fragment(tri, x + i, y));
+      for (int i = 0; i < run.n; ++i)
+        solo_colour_[run.pixel + size_t(i)] = shading.shade(tri, centre_fragment(tri, x + i, y));
     }
     for (; next_record < order_.size() && records_[order_[next_record]].tri == t; ++next_record) {
       Record& r = records_[order_[next_record]];
-      r.colour = shading.shade(tri, fragment_at(tri, rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, r.sample));
+      r.colour = shading.shade(
+          tri, fragment_at(tri, rect_.x0 + r.pixel % abuffer_tile, rect_.y0 + r.pixel / abuffer_tile, r.sample));
     }
   }
 }

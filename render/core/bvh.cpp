@@ -10,7 +10,7 @@ namespace rr {
 namespace {
 
 constexpr int bin_count = 16;
-constexpr uint32_t leaf_size = 4;      // at most this many items before splitting is considered
+constexpr uint32_t leaf_size = 4;       // at most this many items before splitting is considered
 constexpr double traversal_cost = 1.0;  // relative to one item test, in the SAH
 
 constexpr uint32_t no_parent = ~0u;

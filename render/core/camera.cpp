@@ -91,8 +91,7 @@ void clip_against(PlaneFn plane, const std::vector<ClipVertex>& in, std::vector<
 
 }  // namespace
 
-bool clip_polygon(std::span<const ClipVertex> in, std::vector<ClipVertex>& out,
-                  std::vector<ClipVertex>& scratch) {
+bool clip_polygon(std::span<const ClipVertex> in, std::vector<ClipVertex>& out, std::vector<ClipVertex>& scratch) {
   // Trivial accept and reject first: most polygons of a room lie wholly inside or outside.
   uint32_t any_out = 0, all_out = 0x3F;
   for (const ClipVertex& v : in) {

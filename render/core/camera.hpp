@@ -56,7 +56,6 @@ constexpr double clip_guard_band = 2.0;
 // (|x|, |y| <= clip_guard_band * w), Sutherland-Hodgman in homogeneous space. Writes the clipped
 // polygon to `out` (cleared first); returns false when nothing is left. Never divides by w, so
 // vertices behind the eye are handled exactly.
-bool clip_polygon(std::span<const ClipVertex> in, std::vector<ClipVertex>& out,
-                  std::vector<ClipVertex>& scratch);
+bool clip_polygon(std::span<const ClipVertex> in, std::vector<ClipVertex>& out, std::vector<ClipVertex>& scratch);
 
 }  // namespace rr

@@ -102,8 +102,8 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i) {
 }
 
 // Pairs of one cell's polygons whose extents along the in-plane axes u, v overlap.
-void join_cell(const PolygonSoup& soup, std::span<const Entry> cell, const GroupingFrame& f, std::vector<uint32_t>& parent,
-               std::vector<std::pair<Extent, uint32_t>>& items) {
+void join_cell(const PolygonSoup& soup, std::span<const Entry> cell, const GroupingFrame& f,
+               std::vector<uint32_t>& parent, std::vector<std::pair<Extent, uint32_t>>& items) {
   const int drop = dominant_axis(soup.polygons[cell[0].polygon].normal);
   const int u = (drop + 1) % 3, v = (drop + 2) % 3;
   items.clear();
@@ -151,8 +151,10 @@ bool convex_overlap(std::span<const Vec3> a, std::span<const Vec3> b, Vec3 norma
       const double length = glm::length(axis);
       if (length == 0.0) continue;
       double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
-      for (const Vec3& q : a) a0 = std::min(a0, glm::dot(axis, q - origin)), a1 = std::max(a1, glm::dot(axis, q - origin));
-      for (const Vec3& q : b) b0 = std::min(b0, glm::dot(axis, q - origin)), b1 = std::max(b1, glm::dot(axis, q - origin));
+      for (const Vec3& q : a)
+        a0 = std::min(a0, glm::dot(axis, q - origin)), a1 = std::max(a1, glm::dot(axis, q - origin));
+      for (const Vec3& q : b)
+        b0 = std::min(b0, glm::dot(axis, q - origin)), b1 = std::max(b1, glm::dot(axis, q - origin));
       if (std::min(a1, b1) - std::max(a0, b0) <= tolerance * length) return true;
     }
     return false;
@@ -173,9 +175,8 @@ void assign_plane_groups(PolygonSoup& soup) {
   std::vector<Entry> entries;
   entries.reserve(n + n / 8);
   for (uint32_t i = 0; i < n; ++i) add_entries(soup.polygons[i], i, f, entries);
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return a.cell != b.cell ? a.cell < b.cell : a.polygon < b.polygon;
-  });
+  std::sort(entries.begin(), entries.end(),
+            [](const Entry& a, const Entry& b) { return a.cell != b.cell ? a.cell < b.cell : a.polygon < b.polygon; });
   std::vector<uint32_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0u);
   std::vector<std::pair<Extent, uint32_t>> items;  // one cell's polygons, reused

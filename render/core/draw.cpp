@@ -3,8 +3,7 @@
 
 namespace rr {
 
-bool project_polygon(const ViewTransform& view, const PolygonSoup& soup, const Polygon& polygon,
-                     DrawScratch& scratch) {
+bool project_polygon(const ViewTransform& view, const PolygonSoup& soup, const Polygon& polygon, DrawScratch& scratch) {
   auto points = soup.points(polygon);
   auto normals = soup.vertex_normals(polygon);
   scratch.in.resize(points.size());

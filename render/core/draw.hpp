@@ -25,16 +25,14 @@ struct DrawScratch {
 };
 
 // Clips a polygon to the view volume and projects it; false when nothing is left.
-bool project_polygon(const ViewTransform& view, const PolygonSoup& soup, const Polygon& polygon,
-                     DrawScratch& scratch);
+bool project_polygon(const ViewTransform& view, const PolygonSoup& soup, const Polygon& polygon, DrawScratch& scratch);
 
 // Rasterizes a projected convex polygon as the fan (0, k+1, k+2). Calls fn(fragment, k): the
 // fragment's barycentrics weight vertices 0, k+1 and k+2 of `screen`.
 template <class Fn>
 void rasterize_convex(std::span<const RasterVertex> screen, const PixelRect& rect, Fn&& fn) {
   for (size_t k = 0; k + 2 < screen.size(); ++k) {
-    rasterize_triangle(screen[0], screen[k + 1], screen[k + 2], rect,
-                       [&](const Fragment& f) { fn(f, k); });
+    rasterize_triangle(screen[0], screen[k + 1], screen[k + 2], rect, [&](const Fragment& f) { fn(f, k); });
   }
 }
 
@@ -56,8 +54,8 @@ struct FrameTarget {
 // mode, writes `id` and shade(fragment, k) blended with `alpha` (1 = opaque) over the pixel.
 // Returns the number of covered pixels (before the depth test).
 template <class ShadeFn>
-size_t draw_projected(FrameTarget& t, const DrawScratch& scratch, uint32_t id, float alpha,
-                      DepthMode mode, ShadeFn&& shade) {
+size_t draw_projected(FrameTarget& t, const DrawScratch& scratch, uint32_t id, float alpha, DepthMode mode,
+                      ShadeFn&& shade) {
   size_t covered = 0;
   const size_t width = size_t(t.image.width);
   // Raw pointers in locals: the colour writes go through uint8_t*, which may alias anything, so

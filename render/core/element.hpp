@@ -17,7 +17,9 @@ struct ElementRef {
 
   static ElementRef floor() { return {ElementKind::floor}; }
   static ElementRef wall(std::size_t w) { return {ElementKind::wall, uint32_t(w)}; }
-  static ElementRef opening_of(std::size_t w, std::size_t k) { return {ElementKind::opening, uint32_t(w), uint32_t(k)}; }
+  static ElementRef opening_of(std::size_t w, std::size_t k) {
+    return {ElementKind::opening, uint32_t(w), uint32_t(k)};
+  }
   static ElementRef solid(std::size_t s) { return {ElementKind::solid, uint32_t(s)}; }
   static ElementRef room(std::size_t r) { return {ElementKind::room, uint32_t(r)}; }
   friend bool operator==(const ElementRef&, const ElementRef&) = default;

@@ -9,7 +9,6 @@
 #include <stdexcept>
 #include <vector>
 
-
 namespace rr {
 
 namespace {
@@ -83,7 +82,8 @@ bool is_aa_edge_pixel(const IdBuffer& ids, int x, int y) {
 
 EdgeError edge_error(const IdBuffer& reference_ids, const Image& reference, const Image& test) {
   require_same_size(reference.width, reference.height, test.width, test.height, "image");
-  require_same_size(reference_ids.width, reference_ids.height, reference.width, reference.height, "id buffer and image");
+  require_same_size(reference_ids.width, reference_ids.height, reference.width, reference.height,
+                    "id buffer and image");
   EdgeError e;
   e.pixels = size_t(reference.width) * size_t(reference.height);
   // Per-pixel errors in thirds of an 8-bit step (the channel sum), integers: the sum is exact.

@@ -7,8 +7,8 @@
 // prints these as JSON.
 #pragma once
 
-#include "render/core/image.hpp"
 #include "render/core/frame.hpp"
+#include "render/core/image.hpp"
 
 #include <cstdint>
 #include <optional>

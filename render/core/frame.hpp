@@ -17,8 +17,8 @@
 
 namespace rr {
 
-struct StageTimings {  // wall-clock milliseconds; a stage that did not run stays 0
-  double queue_ms = 0.0;     // waiting for a render slot (the service); not part of total
+struct StageTimings {     // wall-clock milliseconds; a stage that did not run stays 0
+  double queue_ms = 0.0;  // waiting for a render slot (the service); not part of total
   double parse_ms = 0.0;
   double tessellate_ms = 0.0;
   double build_ms = 0.0;     // BSP tree build (0 on a cache hit)
@@ -28,7 +28,7 @@ struct StageTimings {  // wall-clock milliseconds; a stage that did not run stay
   double raster_ms = 0.0;
   double shade_ms = 0.0;
   double encode_ms = 0.0;
-  double total_ms = 0.0;     // parse -> encode, wall clock, less any queue wait in between
+  double total_ms = 0.0;  // parse -> encode, wall clock, less any queue wait in between
 };
 
 // The one list of stages: the name each is reported under (CLI line, JSON answer, Server-Timing,
@@ -52,16 +52,16 @@ inline constexpr std::array<StageField, 11> stage_table = {{
 }};
 
 struct RenderStats {
-  size_t polygons = 0;         // in the tessellated scene
-  size_t polygons_culled = 0;  // skipped before rasterization (back-facing or outside the view)
-  size_t polygons_drawn = 0;   // reached the rasterizer
-  size_t triangles = 0;        // rasterized after clipping
-  size_t fragments = 0;        // pixels that passed coverage (before the depth test)
-  size_t lights_evaluated = 0; // light-polygon (flat) or light-vertex/pixel evaluations
-  bool shadow_skipped = true;  // no shadow lookups (no light, shadows off, or nothing to cast)
-  size_t objects_culled = 0;   // solids (and walls, floor) wholly outside the view frustum
+  size_t polygons = 0;                // in the tessellated scene
+  size_t polygons_culled = 0;         // skipped before rasterization (back-facing or outside the view)
+  size_t polygons_drawn = 0;          // reached the rasterizer
+  size_t triangles = 0;               // rasterized after clipping
+  size_t fragments = 0;               // pixels that passed coverage (before the depth test)
+  size_t lights_evaluated = 0;        // light-polygon (flat) or light-vertex/pixel evaluations
+  bool shadow_skipped = true;         // no shadow lookups (no light, shadows off, or nothing to cast)
+  size_t objects_culled = 0;          // solids (and walls, floor) wholly outside the view frustum
   std::string shadow_cache = "none";  // "hit", "miss" (the pass ran), "none" (no maps wanted)
-  size_t shadow_passes = 0;    // shadow passes run by this frame: 1 on a miss, 0 on a hit
+  size_t shadow_passes = 0;           // shadow passes run by this frame: 1 on a miss, 0 on a hit
   // Painter.
   size_t painter_pairs_tested = 0;  // pairs that needed Newell's extra tests
   size_t painter_splits = 0;
@@ -87,21 +87,21 @@ struct Frame {
   std::vector<uint8_t> shadow_mask = {};
 };
 
-struct BspTree;  // bsp.hpp: a tree of one static scene for one set of BSP options
-using BspCache = SharedLruCache<BspTree>;  // keyed by scene id + BSP options, shared across requests
-struct ShadowMaps;  // shadow.hpp: the shadow pass's depth maps for one frame
+struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
+using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
+struct ShadowMaps;                               // shadow.hpp: the shadow pass's depth maps for one frame
 using ShadowCache = SharedLruCache<ShadowMaps>;  // keyed by scene id + lights + map options (+ view)
 
 // What one render is given besides the scene and the view (all optional): what outlives it and is
 // shared across requests (caches, cancellation), how to run it, and what its caller measured first.
 struct RenderContext {
-  BspCache* bsp_cache = nullptr;         // null: the bsp pipeline builds a private tree per frame
-  const CancelToken* cancel = nullptr;   // null: never cancelled
-  std::string scene_id;                  // scene_id(geometry) when the caller knows it; else computed
-  ShadowCache* shadow_cache = nullptr;   // null: every frame with shadows runs its own shadow pass
-  bool shadow_mask = false;              // fill Frame::shadow_mask (error measures); off: no cost
-  unsigned threads = 1;                  // threads drawing the tiles and encoding the PNG (output does not depend on it)
-  bool encode = true;                    // false: render() leaves the PNG empty (bench-render's frames)
+  BspCache* bsp_cache = nullptr;        // null: the bsp pipeline builds a private tree per frame
+  const CancelToken* cancel = nullptr;  // null: never cancelled
+  std::string scene_id;                 // scene_id(geometry) when the caller knows it; else computed
+  ShadowCache* shadow_cache = nullptr;  // null: every frame with shadows runs its own shadow pass
+  bool shadow_mask = false;             // fill Frame::shadow_mask (error measures); off: no cost
+  unsigned threads = 1;                 // threads drawing the tiles and encoding the PNG (output does not depend on it)
+  bool encode = true;                   // false: render() leaves the PNG empty (bench-render's frames)
   // What the caller measured for this request before calling render(), carried into its report.
   // render() adds its own time to before_ms, so total = parse start -> encode end, less queue.
   double queue_ms = 0.0;       // waiting for a render slot
@@ -123,11 +123,10 @@ struct FrameInput {
   // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
   // not computed (the bsp pipeline culls subtrees of its tree instead).
   const std::vector<uint8_t>* objects_in_view = nullptr;
-  size_t* lights_evaluated = nullptr;   // SurfaceShader adds its light evaluations here
-  uint8_t* shadow_mask = nullptr;       // Frame::shadow_mask's pixels when requested, else null
+  size_t* lights_evaluated = nullptr;  // SurfaceShader adds its light evaluations here
+  uint8_t* shadow_mask = nullptr;      // Frame::shadow_mask's pixels when requested, else null
 };
 
-using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats,
-                            StageTimings& timings);
+using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings);
 
 }  // namespace rr

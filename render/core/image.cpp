@@ -30,8 +30,7 @@ void append_bytes(void* context, void* data, int size) {
 std::string encode_png(const Image& image) {
   std::string png;
   png.reserve(image.rgb.size() / 4 + 1024);
-  if (!stbi_write_png_to_func(append_bytes, &png, image.width, image.height, 3, image.rgb.data(),
-                              image.width * 3)) {
+  if (!stbi_write_png_to_func(append_bytes, &png, image.width, image.height, 3, image.rgb.data(), image.width * 3)) {
     throw std::runtime_error("PNG encoding failed");
   }
   return png;
@@ -39,8 +38,8 @@ std::string encode_png(const Image& image) {
 
 Image decode_png(std::string_view png) {
   int w = 0, h = 0, channels = 0;
-  stbi_uc* pixels = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(png.data()),
-                                          int(png.size()), &w, &h, &channels, 3);
+  stbi_uc* pixels =
+      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(png.data()), int(png.size()), &w, &h, &channels, 3);
   if (!pixels) throw std::runtime_error(std::string("not a readable PNG: ") + stbi_failure_reason());
   Image image;
   image.width = w;

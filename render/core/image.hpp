@@ -23,9 +23,7 @@ struct Image {
   Image() = default;
   Image(int w, int h, Color fill);
   uint8_t* pixel(int x, int y) { return rgb.data() + (size_t(y) * size_t(width) + size_t(x)) * 3; }
-  const uint8_t* pixel(int x, int y) const {
-    return rgb.data() + (size_t(y) * size_t(width) + size_t(x)) * 3;
-  }
+  const uint8_t* pixel(int x, int y) const { return rgb.data() + (size_t(y) * size_t(width) + size_t(x)) * 3; }
 };
 
 struct IdBuffer {

@@ -16,8 +16,9 @@ bool cpu_runs(const Kernels& k) {
 #if !defined(__x86_64__)
   return name == "sse2";  // elsewhere the sets are all portable builds: keep the first
 #else
-  if (name == "avx512") return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                               __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+  if (name == "avx512")
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+           __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
   if (name == "avx2") return __builtin_cpu_supports("avx2");
   return true;
 #endif

@@ -32,8 +32,14 @@ std::span<const Kernels* const> available_kernels();
 // run it or no set has that name. Not for use while a render runs.
 bool use_kernels(std::string_view name);
 
-namespace kernels_sse2 { extern const Kernels set; }
-namespace kernels_avx2 { extern const Kernels set; }
-namespace kernels_avx512 { extern const Kernels set; }
+namespace kernels_sse2 {
+extern const Kernels set;
+}
+namespace kernels_avx2 {
+extern const Kernels set;
+}
+namespace kernels_avx512 {
+extern const Kernels set;
+}
 
 }  // namespace rr

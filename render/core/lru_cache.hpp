@@ -23,11 +23,11 @@ namespace rr {
 
 struct CacheStats {
   size_t hits = 0;
-  size_t misses = 0;     // lookups that found nothing ready (they built, or waited for a build)
-  size_t builds = 0;     // builds run (one per missing key however many requests wanted it)
+  size_t misses = 0;  // lookups that found nothing ready (they built, or waited for a build)
+  size_t builds = 0;  // builds run (one per missing key however many requests wanted it)
   size_t evictions = 0;
-  size_t bytes = 0;      // held now
-  size_t entries = 0;    // held now
+  size_t bytes = 0;    // held now
+  size_t entries = 0;  // held now
   size_t budget_bytes = 0;
   size_t max_entries = 0;
 };

@@ -19,13 +19,13 @@ struct MeshPlan;  // the tessellator's per-mesh work (solid_mesh.cpp), made once
 }
 
 struct MeshData {
-  std::vector<Vec3> vertices;                 // object space, in order of first use by the faces
-  std::vector<std::vector<uint32_t>> faces;   // as given, indices renumbered to that order
-  std::vector<Vec3> normals;                  // empty, or one unit shading normal per vertex
+  std::vector<Vec3> vertices;                // object space, in order of first use by the faces
+  std::vector<std::vector<uint32_t>> faces;  // as given, indices renumbered to that order
+  std::vector<Vec3> normals;                 // empty, or one unit shading normal per vertex
   Vec3 bounds_min{0.0};
   Vec3 bounds_max{0.0};
-  size_t index_count = 0;   // sum of the faces' sizes
-  std::string content_id;   // mesh_content_id(*this): 16 hex digits
+  size_t index_count = 0;  // sum of the faces' sizes
+  std::string content_id;  // mesh_content_id(*this): 16 hex digits
 
   // Filled by the tessellator the first time the mesh is placed; every later placement reuses it.
   mutable std::once_flag plan_once;

@@ -45,7 +45,9 @@ class NameTable {
     return rows_.front();
   }
   template <class Value>
-  const char* name(Value value) const { return row(value).name; }
+  const char* name(Value value) const {
+    return row(value).name;
+  }
 
   // "a, b, c": the list an error message offers ("must be one of: a, b, c").
   std::string choices() const {

@@ -17,10 +17,10 @@ struct ParallelJob {
   void (*call)(void* body, size_t task, unsigned worker) = nullptr;
   void* body = nullptr;
   size_t count = 0;
-  unsigned participants = 1;      // the caller plus at most participants - 1 pool threads
-  std::atomic<size_t> next{0};    // the next task to take
-  std::atomic<unsigned> slots{1}; // worker numbers handed out; the caller holds 0
-  unsigned inside = 0;            // pool threads working on it (guarded by the pool's mutex)
+  unsigned participants = 1;       // the caller plus at most participants - 1 pool threads
+  std::atomic<size_t> next{0};     // the next task to take
+  std::atomic<unsigned> slots{1};  // worker numbers handed out; the caller holds 0
+  unsigned inside = 0;             // pool threads working on it (guarded by the pool's mutex)
 };
 
 // Runs `job` on the calling thread and up to job.participants - 1 pool threads; returns when every

@@ -14,7 +14,7 @@ namespace rr {
 namespace {
 
 struct Footprint {
-  ElementRef element;  // a wall or a solid
+  ElementRef element;           // a wall or a solid
   std::vector<Vec2> hull = {};  // counter-clockwise in (x, z); fewer than 3 points: no area in plan
   Vec2 lo{std::numeric_limits<double>::max()}, hi{std::numeric_limits<double>::lowest()};
   double y0 = std::numeric_limits<double>::max(), y1 = std::numeric_limits<double>::lowest();
@@ -195,7 +195,8 @@ bool check_intersections(const std::vector<Footprint>& footprints, const Placeme
       }
     }
   }
-  std::sort(hits.begin(), hits.end(), [](auto x, auto y) { return std::pair(x.second, x.first) < std::pair(y.second, y.first); });
+  std::sort(hits.begin(), hits.end(),
+            [](auto x, auto y) { return std::pair(x.second, x.first) < std::pair(y.second, y.first); });
   for (auto [first, second] : hits) {
     const Footprint& a = footprints[first];
     const Footprint& b = footprints[second];

@@ -27,17 +27,17 @@ enum class PlacementIssue : uint8_t {
 
 struct PlacementWarning {
   PlacementIssue issue = PlacementIssue::more_problems;
-  ElementRef element;          // the element warned about (the later one of a pair)
-  ElementRef other = {};       // the other element of a pair
+  ElementRef element;     // the element warned about (the later one of a pair)
+  ElementRef other = {};  // the other element of a pair
   double distance_m = 0.0;
   double limit_m = 0.0;
   size_t count = 0;
 };
 
 struct PlacementLimits {
-  double tolerance_m = 1e-3;       // overlaps up to 1 mm count as touching: furniture flush to a wall
+  double tolerance_m = 1e-3;  // overlaps up to 1 mm count as touching: furniture flush to a wall
   double opening_clearance_m = 0.05;
-  size_t max_warnings = 100;       // further problems are summarised in one last warning
+  size_t max_warnings = 100;          // further problems are summarised in one last warning
   size_t max_pair_work = 50'000'000;  // vertex projections spent on pair tests before giving up
 };
 

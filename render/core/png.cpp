@@ -59,8 +59,7 @@ uint32_t filter_cost(const uint8_t* bytes, size_t n) {
 // and repeated rows, which these two catch; Paeth and Average would cost three times as much for a
 // few per cent of size (measured by bench/png.cpp), which is what `small` is for. The loops are
 // plain byte arithmetic so the compiler vectorizes them.
-void filter_row(const uint8_t* row, const uint8_t* prev, size_t bytes, uint8_t* out,
-                std::vector<uint8_t>& scratch) {
+void filter_row(const uint8_t* row, const uint8_t* prev, size_t bytes, uint8_t* out, std::vector<uint8_t>& scratch) {
   constexpr size_t bpp = 3;
   scratch.resize(2 * bytes);
   uint8_t* sub = scratch.data();
@@ -206,9 +205,12 @@ std::string encode_stored(const Image& image) {
 std::string encode_png(const Image& image, PngCompression mode, unsigned threads) {
   if (image.width <= 0 || image.height <= 0) throw std::runtime_error("PNG encoding failed: empty image");
   switch (mode) {
-    case PngCompression::fast: return encode_strips(image, false, threads);
-    case PngCompression::small: return encode_strips(image, true, threads);
-    case PngCompression::none: return encode_stored(image);
+    case PngCompression::fast:
+      return encode_strips(image, false, threads);
+    case PngCompression::small:
+      return encode_strips(image, true, threads);
+    case PngCompression::none:
+      return encode_stored(image);
   }
   throw std::logic_error("unknown PNG compression mode");
 }

@@ -64,8 +64,8 @@ int64_t append_part(PolygonSoup& out, const Polygon& source, const std::vector<C
 
 }  // namespace
 
-SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const Plane& plane,
-                          double epsilon, PolygonSoup& out) {
+SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const Plane& plane, double epsilon,
+                          PolygonSoup& out) {
   const Polygon source = polygon;  // `polygon` may live in `out`
   std::vector<CutVertex> front, back;
   const uint32_t n = source.vertex_count;
@@ -129,7 +129,9 @@ void points_on_edge(const PolygonSoup& soup, const GroupVertices& group, Vec3 a,
   }
   std::sort(out.begin(), out.end(), [](const EdgePoint& x, const EdgePoint& y) { return x.t < y.t; });
   out.erase(std::unique(out.begin(), out.end(),
-                        [&](const EdgePoint& x, const EdgePoint& y) { return soup.positions[x.vertex] == soup.positions[y.vertex]; }),
+                        [&](const EdgePoint& x, const EdgePoint& y) {
+                          return soup.positions[x.vertex] == soup.positions[y.vertex];
+                        }),
             out.end());
 }
 
@@ -153,7 +155,8 @@ void close_t_junctions(PolygonSoup& fragments, double epsilon, const CancelToken
         const Polygon& f = fragments.polygons[by_id[j].second];
         group_of[by_id[j].second] = int32_t(groups.size());
         meter.add(f.vertex_count);
-        for (uint32_t v = f.first_vertex; v < f.first_vertex + f.vertex_count; ++v) g.by_x.push_back({fragments.positions[v].x, v});
+        for (uint32_t v = f.first_vertex; v < f.first_vertex + f.vertex_count; ++v)
+          g.by_x.push_back({fragments.positions[v].x, v});
       }
       std::sort(g.by_x.begin(), g.by_x.end());
       groups.push_back(std::move(g));
@@ -176,7 +179,8 @@ void close_t_junctions(PolygonSoup& fragments, double epsilon, const CancelToken
       meter.add(1 + on_edge.size());
       const Vec3 a = fragments.positions[first + j], b = fragments.positions[first + (j + 1) % n];
       // A vertex of this very fragment is never strictly inside one of its own (convex) edges.
-      points_on_edge(fragments, groups[size_t(group_of[i])], a, b, std::max(epsilon, 1e-12 * glm::length(b - a)), on_edge);
+      points_on_edge(fragments, groups[size_t(group_of[i])], a, b, std::max(epsilon, 1e-12 * glm::length(b - a)),
+                     on_edge);
       for (const EdgePoint& e : on_edge) {
         out.positions.push_back(fragments.positions[e.vertex]);
         out.normals.push_back(fragments.normals[e.vertex]);

@@ -42,8 +42,8 @@ struct SplitResult {
 // may be `from`). Vertices within `epsilon` of the plane belong to both parts; a part left with
 // fewer than 3 vertices (or zero area) is dropped. Both parts are convex and keep the source's
 // attributes. Used only for polygons classify_polygon called `spanning`.
-SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const Plane& plane,
-                          double epsilon, PolygonSoup& out);
+SplitResult split_polygon(const PolygonSoup& from, const Polygon& polygon, const Plane& plane, double epsilon,
+                          PolygonSoup& out);
 
 // Closes the T-junctions between fragments of one source polygon (same id): a fragment split again
 // gets a vertex on the seam that its sibling across the seam lacks, and the rasterizer would snap

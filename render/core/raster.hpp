@@ -27,7 +27,7 @@ struct PixelRect {  // half-open: x0 <= x < x1, y0 <= y < y1
 
 struct Fragment {
   int x = 0, y = 0;
-  double inv_w = 0.0;  // depth key: larger is nearer
+  double inv_w = 0.0;             // depth key: larger is nearer
   double b[3] = {0.0, 0.0, 0.0};  // perspective-correct weights of v0, v1, v2 (sum to 1)
 };
 
@@ -128,8 +128,8 @@ inline void pixel_weights(const TriangleSetup& s, const double inv_w[3], const i
 }
 
 template <class Fn>
-void rasterize_triangle(const RasterVertex& a, const RasterVertex& b, const RasterVertex& c,
-                        const PixelRect& rect, Fn&& fn) {
+void rasterize_triangle(const RasterVertex& a, const RasterVertex& b, const RasterVertex& c, const PixelRect& rect,
+                        Fn&& fn) {
   const int64_t X[3] = {snap_to_subpixel(a.x), snap_to_subpixel(b.x), snap_to_subpixel(c.x)};
   const int64_t Y[3] = {snap_to_subpixel(a.y), snap_to_subpixel(b.y), snap_to_subpixel(c.y)};
   TriangleSetup s;

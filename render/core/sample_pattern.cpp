@@ -19,8 +19,8 @@ constexpr std::array<glm::vec2, N> from_centre_sixteenths(const int (&xy)[N][2])
 
 constexpr int d3d4[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
 constexpr int d3d8[8][2] = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
-constexpr int d3d16[16][2] = {{1, 1},   {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5},  {5, 3},   {3, -5},
-                              {-2, 6},  {0, -7},  {-4, -6}, {-6, 4}, {-8, 0},  {7, -4}, {6, 7},   {-7, -8}};
+constexpr int d3d16[16][2] = {{1, 1},  {-1, -3}, {-3, 2},  {4, -1}, {-5, -2}, {2, 5},  {5, 3}, {3, -5},
+                              {-2, 6}, {0, -7},  {-4, -6}, {-6, 4}, {-8, 0},  {7, -4}, {6, 7}, {-7, -8}};
 
 constexpr std::array<glm::vec2, 1> centre = {glm::vec2{0.5f, 0.5f}};
 constexpr auto pattern4 = from_centre_sixteenths(d3d4);
@@ -42,12 +42,18 @@ bool is_sample_count(int samples) { return samples == 1 || samples == 4 || sampl
 
 std::span<const glm::vec2> sample_pattern(int samples) {
   switch (samples) {
-    case 1: return centre;
-    case 4: return pattern4;
-    case 8: return pattern8;
-    case 16: return pattern16;
-    case 256: return pattern256;
-    default: throw std::invalid_argument("no sample pattern of " + std::to_string(samples) + " samples");
+    case 1:
+      return centre;
+    case 4:
+      return pattern4;
+    case 8:
+      return pattern8;
+    case 16:
+      return pattern16;
+    case 256:
+      return pattern256;
+    default:
+      throw std::invalid_argument("no sample pattern of " + std::to_string(samples) + " samples");
   }
 }
 

@@ -14,7 +14,7 @@
 namespace rr {
 
 struct MaterialParams {
-  float specular = 0.0f;    // Blinn-Phong specular strength, 0..1
+  float specular = 0.0f;  // Blinn-Phong specular strength, 0..1
   Color specular_color{1.0f, 1.0f, 1.0f};
   float shininess = 32.0f;  // Blinn-Phong exponent
 };
@@ -69,7 +69,7 @@ struct Solid {
   Vec2 center{0.0, 0.0};
   double base = 0.0;
   double rotation_y_deg = 0.0;  // counter-clockwise seen from above
-  Vec3 size{1.0, 1.0, 1.0};    // box and pyramid: (sx, height, sz)
+  Vec3 size{1.0, 1.0, 1.0};     // box and pyramid: (sx, height, sz)
   // Cylinder.
   double radius = 0.5;
   double height = 1.0;  // cylinder and prism
@@ -195,10 +195,10 @@ struct BspOptions {
 };
 
 struct ShadowOptions {
-  int size = 2048;           // shadow map side in texels (per cube face for point lights), 64..4096
-  int pcf = 1;               // percentage-closer filter kernel: 1 (hard), 3 or 5
-  double bias = 0.0;         // extra constant depth bias in texels of depth, added to the default
-  double slope_bias = 0.0;   // extra slope-scaled bias, added to the default
+  int size = 2048;          // shadow map side in texels (per cube face for point lights), 64..4096
+  int pcf = 1;              // percentage-closer filter kernel: 1 (hard), 3 or 5
+  double bias = 0.0;        // extra constant depth bias in texels of depth, added to the default
+  double slope_bias = 0.0;  // extra slope-scaled bias, added to the default
   ShadowFit fit = ShadowFit::view;
 };
 

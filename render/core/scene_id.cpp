@@ -26,9 +26,20 @@ void add(Fnv1a& h, int v) { h.add_u64(uint64_t(int64_t(v))); }
 void add(Fnv1a& h, bool v) { h.add_u8(v ? 1 : 0); }
 void add(Fnv1a& h, OpeningType v) { h.add_u64(uint64_t(v)); }
 void add(Fnv1a& h, SolidType v) { h.add_u64(uint64_t(v)); }
-void add(Fnv1a& h, Vec2 v) { add(h, v.x); add(h, v.y); }
-void add(Fnv1a& h, Vec3 v) { add(h, v.x); add(h, v.y); add(h, v.z); }
-void add(Fnv1a& h, Color c) { add(h, c.r); add(h, c.g); add(h, c.b); }
+void add(Fnv1a& h, Vec2 v) {
+  add(h, v.x);
+  add(h, v.y);
+}
+void add(Fnv1a& h, Vec3 v) {
+  add(h, v.x);
+  add(h, v.y);
+  add(h, v.z);
+}
+void add(Fnv1a& h, Color c) {
+  add(h, c.r);
+  add(h, c.g);
+  add(h, c.b);
+}
 // A mesh by its content id, which hashes all of its geometry: a stored mesh placed by ref and the
 // same mesh inline draw alike and share the id, and a different mesh behind a ref changes it.
 void add(Fnv1a& h, const std::shared_ptr<const MeshData>& m) { h.add_bytes(m ? m->content_id : std::string(16, '-')); }
@@ -47,40 +58,74 @@ void add(Fnv1a& h, const std::vector<T>& items) {
 
 void add(Fnv1a& h, const MaterialParams& m) {
   const auto& [specular, specular_color, shininess] = m;
-  add(h, specular); add(h, specular_color); add(h, shininess);
+  add(h, specular);
+  add(h, specular_color);
+  add(h, shininess);
 }
 
 void add(Fnv1a& h, const Floor& f) {
   const auto& [id, origin, cells_x, cells_z, cell_size, elevation, colors, material, level] = f;
   (void)id;
-  add(h, origin); add(h, cells_x); add(h, cells_z); add(h, cell_size); add(h, elevation);
-  add(h, colors); add(h, material); add(h, level);
+  add(h, origin);
+  add(h, cells_x);
+  add(h, cells_z);
+  add(h, cell_size);
+  add(h, elevation);
+  add(h, colors);
+  add(h, material);
+  add(h, level);
 }
 
 void add(Fnv1a& h, const Opening& o) {
   const auto& [type, id, offset, width, height, sill, color, opacity, leaf] = o;
   (void)id;
-  add(h, type); add(h, offset); add(h, width); add(h, height); add(h, sill); add(h, color);
-  add(h, opacity); add(h, leaf);
+  add(h, type);
+  add(h, offset);
+  add(h, width);
+  add(h, height);
+  add(h, sill);
+  add(h, color);
+  add(h, opacity);
+  add(h, leaf);
 }
 
 void add(Fnv1a& h, const Wall& w) {
   const auto& [id, start, end, thickness, height, base, color, material, openings, level] = w;
   (void)id;
-  add(h, start); add(h, end); add(h, thickness); add(h, height); add(h, base); add(h, color);
-  add(h, material); add(h, openings); add(h, level);
+  add(h, start);
+  add(h, end);
+  add(h, thickness);
+  add(h, height);
+  add(h, base);
+  add(h, color);
+  add(h, material);
+  add(h, openings);
+  add(h, level);
 }
 
 void add(Fnv1a& h, const Solid& s) {
-  const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments,
-               smooth, caps, points, mesh, mesh_ref, position, scale, closed, level] = s;
+  const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments, smooth, caps,
+               points, mesh, mesh_ref, position, scale, closed, level] = s;
   (void)id;
   (void)mesh_ref;  // names the mesh that `mesh` holds
-  add(h, type); add(h, color); add(h, material);
-  add(h, center); add(h, base); add(h, rotation_y_deg); add(h, size);
-  add(h, radius); add(h, height); add(h, segments); add(h, smooth); add(h, caps);
-  add(h, points); add(h, mesh);
-  add(h, position); add(h, scale); add(h, closed); add(h, level);
+  add(h, type);
+  add(h, color);
+  add(h, material);
+  add(h, center);
+  add(h, base);
+  add(h, rotation_y_deg);
+  add(h, size);
+  add(h, radius);
+  add(h, height);
+  add(h, segments);
+  add(h, smooth);
+  add(h, caps);
+  add(h, points);
+  add(h, mesh);
+  add(h, position);
+  add(h, scale);
+  add(h, closed);
+  add(h, level);
 }
 
 // A level's id is hashed: requests select levels by it.
@@ -88,15 +133,24 @@ void add(Fnv1a& h, const Level& l) {
   const auto& [id, elevation, height, viewable] = l;
   h.add_u64(id.size());
   h.add_bytes(id);
-  add(h, elevation); add(h, height); add(h, viewable);
+  add(h, elevation);
+  add(h, height);
+  add(h, viewable);
 }
 
 void add(Fnv1a& h, const Room& r) {
   const auto& [id, points, elevation, floor, floor_color, floor_material, ceiling, ceiling_height, ceiling_color,
                level] = r;
   (void)id;
-  add(h, points); add(h, elevation); add(h, floor); add(h, floor_color); add(h, floor_material);
-  add(h, ceiling); add(h, ceiling_height); add(h, ceiling_color); add(h, level);
+  add(h, points);
+  add(h, elevation);
+  add(h, floor);
+  add(h, floor_color);
+  add(h, floor_material);
+  add(h, ceiling);
+  add(h, ceiling_height);
+  add(h, ceiling_color);
+  add(h, level);
 }
 
 }  // namespace
@@ -107,11 +161,13 @@ std::string scene_id(const StaticGeometry& geometry) {
   h.add_bytes("roomrender static geometry 2");  // names this encoding; changed when it changes
   add(h, has_floor);
   if (has_floor) add(h, floor);
-  add(h, walls); add(h, solids);
+  add(h, walls);
+  add(h, solids);
   // Appended only when present, so the id of a scene without rooms or levels is unchanged.
   if (!rooms.empty() || !levels.empty()) {
     h.add_bytes("rooms and levels");
-    add(h, rooms); add(h, levels);
+    add(h, rooms);
+    add(h, levels);
   }
   return hex64(h.value());
 }

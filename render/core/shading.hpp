@@ -89,7 +89,8 @@ class SurfaceShader {
   void prepare(uint32_t index);
   void bind(uint32_t index, const DrawScratch& scratch);
   Color fragment(const Fragment& f, size_t k) const {
-    if (mask_) [[unlikely]] write_mask(f, k);
+    if (mask_) [[unlikely]]
+      write_mask(f, k);
     return constant_ ? current_ : shade_pixel(f, k);
   }
   // True when every polygon has one colour (flat shading, no shadow map, no shadow mask asked for):
@@ -105,7 +106,7 @@ class SurfaceShader {
   struct Span {
     int x = 0, y = 0;  // first pixel; the others follow along +x
     size_t count = 0;
-    size_t k = 0;      // fan triangle (0, k+1, k+2) of the clipped polygon
+    size_t k = 0;                            // fan triangle (0, k+1, k+2) of the clipped polygon
     alignas(16) double b[3][span_capacity];  // perspective-correct weights, as in Fragment::b
   };
   struct SpanColors {
@@ -118,14 +119,14 @@ class SurfaceShader {
  private:
   // A light that reaches the bound polygon, in floats for the per-pixel loop.
   struct ActiveLight {
-    glm::vec3 to_light{0.0f};     // directional: unit vector toward the light
-    glm::vec3 position{0.0f};     // point: relative to the eye
+    glm::vec3 to_light{0.0f};  // directional: unit vector toward the light
+    glm::vec3 position{0.0f};  // point: relative to the eye
     glm::vec3 attenuation{1.0f, 0.0f, 0.0f};
-    glm::vec3 diffuse{0.0f};      // material colour x light colour x intensity
-    glm::vec3 specular{0.0f};     // strength x specular colour x light colour x intensity
+    glm::vec3 diffuse{0.0f};   // material colour x light colour x intensity
+    glm::vec3 specular{0.0f};  // strength x specular colour x light colour x intensity
     bool point = false;
     bool has_specular = false;
-    int32_t shadow = -1;          // index into shadowed_, or -1: never shadowed
+    int32_t shadow = -1;  // index into shadowed_, or -1: never shadowed
   };
   struct Shadowed {
     const ShadowLight* light;
@@ -171,8 +172,8 @@ class SurfaceShader {
   size_t table_ = 0;                            // the bound polygon's, in specular_tables_
   std::vector<ActiveLight> active_;
   std::vector<Shadowed> shadowed_;
-  std::vector<Color> bound_terms_;     // flat: 1 + shadowed; Gouraud: that per clipped vertex
-  std::vector<Vec3> coords_;           // per clipped vertex x shadowed_: shadow_coords
+  std::vector<Color> bound_terms_;            // flat: 1 + shadowed; Gouraud: that per clipped vertex
+  std::vector<Vec3> coords_;                  // per clipped vertex x shadowed_: shadow_coords
   std::vector<glm::vec3> eye_to_p_, normal_;  // Phong: per clipped vertex
   size_t evaluated_ = 0;
   mutable size_t evaluated_per_pixel_ = 0;

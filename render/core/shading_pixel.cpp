@@ -49,7 +49,8 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   const size_t shadowed = shadowed_.size();
   coords_.resize(clipped.size() * shadowed);
   for (size_t j = 0; j < clipped.size(); ++j) {
-    for (size_t s = 0; s < shadowed; ++s) coords_[j * shadowed + s] = shadow_coords(*shadowed_[s].light, clipped[j].p_world);
+    for (size_t s = 0; s < shadowed; ++s)
+      coords_[j * shadowed + s] = shadow_coords(*shadowed_[s].light, clipped[j].p_world);
   }
   switch (mode_) {
     case ShadingMode::flat: {

@@ -114,7 +114,8 @@ void SurfaceShader::span_visibility(const Span& span, size_t s, float* vis) cons
   for (size_t first = 0; first < span.count; first += run) {
     const size_t last = std::min(first + run, span.count) - 1;
     float decided = 0.0f;
-    if (by_runs && last > first && span_decided(*maps_, *light.light, light.receiver, coords(first), coords(last), decided)) {
+    if (by_runs && last > first &&
+        span_decided(*maps_, *light.light, light.receiver, coords(first), coords(last), decided)) {
       std::fill(vis + first, vis + last + 1, decided);
       continue;
     }
@@ -134,9 +135,12 @@ void SurfaceShader::shade_span(const Span& span, SpanColors& out) const {
   }
   if (constant_) return fill(out, span.count, current_);
   switch (mode_) {
-    case ShadingMode::flat: return span_flat(span, out);
-    case ShadingMode::gouraud: return span_gouraud(span, out);
-    case ShadingMode::phong: return span_phong(span, out);
+    case ShadingMode::flat:
+      return span_flat(span, out);
+    case ShadingMode::gouraud:
+      return span_gouraud(span, out);
+    case ShadingMode::phong:
+      return span_phong(span, out);
   }
 }
 

@@ -10,8 +10,8 @@
 #include "render/core/shadow_raster.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <span>
 
@@ -57,9 +57,7 @@ struct Receivers {
   std::vector<Vec3> normal;        // lit side
   std::vector<double> offset;
   size_t size() const { return normal.size(); }
-  std::span<const Vec3> polygon(size_t r) const {
-    return {points.data() + begin[r], size_t(begin[r + 1] - begin[r])};
-  }
+  std::span<const Vec3> polygon(size_t r) const { return {points.data() + begin[r], size_t(begin[r + 1] - begin[r])}; }
 };
 
 // Runs fn(task, worker, first, end) over the soup's polygons [first, end) in tasks of
@@ -136,8 +134,7 @@ struct Box {
 bool box_reaches_beyond(const Box& box, Vec3 normal, double offset, double sign) {
   double best = -std::numeric_limits<double>::infinity(), magnitude = 1.0;
   for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p{corner & 1 ? box.hi.x : box.lo.x, corner & 2 ? box.hi.y : box.lo.y,
-                 corner & 4 ? box.hi.z : box.lo.z};
+    const Vec3 p{corner & 1 ? box.hi.x : box.lo.x, corner & 2 ? box.hi.y : box.lo.y, corner & 4 ? box.hi.z : box.lo.z};
     best = std::max(best, sign * (glm::dot(normal, p) - offset));
     magnitude = std::max({magnitude, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   }
@@ -147,8 +144,8 @@ bool box_reaches_beyond(const Box& box, Vec3 normal, double offset, double sign)
 // What the pass decided for one light before any memory is spent.
 struct LightPlan {
   ShadowLight light;
-  std::vector<uint32_t> casters;        // polygon indices
-  std::array<bool, 6> needed{};         // cube faces (or [0]) that hold a receiver
+  std::vector<uint32_t> casters;                      // polygon indices
+  std::array<bool, 6> needed{};                       // cube faces (or [0]) that hold a receiver
   double min_u = 0, max_u = 0, min_v = 0, max_v = 0;  // directional: receivers' light-space rect
   double near_depth = 0, far_depth = 0;               // along forward (directional) or distance
   int map_count() const { return int(std::count(needed.begin(), needed.end(), true)); }
@@ -157,8 +154,8 @@ struct LightPlan {
 // The polygons keep(index, near) accepts, in polygon order. Each task keeps its own running minimum
 // `near` (keep lowers it), folded in task order: the value one loop over all polygons would find.
 template <class Keep>
-std::vector<uint32_t> select_casters(const PolygonSoup& soup, unsigned threads, const CancelToken* cancel,
-                                     double& near, Keep&& keep) {
+std::vector<uint32_t> select_casters(const PolygonSoup& soup, unsigned threads, const CancelToken* cancel, double& near,
+                                     Keep&& keep) {
   const size_t tasks = (soup.polygons.size() + polygons_per_task - 1) / polygons_per_task;
   std::vector<std::vector<uint32_t>> parts(tasks);
   std::vector<double> nears(tasks, std::numeric_limits<double>::infinity());
@@ -284,8 +281,8 @@ Mat4 fit_directional(LightPlan& plan, int side, int pcf) {
   ShadowLight& sl = plan.light;
   const int margin = pcf / 2 + 1;
   const double usable = double(std::max(1, side - 2 * margin));
-  const double scale = std::max({1.0, std::abs(plan.min_u), std::abs(plan.max_u), std::abs(plan.min_v),
-                                 std::abs(plan.max_v)});
+  const double scale =
+      std::max({1.0, std::abs(plan.min_u), std::abs(plan.max_u), std::abs(plan.min_v), std::abs(plan.max_v)});
   sl.texel_u = std::max(plan.max_u - plan.min_u, 1e-9 * scale) / usable;
   sl.texel_v = std::max(plan.max_v - plan.min_v, 1e-9 * scale) / usable;
   sl.left = plan.min_u - margin * sl.texel_u;
@@ -337,7 +334,7 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
   out.slot_of_light.assign(scene.lights.size(), -1);
   if (scene.lights.empty()) return out;
   const Receivers rec = options.shadow.fit == ShadowFit::scene ? collect_scene_receivers(soup, cancel)
-                                                              : collect_receivers(soup, view, threads, cancel);
+                                                               : collect_receivers(soup, view, threads, cancel);
   std::vector<LightPlan> plans;
   size_t map_count = 0;
   for (size_t i = 0; i < scene.lights.size(); ++i) {
@@ -423,7 +420,8 @@ ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& l
 float shadow_visibility_at(const ShadowMaps& maps, size_t light_index, Vec3 p_world, Vec3 normal, double offset) {
   if (light_index >= maps.slot_of_light.size() || maps.slot_of_light[light_index] < 0) return 1.0f;
   const ShadowLight& light = maps.lights[size_t(maps.slot_of_light[light_index])];
-  return shadow_visibility(maps, light, make_shadow_receiver(maps, light, normal, offset), shadow_coords(light, p_world));
+  return shadow_visibility(maps, light, make_shadow_receiver(maps, light, normal, offset),
+                           shadow_coords(light, p_world));
 }
 
 }  // namespace rr

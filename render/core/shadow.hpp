@@ -137,8 +137,8 @@ struct ShadowLight {
 };
 
 struct ShadowMaps {
-  int side = 0;  // texels per map side (options.shadow.size, reduced to fit shadow_max_texels)
-  int pcf = 1;   // kernel width: 1, 3 or 5
+  int side = 0;                       // texels per map side (options.shadow.size, reduced to fit shadow_max_texels)
+  int pcf = 1;                        // kernel width: 1, 3 or 5
   double bias = shadow_default_bias;  // constant, texel widths
   double slope_bias = shadow_default_slope_bias;
   std::vector<int32_t> slot_of_light;  // per scene light: index into `lights`, -1 = never shadowed
@@ -168,8 +168,7 @@ inline bool light_reaches(const Light& light, Vec3 lit_normal, double lit_offset
 // `view` is not read: the maps serve every camera (the shadow cache relies on it). Runs on `threads`
 // threads; the maps are the same for any count.
 ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const ViewTransform& view,
-                             const RenderOptions& options, const CancelToken* cancel = nullptr,
-                             unsigned threads = 1);
+                             const RenderOptions& options, const CancelToken* cancel = nullptr, unsigned threads = 1);
 
 // The affine per-light coordinates of a world point that a pipeline interpolates across a polygon:
 // directional (u, v, nearness) of its map; point light: p - light position.
@@ -180,8 +179,7 @@ Vec3 shadow_coords(const ShadowLight& light, Vec3 p_world);
 struct ShadowReceiver {
   std::array<glm::dvec2, 6> gradient{};
 };
-ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& light, Vec3 normal,
-                                    double offset);
+ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& light, Vec3 normal, double offset);
 
 // Lookups, inline: they run for every shadowed pixel.
 namespace shadow_detail {
@@ -209,8 +207,8 @@ inline int cube_face_of(Vec3 d) {
 
 // Percentage-closer filter: taps on the pcf x pcf texels around (u, v). `texel` is one texel's width
 // in nearness units at the receiver, the unit of both biases.
-inline float filter_taps(const ShadowMaps& maps, const ShadowMap& map, double u, double v,
-                         double nearness, glm::dvec2 g, double texel) {
+inline float filter_taps(const ShadowMaps& maps, const ShadowMap& map, double u, double v, double nearness,
+                         glm::dvec2 g, double texel) {
   const double g_max = shadow_max_slope * texel;
   g = glm::clamp(g, glm::dvec2(-g_max), glm::dvec2(g_max));
   const double slope = std::max(std::abs(g.x), std::abs(g.y)) / texel;
@@ -252,12 +250,12 @@ inline float filter_taps(const ShadowMaps& maps, const ShadowMap& map, double u,
 // Fraction of the PCF taps around `coords` (from shadow_coords) that see the light, in [0, 1].
 // Each tap compares the map with the receiver's own plane extrapolated to that texel's centre,
 // moved toward the light by the constant and slope-scaled bias.
-inline float shadow_visibility(const ShadowMaps& maps, const ShadowLight& light,
-                               const ShadowReceiver& receiver, Vec3 coords) {
+inline float shadow_visibility(const ShadowMaps& maps, const ShadowLight& light, const ShadowReceiver& receiver,
+                               Vec3 coords) {
   if (light.directional) {
     if (light.map[0] < 0) return 1.0f;
-    return shadow_detail::filter_taps(maps, maps.maps[size_t(light.map[0])], coords.x, coords.y,
-                                      coords.z, receiver.gradient[0], std::max(light.texel_u, light.texel_v));
+    return shadow_detail::filter_taps(maps, maps.maps[size_t(light.map[0])], coords.x, coords.y, coords.z,
+                                      receiver.gradient[0], std::max(light.texel_u, light.texel_v));
   }
   const int face = shadow_detail::cube_face_of(coords);
   const shadow_detail::CubeFace& f = shadow_detail::cube_faces[size_t(face)];
@@ -272,7 +270,6 @@ inline float shadow_visibility(const ShadowMaps& maps, const ShadowLight& light,
 
 // Convenience for tests and reference renderers: the visibility of scene light `light_index` at a
 // point of a receiver plane; 1 when that light has no map.
-float shadow_visibility_at(const ShadowMaps& maps, size_t light_index, Vec3 p_world, Vec3 normal,
-                           double offset);
+float shadow_visibility_at(const ShadowMaps& maps, size_t light_index, Vec3 p_world, Vec3 normal, double offset);
 
 }  // namespace rr

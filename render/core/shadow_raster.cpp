@@ -49,7 +49,7 @@ constexpr size_t chunk_casters = 256, max_chunks = 64;
 struct ShadowTriangle {
   int64_t X[3], Y[3];
   double inv_w[3];
-  double nearest;  // the largest inv_w: tiles draw their nearest triangles first
+  double nearest;                          // the largest inv_w: tiles draw their nearest triangles first
   int tile_x0, tile_y0, tile_x1, tile_y1;  // tiles its bounding box of texel centres meets
 };
 
@@ -76,8 +76,8 @@ PixelRect tile_rect(int tile, int tiles_per_row, int side) {
 // the triangle covers none of them. Edges are affine, so the corners hold their maxima.
 bool may_cover(const TriangleSetup& s, int x0, int y0, int x1, int y1) {
   for (int k = 0; k < 3; ++k) {
-    const int64_t best = s.c[k] + std::max(x0 * s.step_x[k], x1 * s.step_x[k]) +
-                         std::max(y0 * s.step_y[k], y1 * s.step_y[k]);
+    const int64_t best =
+        s.c[k] + std::max(x0 * s.step_x[k], x1 * s.step_x[k]) + std::max(y0 * s.step_y[k], y1 * s.step_y[k]);
     if (best < 0) return false;
   }
   return true;
@@ -129,8 +129,8 @@ void add_triangles(const ShadowMapJob& job, const ViewTransform& view, ClipBuffe
   }
 }
 
-void run_front_end(std::span<ShadowMapJob> jobs, int side, const PolygonSoup& soup, int tiles_per_row,
-                   Chunk& chunk, ClipBuffers& buf) {
+void run_front_end(std::span<ShadowMapJob> jobs, int side, const PolygonSoup& soup, int tiles_per_row, Chunk& chunk,
+                   ClipBuffers& buf) {
   const ShadowMapJob& job = jobs[chunk.job];
   const Mat4 exact = shadow_detail::exact_frustum(job.clip);
   ViewTransform view;
@@ -183,7 +183,8 @@ void flag_pages(const Bins& bins, int tile, int side, size_t pages_per_row, std:
     bool all = true;
     for (int py = r.y0; py < r.y1; py += TexelStore::page_side) {
       for (int px = r.x0; px < r.x1; px += TexelStore::page_side) {
-        uint8_t& flag = written[size_t(py / TexelStore::page_side) * pages_per_row + size_t(px / TexelStore::page_side)];
+        uint8_t& flag =
+            written[size_t(py / TexelStore::page_side) * pages_per_row + size_t(px / TexelStore::page_side)];
         if (flag) continue;
         const int x0 = std::max(px, s.px0), x1 = std::min({px + TexelStore::page_side, r.x1, s.px1 + 1}) - 1;
         const int y0 = std::max(py, s.py0), y1 = std::min({py + TexelStore::page_side, r.y1, s.py1 + 1}) - 1;
@@ -317,7 +318,8 @@ void draw_tile(const Bins& bins, int tile, int side, ShadowMapJob& job, std::vec
     }
   }
   order.assign(bins.entries.begin() + bins.start[size_t(tile)], bins.entries.begin() + bins.start[size_t(tile) + 1]);
-  std::sort(order.begin(), order.end(), [](const ShadowTriangle* a, const ShadowTriangle* b) { return a->nearest > b->nearest; });
+  std::sort(order.begin(), order.end(),
+            [](const ShadowTriangle* a, const ShadowTriangle* b) { return a->nearest > b->nearest; });
   for (const ShadowTriangle* t : order) draw_triangle(*t, r, texels);
   for (int py = r.y0; py < r.y1; py += TexelStore::page_side) {
     for (int px = r.x0; px < r.x1; px += TexelStore::page_side) {

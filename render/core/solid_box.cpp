@@ -11,15 +11,17 @@ namespace {
 void add_box(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t object) {
   const double a = radians(s.rotation_y_deg);
   const Vec2 x = rotate_plan({1.0, 0.0}, a), z = rotate_plan({0.0, 1.0}, a);
-  add_cuboid(out, {s.center.x, s.base + 0.5 * s.size.y, s.center.y},
-             plan_to_world(x, 0.0) * (0.5 * s.size.x), {0.0, 0.5 * s.size.y, 0.0},
-             plan_to_world(z, 0.0) * (0.5 * s.size.z), material, object);
+  add_cuboid(out, {s.center.x, s.base + 0.5 * s.size.y, s.center.y}, plan_to_world(x, 0.0) * (0.5 * s.size.x),
+             {0.0, 0.5 * s.size.y, 0.0}, plan_to_world(z, 0.0) * (0.5 * s.size.z), material, object);
 }
 
 }  // namespace
 
-extern const SolidInfo box_solid = {
-    SolidType::box, "box", add_box, [](const Solid&) -> size_t { return 6; },
-    [](const Solid&) { return true; }, [](const Solid&) { return false; }};
+extern const SolidInfo box_solid = {SolidType::box,
+                                    "box",
+                                    add_box,
+                                    [](const Solid&) -> size_t { return 6; },
+                                    [](const Solid&) { return true; },
+                                    [](const Solid&) { return false; }};
 
 }  // namespace rr::detail

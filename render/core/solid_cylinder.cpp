@@ -41,9 +41,11 @@ void add_cylinder(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t 
 
 }  // namespace
 
-extern const SolidInfo cylinder_solid = {
-    SolidType::cylinder, "cylinder", add_cylinder,
-    [](const Solid& s) { return size_t(std::max(3, s.segments)) + 2; },
-    [](const Solid& s) { return s.caps; }, [](const Solid& s) { return s.smooth; }};
+extern const SolidInfo cylinder_solid = {SolidType::cylinder,
+                                         "cylinder",
+                                         add_cylinder,
+                                         [](const Solid& s) { return size_t(std::max(3, s.segments)) + 2; },
+                                         [](const Solid& s) { return s.caps; },
+                                         [](const Solid& s) { return s.smooth; }};
 
 }  // namespace rr::detail

@@ -19,7 +19,7 @@ struct MeshPlan {
   };
   std::vector<Face> faces;
   std::vector<std::array<uint32_t, 3>> triangles;  // corners of a face, indices into that face
-  std::vector<Vec3> vertex_sum;  // per vertex, the Newell vectors (2 * area * normal) of its faces
+  std::vector<Vec3> vertex_sum;                    // per vertex, the Newell vectors (2 * area * normal) of its faces
 };
 
 namespace {
@@ -96,7 +96,7 @@ void add_mesh(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t obje
       shading.push_back(n != glm::vec3(0.0f) ? n : glm::vec3(glm::normalize(outward)));
     }
     const std::span<const std::array<uint32_t, 3>> triangles(plan.triangles.data() + f.first_triangle,
-                                                              f.triangle_count);
+                                                             f.triangle_count);
     add_face_pieces(out, points, shading, triangles, outward, material, object);
   }
 }
@@ -106,7 +106,10 @@ size_t estimate_mesh(const Solid& s) { return s.mesh->index_count - 2 * s.mesh->
 
 }  // namespace
 
-extern const SolidInfo mesh_solid = {SolidType::mesh, "mesh", add_mesh, estimate_mesh,
+extern const SolidInfo mesh_solid = {SolidType::mesh,
+                                     "mesh",
+                                     add_mesh,
+                                     estimate_mesh,
                                      [](const Solid& s) { return s.closed; },
                                      [](const Solid& s) { return s.smooth || !s.mesh->normals.empty(); }};
 

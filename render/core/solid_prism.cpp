@@ -54,7 +54,11 @@ size_t estimate_prism(const Solid& s) {
 
 }  // namespace
 
-extern const SolidInfo prism_solid = {SolidType::prism, "prism", add_prism, estimate_prism,
-                                      [](const Solid&) { return true; }, [](const Solid&) { return false; }};
+extern const SolidInfo prism_solid = {SolidType::prism,
+                                      "prism",
+                                      add_prism,
+                                      estimate_prism,
+                                      [](const Solid&) { return true; },
+                                      [](const Solid&) { return false; }};
 
 }  // namespace rr::detail

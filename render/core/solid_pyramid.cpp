@@ -16,8 +16,10 @@ void add_pyramid(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t o
   const Vec3 apex{s.center.x, s.base + s.size.y, s.center.y};
   const Vec3 side_x = plan_to_world(rotate_plan({1.0, 0.0}, a), 0.0);
   const Vec3 side_z = plan_to_world(rotate_plan({0.0, 1.0}, a), 0.0);
-  const Vec3 faces[4][3] = {{corner(1, -1), corner(1, 1), apex}, {corner(-1, 1), corner(-1, -1), apex},
-                            {corner(1, 1), corner(-1, 1), apex}, {corner(-1, -1), corner(1, -1), apex}};
+  const Vec3 faces[4][3] = {{corner(1, -1), corner(1, 1), apex},
+                            {corner(-1, 1), corner(-1, -1), apex},
+                            {corner(1, 1), corner(-1, 1), apex},
+                            {corner(-1, -1), corner(1, -1), apex}};
   const Vec3 outward[4] = {side_x, -side_x, side_z, -side_z};
   for (int i = 0; i < 4; ++i) out.add_polygon(faces[i], outward[i], material, object);
   const Vec3 base[4] = {corner(1, -1), corner(1, 1), corner(-1, 1), corner(-1, -1)};
@@ -26,8 +28,11 @@ void add_pyramid(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t o
 
 }  // namespace
 
-extern const SolidInfo pyramid_solid = {
-    SolidType::pyramid, "pyramid", add_pyramid, [](const Solid&) -> size_t { return 5; },
-    [](const Solid&) { return true; }, [](const Solid&) { return false; }};
+extern const SolidInfo pyramid_solid = {SolidType::pyramid,
+                                        "pyramid",
+                                        add_pyramid,
+                                        [](const Solid&) -> size_t { return 5; },
+                                        [](const Solid&) { return true; },
+                                        [](const Solid&) { return false; }};
 
 }  // namespace rr::detail

@@ -1,14 +1,15 @@
 // Static geometry -> PolygonSoup: the polygon builder, the floor and the solids (walls live in
-// tessellate_walls.cpp, each solid type's faces in its solid_<name>.cpp). World space, metres, doubles. Ids are indices, in the order of
-// docs/scene-format.md "Polygon ids"; every polygon is convex, planar, CCW seen from its front.
+// tessellate_walls.cpp, each solid type's faces in its solid_<name>.cpp). World space, metres, doubles. Ids are
+// indices, in the order of docs/scene-format.md "Polygon ids"; every polygon is convex, planar, CCW seen from its
+// front.
 #include "render/core/coplanar.hpp"
 #include "render/core/solids.hpp"
 #include "render/core/tessellate_detail.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace rr {
 namespace detail {
@@ -29,16 +30,22 @@ uint32_t SoupBuilder::add_object(ElementRef element, bool closed, bool smooth) {
 }
 
 uint32_t SoupBuilder::add_material(const Material& m) {
-  const std::array<float, 9> key{m.color.r, m.color.g, m.color.b, m.opacity, m.params.specular,
-                                 m.params.shininess, m.params.specular_color.r, m.params.specular_color.g,
+  const std::array<float, 9> key{m.color.r,
+                                 m.color.g,
+                                 m.color.b,
+                                 m.opacity,
+                                 m.params.specular,
+                                 m.params.shininess,
+                                 m.params.specular_color.r,
+                                 m.params.specular_color.g,
                                  m.params.specular_color.b};
   auto [it, inserted] = material_index_.try_emplace(key, uint32_t(soup_.materials.size()));
   if (inserted) soup_.materials.push_back(m);
   return it->second;
 }
 
-bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material,
-                              uint32_t object, std::span<const glm::vec3> shading) {
+bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material, uint32_t object,
+                              std::span<const glm::vec3> shading) {
   assert(shading.empty() || shading.size() == points.size());
   if (points.size() < 3) return false;
   // Merge tolerance: 1e-12 of the polygon's own extent (pieces computed as exactly zero-sized in
@@ -93,8 +100,7 @@ bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32
   return true;
 }
 
-void add_cuboid(SoupBuilder& out, Vec3 c, Vec3 hx, Vec3 hy, Vec3 hz, uint32_t material,
-                uint32_t object) {
+void add_cuboid(SoupBuilder& out, Vec3 c, Vec3 hx, Vec3 hy, Vec3 hz, uint32_t material, uint32_t object) {
   const Vec3 axes[3] = {hx, hy, hz};
   for (int axis = 0; axis < 3; ++axis) {
     const Vec3 a = axes[axis], b = axes[(axis + 1) % 3], d = axes[(axis + 2) % 3];
@@ -126,8 +132,7 @@ void add_floor(SoupBuilder& out, const Floor& f) {
       // Corners from the cell index, not accumulated, so neighbouring cells share exact edges.
       const double x0 = f.origin.x + i * f.cell_size, x1 = f.origin.x + (i + 1) * f.cell_size;
       const double z0 = f.origin.y + j * f.cell_size, z1 = f.origin.y + (j + 1) * f.cell_size;
-      const Vec3 quad[4] = {{x0, f.elevation, z0}, {x0, f.elevation, z1}, {x1, f.elevation, z1},
-                            {x1, f.elevation, z0}};
+      const Vec3 quad[4] = {{x0, f.elevation, z0}, {x0, f.elevation, z1}, {x1, f.elevation, z1}, {x1, f.elevation, z0}};
       out.add_polygon(quad, {0.0, 1.0, 0.0}, materials[size_t(i + j) % materials.size()], object);
     }
   }
@@ -147,12 +152,21 @@ void tag_levels(PolygonSoup& soup, const StaticGeometry& g) {
   for (SceneObject& o : soup.objects) {
     const ElementRef& e = o.element;
     switch (e.kind) {
-      case ElementKind::scene: break;
-      case ElementKind::floor: o.level = g.floor.level; break;
+      case ElementKind::scene:
+        break;
+      case ElementKind::floor:
+        o.level = g.floor.level;
+        break;
       case ElementKind::wall:
-      case ElementKind::opening: o.level = g.walls[e.index].level; break;
-      case ElementKind::solid: o.level = g.solids[e.index].level; break;
-      case ElementKind::room: o.level = g.rooms[e.index].level; break;
+      case ElementKind::opening:
+        o.level = g.walls[e.index].level;
+        break;
+      case ElementKind::solid:
+        o.level = g.solids[e.index].level;
+        break;
+      case ElementKind::room:
+        o.level = g.rooms[e.index].level;
+        break;
     }
   }
 }
@@ -191,8 +205,6 @@ size_t estimate_polygon_count(const StaticGeometry& geometry) {
   return count;
 }
 
-double polygon_area(std::span<const Vec3> points) {
-  return 0.5 * glm::length(detail::newell_vector(points));
-}
+double polygon_area(std::span<const Vec3> points) { return 0.5 * glm::length(detail::newell_vector(points)); }
 
 }  // namespace rr

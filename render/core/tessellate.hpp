@@ -23,10 +23,10 @@ struct Material {
 
 // A scene element that polygons belong to (the floor, a wall, an opening's leaf or pane, a solid).
 struct SceneObject {
-  ElementRef element;   // the floor, a wall, an opening (leaf or pane) or a solid
-  bool closed = false;  // faces bound a volume and wind outward: back faces can be skipped
-  bool smooth = false;  // shading normals are averaged across faces
-  int level = -1;       // its element's level (StaticGeometry::levels), -1: on none
+  ElementRef element;    // the floor, a wall, an opening (leaf or pane) or a solid
+  bool closed = false;   // faces bound a volume and wind outward: back faces can be skipped
+  bool smooth = false;   // shading normals are averaged across faces
+  int level = -1;        // its element's level (StaticGeometry::levels), -1: on none
   bool ceiling = false;  // a room's ceiling: a view may leave it out (RenderOptions::ceilings)
   // Axis-aligned bounds of its polygons, when `bounded`: bound_objects() fills them once a soup will
   // not change (prepare_scene), so a frame's object culling reads them instead of every vertex. A
@@ -44,25 +44,23 @@ enum PolygonFlags : uint32_t {
 struct Polygon {
   uint32_t first_vertex = 0;  // into PolygonSoup::positions / normals
   uint32_t vertex_count = 0;
-  uint32_t id = 0;            // stable id; fragments made by clipping/splitting keep it
-  uint32_t material = 0;      // into PolygonSoup::materials
-  uint32_t object = 0;        // into PolygonSoup::objects
-  uint32_t flags = 0;         // PolygonFlags
-  uint32_t plane_group = 0;   // > 0: overlaps a polygon in its own plane (coplanar.hpp); 0: none
+  uint32_t id = 0;             // stable id; fragments made by clipping/splitting keep it
+  uint32_t material = 0;       // into PolygonSoup::materials
+  uint32_t object = 0;         // into PolygonSoup::objects
+  uint32_t flags = 0;          // PolygonFlags
+  uint32_t plane_group = 0;    // > 0: overlaps a polygon in its own plane (coplanar.hpp); 0: none
   Vec3 normal{0.0, 1.0, 0.0};  // unit, outward
   double offset = 0.0;         // plane: dot(normal, p) == offset
 };
 
 struct PolygonSoup {
-  std::vector<Vec3> positions;         // world space
-  std::vector<glm::vec3> normals;      // per vertex shading normals (face normal when faceted)
+  std::vector<Vec3> positions;     // world space
+  std::vector<glm::vec3> normals;  // per vertex shading normals (face normal when faceted)
   std::vector<Polygon> polygons;
   std::vector<Material> materials;
   std::vector<SceneObject> objects;
 
-  std::span<const Vec3> points(const Polygon& p) const {
-    return {positions.data() + p.first_vertex, p.vertex_count};
-  }
+  std::span<const Vec3> points(const Polygon& p) const { return {positions.data() + p.first_vertex, p.vertex_count}; }
   std::span<const glm::vec3> vertex_normals(const Polygon& p) const {
     return {normals.data() + p.first_vertex, p.vertex_count};
   }

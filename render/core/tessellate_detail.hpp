@@ -43,8 +43,8 @@ Vec3 newell_vector(std::span<const Vec3> points);
 
 // The six faces of the cuboid centre ± half_x ± half_y ± half_z (any handedness), in the order
 // +x, -x, +y, -y, +z, -z.
-void add_cuboid(SoupBuilder& out, Vec3 centre, Vec3 half_x, Vec3 half_y, Vec3 half_z,
-                uint32_t material, uint32_t object);
+void add_cuboid(SoupBuilder& out, Vec3 centre, Vec3 half_x, Vec3 half_y, Vec3 half_z, uint32_t material,
+                uint32_t object);
 
 // Plan geometry (tessellate_faces.cpp). rotation_y is counter-clockwise seen from above, i.e.
 // right-handed about +Y: +X turns to -Z.
@@ -55,8 +55,8 @@ double twice_signed_area(std::span<const Vec2> p);  // of a plan polygon in (x, 
 
 // One face of a solid: a convex planar face stays one polygon; otherwise it is ear-clipped into
 // triangles with consecutive ids (tessellate_faces.cpp). `shading` is per vertex, or empty.
-void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
-              Vec3 outward, uint32_t material, uint32_t object);
+void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading, Vec3 outward,
+              uint32_t material, uint32_t object);
 
 // add_face in two steps, so a mesh placed many times splits each face once (solid_mesh.cpp).
 // split_face: false when the face has no area; else `triangles` is empty when the face stays one

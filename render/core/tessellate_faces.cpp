@@ -134,8 +134,8 @@ void add_face_pieces(SoupBuilder& out, std::span<const Vec3> points, std::span<c
   }
 }
 
-void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
-              Vec3 outward, uint32_t material, uint32_t object) {
+void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading, Vec3 outward,
+              uint32_t material, uint32_t object) {
   std::vector<std::array<uint32_t, 3>> triangles;
   if (split_face(points, triangles)) add_face_pieces(out, points, shading, triangles, outward, material, object);
 }

@@ -8,8 +8,7 @@ namespace rr::detail {
 
 namespace {
 
-void add_room_surface(SoupBuilder& out, const Room& room, double y, Vec3 outward, uint32_t material,
-                      uint32_t object) {
+void add_room_surface(SoupBuilder& out, const Room& room, double y, Vec3 outward, uint32_t material, uint32_t object) {
   std::vector<Vec3> points;
   points.reserve(room.points.size());
   for (Vec2 p : room.points) points.push_back(plan_to_world(p, y));

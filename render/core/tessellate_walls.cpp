@@ -80,8 +80,8 @@ bool cut_fits(const Wall& w, const WallFrame& f, int end, EndCut c) {
 // Two walls sharing one end point. Walking along A into the joint and on along B, A's side on the
 // walker's left continues as B's side on the walker's left; the two pairs of side lines meet at
 // the two ends of the mitre line, which also handles unequal thicknesses.
-void mitre(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames,
-           std::vector<WallCuts>& cuts, const EndRef& a, const EndRef& b) {
+void mitre(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames, std::vector<WallCuts>& cuts,
+           const EndRef& a, const EndRef& b) {
   const WallFrame &fa = frames[a.wall], &fb = frames[b.wall];
   const Vec2 away_a = a.end == 0 ? fa.dir : -fa.dir, away_b = b.end == 0 ? fb.dir : -fb.dir;
   if (glm::dot(away_a, away_b) > max_join_cosine) return;
@@ -90,8 +90,8 @@ void mitre(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames,
   EndCut ca, cb;
   for (double walker : {1.0, -1.0}) {
     const double sa = walker * walker_a, sb = walker * walker_b;
-    const auto q = intersect(fa.point(0.0, sa * fa.half_thickness), fa.dir,
-                             fb.point(0.0, sb * fb.half_thickness), fb.dir);
+    const auto q =
+        intersect(fa.point(0.0, sa * fa.half_thickness), fa.dir, fb.point(0.0, sb * fb.half_thickness), fb.dir);
     if (!q) return;
     ca.side(sa) = fa.u_of(*q);
     cb.side(sb) = fb.u_of(*q);
@@ -102,8 +102,8 @@ void mitre(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames,
 }
 
 // A's end lies on B's centreline: cut A back to the face of B on A's side.
-bool cut_at_tee(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames,
-                std::vector<WallCuts>& cuts, const EndRef& a, uint32_t b) {
+bool cut_at_tee(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames, std::vector<WallCuts>& cuts,
+                const EndRef& a, uint32_t b) {
   const WallFrame &fa = frames[a.wall], &fb = frames[b];
   const Vec2 away_a = a.end == 0 ? fa.dir : -fa.dir;
   const double facing = glm::dot(away_a, fb.left);  // the sine of the angle between the walls
@@ -147,8 +147,8 @@ std::vector<EndRef> find_shared_ends(const std::vector<Wall>& walls) {
 // against the lowest-index such wall where the cut fits. Candidates are found by binary search
 // along the axis in which the host wall is shorter: O(n log n) for rooms of axis-aligned walls;
 // many long parallel diagonal walls can still cost O(n^2).
-void cut_tees(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames,
-              std::vector<WallCuts>& cuts, const std::vector<EndRef>& ends) {
+void cut_tees(const std::vector<Wall>& walls, const std::vector<WallFrame>& frames, std::vector<WallCuts>& cuts,
+              const std::vector<EndRef>& ends) {
   std::vector<uint32_t> lonely;
   for (uint32_t i = 0; i < ends.size(); ++i) {
     if (ends[i].partners == 0) lonely.push_back(i);
@@ -164,8 +164,8 @@ void cut_tees(const std::vector<Wall>& walls, const std::vector<WallFrame>& fram
     const Vec2 hi = glm::max(walls[b].start, walls[b].end) + joint_tolerance_m;
     const int axis = hi.x - lo.x <= hi.y - lo.y ? 0 : 1;
     const auto& list = sorted[axis];
-    auto it = std::lower_bound(list.begin(), list.end(), lo[axis],
-                               [&](uint32_t e, double v) { return ends[e].p[axis] < v; });
+    auto it =
+        std::lower_bound(list.begin(), list.end(), lo[axis], [&](uint32_t e, double v) { return ends[e].p[axis] < v; });
     for (; it != list.end() && ends[*it].p[axis] <= hi[axis]; ++it) {
       const EndRef& e = ends[*it];
       if (done[*it] || e.wall == b) continue;
@@ -203,7 +203,7 @@ struct Interval {
 // A stretch of the wall along u whose cross-section (u, y) does not change: full wall, or the
 // wall below and above one opening. Columns are contiguous: each starts where the previous ends.
 struct Column {
-  double u0 = 0.0, u1 = 0.0;  // along the centreline; the end columns follow the end cuts instead
+  double u0 = 0.0, u1 = 0.0;        // along the centreline; the end columns follow the end cuts instead
   std::array<Interval, 2> solid{};  // wall material above the base, bottom to top
   int solid_count = 0;
   int opening = -1;  // index into Wall::openings, -1 for full wall
@@ -293,9 +293,7 @@ struct WallBuild {
   Vec3 leftward() const { return {f.left.x, 0.0, f.left.y}; }
   // Extent of column c on side sigma (+1 left, -1 right): the end columns follow the end cuts.
   double u0(size_t c, double sigma) const { return c == 0 ? cuts[0].side(sigma) : cols[c].u0; }
-  double u1(size_t c, double sigma) const {
-    return c + 1 == cols.size() ? cuts[1].side(sigma) : cols[c].u1;
-  }
+  double u1(size_t c, double sigma) const { return c + 1 == cols.size() ? cuts[1].side(sigma) : cols[c].u1; }
   bool reaches(size_t c, bool top) const {
     const Column& col = cols[c];
     if (col.solid_count == 0) return false;
@@ -315,8 +313,7 @@ void add_long_faces(const WallBuild& b) {
       for (int i = 0; i < b.cols[c].solid_count; ++i) {
         const Interval s = b.cols[c].solid[size_t(i)];
         const double u0 = b.u0(c, sigma), u1 = b.u1(c, sigma);
-        b.quad(b.at(u0, v, s.lo), b.at(u1, v, s.lo), b.at(u1, v, s.hi), b.at(u0, v, s.hi),
-               sigma * b.leftward());
+        b.quad(b.at(u0, v, s.lo), b.at(u1, v, s.lo), b.at(u1, v, s.hi), b.at(u0, v, s.hi), sigma * b.leftward());
       }
     }
   }
@@ -331,8 +328,8 @@ void add_top_and_bottom(const WallBuild& b) {
       if (!b.reaches(c, top)) continue;
       size_t e = c;
       while (e + 1 < b.cols.size() && b.reaches(e + 1, top)) ++e;
-      b.quad(b.at(b.u0(c, 1.0), t, y), b.at(b.u1(e, 1.0), t, y), b.at(b.u1(e, -1.0), -t, y),
-             b.at(b.u0(c, -1.0), -t, y), {0.0, top ? 1.0 : -1.0, 0.0});
+      b.quad(b.at(b.u0(c, 1.0), t, y), b.at(b.u1(e, 1.0), t, y), b.at(b.u1(e, -1.0), -t, y), b.at(b.u0(c, -1.0), -t, y),
+             {0.0, top ? 1.0 : -1.0, 0.0});
       c = e;
     }
   }
@@ -346,8 +343,8 @@ void add_end_faces(const WallBuild& b) {
     const EndCut c = b.cuts[size_t(end)];
     for (int i = 0; i < col.solid_count; ++i) {
       const Interval s = col.solid[size_t(i)];
-      b.quad(b.at(c.left, t, s.lo), b.at(c.right, -t, s.lo), b.at(c.right, -t, s.hi),
-             b.at(c.left, t, s.hi), (end == 0 ? -1.0 : 1.0) * b.along());
+      b.quad(b.at(c.left, t, s.lo), b.at(c.right, -t, s.lo), b.at(c.right, -t, s.hi), b.at(c.left, t, s.hi),
+             (end == 0 ? -1.0 : 1.0) * b.along());
     }
   }
 }
@@ -366,8 +363,7 @@ void add_reveals(const WallBuild& b, size_t c) {
       const double lo = std::max(col.hole.lo, next.solid[size_t(i)].lo);
       const double hi = std::min(col.hole.hi, next.solid[size_t(i)].hi);
       if (hi <= lo) continue;
-      b.quad(b.at(u, -t, lo), b.at(u, t, lo), b.at(u, t, hi), b.at(u, -t, hi),
-             (side == 0 ? 1.0 : -1.0) * b.along());
+      b.quad(b.at(u, -t, lo), b.at(u, t, lo), b.at(u, t, hi), b.at(u, -t, hi), (side == 0 ? 1.0 : -1.0) * b.along());
     }
   }
   const double head = col.hole.hi, sill = col.hole.lo;

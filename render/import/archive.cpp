@@ -82,7 +82,9 @@ std::string zip_error_text(zip_file_t* file) {
 
 }  // namespace
 
-bool looks_like_zip(std::string_view bytes) { return bytes.starts_with("PK\x03\x04") || bytes.starts_with("PK\x05\x06"); }
+bool looks_like_zip(std::string_view bytes) {
+  return bytes.starts_with("PK\x03\x04") || bytes.starts_with("PK\x05\x06");
+}
 
 std::string entry_pointer(const std::string& name) { return pointer_append("/entry", name); }
 
@@ -112,11 +114,13 @@ Archive::Archive(std::string_view zip_bytes, const ArchiveLimits& limits) : zip_
   uint64_t declared_total = 0;
   for (zip_int64_t i = 0; i < count; ++i) {
     const char* raw = zip_get_name(zip_->zip, zip_uint64_t(i), ZIP_FL_ENC_GUESS);
-    if (!raw) throw ArchiveError(Kind::malformed, "/entry", "archive entry " + std::to_string(i) + " has no readable name");
+    if (!raw)
+      throw ArchiveError(Kind::malformed, "/entry", "archive entry " + std::to_string(i) + " has no readable name");
     const std::string name = raw;
     if (zip_uint64_t(i) >= limits_.max_entries) {
-      fail_at(Kind::too_large, name, "the archive holds " + std::to_string(count) + " entries; at most " +
-                                         std::to_string(limits_.max_entries) + " are read");
+      fail_at(Kind::too_large, name,
+              "the archive holds " + std::to_string(count) + " entries; at most " +
+                  std::to_string(limits_.max_entries) + " are read");
     }
     check_name(name);
     if (!seen.insert(name).second) fail_at(Kind::invalid, name, "the name appears twice in the archive");
@@ -127,8 +131,9 @@ Archive::Archive(std::string_view zip_bytes, const ArchiveLimits& limits) : zip_
     }
     declared_total += stat.size;
     if (declared_total > limits_.max_total_bytes) {
-      fail_at(Kind::too_large, name, "the entries up to this one inflate to " + std::to_string(declared_total) +
-                                         " bytes; at most " + mib(limits_.max_total_bytes) + " in all");
+      fail_at(Kind::too_large, name,
+              "the entries up to this one inflate to " + std::to_string(declared_total) + " bytes; at most " +
+                  mib(limits_.max_total_bytes) + " in all");
     }
     if (name.back() == '/') continue;  // a directory
     names_.push_back(name);
@@ -164,14 +169,18 @@ std::string Archive::read(const std::string& name) {
   zip_stat_init(&stat);
   if (zip_stat_index(zip_->zip, index, 0, &stat) != 0) fail_at(Kind::malformed, name, "its header cannot be read");
   const uint64_t compressed = (stat.valid & ZIP_STAT_COMP_SIZE) ? stat.comp_size : 0;
-  const uint64_t by_ratio = std::max<uint64_t>(limits_.ratio_floor_bytes, uint64_t(limits_.max_ratio * double(compressed)));
+  const uint64_t by_ratio =
+      std::max<uint64_t>(limits_.ratio_floor_bytes, uint64_t(limits_.max_ratio * double(compressed)));
   const uint64_t by_total = limits_.max_total_bytes - std::min(bytes_read_, limits_.max_total_bytes);
   const uint64_t budget = std::min({limits_.max_entry_bytes, by_total, by_ratio});
   auto refuse = [&](uint64_t size) {
-    if (size > limits_.max_entry_bytes) fail_at(Kind::too_large, name, "inflates past " + mib(limits_.max_entry_bytes) + " (the limit per entry)");
-    if (size > by_total) fail_at(Kind::too_large, name, "the entries read inflate past " + mib(limits_.max_total_bytes) + " in all");
-    fail_at(Kind::too_large, name, "inflates past " + std::to_string(int(limits_.max_ratio)) + " times its " +
-                                       std::to_string(compressed) + " compressed bytes (a zip bomb)");
+    if (size > limits_.max_entry_bytes)
+      fail_at(Kind::too_large, name, "inflates past " + mib(limits_.max_entry_bytes) + " (the limit per entry)");
+    if (size > by_total)
+      fail_at(Kind::too_large, name, "the entries read inflate past " + mib(limits_.max_total_bytes) + " in all");
+    fail_at(Kind::too_large, name,
+            "inflates past " + std::to_string(int(limits_.max_ratio)) + " times its " + std::to_string(compressed) +
+                " compressed bytes (a zip bomb)");
   };
   if (stat.size > budget) refuse(stat.size);
   std::unique_ptr<zip_file_t, decltype(&zip_fclose)> file(zip_fopen_index(zip_->zip, index, 0), zip_fclose);
@@ -184,14 +193,16 @@ std::string Archive::read(const std::string& name) {
   char chunk[64 * 1024];
   while (true) {
     const zip_int64_t n = zip_fread(file.get(), chunk, sizeof chunk);
-    if (n < 0) fail_at(Kind::malformed, name, "its compressed data is corrupt or truncated (" + zip_error_text(file.get()) + ")");
+    if (n < 0)
+      fail_at(Kind::malformed, name,
+              "its compressed data is corrupt or truncated (" + zip_error_text(file.get()) + ")");
     if (n == 0) break;
     if (out.size() + uint64_t(n) > budget) refuse(out.size() + uint64_t(n));
     out.append(chunk, size_t(n));
   }
   if (out.size() != stat.size) {
-    fail_at(Kind::malformed, name, "inflates to " + std::to_string(out.size()) + " bytes where its header says " +
-                                       std::to_string(stat.size));
+    fail_at(Kind::malformed, name,
+            "inflates to " + std::to_string(out.size()) + " bytes where its header says " + std::to_string(stat.size));
   }
   bytes_read_ += out.size();
   return out;

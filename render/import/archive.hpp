@@ -17,9 +17,9 @@
 namespace rr {
 
 struct ArchiveLimits {
-  size_t max_entries = 10'000;            // .sh3d homes hold one entry per model and texture
-  uint64_t max_entry_bytes = 64ull << 20;  // inflated, per entry: the import body limit
-  uint64_t max_total_bytes = 256ull << 20; // inflated, declared over all entries and read in all
+  size_t max_entries = 10'000;              // .sh3d homes hold one entry per model and texture
+  uint64_t max_entry_bytes = 64ull << 20;   // inflated, per entry: the import body limit
+  uint64_t max_total_bytes = 256ull << 20;  // inflated, declared over all entries and read in all
   // Inflated / compressed, per entry. Text models deflate 3-10x; only entries inflating past
   // ratio_floor_bytes are held to it, so a small run of zeros is no bomb.
   double max_ratio = 100.0;

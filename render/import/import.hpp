@@ -1,7 +1,8 @@
 // Importers: the text (or bytes) of a file made by another tool -> a complete render request
 // ({"scene", "camera", "options"}) that parse_request accepts as is. Sweet Home 3D homes (Home.xml,
 // or a zip holding one and its furniture models), R2V vector floor plans and Wavefront OBJ models (or
-// a zip of one and its .mtl); docs/import.md gives every mapping. Errors are InputError whose pointer locates the problem in the *source* file
+// a zip of one and its .mtl); docs/import.md gives every mapping. Errors are InputError whose pointer locates the
+// problem in the *source* file
 // ("/line/17", or "/home/wall/3" for the fourth <wall>) and whose message names it and its line.
 // Pure functions: no file access here; companion files (an OBJ's .mtl) come through a callback.
 #pragma once
@@ -25,7 +26,7 @@ enum class ImportFormat { sweethome3d, r2v, obj };  // one row each in import_fo
 
 struct ImportFormatInfo {
   ImportFormat format;
-  const char* name;     // as given to --format and in URLs: "sh3d", "r2v", "obj"
+  const char* name;  // as given to --format and in URLs: "sh3d", "r2v", "obj"
   const char* summary;
   double default_scale;  // metres per file unit
 };

@@ -80,15 +80,19 @@ ImportResult import_archive(std::string_view zip_bytes, ImportFormat format, con
   ImportOptions with_entries = options;
   // Names in the main file are relative to its folder, as for files on disk; an entry not there is
   // looked up by its base name (Sweet Home 3D writes a model's catalogue path, the archive a number).
-  with_entries.read_companion = [&archive, dir = directory_of(main)](const std::string& name) -> std::optional<std::string> {
+  with_entries.read_companion = [&archive,
+                                 dir = directory_of(main)](const std::string& name) -> std::optional<std::string> {
     std::optional<std::string> entry = archive.resolve(dir + name);
     if (!entry) return std::nullopt;
     return archive.read(*entry);
   };
   switch (format) {
-    case ImportFormat::obj: return import_entry(main, [&] { return import_obj(text, with_entries); });
-    case ImportFormat::sweethome3d: return import_entry(main, [&] { return import_sweethome3d(text, with_entries); });
-    case ImportFormat::r2v: break;
+    case ImportFormat::obj:
+      return import_entry(main, [&] { return import_obj(text, with_entries); });
+    case ImportFormat::sweethome3d:
+      return import_entry(main, [&] { return import_sweethome3d(text, with_entries); });
+    case ImportFormat::r2v:
+      break;
   }
   throw InputError(Kind::invalid, "", "R2V plans are plain text, not archives");
 }

@@ -70,9 +70,7 @@ double round_m(double metres) {
 
 nlohmann::json json_vec2(Vec2 v) { return nlohmann::json::array({round_m(v.x), round_m(v.y)}); }
 
-nlohmann::json json_vec3(Vec3 v) {
-  return nlohmann::json::array({round_m(v.x), round_m(v.y), round_m(v.z)});
-}
+nlohmann::json json_vec3(Vec3 v) { return nlohmann::json::array({round_m(v.x), round_m(v.y), round_m(v.z)}); }
 
 nlohmann::json json_color(Color c) {
   auto channel = [](float v) { return std::round(double(std::clamp(v, 0.0f, 1.0f)) * 1000.0) / 1000.0; };
@@ -112,9 +110,9 @@ nlohmann::json default_sun_light() {
 namespace {
 
 constexpr std::array<ImportFormatInfo, 3> format_table = {{
-    {ImportFormat::sweethome3d, "sh3d", "Sweet Home 3D home: Home.xml, a .sh3d, or a zip of a home XML and its furniture/ (cm)", 0.01},
-    {ImportFormat::r2v, "r2v", "Raster-to-Vector floor plan annotation: walls and openings in image pixels",
-     0.025},
+    {ImportFormat::sweethome3d, "sh3d",
+     "Sweet Home 3D home: Home.xml, a .sh3d, or a zip of a home XML and its furniture/ (cm)", 0.01},
+    {ImportFormat::r2v, "r2v", "Raster-to-Vector floor plan annotation: walls and openings in image pixels", 0.025},
     {ImportFormat::obj, "obj", "Wavefront OBJ model, or a zip of one with its .mtl diffuse colours", 1.0},
 }};
 
@@ -168,9 +166,12 @@ std::optional<ImportFormat> detect_import_format(std::string_view bytes, std::st
 ImportResult import_file_text(std::string_view bytes, ImportFormat format, const ImportOptions& options) {
   if (looks_like_zip(bytes) && format != ImportFormat::r2v) return import_archive(bytes, format, options);
   switch (format) {
-    case ImportFormat::sweethome3d: return import_sweethome3d(bytes, options);
-    case ImportFormat::r2v: return import_r2v(bytes, options);
-    case ImportFormat::obj: return import_obj(bytes, options);
+    case ImportFormat::sweethome3d:
+      return import_sweethome3d(bytes, options);
+    case ImportFormat::r2v:
+      return import_r2v(bytes, options);
+    case ImportFormat::obj:
+      return import_obj(bytes, options);
   }
   throw InputError(InputError::Kind::invalid, "/format", "unknown import format");
 }

@@ -3,9 +3,9 @@
 // written around an imported scene. World space: metres, +Y up, plan points (x, z).
 #pragma once
 
-#include "render/scene_io/errors.hpp"
-#include "render/import/import.hpp"
 #include "render/core/math.hpp"
+#include "render/import/import.hpp"
+#include "render/scene_io/errors.hpp"
 
 #include <nlohmann/json.hpp>
 

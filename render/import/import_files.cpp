@@ -19,8 +19,7 @@ std::optional<std::string> read_optional(const std::filesystem::path& path) {
 
 }  // namespace
 
-ImportResult import_path(const std::filesystem::path& file, std::optional<ImportFormat> format,
-                         ImportOptions options) {
+ImportResult import_path(const std::filesystem::path& file, std::optional<ImportFormat> format, ImportOptions options) {
   std::optional<std::string> bytes = read_optional(file);
   if (!bytes) throw std::runtime_error("cannot read " + file.string());
   if (!format) format = detect_import_format(*bytes, file.filename().string());

@@ -12,7 +12,6 @@ namespace rr {
 
 // Throws std::runtime_error when the file cannot be read or its format not recognised, and the
 // importers' InputError when its content is wrong.
-ImportResult import_path(const std::filesystem::path& file, std::optional<ImportFormat> format,
-                         ImportOptions options);
+ImportResult import_path(const std::filesystem::path& file, std::optional<ImportFormat> format, ImportOptions options);
 
 }  // namespace rr

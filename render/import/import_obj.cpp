@@ -4,8 +4,8 @@
 // validator accepts them: repeated corners dropped, faces that are not planar within 1e-7 of their
 // group's size (the validator allows 1e-6) fan-triangulated, faces of zero area dropped; each repair
 // is counted in a warning. Bad numbers and indices are errors naming the line.
-#include "render/import/import.hpp"
 #include "render/import/import_obj.hpp"
+#include "render/import/import.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,13 +29,14 @@ std::string plural(const std::string& noun, size_t count) {
 
 uint32_t resolve_index(std::string_view field, size_t count, const char* what, size_t line) {
   std::optional<long long> raw = parse_long(field);
-  if (!raw) throw_at_line(Kind::malformed, line, std::string(what) + " index '" + quote_input(field) + "' is not an integer");
+  if (!raw)
+    throw_at_line(Kind::malformed, line, std::string(what) + " index '" + quote_input(field) + "' is not an integer");
   const long long signed_count = static_cast<long long>(count);
   long long index = *raw > 0 ? *raw - 1 : signed_count + *raw;
   if (*raw == 0 || index < 0 || index >= signed_count) {
     throw_at_line(Kind::invalid, line,
-                  std::string(what) + " index " + std::to_string(*raw) + " is out of range (" +
-                      std::to_string(count) + " " + plural(what, count) +
+                  std::string(what) + " index " + std::to_string(*raw) + " is out of range (" + std::to_string(count) +
+                      " " + plural(what, count) +
                       " defined before this line; OBJ indices start at 1, negative ones count back)");
   }
   return uint32_t(index);
@@ -47,8 +48,9 @@ Vec3 parse_vector(const std::vector<std::string_view>& fields, size_t line, cons
   for (int k = 0; k < 3; ++k) {
     std::optional<double> value = parse_double(fields[size_t(k) + 1]);
     if (!value) {
-      throw_at_line(Kind::invalid, line, std::string(what) + " coordinate '" + quote_input(fields[size_t(k) + 1]) +
-                                             "' is not a finite number");
+      throw_at_line(
+          Kind::invalid, line,
+          std::string(what) + " coordinate '" + quote_input(fields[size_t(k) + 1]) + "' is not a finite number");
     }
     // The mesh keeps file units; the request refuses coordinates beyond 1e7.
     if (std::abs(*value) > 1e7) throw_at_line(Kind::invalid, line, std::string(what) + " coordinate exceeds 1e7");
@@ -69,7 +71,8 @@ void parse_face(const std::vector<std::string_view>& fields, size_t line, ObjDat
       size_t slash2 = token.find('/', slash1 + 1);
       std::string_view vt = token.substr(slash1 + 1, slash2 == std::string_view::npos ? slash2 : slash2 - slash1 - 1);
       if (!vt.empty()) resolve_index(vt, obj.texcoords, "texture coordinate", line);
-      if (slash2 != std::string_view::npos) c.vn = resolve_index(token.substr(slash2 + 1), obj.normals.size(), "normal", line);
+      if (slash2 != std::string_view::npos)
+        c.vn = resolve_index(token.substr(slash2 + 1), obj.normals.size(), "normal", line);
     }
     obj.corners.push_back(c);
   }
@@ -269,8 +272,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   ImportResult result;
   std::map<std::string, Color> colors;
   for (const std::string& library : obj.libraries) {
-    std::optional<std::string> mtl = options.read_companion ? options.read_companion(library)
-                                                                    : std::nullopt;
+    std::optional<std::string> mtl = options.read_companion ? options.read_companion(library) : std::nullopt;
     if (mtl) {
       parse_mtl(*mtl, colors);
     } else {

@@ -61,8 +61,9 @@ Plan parse_plan(std::string_view text) {
     std::vector<std::string_view> fields = split_fields(*line);
     if (fields.empty()) continue;
     const size_t n = lines.line_number();
-    if (fields.size() < 5) throw_at_line(Kind::malformed, n, "expected 'x1 y1 x2 y2 category', got " +
-                                                                 std::to_string(fields.size()) + " fields");
+    if (fields.size() < 5)
+      throw_at_line(Kind::malformed, n,
+                    "expected 'x1 y1 x2 y2 category', got " + std::to_string(fields.size()) + " fields");
     double c[4];
     for (int k = 0; k < 4; ++k) {
       auto v = parse_double(fields[size_t(k)]);
@@ -215,14 +216,17 @@ ImportResult import_r2v(std::string_view text, const ImportOptions& options) {
   for (const auto& [s, fixture] : plan.icons) {
     const Vec2 lo = glm::min(s.a, s.b) * scale, hi = glm::max(s.a, s.b) * scale;
     if (hi.x - lo.x < 1e-3 || hi.y - lo.y < 1e-3) continue;  // a degenerate icon box
-    solids.push_back({{"type", "box"}, {"id", std::string(fixture->category) + " (line " + std::to_string(s.line) + ")"},
-                      {"center", json_vec2(0.5 * (lo + hi))}, {"size", {round_m(hi.x - lo.x), fixture->height_m, round_m(hi.y - lo.y)}},
+    solids.push_back({{"type", "box"},
+                      {"id", std::string(fixture->category) + " (line " + std::to_string(s.line) + ")"},
+                      {"center", json_vec2(0.5 * (lo + hi))},
+                      {"size", {round_m(hi.x - lo.x), fixture->height_m, round_m(hi.y - lo.y)}},
                       {"color", json_color(fixture->color)}});
   }
   // The floor: square tiles from the walls' minimum corner, enough to cover their extent.
   const int cells_x = std::max(1, int(std::ceil((box.hi.x - box.lo.x) / floor_cell_m)));
   const int cells_z = std::max(1, int(std::ceil((box.hi.z - box.lo.z) / floor_cell_m)));
-  json floor = {{"origin", json_vec2({box.lo.x, box.lo.z})}, {"cells", {cells_x, cells_z}}, {"cell_size", floor_cell_m}};
+  json floor = {
+      {"origin", json_vec2({box.lo.x, box.lo.z})}, {"cells", {cells_x, cells_z}}, {"cell_size", floor_cell_m}};
   const double aspect = double(options.width) / double(options.height);
   result.request = {{"scene",
                      {{"background", "#dfe6ec"},

@@ -66,7 +66,7 @@ struct Sh3dOpening {
   bool door = false;
   bool leaf = true;  // doors: false for open doors and bare frames (their names say so)
   Vec2 centre{0.0};
-  Vec2 axis{1.0, 0.0};  // its width direction in the plan
+  Vec2 axis{1.0, 0.0};                                             // its width direction in the plan
   double width = 0.0, depth = 0.0, height = 0.0, elevation = 0.0;  // elevation above its level
   std::string level;
 };

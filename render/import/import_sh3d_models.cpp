@@ -150,9 +150,13 @@ bool add_piece_model(const Sh3dElement& e, const PiecePlacement& place, const Im
     if (auto it = model->mtl_colors.find(material); it != model->mtl_colors.end()) color = it->second;
     if (auto it = piece_materials.find(material); it != piece_materials.end()) color = it->second;
     if (piece_color) color = *piece_color;
-    solids.push_back({{"type", "mesh"}, {"id", id + " " + material}, {"ref", variant.mesh_keys[g]},
-                      {"position", position}, {"rotation_y", -place.angle * 180.0 / pi},
-                      {"scale", json_vec3(scale)}, {"color", json_color(color)}});
+    solids.push_back({{"type", "mesh"},
+                      {"id", id + " " + material},
+                      {"ref", variant.mesh_keys[g]},
+                      {"position", position},
+                      {"rotation_y", -place.angle * 180.0 / pi},
+                      {"scale", json_vec3(scale)},
+                      {"color", json_color(color)}});
   }
   return true;
 }
@@ -161,7 +165,8 @@ void add_model_warnings(const Sh3dModelCache& cache, std::vector<std::string>& w
   const size_t missing = cache.missing_names.size(), unreadable = cache.unreadable_reasons.size();
   if (missing || unreadable) {
     std::string names;
-    for (size_t i = 0; i < std::min<size_t>(missing, 5); ++i) names += (i ? ", " : "") + quote_input(cache.missing_names[i]);
+    for (size_t i = 0; i < std::min<size_t>(missing, 5); ++i)
+      names += (i ? ", " : "") + quote_input(cache.missing_names[i]);
     if (missing > 5) names += ", ...";
     warnings.push_back(std::to_string(missing) + " furniture models were not found and " + std::to_string(unreadable) +
                        " could not be read: those pieces are boxes" + (missing ? " (not found: " + names + ")" : ""));

@@ -16,7 +16,7 @@ using nlohmann::json;
 namespace {
 
 constexpr double max_arc_step_rad = pi / 18.0;  // 10 degrees: chords within 0.4% of the arc
-constexpr double min_cut_m = 0.01;               // overlaps below 1 cm are touching, not cutting
+constexpr double min_cut_m = 0.01;              // overlaps below 1 cm are touching, not cutting
 // A door or window cuts a wall whose direction is within this angle of its own width axis.
 const double parallel_cos = std::cos(radians(20.0));
 
@@ -53,10 +53,10 @@ std::vector<Vec2> arc_points(Vec2 a, Vec2 b, double extent) {
   const Vec2 normal = Vec2(chord.y, -chord.x) / length;  // the side a positive extent bulges to
   const Vec2 centre = 0.5 * (a + b) - normal * (0.5 * length / std::tan(0.5 * extent));
   // The sweep that carries a onto b: try both senses, keep the one that lands on b.
-  const double sweep = glm::length(centre + rotate(a - centre, extent) - b) <
-                               glm::length(centre + rotate(a - centre, -extent) - b)
-                           ? extent
-                           : -extent;
+  const double sweep =
+      glm::length(centre + rotate(a - centre, extent) - b) < glm::length(centre + rotate(a - centre, -extent) - b)
+          ? extent
+          : -extent;
   // 1e-6 absorbs the rounding of a file's "1.0471976" for 60 degrees.
   const int steps = std::max(2, int(std::ceil(std::abs(extent) / max_arc_step_rad - 1e-6)));
   std::vector<Vec2> points;
@@ -128,8 +128,8 @@ json wedge_mesh(const Piece& p) {
     if (glm::dot(normal, middle - centroid) < 0.0) std::reverse(f.begin(), f.end());
     out_faces.push_back(f);
   }
-  return {{"type", "mesh"}, {"id", p.id + " (sloped top)"}, {"color", json_color(p.color)},
-          {"vertices", vertices}, {"faces", out_faces}, {"closed", true}};
+  return {{"type", "mesh"},       {"id", p.id + " (sloped top)"}, {"color", json_color(p.color)},
+          {"vertices", vertices}, {"faces", out_faces},           {"closed", true}};
 }
 
 std::string describe(const Sh3dOpening& o) {
@@ -230,9 +230,14 @@ void add_sh3d_walls(const std::vector<Sh3dElement>& wall_elements, const std::ve
     std::sort(p.openings.begin(), p.openings.end(),
               [](const json& a, const json& b) { return a["offset"].get<double>() < b["offset"].get<double>(); });
     const double height = std::min(p.height_start, p.height_end);
-    walls.push_back({{"id", p.id}, {"start", json_vec2(p.start)}, {"end", json_vec2(p.end)},
-                     {"thickness", round_m(p.thickness)}, {"height", round_m(height)}, {"base", round_m(p.base)},
-                     {"color", json_color(p.color)}, {"openings", std::move(p.openings)}});
+    walls.push_back({{"id", p.id},
+                     {"start", json_vec2(p.start)},
+                     {"end", json_vec2(p.end)},
+                     {"thickness", round_m(p.thickness)},
+                     {"height", round_m(height)},
+                     {"base", round_m(p.base)},
+                     {"color", json_color(p.color)},
+                     {"openings", std::move(p.openings)}});
     tag_level(walls.back(), *p.scene_level);
     if (std::abs(p.height_start - p.height_end) > 1e-3) {
       solids.push_back(wedge_mesh(p));

@@ -70,7 +70,8 @@ double number_attribute(const Sh3dElement& e, const char* name, double fallback)
   pugi::xml_attribute a = e.node.attribute(name);
   if (!a) return fallback;
   std::optional<double> value = parse_double(a.as_string());
-  if (!value || std::abs(*value) > 1e8) throw_attribute(e, name, "'" + quote_input(a.as_string()) + "' is not a number");
+  if (!value || std::abs(*value) > 1e8)
+    throw_attribute(e, name, "'" + quote_input(a.as_string()) + "' is not a number");
   return *value;
 }
 
@@ -97,8 +98,8 @@ const Sh3dLevel& element_level(const Sh3dElement& e, const Sh3dHome& h) {
   auto it = h.levels.find(a.as_string());
   if (it == h.levels.end()) {
     throw InputError(InputError::Kind::invalid, e.pointer,
-                     "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" + quote_input(a.as_string()) +
-                         "', which the home does not define");
+                     "line " + std::to_string(e.line) + ": <" + e.node.name() + "> names level '" +
+                         quote_input(a.as_string()) + "', which the home does not define");
   }
   return it->second;
 }
@@ -132,7 +133,8 @@ pugi::xml_document load_home(std::string_view xml, Sh3dHome& h) {
   pugi::xml_document doc;
   pugi::xml_parse_result parsed = doc.load_buffer(xml.data(), xml.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!parsed) {
-    auto it = std::upper_bound(h.line_starts.begin(), h.line_starts.end(), size_t(std::max<ptrdiff_t>(parsed.offset, 0)));
+    auto it =
+        std::upper_bound(h.line_starts.begin(), h.line_starts.end(), size_t(std::max<ptrdiff_t>(parsed.offset, 0)));
     const size_t line = size_t(it - h.line_starts.begin());
     throw_at_line(Kind::malformed, line, std::string("not well-formed XML: ") + parsed.description());
   }
@@ -163,8 +165,8 @@ json levels_json(const Sh3dHome& h) {
   for (const std::string& id : h.level_order) {
     const Sh3dLevel& l = h.levels.at(id);
     if (id.empty()) continue;
-    out.push_back({{"id", id}, {"elevation", round_m(l.elevation_m)}, {"height", round_m(l.height_m)},
-                   {"viewable", l.viewable}});
+    out.push_back(
+        {{"id", id}, {"elevation", round_m(l.elevation_m)}, {"height", round_m(l.height_m)}, {"viewable", l.viewable}});
   }
   return out;
 }
@@ -209,18 +211,23 @@ void add_rooms(const Elements& all, const Sh3dHome& h, json& rooms, std::vector<
     }
     while (points.size() > 1 && points.front() == points.back()) points.pop_back();
     const std::string name = e.node.attribute("name").as_string("");
-    if (std::string problem = points.size() < 3 ? "fewer than 3 points" : simple_polygon_problem(points); !problem.empty()) {
-      warnings.push_back("line " + std::to_string(e.line) + ": room '" + name + "' is not a simple polygon (" + problem +
-                         "); it is left out");
+    if (std::string problem = points.size() < 3 ? "fewer than 3 points" : simple_polygon_problem(points);
+        !problem.empty()) {
+      warnings.push_back("line " + std::to_string(e.line) + ": room '" + name + "' is not a simple polygon (" +
+                         problem + "); it is left out");
       continue;
     }
     json plan = json::array();
     for (Vec2 q : points) plan.push_back(json_vec2(q));
     const Color color = color_attribute(e.node, "floorColor").value_or(Color{0.75f, 0.72f, 0.66f});
     const double height = level.id.empty() ? h.wall_height_m : level.height_m;
-    json room = {{"id", "room " + name + " (" + e.pointer + ")"}, {"points", std::move(plan)},
-                 {"elevation", round_m(level.elevation_m)}, {"floor", floor}, {"floor_color", json_color(color)},
-                 {"ceiling", ceiling}, {"ceiling_height", round_m(height)}};
+    json room = {{"id", "room " + name + " (" + e.pointer + ")"},
+                 {"points", std::move(plan)},
+                 {"elevation", round_m(level.elevation_m)},
+                 {"floor", floor},
+                 {"floor_color", json_color(color)},
+                 {"ceiling", ceiling},
+                 {"ceiling_height", round_m(height)}};
     if (auto c = color_attribute(e.node, "ceilingColor")) room["ceiling_color"] = json_color(*c);
     tag_level(room, level);
     rooms.push_back(std::move(room));
@@ -237,8 +244,8 @@ Color piece_color(const pugi::xml_node& node) {
 }
 
 // Furniture and lamps as boxes; each lamp's light sources as point lights.
-void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& options, json& solids,
-                   json& lights, ImportResult& result) {
+void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& options, json& solids, json& lights,
+                   ImportResult& result) {
   std::vector<std::string>& warnings = result.warnings;
   size_t skipped = 0;
   Sh3dModelCache models;
@@ -247,7 +254,8 @@ void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& 
       const Sh3dLevel& level = element_level(e, h);
       if (!e.node.attribute("visible").as_bool(true)) continue;
       const Vec2 centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
-      const Vec3 size = Vec3(required_number(e, "width"), required_number(e, "height"), required_number(e, "depth")) / 100.0;
+      const Vec3 size =
+          Vec3(required_number(e, "width"), required_number(e, "height"), required_number(e, "depth")) / 100.0;
       const double angle = number_attribute(e, "angle", 0.0);
       const double base = level.elevation_m + number_attribute(e, "elevation", 0.0) / 100.0;
       if (!(size.x > 1e-4 && size.y > 1e-4 && size.z > 1e-4)) {
@@ -257,9 +265,12 @@ void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& 
       const PiecePlacement place{centre, base, size, angle};
       const size_t first_solid = solids.size();
       if (!options.furniture_models || !add_piece_model(e, place, options, models, solids)) {
-        solids.push_back({{"type", "box"}, {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
-                          {"center", json_vec2(centre)}, {"base", round_m(base)},
-                          {"size", json_vec3(size)}, {"rotation_y", -angle * 180.0 / pi},
+        solids.push_back({{"type", "box"},
+                          {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
+                          {"center", json_vec2(centre)},
+                          {"base", round_m(base)},
+                          {"size", json_vec3(size)},
+                          {"rotation_y", -angle * 180.0 / pi},
                           {"color", json_color(piece_color(e.node))}});
       }
       for (size_t k = first_solid; k < solids.size(); ++k) tag_level(solids[k], level);
@@ -269,13 +280,17 @@ void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& 
       for (pugi::xml_node source : e.node.children("lightSource")) {
         Sh3dElement s{source, e.pointer, e.line};
         // Source coordinates are fractions of the piece's box: x along width, y along depth, z up.
-        const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x, (number_attribute(s, "y", 0.5) - 0.5) * size.z};
+        const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x,
+                         (number_attribute(s, "y", 0.5) - 0.5) * size.z};
         const Vec2 plan = centre + Vec2(std::cos(angle) * local.x - std::sin(angle) * local.y,
                                         std::sin(angle) * local.x + std::cos(angle) * local.y);
         const double y = base + number_attribute(s, "z", 0.5) * size.y;
-        lights.push_back({{"type", "point"}, {"id", e.pointer}, {"position", json_vec3({plan.x, y, plan.y})},
+        lights.push_back({{"type", "point"},
+                          {"id", e.pointer},
+                          {"position", json_vec3({plan.x, y, plan.y})},
                           {"color", json_color(color_attribute(source, "color").value_or(Color{1.0f}))},
-                          {"intensity", 0.6 * power}, {"attenuation", {1.0, 0.0, 0.4}}});
+                          {"intensity", 0.6 * power},
+                          {"attenuation", {1.0, 0.0, 0.4}}});
       }
     }
   }
@@ -295,9 +310,13 @@ std::optional<json> observer_camera(const Elements& all, double aspect, const Bo
       const Vec3 look{-std::sin(yaw) * std::cos(pitch), -std::sin(pitch), std::cos(yaw) * std::cos(pitch)};
       const double fov_x = std::clamp(number_attribute(e, "fieldOfView", pi / 3.0), 0.05, 3.0);
       const double fov_y_deg = std::clamp(2.0 * std::atan(std::tan(0.5 * fov_x) / aspect) * 180.0 / pi, 2.0, 160.0);
-      const double reach = box.empty() ? 50.0 : glm::length(box.hi - box.lo) + glm::length(eye - 0.5 * (box.lo + box.hi));
-      return json{{"position", json_vec3(eye)}, {"target", json_vec3(eye + look)}, {"fov_y", fov_y_deg},
-                  {"near", 0.05}, {"far", std::max(round_m(2.0 * reach), 10.0)}};
+      const double reach =
+          box.empty() ? 50.0 : glm::length(box.hi - box.lo) + glm::length(eye - 0.5 * (box.lo + box.hi));
+      return json{{"position", json_vec3(eye)},
+                  {"target", json_vec3(eye + look)},
+                  {"fov_y", fov_y_deg},
+                  {"near", 0.05},
+                  {"far", std::max(round_m(2.0 * reach), 10.0)}};
     }
   }
   return std::nullopt;
@@ -318,7 +337,8 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   const Elements all = collect_elements(root, h);
   ImportResult result;
   read_levels(all, h);
-  json walls = json::array(), solids = json::array(), rooms = json::array(), lights = json::array({default_sun_light()});
+  json walls = json::array(), solids = json::array(), rooms = json::array(),
+       lights = json::array({default_sun_light()});
   Box3 box;
   add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
   add_rooms(all, h, rooms, result.warnings);

@@ -23,12 +23,12 @@ constexpr size_t chunk_polygons = 512;
 struct Chunk {
   std::vector<uint32_t> polygons;  // soup indices that projected
   std::vector<BinnedTriangle> triangles;
-  std::vector<PixelRect> tiles;    // per triangle: its tile range, half-open
-  size_t triangles_drawn = 0;      // fan triangles after clipping, empty ones included (stats)
+  std::vector<PixelRect> tiles;  // per triangle: its tile range, half-open
+  size_t triangles_drawn = 0;    // fan triangles after clipping, empty ones included (stats)
 };
 
-void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, size_t begin, size_t end,
-               int tiles_x, int tiles_y, Chunk& out) {
+void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, size_t begin, size_t end, int tiles_x,
+               int tiles_y, Chunk& out) {
   out.polygons.clear();
   out.triangles.clear();
   out.tiles.clear();
@@ -53,8 +53,11 @@ void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, siz
     }
     for (uint32_t k = 0; k + 2 < corners; ++k) {
       const size_t v[3] = {0, k + 1, k + 2};
-      BinnedTriangle t{{xs[v[0]], xs[v[1]], xs[v[2]]}, {ys[v[0]], ys[v[1]], ys[v[2]]},
-                       {scratch.screen[v[0]].inv_w, scratch.screen[v[1]].inv_w, scratch.screen[v[2]].inv_w}, slot, k};
+      BinnedTriangle t{{xs[v[0]], xs[v[1]], xs[v[2]]},
+                       {ys[v[0]], ys[v[1]], ys[v[2]]},
+                       {scratch.screen[v[0]].inv_w, scratch.screen[v[1]].inv_w, scratch.screen[v[2]].inv_w},
+                       slot,
+                       k};
       TriangleSetup s;
       if (!setup_binned(t, s)) continue;
       // Sub-samples lie within half a pixel of the centres: with them, one pixel more each way.

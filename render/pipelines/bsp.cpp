@@ -50,10 +50,13 @@ std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform
     culled += subtree_polygons(tree, index);  // what the skip saves
     return false;
   };
-  walk_bsp(tree, view.eye, WalkOrder::back_to_front, enter, [&](uint32_t index) {
-    order.push_back(index);
-    return true;
-  }, culled);
+  walk_bsp(
+      tree, view.eye, WalkOrder::back_to_front, enter,
+      [&](uint32_t index) {
+        order.push_back(index);
+        return true;
+      },
+      culled);
   return order;
 }
 
@@ -61,8 +64,8 @@ void draw_bsp(const FrameInput& input, Frame& frame, RenderStats& stats, StageTi
   Stopwatch clock;
   std::shared_ptr<const BspTree> tree;
   auto build = [&] {
-    auto built = std::make_shared<const BspTree>(build_bsp(input.soup, input.options.bsp, input.context.cancel,
-                                                                  input.context.threads));
+    auto built = std::make_shared<const BspTree>(
+        build_bsp(input.soup, input.options.bsp, input.context.cancel, input.context.threads));
     return BspCache::Built{built, built->bytes()};
   };
   if (input.context.bsp_cache) {

@@ -14,10 +14,10 @@
 // use explicit stacks: chains of polygon splitters can still be deep.
 #pragma once
 
-#include "render/core/lru_cache.hpp"
-#include "render/core/frame.hpp"
 #include "render/core/draw.hpp"  // is_back_facing
+#include "render/core/frame.hpp"
 #include "render/core/frustum.hpp"
+#include "render/core/lru_cache.hpp"
 #include "render/core/polygon_ops.hpp"
 
 #include <string>
@@ -38,7 +38,7 @@ struct BspNode {
 };
 
 struct BspTree {
-  PolygonSoup fragments;  // the input polygons, split where splitters crossed them; ids kept
+  PolygonSoup fragments;       // the input polygons, split where splitters crossed them; ids kept
   std::vector<BspNode> nodes;  // nodes[0] is the root; empty for an empty scene
   std::vector<uint32_t> node_polygons;
   double epsilon = 0.0;  // the classification band in metres

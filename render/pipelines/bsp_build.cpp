@@ -3,8 +3,8 @@
 // above a size fixed by the input are split on one thread; the subtrees below it are built on
 // rr::parallel_for, each into its own arrays, and spliced in a fixed order, so the tree does not
 // depend on the thread count.
-#include "render/pipelines/bsp.hpp"
 #include "render/pipelines/bsp_build.hpp"
+#include "render/pipelines/bsp.hpp"
 
 #include "render/core/parallel.hpp"
 #include "render/core/timer.hpp"
@@ -60,7 +60,10 @@ struct Part {
 class Builder {
  public:
   Builder(Part& part, const BspOptions& options, double epsilon, const CancelToken* cancel, size_t defer_above)
-      : part_(part), options_(options), epsilon_(epsilon), meter_(cancel, kClassificationsPerCheck),
+      : part_(part),
+        options_(options),
+        epsilon_(epsilon),
+        meter_(cancel, kClassificationsPerCheck),
         defer_above_(defer_above) {}
 
   // Builds the subtree of `polygons` (indices into the part's soup) into node `root`, leaving every
@@ -120,9 +123,15 @@ void Builder::split(const Pending& work) {
       side = classify_polygon(frags.points(frags.polygons[index]), choice.plane, epsilon_);
     }
     switch (side) {
-      case PlaneSide::on: part_.node_polygons.push_back(index); break;
-      case PlaneSide::front: front_.push_back(index); break;
-      case PlaneSide::back: back_.push_back(index); break;
+      case PlaneSide::on:
+        part_.node_polygons.push_back(index);
+        break;
+      case PlaneSide::front:
+        front_.push_back(index);
+        break;
+      case PlaneSide::back:
+        back_.push_back(index);
+        break;
       case PlaneSide::spanning: {
         meter_.add(4);  // a split writes two new polygons
         SplitResult parts = split_polygon(frags, frags.polygons[index], choice.plane, epsilon_, frags);
@@ -216,7 +225,8 @@ std::vector<Part> build_deferred(const Part& top, const std::vector<Deferred>& d
     part.frags = make_fragment_soup(top.frags);
     std::vector<uint32_t> local;
     local.reserve(deferred[d].polygons.size());
-    for (uint32_t index : deferred[d].polygons) local.push_back(append_polygon(part.frags, top.frags, top.frags.polygons[index]));
+    for (uint32_t index : deferred[d].polygons)
+      local.push_back(append_polygon(part.frags, top.frags, top.frags.polygons[index]));
     part.nodes.emplace_back();
     Builder builder(part, options, epsilon, cancel, 0);
     builder.run(0, local, deferred[d].depth);
@@ -378,7 +388,8 @@ BspTree build_bsp(const PolygonSoup& soup, const BspOptions& options, const Canc
     return tree;
   }
   top.nodes.emplace_back();
-  Builder builder(top, options, tree.epsilon, cancel, std::max(all.size() / kSubtreesPerThreadedBuild, kMinParallelSubtree));
+  Builder builder(top, options, tree.epsilon, cancel,
+                  std::max(all.size() / kSubtreesPerThreadedBuild, kMinParallelSubtree));
   builder.run(0, all, 1);
   const std::vector<Part> parts = build_deferred(top, builder.deferred(), options, tree.epsilon, cancel, threads);
   splice(tree, top, builder.deferred(), parts, soup, threads);

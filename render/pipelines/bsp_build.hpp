@@ -64,8 +64,8 @@ class SplitterChooser {
   void gather(const PolygonSoup& soup, std::span<const uint32_t> polygons);
   // Classifies the sample against `plane` into `counts` and `sides`; false (counts partial) as soon
   // as its score cannot fall below `bound`.
-  bool classify_sample(const Plane& plane, double epsilon, const BspOptions& options, double bound,
-                       SplitCounts& counts, std::vector<uint8_t>& sides);
+  bool classify_sample(const Plane& plane, double epsilon, const BspOptions& options, double bound, SplitCounts& counts,
+                       std::vector<uint8_t>& sides);
   bool try_free_plane(const PolygonSoup& soup, std::span<const uint32_t> polygons, const BspOptions& options,
                       double epsilon, double best_score, SplitChoice& out);
 

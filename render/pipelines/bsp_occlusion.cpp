@@ -36,7 +36,10 @@ class Coverage {
   // With samples > 1 a pixel is written when its sub-samples and its centre are all claimed, in a
   // mask per pixel (kept by the thread for its next frame); the id buffer is left to the drawing.
   Coverage(IdBuffer& ids, int samples)
-      : width_(ids.width), height_(ids.height), tiles_x_((ids.width + tile - 1) / tile), writer_(ids.ids),
+      : width_(ids.width),
+        height_(ids.height),
+        tiles_x_((ids.width + tile - 1) / tile),
+        writer_(ids.ids),
         written_(size_t(tiles_x_) * size_t((ids.height + tile - 1) / tile), 0) {
     if (samples <= 1) return;
     thread_local std::vector<uint32_t> kept_masks;
@@ -104,6 +107,7 @@ class Coverage {
     }
     return true;
   }
+
  private:
   bool written(size_t i) const { return masks_ ? (*masks_)[i] == full_mask_ : writer_[i] != background_id; }
 
@@ -157,8 +161,16 @@ struct Translucent {
 class FrontToBack {
  public:
   FrontToBack(const BspTree& tree, const FrameInput& input, Frame& frame, RenderStats& stats, ProjectedSet& drawn)
-      : tree_(tree), soup_(tree.fragments), input_(input), view_(input.view), frame_(frame), stats_(stats),
-        frustum_(input.view), coverage_(frame.ids, input.options.antialias), shader_(input, soup_), drawn_(drawn) {
+      : tree_(tree),
+        soup_(tree.fragments),
+        input_(input),
+        view_(input.view),
+        frame_(frame),
+        stats_(stats),
+        frustum_(input.view),
+        coverage_(frame.ids, input.options.antialias),
+        shader_(input, soup_),
+        drawn_(drawn) {
     drawn_.clear();
   }
 
@@ -196,8 +208,8 @@ class FrontToBack {
     bin_projected(drawn_, frame_.image.width, frame_.image.height, grid);
     check_cancel(input_.context.cancel);
     const DrawSource source{&soup_, &shader_};
-    stats_.fragments += draw_first_wins(input_, {&source, 1}, drawn_, id_of_, grid,
-                                        std::max(1u, input_.context.threads), frame_);
+    stats_.fragments +=
+        draw_first_wins(input_, {&source, 1}, drawn_, id_of_, grid, std::max(1u, input_.context.threads), frame_);
     raster_ms_ += clock_.lap_ms();
   }
 

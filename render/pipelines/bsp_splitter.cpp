@@ -2,8 +2,8 @@
 // node's polygons copied once per node into coordinate arrays, so each candidate's classification is
 // one streaming pass over cache-resident doubles; it computes every distance exactly as
 // Plane::distance does, so the counts, and the chosen polygon, are those of classify_polygon.
-#include "render/pipelines/bsp_build.hpp"
 #include "render/pipelines/bsp.hpp"
+#include "render/pipelines/bsp_build.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -77,9 +77,10 @@ bool SplitterChooser::classify_sample(const Plane& plane, double epsilon, const 
       const __m128d vx = _mm_set1_pd(nx), vy = _mm_set1_pd(ny), vz = _mm_set1_pd(nz), voffset = _mm_set1_pd(offset);
       const __m128d above = _mm_set1_pd(epsilon), below = _mm_set1_pd(-epsilon);
       for (; i + 2 <= count; i += 2) {
-        const __m128d d = _mm_sub_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(vx, _mm_loadu_pd(x + i)), _mm_mul_pd(vy, _mm_loadu_pd(y + i))),
-                                                _mm_mul_pd(vz, _mm_loadu_pd(z + i))),
-                                     voffset);
+        const __m128d d =
+            _mm_sub_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(vx, _mm_loadu_pd(x + i)), _mm_mul_pd(vy, _mm_loadu_pd(y + i))),
+                                  _mm_mul_pd(vz, _mm_loadu_pd(z + i))),
+                       voffset);
         const int front = _mm_movemask_pd(_mm_cmpgt_pd(d, above)), back = _mm_movemask_pd(_mm_cmplt_pd(d, below));
         lane[i] |= uint8_t((front & 1) | ((back & 1) << 1));
         lane[i + 1] |= uint8_t((front >> 1) | (back & 2));
@@ -111,7 +112,8 @@ uint32_t SplitterChooser::best_polygon(const PolygonSoup& soup, std::span<const 
     meter.add(std::min(polygons.size(), kScoreSample));
     SplitCounts candidate;
     // A candidate whose score cannot fall below the best's is left as soon as that is certain.
-    if (!classify_sample(plane_of(soup.polygons[polygons[c]]), epsilon, options, best_score, candidate, current_)) return;
+    if (!classify_sample(plane_of(soup.polygons[polygons[c]]), epsilon, options, best_score, candidate, current_))
+      return;
     const double score = candidate.score(options);
     if (score < best_score) {  // ties: the first candidate
       best_score = score, best = polygons[c], counts = candidate;
@@ -145,8 +147,7 @@ const SplitChoice& SplitterChooser::choose(const PolygonSoup& soup, std::span<co
 // of a plane group (coplanar overlaps, whose ties the splitter's own node decides by id) reaches
 // into the band, where overlapping parts could land in different subtrees.
 bool SplitterChooser::try_free_plane(const PolygonSoup& soup, std::span<const uint32_t> polygons,
-                                     const BspOptions& options, double epsilon, double best_score,
-                                     SplitChoice& out) {
+                                     const BspOptions& options, double epsilon, double best_score, SplitChoice& out) {
   if (polygons.size() < kFreeSplitMin) return false;
   Vec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
   for (uint32_t index : polygons) {
@@ -164,7 +165,8 @@ bool SplitterChooser::try_free_plane(const PolygonSoup& soup, std::span<const ui
   plane.normal[axis] = 1.0;
   plane.offset = keys_[keys_.size() / 2];
   SplitCounts counts;
-  if (!classify_sample(plane, epsilon, options, best_score, counts, current_) || !(counts.score(options) < best_score)) {
+  if (!classify_sample(plane, epsilon, options, best_score, counts, current_) ||
+      !(counts.score(options) < best_score)) {
     return false;
   }
 

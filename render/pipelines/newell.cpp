@@ -45,8 +45,8 @@ double newell_epsilon(const PolygonSoup& soup) {
   Vec3 lo = soup.positions[0], hi = lo;
   for (const Vec3& p : soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
   double diagonal = glm::length(hi - lo);
-  double magnitude = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z),
-                               std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+  double magnitude =
+      std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
   // A plane distance dot(n, p) - offset carries a few ulps of |p|: stay well above that.
   return std::max(newell_epsilon_fraction * diagonal, 64.0 * DBL_EPSILON * magnitude);
 }
@@ -58,17 +58,17 @@ constexpr double overlap_tolerance_px = 1e-7;  // projections closer than this c
 
 struct Cursor {
   bool started = false;
-  uint32_t base = 0;   // items below this index are found through the grid
-  uint32_t cell = 0;   // position in the polygon's own cell range (row-major)
-  uint32_t entry = 0;  // position in that cell's list
+  uint32_t base = 0;             // items below this index are found through the grid
+  uint32_t cell = 0;             // position in the polygon's own cell range (row-major)
+  uint32_t entry = 0;            // position in that cell's list
   uint32_t cell_generation = 0;  // of that cell's list when `entry` was taken
-  uint32_t seen = 0;   // items in [base, seen) were checked directly
+  uint32_t seen = 0;             // items in [base, seen) were checked directly
 };
 
 struct GridEntry {
   uint32_t item;
   uint32_t plane_group;  // the item's Polygon::plane_group (in what would be padding)
-  double dmax;  // the item's farthest view depth, for the depth-extent test
+  double dmax;           // the item's farthest view depth, for the depth-extent test
 };
 
 struct CellRange {
@@ -451,8 +451,7 @@ class Newell {
 
 }  // namespace
 
-void newell_order(const FrameInput& input, ItemBuilder& builder, std::vector<SortItem>& items,
-                  PainterOrder& order) {
+void newell_order(const FrameInput& input, ItemBuilder& builder, std::vector<SortItem>& items, PainterOrder& order) {
   order.items.reserve(items.size());
   Newell newell(input, builder, items, order);
   newell.run();

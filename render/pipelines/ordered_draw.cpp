@@ -26,8 +26,8 @@ void ProjectedSet::release_if_large() {
   *this = ProjectedSet{};
 }
 
-void ProjectedSet::add(const DrawScratch& scratch, const DrawSource& source, OrderedItem item, uint32_t seq,
-                       int width, int height) {
+void ProjectedSet::add(const DrawScratch& scratch, const DrawSource& source, OrderedItem item, uint32_t seq, int width,
+                       int height) {
   const Polygon& poly = source.soup->polygons[item.index];
   ProjectedPolygon p;
   p.item = item;
@@ -382,7 +382,8 @@ size_t draw_first_wins(const FrameInput& input, std::span<const DrawSource> sour
   parallel_for(threads, grid.bins.size(), [&](size_t tile, unsigned worker) {
     const PixelRect r = grid.rect(tile);
     const std::vector<uint32_t>& bin = grid.bins[tile];
-    const bool translucent = std::any_of(bin.begin(), bin.end(), [&](uint32_t pos) { return set.polygons[pos].translucent; });
+    const bool translucent =
+        std::any_of(bin.begin(), bin.end(), [&](uint32_t pos) { return set.polygons[pos].translucent; });
     if (!constant || translucent) {
       claimants_tile(c, r, bin, constant ? &colors : nullptr, workers[worker]);
       translucent_tile(c, r, bin, workers[worker]);

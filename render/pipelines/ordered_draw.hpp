@@ -32,12 +32,12 @@ struct ProjectedPolygon {
   OrderedItem item;
   uint32_t id = 0;
   bool translucent = false;
-  float alpha = 1.0f;    // material opacity when translucent, else 1
-  uint32_t seq = 0;      // the caller's position for it (first-wins drawing compares it with writers)
-  uint32_t triangle = 0; // its first fan triangle's number: numbers grow along the drawing order
-  uint32_t first = 0;    // its clipped vertices: ProjectedSet::clipped and ::screen [first, first + count)
+  float alpha = 1.0f;     // material opacity when translucent, else 1
+  uint32_t seq = 0;       // the caller's position for it (first-wins drawing compares it with writers)
+  uint32_t triangle = 0;  // its first fan triangle's number: numbers grow along the drawing order
+  uint32_t first = 0;     // its clipped vertices: ProjectedSet::clipped and ::screen [first, first + count)
   uint32_t count = 0;
-  PixelRect bounds;      // holds every pixel centre it can cover, within the frame
+  PixelRect bounds;  // holds every pixel centre it can cover, within the frame
 };
 
 // Polygons in drawing order, clipped and projected (what draw.hpp's project_polygon leaves).
@@ -53,7 +53,9 @@ struct ProjectedSet {
   void release_if_large();
   // Appends the polygon last projected into `scratch`.
   void add(const DrawScratch& scratch, const DrawSource& source, OrderedItem item, uint32_t seq, int width, int height);
-  std::span<const RasterVertex> screen_of(const ProjectedPolygon& p) const { return {screen.data() + p.first, p.count}; }
+  std::span<const RasterVertex> screen_of(const ProjectedPolygon& p) const {
+    return {screen.data() + p.first, p.count};
+  }
 };
 
 // Projects `items` in order (in chunks on `threads` threads) into `out`, numbering them by their

@@ -66,8 +66,7 @@ class OrderedShading final : public TileShading {
 };
 
 // Covers the tile with the bin's opaque polygons (translucent = false) or its translucent ones.
-void cover(const ProjectedSet& set, const std::vector<uint32_t>& bin, bool first_wins, bool translucent,
-           AaWorker& w) {
+void cover(const ProjectedSet& set, const std::vector<uint32_t>& bin, bool first_wins, bool translucent, AaWorker& w) {
   for (uint32_t pos : bin) {
     const ProjectedPolygon& p = set.polygons[pos];
     if (p.translucent != translucent) continue;
@@ -78,7 +77,8 @@ void cover(const ProjectedSet& set, const std::vector<uint32_t>& bin, bool first
       if (!setup_screen_triangle(v[0], v[k + 1], v[k + 2], s)) continue;
       const double inv_w[3] = {v[0].inv_w, v[k + 1].inv_w, v[k + 2].inv_w};
       if (!w.buffer().add(s, inv_w, pos, k)) continue;
-      const size_t covered = translucent ? w.buffer().cover_translucent(false, key, pos) : w.buffer().cover_opaque(false, key);
+      const size_t covered =
+          translucent ? w.buffer().cover_translucent(false, key, pos) : w.buffer().cover_opaque(false, key);
       // First wins: the walk counted the opaque polygons' pixels already.
       if (translucent || !first_wins) w.fragments += covered;
     }
@@ -95,7 +95,8 @@ size_t draw_ordered_aa(const FrameInput& input, std::span<const DrawSource> sour
   std::vector<AaWorker> workers(threads);
   for (unsigned t = 0; t < threads; ++t) {
     workers[t].buffer_ptr = &buffers[t];
-    for (const DrawSource& s : sources) workers[t].shaders.push_back(std::make_unique<SurfaceShader>(*s.shader, &workers[t].lights));
+    for (const DrawSource& s : sources)
+      workers[t].shaders.push_back(std::make_unique<SurfaceShader>(*s.shader, &workers[t].lights));
   }
   parallel_for(threads, grid.bins.size(), [&](size_t tile, unsigned worker) {
     AaWorker& w = workers[worker];
@@ -105,7 +106,7 @@ size_t draw_ordered_aa(const FrameInput& input, std::span<const DrawSource> sour
     cover(set, bin, first_wins, true, w);
     OrderedShading shading(sources, set, w);
     w.buffer().resolve(shading, input.scene.background, frame.image.rgb.data(), frame.ids.ids.data(),
-                     size_t(frame.image.width));
+                       size_t(frame.image.width));
   });
   size_t fragments = 0;
   for (AaWorker& w : workers) {

@@ -2,11 +2,11 @@
 // with no depth buffer. The Newell refinement lives in newell.cpp.
 #include "render/pipelines/painter.hpp"
 
-#include "render/pipelines/ordered_draw.hpp"
-#include "render/pipelines/painter_detail.hpp"
 #include "render/core/polygon_ops.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/ordered_draw.hpp"
+#include "render/pipelines/painter_detail.hpp"
 
 #include <algorithm>
 #include <limits>

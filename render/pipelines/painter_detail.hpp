@@ -13,15 +13,15 @@ namespace rr::painter_detail {
 
 // A polygon that survived culling, with what sorting and the Newell tests need.
 struct SortItem {
-  uint32_t index = 0;     // in input.soup, or in PainterOrder::fragments when `fragment`
+  uint32_t index = 0;  // in input.soup, or in PainterOrder::fragments when `fragment`
   bool fragment = false;
-  uint32_t id = 0;        // the polygon id (fragments keep their source's)
-  double key = 0.0;       // the sort key's view depth (larger is farther)
-  double dmin = 0.0;      // nearest and farthest view depth of the polygon's vertices
+  uint32_t id = 0;    // the polygon id (fragments keep their source's)
+  double key = 0.0;   // the sort key's view depth (larger is farther)
+  double dmin = 0.0;  // nearest and farthest view depth of the polygon's vertices
   double dmax = 0.0;
   double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;  // screen box of the visible part (in the viewport)
-  uint32_t screen_first = 0;  // the visible part on screen (clipped to the view volume and the
-  uint32_t screen_count = 0;  // viewport): ItemBuilder::screen[first, first + count); newell only
+  uint32_t screen_first = 0;                      // the visible part on screen (clipped to the view volume and the
+  uint32_t screen_count = 0;                      // viewport): ItemBuilder::screen[first, first + count); newell only
 };
 
 // Projects polygons and fills their SortItems: view depths of the vertices (the keys), and the
@@ -54,7 +54,6 @@ double newell_epsilon(const PolygonSoup& soup);
 // Refines `items` (in the initial back-to-front order) into an exact order, appending it to
 // order.items and splitting polygons into order.fragments where needed. Counts order.pairs_tested
 // and order.splits.
-void newell_order(const FrameInput& input, ItemBuilder& builder, std::vector<SortItem>& items,
-                  PainterOrder& order);
+void newell_order(const FrameInput& input, ItemBuilder& builder, std::vector<SortItem>& items, PainterOrder& order);
 
 }  // namespace rr::painter_detail

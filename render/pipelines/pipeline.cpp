@@ -4,8 +4,8 @@
 
 #include "render/core/frustum.hpp"
 #include "render/core/shadow.hpp"
-#include "render/pipelines/shadow_cache.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/shadow_cache.hpp"
 
 namespace rr {
 

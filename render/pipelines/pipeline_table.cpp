@@ -17,8 +17,7 @@ namespace rr {
 
 namespace {
 constexpr auto pipelines = std::to_array<PipelineInfo>({
-    {"zbuffer",
-     "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
+    {"zbuffer", "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
      draw_zbuffer, true},
     {"painter",
      "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "

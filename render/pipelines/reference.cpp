@@ -10,8 +10,8 @@
 #include "render/core/draw.hpp"
 #include "render/core/parallel.hpp"
 #include "render/core/sample_pattern.hpp"
-#include "render/pipelines/reference_detail.hpp"
 #include "render/core/timer.hpp"
+#include "render/pipelines/reference_detail.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -42,8 +42,8 @@ bool covers_screen_point(std::span<const Vec2> xy, double px, double py) {
   return true;
 }
 
-std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& polygon, Vec3 origin,
-                                        Vec3 direction, double t_min, double t_max) {
+std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& polygon, Vec3 origin, Vec3 direction,
+                                        double t_min, double t_max) {
   const double denom = glm::dot(polygon.normal, direction);
   if (denom == 0.0) return std::nullopt;
   const double t = (polygon.offset - glm::dot(polygon.normal, origin)) / denom;
@@ -134,7 +134,8 @@ PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<H
   double t_max = std::numeric_limits<double>::infinity();
   traverse_bvh(rs.view_bvh, ray, 0.0, t_max, [&](uint32_t i, double& t_limit) {
     const Polygon& poly = soup.polygons[i];
-    const std::span<const Vec2> xy(rs.screen_xy.data() + rs.screen_begin[i], rs.screen_begin[i + 1] - rs.screen_begin[i]);
+    const std::span<const Vec2> xy(rs.screen_xy.data() + rs.screen_begin[i],
+                                   rs.screen_begin[i + 1] - rs.screen_begin[i]);
     if (!covers_screen_point(xy, sx, sy)) return false;
     const double denom = glm::dot(poly.normal, ray.direction);
     if (denom == 0.0) return false;  // the eye is in its plane: the projection has no area anyway
@@ -142,7 +143,8 @@ PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<H
     const Hit hit{i, t, t * depth_per_t};
     if (poly.flags & polygon_translucent) {
       translucent.push_back(hit);
-    } else if (out.opaque.polygon == background_id || nearer_opaque(soup, hit.depth, i, out.opaque.depth, out.opaque.polygon)) {
+    } else if (out.opaque.polygon == background_id ||
+               nearer_opaque(soup, hit.depth, i, out.opaque.depth, out.opaque.polygon)) {
       out.opaque = hit;
       // Still visit ties: by depth, and the rest of the hit's plane group, up to the group's
       // tolerance either side of its plane along this ray.
@@ -156,9 +158,8 @@ PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<H
   std::erase_if(translucent, [&](const Hit& h) {
     return out.opaque.polygon != background_id && !nearer(h.depth, 1, out.opaque.depth, 0);
   });
-  std::sort(translucent.begin(), translucent.end(), [](const Hit& a, const Hit& b) {
-    return a.depth != b.depth ? a.depth > b.depth : a.polygon > b.polygon;
-  });
+  std::sort(translucent.begin(), translucent.end(),
+            [](const Hit& a, const Hit& b) { return a.depth != b.depth ? a.depth > b.depth : a.polygon > b.polygon; });
   out.ray_origin = ray.origin;
   out.ray_direction = ray.direction;
   return out;
@@ -188,7 +189,8 @@ bool paint_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>&
     *out.id = soup.polygons[hit.polygon].id;
     if (out.mask) *out.mask = lit;
     for (int ch = 0; ch < 3; ++ch) {
-      out.rgb[ch] = alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(out.rgb[ch]) / 255.0f);
+      out.rgb[ch] =
+          alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(out.rgb[ch]) / 255.0f);
     }
   };
   if (px.opaque.polygon != background_id) paint(px.opaque, 1.0f);

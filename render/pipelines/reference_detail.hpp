@@ -16,8 +16,8 @@ struct ReferenceScene {
   Bvh view_bvh;                        // polygons that are not back-facing and survive clipping
   Bvh shadow_bvh;                      // every opaque polygon (shadows on only)
   bool shadows = false;
-  double scene_size = 1.0;       // bounding-box diagonal of all vertices
-  double scene_magnitude = 0.0;  // largest distance of the box corners from the origin
+  double scene_size = 1.0;          // bounding-box diagonal of all vertices
+  double scene_magnitude = 0.0;     // largest distance of the box corners from the origin
   double coplanar_tolerance = 0.0;  // coplanar.hpp: how far a plane group's polygons may lie apart
   Mat4 world_from_clip{1.0};
 };

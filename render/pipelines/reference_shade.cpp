@@ -45,8 +45,8 @@ bool occluded(const ReferenceScene& rs, uint32_t self, Vec3 p, const Light& ligh
   traverse_bvh(rs.shadow_bvh, ray, t_min, t_max, [&](uint32_t j, double&) {
     if (j == self) return false;
     const Polygon& q = soup.polygons[j];
-    const double facing = directional ? glm::dot(q.normal, light.direction)
-                                      : q.offset - glm::dot(q.normal, light.position);
+    const double facing =
+        directional ? glm::dot(q.normal, light.direction) : q.offset - glm::dot(q.normal, light.position);
     if (facing == 0.0 || ((q.flags & polygon_closed) && facing < 0.0)) return false;
     blocked = intersect_polygon(soup, q, p, direction, t_min, t_max).has_value();
     return blocked;

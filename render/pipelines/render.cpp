@@ -3,9 +3,9 @@
 #include "render/pipelines/render.hpp"
 
 #include "render/core/png.hpp"
+#include "render/core/scene_id.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/core/scene_id.hpp"
 #include "render/pipelines/view_selection.hpp"
 
 #include <algorithm>

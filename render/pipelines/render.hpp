@@ -16,10 +16,10 @@ namespace rr {
 // What a scene becomes once, before any view of it is drawn; the scene store keeps these.
 struct PreparedScene {
   Scene scene;
-  PolygonSoup soup;                        // world space, metres
-  std::string static_id;                   // scene_id(scene.geometry): X-Scene-Id and cache key
+  PolygonSoup soup;       // world space, metres
+  std::string static_id;  // scene_id(scene.geometry): X-Scene-Id and cache key
   std::vector<PlacementWarning> warnings;
-  double tessellate_ms = 0.0;              // the time tessellation took
+  double tessellate_ms = 0.0;  // the time tessellation took
 };
 
 // Tessellates `scene` and computes its id and placement warnings.

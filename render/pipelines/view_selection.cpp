@@ -24,9 +24,12 @@ std::vector<uint8_t> drawn_levels(const std::vector<Level>& levels, const Render
 // auto: a ceiling is drawn for a camera below it; one above it looks into the room (an aerial view).
 bool keeps_ceiling(const Room& room, const Camera& camera, CeilingMode mode) {
   switch (mode) {
-    case CeilingMode::on: return true;
-    case CeilingMode::off: return false;
-    case CeilingMode::automatic: break;
+    case CeilingMode::on:
+      return true;
+    case CeilingMode::off:
+      return false;
+    case CeilingMode::automatic:
+      break;
   }
   return camera.position.y < room.elevation + room.ceiling_height;
 }

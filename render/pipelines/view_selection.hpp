@@ -14,9 +14,9 @@
 namespace rr {
 
 struct SoupSelection {
-  bool everything = true;           // no object is left out: draw the soup as it is
-  std::vector<uint8_t> keep;        // per soup object (empty when everything)
-  std::string key_suffix;           // appended to the scene id of every cache key (empty when everything)
+  bool everything = true;     // no object is left out: draw the soup as it is
+  std::vector<uint8_t> keep;  // per soup object (empty when everything)
+  std::string key_suffix;     // appended to the scene id of every cache key (empty when everything)
 };
 
 SoupSelection select_objects(const StaticGeometry& geometry, const PolygonSoup& soup, const Camera& camera,

@@ -23,14 +23,15 @@ constexpr uint32_t no_triangle = no_visible;
 
 PixelRect tile_rect(const VisibilityInput& vis, size_t tile, int width, int height) {
   const int tx = int(tile % size_t(vis.tiles_x)), ty = int(tile / size_t(vis.tiles_x));
-  return {tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size), std::min(height, (ty + 1) * tile_size)};
+  return {tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
+          std::min(height, (ty + 1) * tile_size)};
 }
 
 // The frame-wide per-pixel buffers of pass 1; each tile touches only its own pixels.
 struct Buffers {
   int width = 0;
-  float* depth = nullptr;      // 1/w of the nearest opaque triangle, 0 where none
-  uint32_t* visible = nullptr; // its position in the tile's bin, or no_triangle
+  float* depth = nullptr;       // 1/w of the nearest opaque triangle, 0 where none
+  uint32_t* visible = nullptr;  // its position in the tile's bin, or no_triangle
 };
 
 // Pass 1 for one triangle (position j in the tile's bin): depth test and write, no shading. A pixel
@@ -156,8 +157,8 @@ void shade_triangle(const FrameInput& input, const VisibilityInput& vis, const B
 }
 
 // Pass 2 for one tile when every polygon has one colour: a table lookup per pixel, no sorting.
-void fill_tile_constant(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared,
-                        size_t tile, const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
+void fill_tile_constant(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared, size_t tile,
+                        const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
   const std::vector<uint32_t>& bin = vis.bins[tile];
   w.start.resize(bin.size());  // bin position -> the triangle's polygon slot
   for (size_t j = 0; j < bin.size(); ++j) w.start[j] = vis.triangles[bin[j]].slot;
@@ -212,8 +213,8 @@ void collect_runs(size_t bin_size, const PixelRect& r, const Buffers& b, ShadeWo
 }
 
 // Pass 2 for one tile: each triangle with visible pixels shaded run by run, its polygon bound once.
-void shade_tile(const FrameInput& input, const VisibilityInput& vis, size_t tile,
-                const PixelRect& r, const Buffers& b, ShadeWorker& w, Frame& frame) {
+void shade_tile(const FrameInput& input, const VisibilityInput& vis, size_t tile, const PixelRect& r, const Buffers& b,
+                ShadeWorker& w, Frame& frame) {
   const std::vector<uint32_t>& bin = vis.bins[tile];
   collect_runs(bin.size(), r, b, w);
   for (size_t j = 0; j < bin.size(); ++j) {
@@ -223,8 +224,8 @@ void shade_tile(const FrameInput& input, const VisibilityInput& vis, size_t tile
 }
 
 // Translucent polygons over one tile, far to near, depth-tested against pass 1 and not written.
-void blend_tile(const FrameInput& input, const VisibilityInput& vis, const PixelRect& r,
-                std::vector<float>& depth, ShadeWorker& w, Frame& frame) {
+void blend_tile(const FrameInput& input, const VisibilityInput& vis, const PixelRect& r, std::vector<float>& depth,
+                ShadeWorker& w, Frame& frame) {
   FrameTarget target{frame.image, frame.ids, &depth, r};
   for (size_t n = 0; n < vis.translucent.size(); ++n) {
     const PixelRect& q = vis.translucent_rects[n];
@@ -276,8 +277,8 @@ void span_weights(const TriangleSetup& s, const double inv_w[3], int x, int y, i
   span.x = x, span.y = y, span.count = size_t(n);
 }
 
-void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
-                     unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings) {
+void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader, unsigned threads,
+                     Frame& frame, RenderStats& stats, StageTimings& timings) {
   if (input.options.antialias > 1) return draw_visibility_aa(input, vis, shader, threads, frame, stats, timings);
   Stopwatch clock;
   const int width = frame.image.width, height = frame.image.height;

@@ -35,8 +35,8 @@ struct VisibilityInput {
   std::vector<uint32_t> polygons;     // soup index of each projected opaque polygon, in draw order
   std::vector<uint32_t> slot_groups;  // its plane group (Polygon::plane_group), 0 for none
   std::vector<BinnedTriangle> triangles;
-  std::vector<std::vector<uint32_t>> bins;  // per tile, row-major: triangle indices in draw order
-  std::vector<uint32_t> translucent;  // soup indices, far to near
+  std::vector<std::vector<uint32_t>> bins;   // per tile, row-major: triangle indices in draw order
+  std::vector<uint32_t> translucent;         // soup indices, far to near
   std::vector<PixelRect> translucent_rects;  // bounds of their projections
   int tiles_x = 0, tiles_y = 0;
 };
@@ -55,8 +55,8 @@ void bin_polygons(const FrameInput& input, const std::vector<uint32_t>& opaque,
 // Pass 1 for every tile, then pass 2 and the translucent polygons, on `threads` threads. `shader`
 // is prepared for every polygon drawn. Adds to stats.fragments; times pass 1 as raster and pass 2
 // with the translucent blend as shade.
-void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader,
-                     unsigned threads, Frame& frame, RenderStats& stats, StageTimings& timings);
+void draw_visibility(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& shader, unsigned threads,
+                     Frame& frame, RenderStats& stats, StageTimings& timings);
 
 struct TileTriangle;
 // The tile A-buffer's run of pixels x .. x + n - 1 of row y wholly triangle t's, shaded at their

@@ -84,24 +84,26 @@ void cover_translucent(const FrameInput& input, const VisibilityInput& vis, cons
       TriangleSetup s;
       if (!setup_screen_triangle(v[0], v[k + 1], v[k + 2], s)) continue;
       const double inv_w[3] = {v[0].inv_w, v[k + 1].inv_w, v[k + 2].inv_w};
-      if (w.buffer().add(s, inv_w, opaque + uint32_t(n), k)) w.fragments += w.buffer().cover_translucent(true, 0, uint32_t(n));
+      if (w.buffer().add(s, inv_w, opaque + uint32_t(n), k))
+        w.fragments += w.buffer().cover_translucent(true, 0, uint32_t(n));
     }
   }
 }
 
-void draw_tile(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared,
-               const SampleSet& set, const PixelRect& r, size_t tile, AaWorker& w, Frame& frame) {
+void draw_tile(const FrameInput& input, const VisibilityInput& vis, const SurfaceShader& prepared, const SampleSet& set,
+               const PixelRect& r, size_t tile, AaWorker& w, Frame& frame) {
   w.buffer().begin(r, set);
   for (uint32_t j : vis.bins[tile]) {
     const BinnedTriangle& t = vis.triangles[j];
     TriangleSetup s;
     if (!setup_binned(t, s)) continue;
-    if (w.buffer().add(s, t.inv_w, t.slot, t.k, vis.slot_groups[t.slot])) w.fragments += w.buffer().cover_opaque(true, 0);
+    if (w.buffer().add(s, t.inv_w, t.slot, t.k, vis.slot_groups[t.slot]))
+      w.fragments += w.buffer().cover_opaque(true, 0);
   }
   if (!vis.translucent.empty()) cover_translucent(input, vis, r, w);
   ZShading shading(input, vis, prepared, w);
   w.buffer().resolve(shading, input.scene.background, frame.image.rgb.data(), frame.ids.ids.data(),
-                   size_t(frame.image.width));
+                     size_t(frame.image.width));
 }
 
 }  // namespace

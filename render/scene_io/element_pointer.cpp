@@ -22,14 +22,23 @@ std::string label(ElementRef element, const Scene& scene, std::string_view scene
 std::string element_pointer(ElementRef element, std::string_view scene_pointer) {
   std::string out(scene_pointer);
   switch (element.kind) {
-    case ElementKind::scene: break;
-    case ElementKind::floor: out += "/floor"; break;
-    case ElementKind::wall: out += "/walls/" + std::to_string(element.index); break;
+    case ElementKind::scene:
+      break;
+    case ElementKind::floor:
+      out += "/floor";
+      break;
+    case ElementKind::wall:
+      out += "/walls/" + std::to_string(element.index);
+      break;
     case ElementKind::opening:
       out += "/walls/" + std::to_string(element.index) + "/openings/" + std::to_string(element.opening);
       break;
-    case ElementKind::solid: out += "/solids/" + std::to_string(element.index); break;
-    case ElementKind::room: out += "/rooms/" + std::to_string(element.index); break;
+    case ElementKind::solid:
+      out += "/solids/" + std::to_string(element.index);
+      break;
+    case ElementKind::room:
+      out += "/rooms/" + std::to_string(element.index);
+      break;
   }
   return out;
 }
@@ -39,12 +48,18 @@ WarningText describe(const PlacementWarning& w, const Scene& scene, std::string_
   const std::string under = " (less than " + format_number(w.limit_m) + " m)";
   std::string detail;
   switch (w.issue) {
-    case PlacementIssue::opening_near_start: detail = "opening is " + distance + " from its wall's start" + under; break;
-    case PlacementIssue::opening_near_end: detail = "opening is " + distance + " from its wall's end" + under; break;
+    case PlacementIssue::opening_near_start:
+      detail = "opening is " + distance + " from its wall's start" + under;
+      break;
+    case PlacementIssue::opening_near_end:
+      detail = "opening is " + distance + " from its wall's end" + under;
+      break;
     case PlacementIssue::openings_too_close:
       detail = "opening is " + distance + " from opening " + element_pointer(w.other, scene_pointer) + under;
       break;
-    case PlacementIssue::beyond_floor: detail = "solid reaches " + distance + " beyond the floor's edge"; break;
+    case PlacementIssue::beyond_floor:
+      detail = "solid reaches " + distance + " beyond the floor's edge";
+      break;
     case PlacementIssue::intersects:
       detail = std::string(w.other.kind == ElementKind::wall ? "solid intersects wall " : "solid intersects solid ") +
                label(w.other, scene, scene_pointer);

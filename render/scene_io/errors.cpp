@@ -17,8 +17,7 @@ std::string InputError::summary() const {
   std::string out = first.pointer.empty() ? first.detail : first.pointer + ": " + first.detail;
   const size_t more = errors_.size() - 1;
   if (truncated_) {
-    out += " (and " + std::to_string(more) + " more listed; the list stops at " +
-           std::to_string(errors_.size()) + ")";
+    out += " (and " + std::to_string(more) + " more listed; the list stops at " + std::to_string(errors_.size()) + ")";
   } else if (more > 0) {
     out += " (and " + std::to_string(more) + (more == 1 ? " more error)" : " more errors)");
   }
@@ -36,9 +35,7 @@ size_t quoted_input_length(std::string_view text) {
   return cut;
 }
 
-std::string truncation_marker(size_t total_bytes) {
-  return "\u2026(" + std::to_string(total_bytes) + " bytes)";
-}
+std::string truncation_marker(size_t total_bytes) { return "\u2026(" + std::to_string(total_bytes) + " bytes)"; }
 
 std::string quote_input(std::string_view text) {
   size_t keep = quoted_input_length(text);
@@ -65,8 +62,6 @@ std::string pointer_append(const std::string& pointer, const std::string& raw_to
   return out;
 }
 
-std::string pointer_append(const std::string& pointer, size_t index) {
-  return pointer + '/' + std::to_string(index);
-}
+std::string pointer_append(const std::string& pointer, size_t index) { return pointer + '/' + std::to_string(index); }
 
 }  // namespace rr

@@ -29,13 +29,12 @@ namespace {
 
 void check_range(double v, const std::string& pointer, const NumberRange& range) {
   if (v < range.lo || (range.lo_open && v == range.lo)) {
-    throw_invalid(pointer, std::string(range.lo_open ? "must be greater than " : "must be at least ") +
-                               format_number(range.lo));
+    throw_invalid(pointer,
+                  std::string(range.lo_open ? "must be greater than " : "must be at least ") + format_number(range.lo));
   }
   if (v > range.hi || (range.hi_open && v == range.hi)) {
     throw InputError(range.kind_above, pointer,
-                     std::string(range.hi_open ? "must be less than " : "must be at most ") +
-                         format_number(range.hi));
+                     std::string(range.hi_open ? "must be less than " : "must be at most ") + format_number(range.hi));
   }
 }
 

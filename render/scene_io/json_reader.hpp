@@ -5,18 +5,18 @@
 // default. No scene knowledge here.
 #pragma once
 
-#include "render/scene_io/errors.hpp"
 #include "render/core/math.hpp"
+#include "render/scene_io/errors.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <initializer_list>
 #include <limits>
 #include <span>
-#include <utility>
-#include <vector>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace rr {
 

@@ -23,8 +23,7 @@ namespace {
 class BoundedBuilder {
  public:
   // `nul_at`: the offset of the first NUL byte in the text, where parsing was cut (npos: none).
-  BoundedBuilder(json& root, size_t max_depth, size_t nul_at)
-      : root_(root), max_depth_(max_depth), nul_at_(nul_at) {}
+  BoundedBuilder(json& root, size_t max_depth, size_t nul_at) : root_(root), max_depth_(max_depth), nul_at_(nul_at) {}
 
   bool null() { return add(json(nullptr)); }
   bool boolean(bool v) { return add(json(v)); }
@@ -135,8 +134,7 @@ class BoundedBuilder {
     if (stack_.empty()) return "";
     const Frame& top = stack_.back();
     std::string parent = container_pointer(stack_.size() - 1);
-    return top.container->is_array() ? pointer_append(parent, top.container->size())
-                                     : pointer_append(parent, top.key);
+    return top.container->is_array() ? pointer_append(parent, top.container->size()) : pointer_append(parent, top.key);
   }
 
   json* place(json&& value) {

@@ -23,7 +23,8 @@ nlohmann::ordered_json error_measures_json(const ErrorMeasures& m) {
     if (std::isfinite(m.shading->psnr_db)) s["psnr_db"] = m.shading->psnr_db;
     j["shading"] = s;
   }
-  if (m.shadow) j["shadow"] = {{"pixels", m.shadow->pixels}, {"differing", m.shadow->differing}, {"error", m.shadow->share()}};
+  if (m.shadow)
+    j["shadow"] = {{"pixels", m.shadow->pixels}, {"differing", m.shadow->differing}, {"error", m.shadow->share()}};
   return j;
 }
 

@@ -24,14 +24,14 @@ std::vector<uint32_t> read_face(const json& value, const std::string& pointer, s
     // The bounds are wide so that an index past the mesh gets the message that names its size.
     long long index = read_integer(value[k], pointer_append(pointer, k), NumberRange{-1e15, 1e15});
     if (index < 0 || static_cast<unsigned long long>(index) >= vertex_count) {
-      throw_invalid(pointer_append(pointer, k), "vertex index out of range (the mesh has " +
-                                                    std::to_string(vertex_count) + " vertices)");
+      throw_invalid(pointer_append(pointer, k),
+                    "vertex index out of range (the mesh has " + std::to_string(vertex_count) + " vertices)");
     }
     face.push_back(static_cast<uint32_t>(index));
   }
   if (auto repeat = find_repeated_index(face)) {
-    throw_invalid(pointer_append(pointer, *repeat), "vertex " + std::to_string(face[*repeat]) +
-                                                        " appears twice in this face");
+    throw_invalid(pointer_append(pointer, *repeat),
+                  "vertex " + std::to_string(face[*repeat]) + " appears twice in this face");
   }
   return face;
 }
@@ -42,8 +42,8 @@ std::vector<Vec3> read_normals(const ObjectReader& r, size_t vertex_count) {
   std::vector<Vec3> out;
   if (normals.empty()) return out;
   if (normals.size() != vertex_count) {
-    throw_invalid(r.at("normals"), "must hold one normal per vertex (" + std::to_string(vertex_count) +
-                                       "), not " + std::to_string(normals.size()));
+    throw_invalid(r.at("normals"), "must hold one normal per vertex (" + std::to_string(vertex_count) + "), not " +
+                                       std::to_string(normals.size()));
   }
   out.reserve(normals.size());
   for_each_element(normals, r.at("normals"), r.errors(), [&](const json& value, const std::string& at) {
@@ -63,9 +63,8 @@ std::shared_ptr<const MeshData> read_mesh_geometry(const ObjectReader& r, const 
   const json& faces = r.array("faces", true);
   // Every face is at least one polygon: refuse before spending memory on it.
   if (faces.size() > b.limits.max_polygons) {
-    throw_too_large(r.at("faces"), "mesh has " + std::to_string(faces.size()) +
-                                       " faces; at most " + std::to_string(b.limits.max_polygons) +
-                                       " polygons are allowed");
+    throw_too_large(r.at("faces"), "mesh has " + std::to_string(faces.size()) + " faces; at most " +
+                                       std::to_string(b.limits.max_polygons) + " polygons are allowed");
   }
   if (vertices.size() > b.limits.max_mesh_vertices) {
     throw_too_large(r.at("vertices"), "mesh has " + std::to_string(vertices.size()) + " vertices; at most " +
@@ -74,15 +73,13 @@ std::shared_ptr<const MeshData> read_mesh_geometry(const ObjectReader& r, const 
   const size_t errors_before = b.errors.size();
   std::vector<Vec3> points;
   points.reserve(vertices.size());
-  for_each_element(vertices, r.at("vertices"), b.errors, [&](const json& v, const std::string& at) {
-    points.push_back(read_vec3(v, at, b.coordinate));
-  });
+  for_each_element(vertices, r.at("vertices"), b.errors,
+                   [&](const json& v, const std::string& at) { points.push_back(read_vec3(v, at, b.coordinate)); });
   // A face's indices are checked against the client's vertex count, even when a vertex was refused.
   std::vector<std::vector<uint32_t>> indices;
   indices.reserve(faces.size());
-  for_each_element(faces, r.at("faces"), b.errors, [&](const json& f, const std::string& at) {
-    indices.push_back(read_face(f, at, vertices.size()));
-  });
+  for_each_element(faces, r.at("faces"), b.errors,
+                   [&](const json& f, const std::string& at) { indices.push_back(read_face(f, at, vertices.size())); });
   if (b.errors.size() != errors_before) return nullptr;
   if (auto bad = find_bad_mesh_face(points, indices)) {
     throw_invalid(pointer_append(r.at("faces"), bad->face), bad->problem);

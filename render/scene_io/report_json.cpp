@@ -16,21 +16,30 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
   const RenderStats& s = report.stats;
   nlohmann::ordered_json j;
   j["timings_ms"] = timings_json(report.timings);
-  j["counts"] = {{"polygons", s.polygons},     {"polygons_culled", s.polygons_culled},
-                 {"polygons_drawn", s.polygons_drawn}, {"triangles", s.triangles},
-                 {"fragments", s.fragments}, {"lights_evaluated", s.lights_evaluated},
-                 {"shadow_passes", s.shadow_passes}, {"objects_culled", s.objects_culled}};
+  j["counts"] = {{"polygons", s.polygons},
+                 {"polygons_culled", s.polygons_culled},
+                 {"polygons_drawn", s.polygons_drawn},
+                 {"triangles", s.triangles},
+                 {"fragments", s.fragments},
+                 {"lights_evaluated", s.lights_evaluated},
+                 {"shadow_passes", s.shadow_passes},
+                 {"objects_culled", s.objects_culled}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits || s.painter_budget_exhausted) {
-    j["painter"] = {{"pairs_tested", s.painter_pairs_tested}, {"splits", s.painter_splits},
+    j["painter"] = {{"pairs_tested", s.painter_pairs_tested},
+                    {"splits", s.painter_splits},
                     {"budget_exhausted", s.painter_budget_exhausted}};
   }
   if (!s.bsp_cache.empty()) {
-    j["bsp"] = {{"cache", s.bsp_cache},        {"nodes", s.bsp_nodes},
-                {"depth", s.bsp_depth},        {"input_polygons", s.bsp_input_polygons},
-                {"fragments", s.bsp_fragments}, {"splits", s.bsp_splits},
-                {"subtrees_occluded", s.bsp_subtrees_occluded}, {"polygons_occluded", s.bsp_polygons_occluded},
+    j["bsp"] = {{"cache", s.bsp_cache},
+                {"nodes", s.bsp_nodes},
+                {"depth", s.bsp_depth},
+                {"input_polygons", s.bsp_input_polygons},
+                {"fragments", s.bsp_fragments},
+                {"splits", s.bsp_splits},
+                {"subtrees_occluded", s.bsp_subtrees_occluded},
+                {"polygons_occluded", s.bsp_polygons_occluded},
                 {"screen_full", s.bsp_screen_full}};
   }
   return j;

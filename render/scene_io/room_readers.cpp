@@ -62,7 +62,8 @@ int read_level_ref(const json& element, const std::string& pointer, const Bounds
     if (!it->is_string()) throw_invalid(at, "must be a string: the id of one of /scene/levels");
     index = find_level(b.levels, it->get_ref<const std::string&>());
     if (index < 0) {
-      throw_invalid(at, "names no level of /scene/levels (" + known_levels(b.levels ? *b.levels : std::vector<Level>{}) + ")");
+      throw_invalid(
+          at, "names no level of /scene/levels (" + known_levels(b.levels ? *b.levels : std::vector<Level>{}) + ")");
     }
   });
   return index;
@@ -92,8 +93,9 @@ void check_level_ids(const std::vector<Level>& levels, const std::string& pointe
 }
 
 Room read_room(const json& value, const std::string& pointer, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"id", "points", "elevation", "floor", "floor_color", "material",
-                                            "ceiling", "ceiling_height", "ceiling_color", "level"});
+  ObjectReader r(value, pointer, b.errors,
+                 {"id", "points", "elevation", "floor", "floor_color", "material", "ceiling", "ceiling_height",
+                  "ceiling_color", "level"});
   Room room;
   room.id = r.string("id", "");
   read_room_points(r, room, b);

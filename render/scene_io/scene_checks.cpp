@@ -50,8 +50,8 @@ bool segments_meet(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
   if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) {
     return true;
   }
-  return (o1 == 0 && on_segment(c, a, b)) || (o2 == 0 && on_segment(d, a, b)) ||
-         (o3 == 0 && on_segment(a, c, d)) || (o4 == 0 && on_segment(b, c, d));
+  return (o1 == 0 && on_segment(c, a, b)) || (o2 == 0 && on_segment(d, a, b)) || (o3 == 0 && on_segment(a, c, d)) ||
+         (o4 == 0 && on_segment(b, c, d));
 }
 
 std::string local_problem(std::span<const Vec2> p) {
@@ -83,16 +83,14 @@ std::string crossing_problem(std::span<const Vec2> p) {
     Vec2 a = p[i], b = p[(i + 1) % n];
     spans[i] = {i, std::min(a.x, b.x), std::max(a.x, b.x)};
   }
-  std::sort(spans.begin(), spans.end(), [](const Span& s, const Span& t) {
-    return s.min_x < t.min_x || (s.min_x == t.min_x && s.edge < t.edge);
-  });
+  std::sort(spans.begin(), spans.end(),
+            [](const Span& s, const Span& t) { return s.min_x < t.min_x || (s.min_x == t.min_x && s.edge < t.edge); });
   for (size_t a = 0; a < n; ++a) {
     for (size_t b = a + 1; b < n && spans[b].min_x <= spans[a].max_x; ++b) {
       size_t i = std::min(spans[a].edge, spans[b].edge), j = std::max(spans[a].edge, spans[b].edge);
       if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // neighbours share a point by design
       if (segments_meet(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n])) {
-        return "the edges starting at points " + std::to_string(i) + " and " + std::to_string(j) +
-               " intersect";
+        return "the edges starting at points " + std::to_string(i) + " and " + std::to_string(j) + " intersect";
       }
     }
   }
@@ -163,9 +161,9 @@ std::optional<BadFace> find_bad_mesh_face(std::span<const Vec3> vertices,
     for (size_t k = 0; k < face.size(); ++k) {
       double distance = std::abs(glm::dot(normal, vertices[face[k]] - centroid));
       if (distance > plane_tolerance) {
-        return BadFace{f, "face is not planar: its vertex " + std::to_string(k) + " lies " +
-                              format_number(distance) + " m off its plane (tolerance " +
-                              format_number(plane_tolerance) + " m, 1e-6 of the mesh size)"};
+        return BadFace{f, "face is not planar: its vertex " + std::to_string(k) + " lies " + format_number(distance) +
+                              " m off its plane (tolerance " + format_number(plane_tolerance) +
+                              " m, 1e-6 of the mesh size)"};
       }
     }
   }

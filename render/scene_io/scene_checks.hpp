@@ -32,7 +32,6 @@ struct BadFace {
 
 // The first face (indices already in range) with zero area or not planar within 1e-6 of the bounding
 // box diagonal of `vertices`; nullopt when all are fine.
-std::optional<BadFace> find_bad_mesh_face(std::span<const Vec3> vertices,
-                                          std::span<const std::vector<uint32_t>> faces);
+std::optional<BadFace> find_bad_mesh_face(std::span<const Vec3> vertices, std::span<const std::vector<uint32_t>> faces);
 
 }  // namespace rr

@@ -7,16 +7,16 @@
 
 #include "render/core/abuffer.hpp"
 
-#include "render/scene_io/errors.hpp"
-#include "render/scene_io/json_reader.hpp"
-#include "render/scene_io/scene_json_detail.hpp"
-#include "render/pipelines/pipeline.hpp"
-#include "render/scene_io/scene_checks.hpp"
 #include "render/core/camera.hpp"
 #include "render/core/sample_pattern.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/solids.hpp"
 #include "render/core/tessellate.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/errors.hpp"
+#include "render/scene_io/json_reader.hpp"
+#include "render/scene_io/scene_checks.hpp"
+#include "render/scene_io/scene_json_detail.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -87,9 +87,8 @@ void read_cells(const ObjectReader& r, Floor& floor, const ParseLimits& limits) 
   long long nx = read_integer(cells[0], pointer_append(pointer, size_t(0)), count);
   long long nz = read_integer(cells[1], pointer_append(pointer, size_t(1)), count);
   if (nx > limits.max_floor_cells / nz) {  // nx * nz without overflow
-    throw_too_large(pointer, "floor has " + std::to_string(nx) + " x " + std::to_string(nz) +
-                                 " cells; at most " + std::to_string(limits.max_floor_cells) +
-                                 " are allowed");
+    throw_too_large(pointer, "floor has " + std::to_string(nx) + " x " + std::to_string(nz) + " cells; at most " +
+                                 std::to_string(limits.max_floor_cells) + " are allowed");
   }
   floor.cells_x = int(nx);
   floor.cells_z = int(nz);
@@ -110,9 +109,8 @@ Floor read_floor(const json& value, const std::string& pointer, const Bounds& b)
     expect_array(colors, at);
     if (colors.size() < 2) throw_invalid(at, "must hold at least 2 colours");
     floor.colors.clear();
-    for_each_element(colors, at, b.errors, [&](const json& c, const std::string& p) {
-      floor.colors.push_back(read_color(c, p));
-    });
+    for_each_element(colors, at, b.errors,
+                     [&](const json& c, const std::string& p) { floor.colors.push_back(read_color(c, p)); });
   });
   floor.material = read_material(r);
   return floor;
@@ -135,8 +133,8 @@ void check_opening_fits(const Opening& o, const Wall& wall, const std::string& p
   }
   if (o.sill + o.height <= wall.height + fit_tolerance_m) return;
   if (door) {
-    errors.add(pointer, "door is taller than its wall (height " + format_number(o.height) +
-                            " m > wall height " + format_number(wall.height) + " m)");
+    errors.add(pointer, "door is taller than its wall (height " + format_number(o.height) + " m > wall height " +
+                            format_number(wall.height) + " m)");
   } else {
     errors.add(pointer, "window extends above its wall (sill + height = " + format_number(o.sill + o.height) +
                             " m > wall height " + format_number(wall.height) + " m)");
@@ -144,8 +142,7 @@ void check_opening_fits(const Opening& o, const Wall& wall, const std::string& p
 }
 
 // `wall_read`: the wall's own members read cleanly, so the opening can be checked against them.
-Opening read_opening(const json& value, const std::string& pointer, const Wall& wall, bool wall_read,
-                     const Bounds& b) {
+Opening read_opening(const json& value, const std::string& pointer, const Wall& wall, bool wall_read, const Bounds& b) {
   read_type(value, pointer);
   Opening o;
   o.type = read_name(value.at("type"), pointer_append(pointer, "type"), opening_type_names).value;
@@ -159,8 +156,7 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
     o.color = r.color("color", hex("#8b5a2b"));
     o.leaf = r.boolean("leaf", true);
   } else {
-    ObjectReader r(value, pointer, b.errors,
-                   {"type", "id", "offset", "width", "height", "sill", "color", "opacity"});
+    ObjectReader r(value, pointer, b.errors, {"type", "id", "offset", "width", "height", "sill", "color", "opacity"});
     o.id = r.string("id", "");
     o.offset = r.number("offset", b.distance);
     o.width = r.number("width", b.length);
@@ -176,8 +172,8 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
 
 Wall read_wall(const json& value, const std::string& pointer, const Bounds& b) {
   const size_t errors_before = b.errors.size();
-  ObjectReader r(value, pointer, b.errors, {"id", "start", "end", "thickness", "height", "base", "color",
-                                            "openings", "material", "level"});
+  ObjectReader r(value, pointer, b.errors,
+                 {"id", "start", "end", "thickness", "height", "base", "color", "openings", "material", "level"});
   Wall wall;
   wall.level = read_level_ref(value, pointer, b);
   wall.id = r.string("id", "");
@@ -266,9 +262,8 @@ void read_list(const ObjectReader& r, const char* key, const Bounds& b, std::vec
   r.member(key, [&](const json& items, const std::string& pointer) {
     expect_array(items, pointer);
     out.reserve(items.size());
-    for_each_element(items, pointer, b.errors, [&](const json& item, const std::string& p) {
-      out.push_back(read(item, p, b));
-    });
+    for_each_element(items, pointer, b.errors,
+                     [&](const json& item, const std::string& p) { out.push_back(read(item, p, b)); });
   });
 }
 
@@ -399,9 +394,8 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   o.width = int(r.integer("width", o.width, side));
   o.height = int(r.integer("height", o.height, side));
   if (long long pixels = 1LL * o.width * o.height; pixels > b.limits.max_pixels) {
-    throw_too_large(r.at("width"), "width * height = " + std::to_string(pixels) +
-                                       " pixels; at most " + std::to_string(b.limits.max_pixels) +
-                                       " are allowed");
+    throw_too_large(r.at("width"), "width * height = " + std::to_string(pixels) + " pixels; at most " +
+                                       std::to_string(b.limits.max_pixels) + " are allowed");
   }
   r.member("pipeline", [&](const json& name, const std::string& p) {
     o.pipeline = pipeline_id(read_name(name, p, pipeline_table()));
@@ -444,9 +438,8 @@ RenderRequest read_request(const json& request, const Bounds& b) {
   // Checked after validation (the estimate assumes valid geometry) but before anything is built.
   const size_t estimate = b.errors.size() == 0 ? estimate_polygon_count(out.scene.geometry) : 0;
   if (estimate > b.limits.max_polygons) {
-    throw_too_large("/scene", "scene would have about " + std::to_string(estimate) +
-                                  " polygons; at most " + std::to_string(b.limits.max_polygons) +
-                                  " are allowed");
+    throw_too_large("/scene", "scene would have about " + std::to_string(estimate) + " polygons; at most " +
+                                  std::to_string(b.limits.max_polygons) + " are allowed");
   }
   r.member("camera", [&](const json& v, const std::string& p) { out.camera = read_camera(v, p, b); });
   r.member("options", [&](const json& v, const std::string& p) { out.options = read_options(v, p, b); });

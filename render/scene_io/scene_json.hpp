@@ -3,8 +3,8 @@
 // Kind::invalid, documented limits -> Kind::too_large. On success every default is applied.
 #pragma once
 
-#include "render/scene_io/errors.hpp"
 #include "render/core/scene.hpp"
+#include "render/scene_io/errors.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -17,14 +17,14 @@
 namespace rr {
 
 struct ParseLimits {
-  size_t max_depth = 64;                // JSON nesting, checked while parsing
-  int max_image_side = 4096;            // width and height
-  long long max_pixels = 16'800'000;    // width * height
+  size_t max_depth = 64;                     // JSON nesting, checked while parsing
+  int max_image_side = 4096;                 // width and height
+  long long max_pixels = 16'800'000;         // width * height
   long long max_render_bytes = 512LL << 20;  // a frame's buffers, the A-buffer included (render_bytes)
-  size_t max_polygons = 2'000'000;      // after tessellation, estimated before it runs
+  size_t max_polygons = 2'000'000;           // after tessellation, estimated before it runs
   int max_cylinder_segments = 1024;
   long long max_floor_cells = 1'000'000;
-  double max_abs_coordinate = 1e7;      // metres, every position-like number (national grids reach 1e7)
+  double max_abs_coordinate = 1e7;  // metres, every position-like number (national grids reach 1e7)
   double max_far_over_near = 1e7;
   size_t max_mesh_vertices = 4'000'000;  // one mesh's vertices (its faces count against max_polygons)
   // Finds a stored mesh for a mesh solid's "ref" (nullptr: none). Unset, every ref is refused (422).

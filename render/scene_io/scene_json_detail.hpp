@@ -24,12 +24,11 @@ struct Bounds {
         distance{0.0, l.max_abs_coordinate} {}
   const ParseLimits& limits;
   ErrorList& errors;
-  NumberRange coordinate;  // positions, centres, elevations, bases
-  NumberRange length;      // sizes, thickness, heights, radii: > 0
-  NumberRange distance;    // offsets and sills: >= 0
+  NumberRange coordinate;                      // positions, centres, elevations, bases
+  NumberRange length;                          // sizes, thickness, heights, radii: > 0
+  NumberRange distance;                        // offsets and sills: >= 0
   const std::vector<Level>* levels = nullptr;  // the scene's levels, once read: "level" members name them
 };
-
 
 // Runs read(items[i], pointer of i) for each element of an array, adding what it throws to `errors`,
 // so one bad element does not hide the next.

@@ -43,8 +43,9 @@ void read_box_or_pyramid(const json& value, const std::string& pointer, Solid& s
 }
 
 void read_cylinder(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"type", "id", "level", "color", "material", "center", "base", "rotation_y",
-                                            "radius", "height", "segments", "smooth", "caps"});
+  ObjectReader r(value, pointer, b.errors,
+                 {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "radius", "height",
+                  "segments", "smooth", "caps"});
   read_common(r, s);
   read_footprint(r, s, b);
   s.radius = r.number("radius", b.length);
@@ -101,8 +102,9 @@ void read_mesh_ref(const ObjectReader& r, Solid& s, const Bounds& b) {
 }
 
 void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"type", "id", "level", "color", "material", "vertices", "faces", "position",
-                                            "scale", "rotation_y", "smooth", "closed", "normals", "ref"});
+  ObjectReader r(value, pointer, b.errors,
+                 {"type", "id", "level", "color", "material", "vertices", "faces", "position", "scale", "rotation_y",
+                  "smooth", "closed", "normals", "ref"});
   read_common(r, s);
   b.errors.attempt([&] {
     if (r.find("ref")) {

@@ -20,7 +20,9 @@ struct AntialiasCase {
   std::string pipeline;
 };
 
-void PrintTo(const AntialiasCase& c, std::ostream* os) { *os << c.example << " with " << c.pipeline << " at 8 samples"; }
+void PrintTo(const AntialiasCase& c, std::ostream* os) {
+  *os << c.example << " with " << c.pipeline << " at 8 samples";
+}
 
 std::vector<AntialiasCase> antialias_cases() {
   std::vector<AntialiasCase> cases;

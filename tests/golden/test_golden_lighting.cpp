@@ -3,9 +3,9 @@
 // tests/golden/images/lighting/<example>.<pipeline>.<shading>.<shadows|no-shadows>.png with the
 // tolerance of support/golden.hpp. Iterating pipeline_table() and shading_names means a new
 // pipeline or mode shows up here (and needs its goldens generated) without touching this file.
-#include "render/pipelines/pipeline.hpp"
-#include "render/core/shading.hpp"
 #include "render/core/scene_names.hpp"
+#include "render/core/shading.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "support/golden.hpp"
 #include "support/render_helpers.hpp"
 #include "support/test_support.hpp"

@@ -70,8 +70,8 @@ TEST_F(ApiTest, PngByDefaultWithEveryRenderHeader) {
   EXPECT_EQ(res->get_header_value("Content-Type"), "image/png");
   EXPECT_EQ(png_size(res->body).width, 64u);
   std::string timing = res->get_header_value("Server-Timing");
-  for (const char* stage : {"parse", "tessellate", "build", "sort", "traverse", "shadow", "raster", "shade",
-                            "encode", "total"}) {
+  for (const char* stage :
+       {"parse", "tessellate", "build", "sort", "traverse", "shadow", "raster", "shade", "encode", "total"}) {
     EXPECT_NE(timing.find(std::string(stage) + ";dur="), std::string::npos) << stage << " in " << timing;
   }
   EXPECT_EQ(res->get_header_value("X-Scene-Id").size(), 16u);
@@ -215,20 +215,21 @@ TEST_F(ApiTest, MetricsCountRequestsByRouteTemplateAndStatus) {
     }
     return value;
   };
-  double before = server_->metric("roomrender_http_requests_total",
-                                  {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""});
+  double before =
+      server_->metric("roomrender_http_requests_total", {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""});
   auto bad = post_json("/v1/render", R"({"camera": {"fov_y": 500}})");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 422);
   ASSERT_TRUE(post_json("/v1/render", small_request));
-  EXPECT_EQ(eventually("roomrender_http_requests_total",
-                       {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""}, before + 1.0),
+  EXPECT_EQ(eventually("roomrender_http_requests_total", {"route=\"/v1/render\"", "method=\"POST\"", "status=\"422\""},
+                       before + 1.0),
             before + 1.0);
   client().Get("/no/such/page");
   EXPECT_GE(eventually("roomrender_http_requests_total", {"route=\"unmatched\"", "status=\"404\""}, 1.0), 1.0);
   EXPECT_GE(eventually("roomrender_http_request_duration_seconds_count", {"route=\"/v1/render\""}, 2.0), 2.0);
-  EXPECT_GE(server_->metric("roomrender_render_stage_duration_seconds_count",
-                            {"pipeline=\"zbuffer\"", "stage=\"raster\""}), 1.0);
+  EXPECT_GE(
+      server_->metric("roomrender_render_stage_duration_seconds_count", {"pipeline=\"zbuffer\"", "stage=\"raster\""}),
+      1.0);
   EXPECT_EQ(server_->metric("roomrender_renders_in_flight"), 0.0);
   EXPECT_EQ(server_->metric("roomrender_renders_queued"), 0.0);
   EXPECT_EQ(server_->metric("roomrender_build_info"), 1.0);
@@ -244,9 +245,8 @@ TEST_F(ApiTest, OneLogLinePerRequestWithRouteSceneAndPipeline) {
   auto res = post_json("/v1/render", small_request);
   ASSERT_TRUE(res);
   std::string scene = res->get_header_value("X-Scene-Id");
-  json line = wait_for_log_line([&](const json& l) {
-    return l.value("event", "") == "request" && l.value("scene_id", "") == scene;
-  });
+  json line = wait_for_log_line(
+      [&](const json& l) { return l.value("event", "") == "request" && l.value("scene_id", "") == scene; });
   ASSERT_TRUE(line.is_object());
   EXPECT_EQ(line["method"], "POST");
   EXPECT_EQ(line["route"], "/v1/render");

@@ -2,9 +2,9 @@
 // scratch directory): one JSON line whose frame times and stage medians are consistent, --out and
 // --ids that equal a normal `render` of the same request, camera/light/size flags that mean exactly
 // what the same values written into the request mean, and --list naming the build's own tables.
-#include "render/pipelines/pipeline.hpp"
-#include "render/core/shading.hpp"
 #include "render/core/scene_names.hpp"
+#include "render/core/shading.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -30,8 +30,8 @@ struct Outcome {
 // Runs `roomrender <args>` with `dir` as the working directory.
 Outcome roomrender(const fs::path& dir, const std::string& args) {
   const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
-  const std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args + " >'" +
-                              out + "' 2>'" + err + "'";
+  const std::string command =
+      "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args + " >'" + out + "' 2>'" + err + "'";
   const int raw = std::system(command.c_str());
   Outcome o;
   o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -51,17 +51,19 @@ fs::path fresh_dir() {
 
 // A lit box, an open floor quad and a translucent pane: opaque, open and blended paths all draw.
 json small_scene() {
-  return {{"solids", {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"rotation_y", 30}, {"color", "#c04040"}},
-                      {{"type", "mesh"}, {"vertices", {{-3, 0, -3}, {3, 0, -3}, {3, 0, 3}, {-3, 0, 3}}},
-                       {"faces", {{0, 3, 2, 1}}}}}},
-          {"walls", {{{"start", {-2, -1.5}}, {"end", {2, -1.5}}, {"height", 2},
-                      {"openings", {{{"type", "window"}, {"offset", 1}, {"width", 2}, {"sill", 0.3}}}}}}},
-          {"lights", {{{"type", "directional"}, {"direction", {0.2, -1, 0.7}}}}}};
+  return {
+      {"solids",
+       {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"rotation_y", 30}, {"color", "#c04040"}},
+        {{"type", "mesh"}, {"vertices", {{-3, 0, -3}, {3, 0, -3}, {3, 0, 3}, {-3, 0, 3}}}, {"faces", {{0, 3, 2, 1}}}}}},
+      {"walls",
+       {{{"start", {-2, -1.5}},
+         {"end", {2, -1.5}},
+         {"height", 2},
+         {"openings", {{{"type", "window"}, {"offset", 1}, {"width", 2}, {"sill", 0.3}}}}}}},
+      {"lights", {{{"type", "directional"}, {"direction", {0.2, -1, 0.7}}}}}};
 }
 
-bool same_file(const fs::path& a, const fs::path& b) {
-  return rr::testing::read_file(a) == rr::testing::read_file(b);
-}
+bool same_file(const fs::path& a, const fs::path& b) { return rr::testing::read_file(a) == rr::testing::read_file(b); }
 
 TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
   fs::path dir = fresh_dir();
@@ -104,7 +106,8 @@ TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
 TEST(BenchRender, OutAndIdsEqualANormalRender) {
   fs::path dir = fresh_dir();
   fs::path studio = rr::testing::examples_dir() / "studio.json";  // walls, openings, translucent panes
-  Outcome render = roomrender(dir, "render '" + studio.string() + "' -o render.png --ids render.ids --width 160 --height 120");
+  Outcome render =
+      roomrender(dir, "render '" + studio.string() + "' -o render.png --ids render.ids --width 160 --height 120");
   ASSERT_EQ(render.status, 0) << render.err;
   Outcome bench = roomrender(dir, "bench-render --request '" + studio.string() +
                                       "' --size 160x120 --frames 2 --out bench.png --ids bench.ids");
@@ -136,8 +139,8 @@ TEST(BenchRender, ObjIdsAreTheFaceLinesInOrder) {
     floor += id == 0;
     triangle += id == 1;
   }
-  EXPECT_GT(floor, 100u);     // the first f line, the quad
-  EXPECT_GT(triangle, 50u);   // the second, the triangle in front of it
+  EXPECT_GT(floor, 100u);    // the first f line, the quad
+  EXPECT_GT(triangle, 50u);  // the second, the triangle in front of it
   Outcome bad = roomrender(dir, "bench-render --obj missing.obj --frames 1");
   EXPECT_EQ(bad.status, 1);
 }
@@ -148,22 +151,30 @@ TEST(BenchRender, CameraAndLightFlagsMeanTheRequestsValues) {
   fs::path dir = fresh_dir();
   rr::testing::write_file(dir / "plain.json", json{{"scene", small_scene()}}.dump());
   json by_hand = {{"scene", small_scene()},
-                  {"camera", {{"position", {2.5, 3, 4}}, {"target", {0, 0.25, 0}}, {"up", {0, 1, 0.1}},
-                              {"fov_y", 45}, {"near", 0.5}, {"far", 20}}},
+                  {"camera",
+                   {{"position", {2.5, 3, 4}},
+                    {"target", {0, 0.25, 0}},
+                    {"up", {0, 1, 0.1}},
+                    {"fov_y", 45},
+                    {"near", 0.5},
+                    {"far", 20}}},
                   {"options", {{"width", 96}, {"height", 64}}}};
-  by_hand["scene"]["lights"] = {{{"type", "directional"}, {"direction", {-1, -2, 0.5}}}};  // travels away from the flag's
+  by_hand["scene"]["lights"] = {
+      {{"type", "directional"}, {"direction", {-1, -2, 0.5}}}};  // travels away from the flag's
   rr::testing::write_file(dir / "by_hand.json", by_hand.dump());
   Outcome render = roomrender(dir, "render by_hand.json -o render.png --ids render.ids");
   ASSERT_EQ(render.status, 0) << render.err;
-  Outcome bench = roomrender(dir, "bench-render --request plain.json --eye 2.5,3,4 --target 0,0.25,0 --up 0,1,0.1 "
-                                  "--fovy 45 --near 0.5 --far 20 --size 96x64 --light-dir 1,2,-0.5 --frames 1 "
-                                  "--out bench.png --ids bench.ids");
+  Outcome bench = roomrender(dir,
+                             "bench-render --request plain.json --eye 2.5,3,4 --target 0,0.25,0 --up 0,1,0.1 "
+                             "--fovy 45 --near 0.5 --far 20 --size 96x64 --light-dir 1,2,-0.5 --frames 1 "
+                             "--out bench.png --ids bench.ids");
   ASSERT_EQ(bench.status, 0) << bench.err;
   EXPECT_TRUE(same_file(dir / "render.ids", dir / "bench.ids"));
   EXPECT_TRUE(rr::decode_png(rr::testing::read_file(dir / "render.png")).rgb ==
               rr::decode_png(rr::testing::read_file(dir / "bench.png")).rgb);
   // And the light flag matters: the opposite direction lights other faces.
-  Outcome flipped = roomrender(dir, "bench-render --request by_hand.json --light-dir -1,-2,0.5 --frames 1 --out flipped.png");
+  Outcome flipped =
+      roomrender(dir, "bench-render --request by_hand.json --light-dir -1,-2,0.5 --frames 1 --out flipped.png");
   ASSERT_EQ(flipped.status, 0) << flipped.err;
   EXPECT_FALSE(rr::decode_png(rr::testing::read_file(dir / "flipped.png")).rgb ==
                rr::decode_png(rr::testing::read_file(dir / "render.png")).rgb);
@@ -184,10 +195,11 @@ TEST(BenchRender, BadCommandLinesAndBadValues) {
   fs::path dir = fresh_dir();
   rr::testing::write_file(dir / "scene.json", json{{"scene", small_scene()}}.dump());
   // Usage errors (exit 2): no input, two inputs, malformed numbers.
-  for (const char* args : {"bench-render", "bench-render --request scene.json --obj scene.obj",
-                           "bench-render --request scene.json --frames 0", "bench-render --request scene.json --eye 1,2",
-                           "bench-render --request scene.json --size 64", "bench-render --request scene.json --shadows yes",
-                           "bench-render --request scene.json --fovy wide"}) {
+  for (const char* args :
+       {"bench-render", "bench-render --request scene.json --obj scene.obj",
+        "bench-render --request scene.json --frames 0", "bench-render --request scene.json --eye 1,2",
+        "bench-render --request scene.json --size 64", "bench-render --request scene.json --shadows yes",
+        "bench-render --request scene.json --fovy wide"}) {
     EXPECT_EQ(roomrender(dir, args).status, 2) << args;
   }
   // Values the request validator refuses are reported by JSON Pointer (exit 1).

@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
@@ -57,16 +57,22 @@ RunResult run_roomrender(const std::string& args, const fs::path& dir, const std
 // One closed mesh (a box) whose coordinates need all 17 digits, so OBJ round-tripping is tested;
 // identity placement, so world coordinates are the mesh's own. Faces wind outward.
 const std::array<std::array<double, 3>, 8> box_vertices = {{
-    {0.1, -2.75, -0.7}, {1.2345678901234567, -2.75, -0.7}, {1.2345678901234567, 0.3, -0.7}, {0.1, 0.3, -0.7},
-    {0.1, -2.75, 0.45}, {1.2345678901234567, -2.75, 0.45}, {1.2345678901234567, 0.3, 0.45}, {0.1, 0.3, 0.45},
+    {0.1, -2.75, -0.7},
+    {1.2345678901234567, -2.75, -0.7},
+    {1.2345678901234567, 0.3, -0.7},
+    {0.1, 0.3, -0.7},
+    {0.1, -2.75, 0.45},
+    {1.2345678901234567, -2.75, 0.45},
+    {1.2345678901234567, 0.3, 0.45},
+    {0.1, 0.3, 0.45},
 }};
-const std::vector<std::vector<int>> box_faces = {
-    {0, 3, 2, 1}, {4, 5, 6, 7}, {0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}};
+const std::vector<std::vector<int>> box_faces = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 4, 7, 3},
+                                                 {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}};
 
 json mesh_request() {
-  return {{"scene", {{"solids", {{{"type", "mesh"}, {"vertices", box_vertices}, {"faces", box_faces},
-                                   {"closed", true}}}},
-                     {"lights", {{{"type", "directional"}, {"direction", {-0.3, -1, -0.5}}}}}}},
+  return {{"scene",
+           {{"solids", {{{"type", "mesh"}, {"vertices", box_vertices}, {"faces", box_faces}, {"closed", true}}}},
+            {"lights", {{{"type", "directional"}, {"direction", {-0.3, -1, -0.5}}}}}}},
           {"camera", {{"position", {3.5, 1.5, 4}}, {"target", {0.6, -1.2, 0}}}},
           {"options", {{"width", 40}, {"height", 30}}}};
 }
@@ -121,8 +127,8 @@ TEST(Cli, RenderWritesPngIdsAndOneTimingsLine) {
 TEST(Cli, RenderOverridesAndStdin) {
   fs::path dir = scratch_dir();
   fs::path request = write_request(dir, mesh_request());
-  RunResult run = run_roomrender("render - -o out.png --ids out.ids --width 24 --height=18 --pipeline zbuffer",
-                                 dir, request.string());
+  RunResult run = run_roomrender("render - -o out.png --ids out.ids --width 24 --height=18 --pipeline zbuffer", dir,
+                                 request.string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   check_id_file(rr::testing::read_file(dir / "out.ids"), 24, 18, box_faces.size());
 }
@@ -314,7 +320,8 @@ TEST(Cli, CompareIdsAndPngsPrintsErrorMeasures) {
   ASSERT_EQ(png.exit_code, 0) << png.err;
   json s = json::parse(png.out);
   ASSERT_GT(s["shading"]["rmse"].get<double>(), 0.0) << s;  // flat against per-pixel lighting
-  EXPECT_NEAR(s["shading"]["psnr_db"].get<double>(), 20.0 * std::log10(255.0 / s["shading"]["rmse"].get<double>()), 1e-9);
+  EXPECT_NEAR(s["shading"]["psnr_db"].get<double>(), 20.0 * std::log10(255.0 / s["shading"]["rmse"].get<double>()),
+              1e-9);
   json same = json::parse(run_roomrender("compare z.png z.png", dir).out);
   EXPECT_EQ(same["shading"]["rmse"], 0.0);
   EXPECT_TRUE(same["shading"]["psnr_db"].is_null()) << same;
@@ -334,8 +341,7 @@ TEST(Cli, CompareRejectsMismatchedSizesKindsAndUnreadableFiles) {
                         Case{"compare a.png b.png", "sizes differ: 40x30 and 20x30", 1},
                         Case{"compare a.png a.ids", "a.png is a PNG but a.ids is not", 1},
                         Case{"compare a.ids missing.ids", "cannot read missing.ids", 1},
-                        Case{"compare a.ids bad.ids", "bad.ids", 1},
-                        Case{"compare a.ids", "expected two files", 2}}) {
+                        Case{"compare a.ids bad.ids", "bad.ids", 1}, Case{"compare a.ids", "expected two files", 2}}) {
     SCOPED_TRACE(c.args);
     RunResult run = run_roomrender(c.args, dir);
     EXPECT_EQ(run.exit_code, c.exit_code);

@@ -96,7 +96,8 @@ TEST(CliImport, RenderObjFindsItsMaterialLibraryBesideIt) {
   CommandRun imported = roomrender({"import", "models/tile.obj"}, dir);
   ASSERT_EQ(imported.exit_code, 0) << imported.err;
   EXPECT_EQ(json::parse(imported.out)["scene"]["solids"][0]["color"], json::array({0.0, 1.0, 0.0}));
-  CommandRun rendered = roomrender({"render", "--obj", "models/tile.obj", "-o", "tile.png", "--width", "64", "--height", "48"}, dir);
+  CommandRun rendered =
+      roomrender({"render", "--obj", "models/tile.obj", "-o", "tile.png", "--width", "64", "--height", "48"}, dir);
   ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
   rr::Image image = rr::decode_png(rr::testing::read_file(dir / "tile.png"));
   ASSERT_EQ(image.width, 64);

@@ -36,8 +36,8 @@ fs::path scratch_dir() {
 }
 
 RunResult run_roomrender(const std::string& args, const fs::path& dir) {
-  std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args +
-                        " >stdout.bin 2>stderr.txt";
+  std::string command =
+      "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args + " >stdout.bin 2>stderr.txt";
   int status = std::system(command.c_str());
   RunResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -50,8 +50,8 @@ RunResult run_roomrender(const std::string& args, const fs::path& dir) {
 // replaces a value the file holds (precedence) rather than filling a default.
 json base_request() {
   json request = json::parse(rr::testing::read_file(rr::testing::examples_dir() / "studio.json"));
-  request["options"] = {{"width", 96}, {"height", 72}, {"pipeline", "zbuffer"}, {"shading", "flat"},
-                        {"shadows", false}, {"png", {{"compression", "fast"}}}};
+  request["options"] = {{"width", 96},       {"height", 72},     {"pipeline", "zbuffer"},
+                        {"shading", "flat"}, {"shadows", false}, {"png", {{"compression", "fast"}}}};
   return request;
 }
 
@@ -74,9 +74,7 @@ struct FlagCase {
 };
 
 std::vector<FlagCase> flag_cases() {
-  auto set = [](const char* object, const char* key, json value) {
-    return [=](json& r) { r[object][key] = value; };
-  };
+  auto set = [](const char* object, const char* key, json value) { return [=](json& r) { r[object][key] = value; }; };
   return {
       {"--shading phong", set("options", "shading", "phong")},
       {"--shading=gouraud", set("options", "shading", "gouraud")},
@@ -95,7 +93,9 @@ std::vector<FlagCase> flag_cases() {
       {"--far 4", set("camera", "far", 4)},
       // Toward the light on the command line; the direction it travels in the file.
       {"--light-dir 1,2,-0.5",
-       [](json& r) { r["scene"]["lights"] = {{{"type", "directional"}, {"direction", {-1, -2, 0.5}}}}; }},
+       [](json& r) {
+         r["scene"]["lights"] = {{{"type", "directional"}, {"direction", {-1, -2, 0.5}}}};
+       }},
   };
 }
 
@@ -167,11 +167,10 @@ TEST(CliParity, MalformedFlagValuesExitTwoNamingTheFlag) {
   fs::path dir = scratch_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--eye 1,2", "--eye"},         {"--target 1,2,x", "--target"}, {"--up '0;1;0'", "--up"},
-      {"--fovy wide", "--fovy"},      {"--near 0.1m", "--near"},      {"--far=", "--far"},
-      {"--width 1.5", "--width"},     {"--height tall", "--height"},  {"--size 64", "--size"},
-      {"--shadows yes", "--shadows"}, {"--light-dir up", "--light-dir"},
-      {"--size 64x48 --width 64", "--size"}};
+      {"--eye 1,2", "--eye"},         {"--target 1,2,x", "--target"},    {"--up '0;1;0'", "--up"},
+      {"--fovy wide", "--fovy"},      {"--near 0.1m", "--near"},         {"--far=", "--far"},
+      {"--width 1.5", "--width"},     {"--height tall", "--height"},     {"--size 64", "--size"},
+      {"--shadows yes", "--shadows"}, {"--light-dir up", "--light-dir"}, {"--size 64x48 --width 64", "--size"}};
   for (const auto& [args, flag_name] : cases) {
     SCOPED_TRACE(args);
     for (const char* command : {"render request.json -o out.png ", "bench-render --request request.json --frames 1 "}) {

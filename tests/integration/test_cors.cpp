@@ -71,9 +71,11 @@ TEST_F(Cors, PreflightForAWriteFromAListedOrigin) {
 }
 
 TEST_F(Cors, PreflightForAWriteFromAnotherOriginIsRefused) {
-  for (const auto& [path, method] : std::vector<std::pair<std::string, std::string>>{
-           {"/v1/scenes", "POST"}, {"/v1/scenes/0123456789abcdef", "PUT"},
-           {"/v1/scenes/0123456789abcdef", "DELETE"}, {"/v1/import/obj?store=1", "POST"}}) {
+  for (const auto& [path, method] :
+       std::vector<std::pair<std::string, std::string>>{{"/v1/scenes", "POST"},
+                                                        {"/v1/scenes/0123456789abcdef", "PUT"},
+                                                        {"/v1/scenes/0123456789abcdef", "DELETE"},
+                                                        {"/v1/import/obj?store=1", "POST"}}) {
     SCOPED_TRACE(method + " " + path);
     auto res = preflight(*server_, path, other, method);
     json problem = expect_problem(res, 403);
@@ -115,16 +117,16 @@ TEST_F(Cors, SimpleReadsAnswerEveryOriginAlsoOnErrors) {
   auto missing = server_->client().Get("/v1/scenes/0123456789abcdef", {{"Origin", other}});
   expect_problem(missing, 404);
   EXPECT_EQ(missing->get_header_value("Access-Control-Allow-Origin"), "*");
-  auto invalid = server_->client().Post("/v1/render", {{"Origin", other}}, R"({"options": {"width": -1}})",
-                                       "application/json");
+  auto invalid =
+      server_->client().Post("/v1/render", {{"Origin", other}}, R"({"options": {"width": -1}})", "application/json");
   expect_problem(invalid, 422);
   EXPECT_EQ(invalid->get_header_value("Access-Control-Allow-Origin"), "*");
 }
 
 // Answers the connection front gives on its own (here 414) carry the header too.
 TEST_F(Cors, RefusalsOfTheConnectionFrontAnswerEveryOrigin) {
-  std::string answer = raw_exchange(server_->port(), "GET /" + std::string(10000, 'a') +
-                                                         " HTTP/1.1\r\nHost: x\r\nOrigin: " + other + "\r\n\r\n");
+  std::string answer = raw_exchange(
+      server_->port(), "GET /" + std::string(10000, 'a') + " HTTP/1.1\r\nHost: x\r\nOrigin: " + other + "\r\n\r\n");
   EXPECT_TRUE(answer.starts_with("HTTP/1.1 414")) << answer.substr(0, 200);
   EXPECT_NE(answer.find("\r\nAccess-Control-Allow-Origin: *\r\n"), std::string::npos) << answer.substr(0, 400);
 }
@@ -148,16 +150,16 @@ TEST_F(Cors, WritesFromAnotherOriginAreRefused) {
 }
 
 TEST_F(Cors, WritesFromAListedOriginOrTheServersOwnPages) {
-  auto res = server_->client().Post("/v1/scenes", {{"Origin", listed}}, scene_with_box_at(2.0).dump(),
-                                    "application/json");
+  auto res =
+      server_->client().Post("/v1/scenes", {{"Origin", listed}}, scene_with_box_at(2.0).dump(), "application/json");
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 201) << res->body;
   EXPECT_EQ(res->get_header_value("Access-Control-Allow-Origin"), listed);
   EXPECT_TRUE(lists(res->get_header_value("Vary"), "Origin"));
   EXPECT_TRUE(lists(res->get_header_value("Access-Control-Expose-Headers"), "Location"));
   const std::string own = "http://127.0.0.1:" + std::to_string(server_->port());
-  auto same_origin = server_->client().Post("/v1/scenes", {{"Origin", own}}, scene_with_box_at(2.1).dump(),
-                                            "application/json");
+  auto same_origin =
+      server_->client().Post("/v1/scenes", {{"Origin", own}}, scene_with_box_at(2.1).dump(), "application/json");
   ASSERT_TRUE(same_origin);
   EXPECT_EQ(same_origin->status, 201) << same_origin->body;
 }

@@ -29,9 +29,13 @@ json intersecting_soup_request(size_t count) {
     for (const double* p : {a, b, c}) vertices.push_back({p[0], p[1], p[2]});
     faces.push_back({first, first + 1, first + 2});
   }
-  return {{"scene", {{"background", "#202020"},
-                     {"solids", json::array({{{"type", "mesh"}, {"id", "soup"}, {"color", "#b0b0b0"},
-                                              {"vertices", std::move(vertices)}, {"faces", std::move(faces)}}})}}},
+  return {{"scene",
+           {{"background", "#202020"},
+            {"solids", json::array({{{"type", "mesh"},
+                                     {"id", "soup"},
+                                     {"color", "#b0b0b0"},
+                                     {"vertices", std::move(vertices)},
+                                     {"faces", std::move(faces)}}})}}},
           {"camera", {{"position", {0, 2, 30}}, {"target", {0, 0, 0}}, {"far", 100}}},
           {"options", {{"width", 320}, {"height", 240}, {"pipeline", "bsp"}, {"shading", "flat"}}}};
 }

@@ -66,7 +66,8 @@ TEST(DocsPage, ServesItsBundleAsCommittedAndNothingElse) {
   auto script = client.Get("/docs/redoc.standalone.js");
   ASSERT_TRUE(script);
   ASSERT_EQ(script->status, 200);
-  EXPECT_EQ(script->body, read_file(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "clients/web/docs/redoc.standalone.js"));
+  EXPECT_EQ(script->body,
+            read_file(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "clients/web/docs/redoc.standalone.js"));
   auto licence = client.Get("/docs/redoc.standalone.js.LICENSE.txt");
   ASSERT_TRUE(licence);
   EXPECT_EQ(licence->status, 200);

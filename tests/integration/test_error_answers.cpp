@@ -32,11 +32,11 @@ json wall(double height) { return {{"start", {0, 0}}, {"end", {4, 0}}, {"height"
 // Six independent mistakes spread over walls, solids, camera and options.
 json request_with_six_errors() {
   json bad_wall = {{"start", {0, 3}}, {"end", {4, 3}}, {"colour", "red"}, {"thickness", 0}};
-  return {{"scene",
-           {{"walls", {wall(-1), wall(2.5), bad_wall}},
-            {"solids", json::array({{{"type", "box"}, {"center", {1, 1}}}})}}},
-          {"camera", {{"fov_y", 200}}},
-          {"options", {{"width", 64}, {"height", 48}, {"shading", "glossy"}}}};
+  return {
+      {"scene",
+       {{"walls", {wall(-1), wall(2.5), bad_wall}}, {"solids", json::array({{{"type", "box"}, {"center", {1, 1}}}})}}},
+      {"camera", {{"fov_y", 200}}},
+      {"options", {{"width", 64}, {"height", 48}, {"shading", "glossy"}}}};
 }
 
 TEST_F(ErrorAnswersTest, EveryInvalidFieldIsAnsweredInReadingOrder) {
@@ -59,8 +59,8 @@ TEST_F(ErrorAnswersTest, StoredScenesListEveryErrorAtDocumentPointers) {
   json scene = request_with_six_errors()["scene"];
   auto res = post("/v1/scenes", scene.dump());
   json problem = expect_problem(res, 422);
-  EXPECT_EQ(pointers_of(problem), (std::vector<std::string>{"/walls/0/height", "/walls/2/colour",
-                                                            "/walls/2/thickness", "/solids/0"}));
+  EXPECT_EQ(pointers_of(problem),
+            (std::vector<std::string>{"/walls/0/height", "/walls/2/colour", "/walls/2/thickness", "/solids/0"}));
   EXPECT_EQ(problem.value("detail", ""), "/walls/0/height: must be greater than 0 (and 3 more errors)");
 }
 
@@ -104,8 +104,7 @@ TEST_F(ErrorAnswersTest, OpeningsTooTallAreToldInTheirOwnTerms) {
   json host = {{"start", {0, 0}}, {"end", {4, 0}}, {"height", 2.5}, {"openings", openings}};
   json request = {{"scene", {{"walls", json::array({host})}}}};
   json problem = expect_problem(post("/v1/render", request.dump()), 422);
-  ASSERT_EQ(pointers_of(problem),
-            (std::vector<std::string>{"/scene/walls/0/openings/0", "/scene/walls/0/openings/1"}));
+  ASSERT_EQ(pointers_of(problem), (std::vector<std::string>{"/scene/walls/0/openings/0", "/scene/walls/0/openings/1"}));
   EXPECT_EQ(problem["errors"][0]["detail"], "door is taller than its wall (height 2.6 m > wall height 2.5 m)");
   EXPECT_EQ(problem["errors"][1]["detail"],
             "window extends above its wall (sill + height = 2.7 m > wall height 2.5 m)");

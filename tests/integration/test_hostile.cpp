@@ -71,9 +71,7 @@ rr::server::ServerConfig front_config(const FrontSettings& front = {}) {
 }
 // ==============================================================================================
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string lower(std::string text) {
   for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -228,9 +226,7 @@ class RawConn {
   double first_byte_after() const {
     return received_.empty() ? -1.0 : std::chrono::duration<double>(first_byte_at_ - opened_).count();
   }
-  double closed_after() const {
-    return closed_ ? std::chrono::duration<double>(closed_at_ - opened_).count() : -1.0;
-  }
+  double closed_after() const { return closed_ ? std::chrono::duration<double>(closed_at_ - opened_).count() : -1.0; }
 
  private:
   Clock::time_point opened_;
@@ -280,7 +276,11 @@ class StreamAttack {
   };
   StreamAttack(int port, std::string bytes, size_t count, std::chrono::milliseconds spacing, size_t chunk,
                std::chrono::milliseconds cap)
-      : port_(port), bytes_(std::move(bytes)), count_(count), spacing_(spacing), chunk_(chunk),
+      : port_(port),
+        bytes_(std::move(bytes)),
+        count_(count),
+        spacing_(spacing),
+        chunk_(chunk),
         background_([this] { return tick(); }, 2ms, cap) {}
   std::vector<Stream>& join() {
     background_.join();
@@ -486,9 +486,10 @@ TEST(Hostile, BodyAtOneBytePerSecondGets408AtTheBodyDeadline) {
   for (int i = 0; i < 16; ++i) {
     slow.push_back(std::make_unique<RawConn>(server.port()));
     ASSERT_TRUE(slow.back()->ok());
-    ASSERT_TRUE(slow.back()->send_all("POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n"
-                                      "Content-Length: 2000\r\n\r\n{",
-                                      Clock::now() + 1s));
+    ASSERT_TRUE(
+        slow.back()->send_all("POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n"
+                              "Content-Length: 2000\r\n\r\n{",
+                              Clock::now() + 1s));
   }
   Background dribble(
       [&] {
@@ -609,8 +610,8 @@ TEST(Hostile, RequestLineWithoutNewlineIs414BeforeItIsReadWhole) {
   int early = 0;
   for (size_t i = 0; i < streams.size(); ++i) {
     RawConn& c = *streams[i].conn;
-    ASSERT_EQ(c.status(), 414) << "connection " << i << " (" << c.sent() << " bytes sent): "
-                               << c.received().substr(0, 200);
+    ASSERT_EQ(c.status(), 414) << "connection " << i << " (" << c.sent()
+                               << " bytes sent): " << c.received().substr(0, 200);
     expect_raw_problem(c.answers()[0], 414);
     early += streams[i].answered_early ? 1 : 0;
   }
@@ -638,8 +639,7 @@ std::string many_headers(size_t count) {
 // 6a. 10,000 header fields on a render: 431 (max_header_count 100), a render answered meanwhile.
 TEST(Hostile, TenThousandHeadersOnARenderAre431) {
   TestServer server(front_config());
-  StreamAttack attack(server.port(), render_request_bytes(small_request, many_headers(10'000)), 16, 100ms, 16384,
-                      4s);
+  StreamAttack attack(server.port(), render_request_bytes(small_request, many_headers(10'000)), 16, 100ms, 16384, 4s);
   std::this_thread::sleep_for(200ms);
   expect_render_answered(server, "renders with 10,000 headers");
   expect_every_stream_refused(attack, 431);
@@ -648,8 +648,8 @@ TEST(Hostile, TenThousandHeadersOnARenderAre431) {
 // 6b. 100,000 header fields on GET /livez: 431, a render answered meanwhile.
 TEST(Hostile, HundredThousandHeadersOnLivezAre431) {
   TestServer server(front_config());
-  StreamAttack attack(server.port(), "GET /livez HTTP/1.1\r\nHost: test\r\n" + many_headers(100'000) + "\r\n", 8,
-                      200ms, 16384, 4s);
+  StreamAttack attack(server.port(), "GET /livez HTTP/1.1\r\nHost: test\r\n" + many_headers(100'000) + "\r\n", 8, 200ms,
+                      16384, 4s);
   std::this_thread::sleep_for(200ms);
   expect_render_answered(server, "GET /livez with 100,000 headers");
   expect_every_stream_refused(attack, 431);
@@ -686,8 +686,8 @@ TEST(Hostile, PipelinedRequestsAreAnsweredInOrderAtOnce) {
   RawConn conn(server.port());
   ASSERT_TRUE(conn.ok());
   auto start = Clock::now();
-  ASSERT_TRUE(conn.send_all(render_request_bytes(small_request_at(64, 48)) + render_request_bytes(small_request_at(32, 24)),
-                            start + 2s));
+  ASSERT_TRUE(conn.send_all(
+      render_request_bytes(small_request_at(64, 48)) + render_request_bytes(small_request_at(32, 24)), start + 2s));
   conn.wait_for_answers(2, start + 10s);
   double took = seconds_since(start);
   std::vector<Answer> answers = conn.answers();

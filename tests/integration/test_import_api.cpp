@@ -83,8 +83,8 @@ TEST(ImportApi, RealInteriorsRenderWithEveryPipeline) {
   config.render_timeout_ms = 120'000;  // a cold 331k-polygon BSP build on a loaded 2-core machine
   TestServer server(config);
   auto client = server.client(180);
-  for (const char* name : {"conference/conference", "fireplace_room/fireplace_room",
-                           "crytek_sponza_lowpoly/crytek_sponza_lowpoly"}) {
+  for (const char* name :
+       {"conference/conference", "fireplace_room/fireplace_room", "crytek_sponza_lowpoly/crytek_sponza_lowpoly"}) {
     SCOPED_TRACE(name);
     auto path = *shared / "meshes" / (std::string(name) + ".obj");
     if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is absent";
@@ -93,7 +93,8 @@ TEST(ImportApi, RealInteriorsRenderWithEveryPipeline) {
     ASSERT_EQ(stored->status, 201) << stored->body.substr(0, 300);
     json receipt = json::parse(stored->body);
     for (const rr::PipelineInfo& p : rr::pipeline_table()) {
-      json body = {{"camera", receipt["camera"]}, {"options", {{"width", 1280}, {"height", 720}, {"pipeline", p.name}}}};
+      json body = {{"camera", receipt["camera"]},
+                   {"options", {{"width", 1280}, {"height", 720}, {"pipeline", p.name}}}};
       httplib::Headers accept = {{"Accept", "application/json"}};
       auto res = client.Post(("/v1/scenes/" + receipt["id"].get<std::string>() + "/render").c_str(), accept,
                              body.dump(), "application/json");

@@ -1,11 +1,11 @@
 // Zips over POST /v1/import/{sh3d,obj} on the real server: every Sweet Home 3D home of ../shared
 // zipped with the furniture it names (skipped without ../shared) imports with its models, stores and
-// renders with every pipeline (zbuffer and bsp under sanitizers); its furniture polygons equal those of `roomrender import --furniture models`; a .sh3d laid
-// out as Sweet Home 3D writes it (numbered model entries) imports the same; an OBJ zip brings its
-// .mtl colours; hostile and broken archives get the documented 4xx naming the entry, quickly.
+// renders with every pipeline (zbuffer and bsp under sanitizers); its furniture polygons equal those of `roomrender
+// import --furniture models`; a .sh3d laid out as Sweet Home 3D writes it (numbered model entries) imports the same; an
+// OBJ zip brings its .mtl colours; hostile and broken archives get the documented 4xx naming the entry, quickly.
 #include "render/core/tessellate.hpp"
-#include "render/pipelines/pipeline.hpp"
 #include "render/import/import.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "server_fixture.hpp"
 #include "support/zip_builder.hpp"
@@ -73,7 +73,8 @@ std::string home_zip(const fs::path& home) {
     if (!fs::exists(file) || !added.insert(file.filename().string()).second) continue;
     std::string obj = rr::testing::read_file(file);
     for (const std::string& mtl : libraries_of(obj)) {
-      if (added.insert(mtl).second) entries.push_back({"furniture/" + mtl, rr::testing::read_file(file.parent_path() / mtl)});
+      if (added.insert(mtl).second)
+        entries.push_back({"furniture/" + mtl, rr::testing::read_file(file.parent_path() / mtl)});
     }
     entries.push_back({"furniture/" + file.filename().string(), std::move(obj)});
   }
@@ -96,13 +97,16 @@ std::string sh3d_archive(const fs::path& home) {
       entry += '/';  // appended apart: GCC 12's -Wrestrict misfires on "/" + std::string here
       entry += file.filename().string();
       for (const std::string& mtl : libraries) {
-        models.push_back({entry.substr(0, entry.find('/') + 1) + mtl, rr::testing::read_file(file.parent_path() / mtl)});
+        models.push_back(
+            {entry.substr(0, entry.find('/') + 1) + mtl, rr::testing::read_file(file.parent_path() / mtl)});
       }
     }
     models.push_back({entry, std::move(obj)});
     for (const char quote : {'\'', '"'}) {
-      const std::string from = std::string("model=") + quote + model + quote, to = std::string("model=") + quote + entry + quote;
-      for (size_t at = xml.find(from); at != std::string::npos; at = xml.find(from, at + to.size())) xml.replace(at, from.size(), to);
+      const std::string from = std::string("model=") + quote + model + quote,
+                        to = std::string("model=") + quote + entry + quote;
+      for (size_t at = xml.find(from); at != std::string::npos; at = xml.find(from, at + to.size()))
+        xml.replace(at, from.size(), to);
     }
   }
   models.insert(models.begin(), {"Home", "Java-serialised home: not read"});
@@ -121,7 +125,8 @@ Furniture furniture_of(const json& request) {
   json solids = json::array();
   for (const json& s : request["scene"]["solids"]) {
     const std::string id = s.value("id", "");
-    if (id.find("/pieceOfFurniture/") != std::string::npos || id.find("/light/") != std::string::npos) solids.push_back(s);
+    if (id.find("/pieceOfFurniture/") != std::string::npos || id.find("/light/") != std::string::npos)
+      solids.push_back(s);
   }
   only["scene"]["solids"] = solids;
   only["scene"]["walls"] = json::array();
@@ -176,7 +181,8 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     ASSERT_TRUE(stored) << name;
     ASSERT_EQ(stored->status, 201) << name << ": " << stored->body.substr(0, 400);
     json receipt = json::parse(stored->body);
-    for (const json& w : receipt["warnings"]) EXPECT_EQ(w.get<std::string>().find("not found"), std::string::npos) << name << ": " << w;
+    for (const json& w : receipt["warnings"])
+      EXPECT_EQ(w.get<std::string>().find("not found"), std::string::npos) << name << ": " << w;
     auto scene = client.Get(receipt["location"].get<std::string>().c_str());
     ASSERT_TRUE(scene);
     ASSERT_EQ(scene->status, 200);
@@ -185,11 +191,12 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     for (const json& s : document["solids"]) meshes += s.contains("ref");
     EXPECT_GT(meshes, 20u) << name;
     EXPECT_LT(scene->body.size(), 1u << 20) << name;  // each mesh is stored once, apart from the scene
-    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu solids placing a stored mesh\n", name.c_str(), zip.size(),
-                scene->body.size(), meshes);
+    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu solids placing a stored mesh\n", name.c_str(),
+                zip.size(), scene->body.size(), meshes);
     for (const std::string& pipeline : pipelines()) {
       json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}, {"pipeline", pipeline}}}};
-      auto png = client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
+      auto png =
+          client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
       ASSERT_TRUE(png) << name << " " << pipeline;
       ASSERT_EQ(png->status, 200) << name << " " << pipeline << ": " << png->body.substr(0, 300);
       EXPECT_EQ(png_size(png->body).width, 96u);
@@ -198,7 +205,8 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     auto inline_import = post_zip(client, "/v1/import/sh3d?width=96&height=72", zip);
     ASSERT_TRUE(inline_import);
     ASSERT_EQ(inline_import->status, 200);
-    const size_t inline_polygons = rr::tessellate(rr::request_from_json(json::parse(inline_import->body)).scene.geometry).polygons.size();
+    const size_t inline_polygons =
+        rr::tessellate(rr::request_from_json(json::parse(inline_import->body)).scene.geometry).polygons.size();
     // Every level and every ceiling, so that the view leaves no polygon out of the count.
     json all_levels = json::array();
     for (const json& level : document.value("levels", json::array())) all_levels.push_back(level["id"]);
@@ -262,7 +270,8 @@ TEST(ArchiveImport, FurnitureEqualsTheCliImportWithModels) {
     ASSERT_TRUE(res);
     ASSERT_EQ(res->status, 200) << res->body.substr(0, 400);
     const std::string command = "'" ROOMRENDER_BINARY_DIR "/roomrender' import '" + home.string() +
-                                "' --furniture models --width 96 --height 72 >'" + (dir / "out.json").string() + "' 2>/dev/null";
+                                "' --furniture models --width 96 --height 72 >'" + (dir / "out.json").string() +
+                                "' 2>/dev/null";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
     const json cli = json::parse(rr::testing::read_file(dir / "out.json"));
@@ -359,7 +368,8 @@ std::vector<BadArchive> bad_archives() {
   stored_bad_crc[wall + 1] = 'W';  // the CRC no longer matches; the XML would still parse
   // libzip will not write a name twice: write two names of one length, then make them equal.
   std::string twice = make_zip({{"Home.xml", kHome}, {"Home.xmm", kHome}});
-  for (size_t at = twice.find("Home.xmm"); at != std::string::npos; at = twice.find("Home.xmm")) twice.replace(at, 8, "Home.xml");
+  for (size_t at = twice.find("Home.xmm"); at != std::string::npos; at = twice.find("Home.xmm"))
+    twice.replace(at, 8, "Home.xml");
   return {
       {"bomb by ratio", "sh3d", bomb, 413, "/entry/furniture~1chair.obj", "zip bomb"},
       {"bomb with a lying header", "sh3d", rr::testing::with_declared_size(bomb, "furniture/chair.obj", 2000), 413,
@@ -394,7 +404,8 @@ TEST(ArchiveImport, BadArchivesGetTheRight4xxNamingTheEntry) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_LT(seconds, 10.0) << bad.what;  // generous: the point is that nothing inflates without bound
     EXPECT_EQ(problem["errors"][0]["pointer"], bad.pointer) << bad.what << ": " << problem.dump();
-    EXPECT_NE(problem["detail"].get<std::string>().find(bad.says), std::string::npos) << bad.what << ": " << problem.dump();
+    EXPECT_NE(problem["detail"].get<std::string>().find(bad.says), std::string::npos)
+        << bad.what << ": " << problem.dump();
     std::printf("[ archive ] %-30s %d %s (%.2f s, %zu B)\n", bad.what.c_str(), bad.status,
                 problem["errors"][0]["pointer"].get<std::string>().c_str(), seconds, bad.body.size());
   }
@@ -418,7 +429,8 @@ TEST(ArchiveImport, MissingOrBrokenModelLeavesThePieceABoxWithAWarning) {
   EXPECT_NE(warnings.find("line 2: vertex index 2 is out of range"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("furniture/chair.obj"), std::string::npos) << warnings;
   expect_problem(client.Post("/v1/import/sh3d?furniture=chairs", kHome, "application/xml"), 400);
-  auto boxes = post_zip(client, "/v1/import/sh3d?furniture=boxes", make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", kChair}}));
+  auto boxes = post_zip(client, "/v1/import/sh3d?furniture=boxes",
+                        make_zip({{"Home.xml", kHome}, {"furniture/chair.obj", kChair}}));
   ASSERT_TRUE(boxes);
   EXPECT_EQ(json::parse(boxes->body)["scene"]["solids"].back()["type"], "box");
 }

@@ -22,7 +22,8 @@ TEST(LevelsApi, UnknownLevelsAre422AtTheirPointer) {
   TestServer server;
   json bad = scene;
   bad["rooms"][1]["level"] = "attic";
-  json problem = expect_problem(server.client().Post("/v1/render", json({{"scene", bad}}).dump(), "application/json"), 422);
+  json problem =
+      expect_problem(server.client().Post("/v1/render", json({{"scene", bad}}).dump(), "application/json"), 422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/scene/rooms/1/level") << problem;
   json view = {{"scene", scene}, {"options", {{"levels", {"ground", "attic"}}}}};
   problem = expect_problem(server.client().Post("/v1/render", view.dump(), "application/json"), 422);
@@ -31,8 +32,8 @@ TEST(LevelsApi, UnknownLevelsAre422AtTheirPointer) {
   ASSERT_TRUE(stored);
   ASSERT_EQ(stored->status, 201) << stored->body;
   const std::string path = "/v1/scenes/" + json::parse(stored->body)["id"].get<std::string>() + "/render";
-  problem = expect_problem(server.client().Post(path.c_str(), json({{"options", {{"levels", {"attic"}}}}}).dump(),
-                                                "application/json"), 422);
+  problem = expect_problem(
+      server.client().Post(path.c_str(), json({{"options", {{"levels", {"attic"}}}}}).dump(), "application/json"), 422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/options/levels/0") << problem;
   auto ok = server.client().Post(path.c_str(), json({{"camera", camera}, {"options", {{"levels", {"upper"}}}}}).dump(),
                                  "application/json");
@@ -43,7 +44,8 @@ TEST(LevelsApi, UnknownLevelsAre422AtTheirPointer) {
 TEST(LevelsApi, EachSelectionHasItsOwnCachedTreeAndTheSceneIdStays) {
   TestServer server;
   auto draw = [&](const json& levels) {
-    json request = {{"scene", scene}, {"camera", camera},
+    json request = {{"scene", scene},
+                    {"camera", camera},
                     {"options", {{"width", 32}, {"height", 24}, {"pipeline", "bsp"}, {"levels", levels}}}};
     auto res = server.client().Post("/v1/render", request.dump(), "application/json");
     EXPECT_TRUE(res);

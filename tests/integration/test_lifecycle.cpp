@@ -44,9 +44,8 @@ bool wait_for_metric(const TestServer& server, const std::string& name, double v
 }
 
 std::future<httplib::Result> post_async(const TestServer& server, const std::string& body) {
-  return std::async(std::launch::async, [&server, body] {
-    return server.client().Post("/v1/render", body, "application/json");
-  });
+  return std::async(std::launch::async,
+                    [&server, body] { return server.client().Post("/v1/render", body, "application/json"); });
 }
 
 rr::server::ServerConfig one_slot_config(const Latch& latch) {
@@ -192,8 +191,8 @@ double child_metric(int port, const std::string& name) {
 // reporting a complete drain.
 TEST(Lifecycle, SigtermDrainsInFlightRendersAndExitsZero) {
   // A generous drain bound: on a loaded machine the render may take several seconds.
-  Child child = start_binary({"serve", "--port", "0", "--log-requests", "0", "--render-workers", "1",
-                              "--drain-timeout-ms", "60000"});
+  Child child = start_binary(
+      {"serve", "--port", "0", "--log-requests", "0", "--render-workers", "1", "--drain-timeout-ms", "60000"});
   ASSERT_GT(child.pid, 0);
   ASSERT_GT(child.port, 0);
   json request = json::parse(read_file(examples_dir() / "apartment.json"));

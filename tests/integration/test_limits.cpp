@@ -50,8 +50,10 @@ TEST_F(LimitsTest, ChunkedOversizeBodyIsRefusedWithoutReadingIt) {
   int fd = connect_loopback(server_->port());
   ASSERT_GE(fd, 0);
   std::string chunk(64 * 1024, ' ');
-  std::string head = "POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n"
-                     "Transfer-Encoding: chunked\r\n\r\n10000\r\n" + chunk + "\r\n";
+  std::string head =
+      "POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n"
+      "Transfer-Encoding: chunked\r\n\r\n10000\r\n" +
+      chunk + "\r\n";
   ASSERT_EQ(::send(fd, head.data(), head.size(), MSG_NOSIGNAL), ssize_t(head.size()));
   std::string response;
   char buffer[4096];
@@ -75,8 +77,8 @@ TEST_F(LimitsTest, GzipBodyIsRefusedNotInflated) {
   std::string gzip = std::string("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03", 10) + std::string(64, '\0');
   std::string response = raw_exchange(server_->port(),
                                       "POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n"
-                                      "Content-Encoding: gzip\r\nContent-Length: " + std::to_string(gzip.size()) +
-                                          "\r\n\r\n" + gzip);
+                                      "Content-Encoding: gzip\r\nContent-Length: " +
+                                          std::to_string(gzip.size()) + "\r\n\r\n" + gzip);
   EXPECT_EQ(status_line(response), "HTTP/1.1 415 Unsupported Media Type") << response;
   EXPECT_NE(response.find("Connection: close"), std::string::npos);
   expect_healthy(*server_);
@@ -90,8 +92,8 @@ TEST_F(LimitsTest, ExpectContinueIsAnsweredBeforeTheBodyIsSent) {
 }
 
 TEST_F(LimitsTest, BodyOnARouteThatTakesNoneIs413) {
-  std::string response = raw_exchange(server_->port(),
-                                      "GET /livez HTTP/1.1\r\nHost: test\r\nContent-Length: 5\r\n\r\nhello");
+  std::string response =
+      raw_exchange(server_->port(), "GET /livez HTTP/1.1\r\nHost: test\r\nContent-Length: 5\r\n\r\nhello");
   EXPECT_EQ(status_line(response).rfind("HTTP/1.1 413 ", 0), 0u) << response;
   expect_healthy(*server_);
 }
@@ -124,8 +126,10 @@ TEST_F(LimitsTest, DuplicateKeysAre400AtTheKey) {
 }
 
 TEST_F(LimitsTest, InvalidUtf8Is400) {
-  refused_at("{\"scene\": {\"solids\": [{\"type\": \"box\", \"id\": \"\xff\xfe\", \"center\": [0, 0], "
-             "\"size\": [1, 1, 1]}]}}", 400);
+  refused_at(
+      "{\"scene\": {\"solids\": [{\"type\": \"box\", \"id\": \"\xff\xfe\", \"center\": [0, 0], "
+      "\"size\": [1, 1, 1]}]}}",
+      400);
   refused_at(R"({"scene": {"background": "\ud800"}})", 400);  // a lone surrogate
   expect_healthy(*server_);
 }
@@ -136,7 +140,9 @@ TEST_F(LimitsTest, InputBoundsAnswerAtTheField) {
   EXPECT_EQ(refused_at(R"({"options": {"width": 4096, "height": 4097}})", 413), "/options/height");
   EXPECT_EQ(refused_at(R"({"options": {"shadow": {"size": 8192}}})", 413), "/options/shadow/size");
   EXPECT_EQ(refused_at(R"({"scene": {"solids": [{"type": "cylinder", "center": [0, 0], "radius": 1,
-            "height": 1, "segments": 1000000}]}})", 413), "/scene/solids/0/segments");
+            "height": 1, "segments": 1000000}]}})",
+                       413),
+            "/scene/solids/0/segments");
   EXPECT_EQ(refused_at(R"({"scene": {"floor": {"cells": [100000, 100000]}}})", 413), "/scene/floor/cells");
   EXPECT_EQ(refused_at(R"({"scene": {"walls": [{"start": [0, 0], "end": [20000000, 0]}]}})", 422),
             "/scene/walls/0/end/0");
@@ -149,8 +155,8 @@ TEST_F(LimitsTest, InputBoundsAnswerAtTheField) {
   // 2000 cylinders of 1024 segments would tessellate into more than 2,000,000 polygons.
   json many = {{"scene", {{"solids", json::array()}}}};
   for (int i = 0; i < 2000; ++i) {
-    many["scene"]["solids"].push_back({{"type", "cylinder"}, {"center", {i, 0}}, {"radius", 0.4}, {"height", 1},
-                                       {"segments", 1024}});
+    many["scene"]["solids"].push_back(
+        {{"type", "cylinder"}, {"center", {i, 0}}, {"radius", 0.4}, {"height", 1}, {"segments", 1024}});
   }
   EXPECT_EQ(refused_at(many.dump(), 413), "/scene");
 }
@@ -169,8 +175,8 @@ TEST_F(LimitsTest, HugeImageIsRefusedWithoutAllocating) {
 
 TEST_F(LimitsTest, WrongMediaTypeIs415AndMissingLengthIs411) {
   expect_problem(client().Post("/v1/render", small_request, "application/x-www-form-urlencoded"), 415);
-  std::string response = raw_exchange(server_->port(),
-                                      "POST /v1/scenes HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n\r\n");
+  std::string response =
+      raw_exchange(server_->port(), "POST /v1/scenes HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n\r\n");
   EXPECT_EQ(status_line(response), "HTTP/1.1 411 Length Required") << response;
 }
 

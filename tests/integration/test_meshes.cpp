@@ -30,8 +30,8 @@ json cube_json() {
                  json{1, 0, 0}, json{0, 0, 0}}) {
     vertices.push_back(v);
   }
-  for (json f : {json{0, 3, 2, 1}, json{4, 5, 6, 7}, json{0, 1, 5, 4}, json{2, 3, 7, 6}, json{0, 4, 7, 3},
-                 json{1, 2, 6, 5}}) {
+  for (json f :
+       {json{0, 3, 2, 1}, json{4, 5, 6, 7}, json{0, 1, 5, 4}, json{2, 3, 7, 6}, json{0, 4, 7, 3}, json{1, 2, 6, 5}}) {
     for (json& i : f) i = 7 - i.get<int>();
     faces.push_back(f);
   }
@@ -51,14 +51,15 @@ std::string upload(const TestServer& server, const std::string& body, const std:
 }
 
 json placement(const std::string& id, double x, double rotation_y, double scale, const char* color) {
-  return {{"type", "mesh"}, {"ref", id}, {"position", {x, 0, 0}}, {"rotation_y", rotation_y},
+  return {{"type", "mesh"}, {"ref", id},      {"position", {x, 0, 0}}, {"rotation_y", rotation_y},
           {"scale", scale}, {"color", color}, {"closed", true}};
 }
 
 json three_placements(const std::string& id) {
   return {{"floor", {{"cells", {8, 4}}, {"origin", {-4, -2}}}},
-          {"solids", {placement(id, -2.5, 0, 1, "#c04040"), placement(id, -0.5, 30, 1.2, "#40c040"),
-                      placement(id, 1.8, 75, 0.8, "#4040c0")}},
+          {"solids",
+           {placement(id, -2.5, 0, 1, "#c04040"), placement(id, -0.5, 30, 1.2, "#40c040"),
+            placement(id, 1.8, 75, 0.8, "#4040c0")}},
           {"lights", {{{"type", "directional"}, {"direction", {-0.3, -1, -0.4}}}}}};
 }
 
@@ -135,7 +136,8 @@ TEST(Meshes, DeleteWhileAStoredScenePlacesItIsAConflict) {
   expect_problem(server.client().Get(("/v1/meshes/" + mesh).c_str()), 404);
   // Now the ref names nothing: a 422 at its pointer, in a request and in a scene document.
   json missing = expect_problem(
-      server.client().Post("/v1/render", render_request(three_placements(mesh), "zbuffer").dump(), "application/json"), 422);
+      server.client().Post("/v1/render", render_request(three_placements(mesh), "zbuffer").dump(), "application/json"),
+      422);
   EXPECT_EQ(missing["errors"][0]["pointer"], "/scene/solids/0/ref");
   missing = expect_problem(server.client().Post("/v1/scenes", three_placements(mesh).dump(), "application/json"), 422);
   EXPECT_EQ(missing["errors"][0]["pointer"], "/solids/0/ref");

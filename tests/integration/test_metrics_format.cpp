@@ -84,8 +84,9 @@ TEST(MetricsText, EachFamilyIsOneBlockUnderItsHelpAndType) {
     if (parsed.kind == MetricLine::sample) ++samples[family];
   }
   // The cache families list all three caches, so they had several samples to keep together.
-  const std::map<std::string, std::string> cache_families = {
-      {"roomrender_cache_hits_total", "counter"}, {"roomrender_cache_bytes", "gauge"}, {"roomrender_cache_entries", "gauge"}};
+  const std::map<std::string, std::string> cache_families = {{"roomrender_cache_hits_total", "counter"},
+                                                             {"roomrender_cache_bytes", "gauge"},
+                                                             {"roomrender_cache_entries", "gauge"}};
   for (const auto& [family, type] : cache_families) {
     EXPECT_EQ(types[family], type) << family;
     EXPECT_GE(samples[family], 3u) << family;

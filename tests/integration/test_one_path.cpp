@@ -3,9 +3,9 @@
 // with the view as query parameters) and by the built `roomrender render`, and the four PNGs must be
 // byte-identical. The stage names must agree too: the JSON answer's timings_ms keys, Server-Timing's
 // names and the CLI line's timings_ms keys are all stage_table, in its order.
+#include "integration/server_fixture.hpp"
 #include "render/core/frame.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "integration/server_fixture.hpp"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -116,7 +116,8 @@ std::vector<RenderCase> render_cases() {
 }
 
 json case_request(const RenderCase& c) {
-  json request = json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" / (c.example + ".json")));
+  json request =
+      json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" / (c.example + ".json")));
   json& options = request["options"];
   if (options.is_null()) options = json::object();
   options["width"] = width;
@@ -134,11 +135,13 @@ struct CliRender {
 
 CliRender render_with_cli(const json& request, const fs::path& dir) {
   rr::testing::write_file(dir / "request.json", request.dump());
-  std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR
+  std::string command = "cd '" + dir.string() +
+                        "' && '" ROOMRENDER_BINARY_DIR
                         "/roomrender' render request.json -o out.png >line.json 2>err.txt";
   int status = std::system(command.c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << rr::testing::read_file(dir / "err.txt");
-  return {rr::testing::read_file(dir / "out.png"), nlohmann::ordered_json::parse(rr::testing::read_file(dir / "line.json"))};
+  return {rr::testing::read_file(dir / "out.png"),
+          nlohmann::ordered_json::parse(rr::testing::read_file(dir / "line.json"))};
 }
 
 TEST(OnePath, EveryExamplePipelineAndShadingGivesTheSameBytesEverywhere) {
@@ -207,8 +210,9 @@ TEST(OnePath, PngQueryParameterSelectsTheEncoder) {
     auto got = client.Get(location + "/render.png" + view_query(request));
     ASSERT_TRUE(got);
     ASSERT_EQ(got->status, 200) << got->body;
-    auto posted = client.Post(location + "/render", json{{"camera", request["camera"]}, {"options", request["options"]}}.dump(),
-                              "application/json");
+    auto posted =
+        client.Post(location + "/render", json{{"camera", request["camera"]}, {"options", request["options"]}}.dump(),
+                    "application/json");
     ASSERT_TRUE(posted);
     EXPECT_TRUE(got->body == posted->body) << mode;
     sizes.push_back(got->body.size());

@@ -4,12 +4,12 @@
 // the picked point must project back into the pixel; bad pixels answer 422 at /x or /y. Frame:
 // `"camera": {"frame": "all"}` answers the camera it chose, and that camera sent explicitly draws
 // the same bytes; without it the answer carries no camera.
+#include "integration/server_fixture.hpp"
 #include "render/core/camera.hpp"
 #include "render/core/image.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/element_pointer.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "integration/server_fixture.hpp"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -33,7 +33,8 @@ rr::IdBuffer cli_ids(const json& request) {
   const fs::path dir = rr::testing::output_dir("integration") / "pick";
   fs::create_directories(dir);
   rr::testing::write_file(dir / "request.json", request.dump());
-  const std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR
+  const std::string command = "cd '" + dir.string() +
+                              "' && '" ROOMRENDER_BINARY_DIR
                               "/roomrender' render request.json -o out.png --ids out.ids >/dev/null 2>&1";
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   return rr::decode_id_buffer(rr::testing::read_file(dir / "out.ids"));
@@ -110,7 +111,7 @@ TEST(Pick, PixelsOutsideTheImageAnswer422AtTheField) {
   TestServer server;
   const json base = apartment();
   const std::vector<std::tuple<json, json, std::string>> cases = {
-      {640, 10, "/x"}, {10, 480, "/y"}, {-1, 10, "/x"}, {10, -1, "/y"},
+      {640, 10, "/x"}, {10, 480, "/y"}, {-1, 10, "/x"},      {10, -1, "/y"},
       {1.5, 10, "/x"}, {10, "3", "/y"}, {nullptr, 10, "/x"}, {10, nullptr, "/y"},
   };
   for (const auto& [x, y, pointer] : cases) {
@@ -125,12 +126,12 @@ TEST(Pick, PixelsOutsideTheImageAnswer422AtTheField) {
   stored_with_scene["x"] = stored_with_scene["y"] = 1;
   const json stored = post(server, "/v1/scenes", base["scene"], 201);
   const std::string path = "/v1/scenes/" + stored["id"].get<std::string>() + "/pick";
-  EXPECT_EQ(rr::testing::expect_problem(server.client().Post(path.c_str(), stored_with_scene.dump(), "application/json"),
-                                        422)["errors"][0]["pointer"],
-            "/scene");
-  rr::testing::expect_problem(server.client().Post("/v1/scenes/0123456789abcdef/pick", "{\"x\":1,\"y\":1}",
-                                                   "application/json"),
-                              404);
+  EXPECT_EQ(
+      rr::testing::expect_problem(server.client().Post(path.c_str(), stored_with_scene.dump(), "application/json"),
+                                  422)["errors"][0]["pointer"],
+      "/scene");
+  rr::testing::expect_problem(
+      server.client().Post("/v1/scenes/0123456789abcdef/pick", "{\"x\":1,\"y\":1}", "application/json"), 404);
 }
 
 json render_json(TestServer& server, const json& body) {
@@ -153,8 +154,8 @@ TEST(Frame, AllAnswersItsCameraWhichDrawsTheSameBytes) {
 
   json placed = apartment();
   placed["camera"]["frame"] = "all";
-  const json problem = rr::testing::expect_problem(
-      server.client().Post("/v1/render", placed.dump(), "application/json"), 422);
+  const json problem =
+      rr::testing::expect_problem(server.client().Post("/v1/render", placed.dump(), "application/json"), 422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/camera/frame");
   placed["camera"] = {{"frame", "some"}};
   EXPECT_EQ(rr::testing::expect_problem(server.client().Post("/v1/render", placed.dump(), "application/json"),

@@ -53,9 +53,10 @@ TEST_F(ServerTest, RendersInlineRequest) {
 TEST_F(ServerTest, AcceptsJsonWithParametersOrNoContentType) {
   expect_render_ok(client().Post("/v1/render", small_request, "application/json; charset=utf-8"), 64, 48);
   // httplib::Client always sends a Content-Type, so the request without one goes over a raw socket.
-  std::string response = raw_exchange(server_->port(), "POST /v1/render HTTP/1.1\r\nHost: test\r\n"
+  std::string response = raw_exchange(server_->port(),
+                                      "POST /v1/render HTTP/1.1\r\nHost: test\r\n"
                                       "Connection: close\r\nContent-Length: " +
-                                      std::to_string(std::strlen(small_request)) + "\r\n\r\n" + small_request);
+                                          std::to_string(std::strlen(small_request)) + "\r\n\r\n" + small_request);
   EXPECT_EQ(response.rfind("HTTP/1.1 200", 0), 0u) << response.substr(0, 300);
   EXPECT_NE(response.find("Content-Type: image/png"), std::string::npos) << response.substr(0, 300);
 }
@@ -82,8 +83,8 @@ TEST_F(ServerTest, InvalidSceneIs422AtTheField) {
 }
 
 TEST_F(ServerTest, OversizedImageIs413AtTheField) {
-  json problem = expect_problem(client().Post("/v1/render", R"({"options": {"width": 100000}})",
-                                               "application/json"), 413);
+  json problem =
+      expect_problem(client().Post("/v1/render", R"({"options": {"width": 100000}})", "application/json"), 413);
   ASSERT_TRUE(problem.contains("errors")) << problem;
   EXPECT_EQ(problem["errors"][0]["pointer"], "/options/width") << problem;
 }
@@ -104,8 +105,8 @@ TEST_F(ServerTest, WrongMethodIs405WithAllow) {
 // still writing when the server closes may see a reset instead of the answer (see
 // close_after_response), which would make an httplib::Client test flaky.
 std::string refused_exchange(int port, const std::string& headers, const std::string& body) {
-  return raw_exchange(port, "POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n" +
-                                headers + "\r\n" + body);
+  return raw_exchange(
+      port, "POST /v1/render HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n" + headers + "\r\n" + body);
 }
 
 void expect_refused(const std::string& response, int status) {
@@ -215,8 +216,8 @@ TEST(Problem, MapsErrorsToStatusesAndHidesInternalText) {
   EXPECT_EQ(input.status, 422);
   EXPECT_TRUE(log_detail.empty());
   EXPECT_EQ(json::parse(input.body)["errors"][0]["pointer"], "/camera/fov_y");
-  auto internal = rr::server::problem_from_exception(
-      std::make_exception_ptr(std::runtime_error("secret /etc/path")), log_detail);
+  auto internal =
+      rr::server::problem_from_exception(std::make_exception_ptr(std::runtime_error("secret /etc/path")), log_detail);
   EXPECT_EQ(internal.status, 500);
   EXPECT_EQ(log_detail, "secret /etc/path");
   EXPECT_EQ(internal.body.find("secret"), std::string::npos) << internal.body;

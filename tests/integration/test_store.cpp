@@ -115,7 +115,8 @@ TEST_F(StoreTest, PostTakesAWholeRequestAndStoresItsScene) {
   ASSERT_TRUE(got);
   EXPECT_EQ(json::parse(got->body), request["scene"]);
   EXPECT_EQ(store(*server_, request["scene"], 200)["id"], created["id"]) << "the bare scene is the same scene";
-  auto put = client().Put(("/v1/scenes/" + created["id"].get<std::string>()).c_str(), request.dump(), "application/json");
+  auto put =
+      client().Put(("/v1/scenes/" + created["id"].get<std::string>()).c_str(), request.dump(), "application/json");
   ASSERT_TRUE(put);
   EXPECT_EQ(put->status, 200) << put->body;
   ASSERT_FALSE(created["warnings"].empty()) << "studio's lamp touches its pole";
@@ -157,7 +158,8 @@ TEST_F(StoreTest, StoredRendersEqualTheInlineRenderByteForByte) {
   EXPECT_EQ(posted->body, inline_res->body);
   EXPECT_EQ(posted->get_header_value("X-Scene-Id"), inline_res->get_header_value("X-Scene-Id"));
 
-  std::string query = "/v1/scenes/" + id + "/render.png?position=2.5,1.5,3.5&target=0,0.4,0&fov_y=50"
+  std::string query = "/v1/scenes/" + id +
+                      "/render.png?position=2.5,1.5,3.5&target=0,0.4,0&fov_y=50"
                       "&width=80&height=60&shading=flat";
   auto got = client().Get(query.c_str());
   ASSERT_TRUE(got);
@@ -177,10 +179,11 @@ TEST_F(StoreTest, StoredRendersEqualTheInlineRenderByteForByte) {
 TEST_F(StoreTest, StoredRenderTakesOnlyCameraAndOptions) {
   std::string id = store(*server_, scene_with_box_at(0.6))["id"];
   json problem = expect_problem(client().Post(("/v1/scenes/" + id + "/render").c_str(),
-                                              json({{"scene", small_scene()}}).dump(), "application/json"), 422);
+                                              json({{"scene", small_scene()}}).dump(), "application/json"),
+                                422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/scene");
-  json bad_view = expect_problem(client().Post(("/v1/scenes/" + id + "/render").c_str(),
-                                               R"({"camera": {"near": 0}})", "application/json"), 422);
+  json bad_view = expect_problem(
+      client().Post(("/v1/scenes/" + id + "/render").c_str(), R"({"camera": {"near": 0}})", "application/json"), 422);
   EXPECT_EQ(bad_view["errors"][0]["pointer"], "/camera/near");
   auto json_answer = client().Post(("/v1/scenes/" + id + "/render").c_str(), {{"Accept", "application/json"}},
                                    R"({"options": {"width": 16, "height": 16}})", "application/json");

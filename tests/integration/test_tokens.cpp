@@ -82,8 +82,8 @@ TEST(Tokens, WritesNeedTheRightToken) {
   const std::string path = "/v1/scenes/" + id;
   expect_unauthorized(server.client().Put(path.c_str(), scene.dump(), "application/json"), false);
   expect_unauthorized(server.client().Delete(path.c_str()), false);
-  expect_unauthorized(server.client().Post("/v1/import/obj?store=1", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "model/obj"),
-                      false);
+  expect_unauthorized(
+      server.client().Post("/v1/import/obj?store=1", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "model/obj"), false);
   // A bearer token with the scheme in another case, and a bare token, both count.
   auto lower = post_scene(server, scene_with_box_at(1.1), {{"Authorization", "bearer " + bob}});
   ASSERT_TRUE(lower);
@@ -217,8 +217,7 @@ TEST(Listing, OwnScenesNewestFirstAPageAtATime) {
   EXPECT_EQ(pages, 3u);
   EXPECT_EQ(paged, newest_first);
 
-  EXPECT_EQ(listed_ids(server.client().Get("/v1/scenes", bearer(bob))),
-            (std::vector<std::string>{bobs, mine.front()}))
+  EXPECT_EQ(listed_ids(server.client().Get("/v1/scenes", bearer(bob))), (std::vector<std::string>{bobs, mine.front()}))
       << "bob's own, newest reference first by creation";
   expect_unauthorized(server.client().Get("/v1/scenes"), false);
   json problem = expect_problem(server.client().Get("/v1/scenes?limit=0", bearer(alice)), 400);
@@ -241,7 +240,8 @@ TEST(Listing, OffOnAnOpenServerUnlessAllowed) {
   auto second = post_scene(server, scene_with_box_at(7.1));
   ASSERT_TRUE(first && second);
   auto res = server.client().Get("/v1/scenes");
-  EXPECT_EQ(listed_ids(res), (std::vector<std::string>{json::parse(second->body)["id"], json::parse(first->body)["id"]}));
+  EXPECT_EQ(listed_ids(res),
+            (std::vector<std::string>{json::parse(second->body)["id"], json::parse(first->body)["id"]}));
   json listed = json::parse(res->body)["scenes"][0];
   EXPECT_EQ(listed["location"], "/v1/scenes/" + listed["id"].get<std::string>());
   EXPECT_TRUE(listed["expires"].is_null());

@@ -20,7 +20,9 @@ namespace rr::stress {
 
 using nlohmann::json;
 
-inline double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+inline double uniform(std::mt19937& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
 
 // A room of w x d metres: a tiled floor, four walls with opaque doors and windows (so visibility is
 // one id per pixel in every pipeline), 3..8 boxes, cylinders and pyramids placed freely (they may
@@ -34,12 +36,16 @@ inline json random_room(std::mt19937& rng) {
     const double length = std::hypot(corners[k + 1][0] - corners[k][0], corners[k + 1][1] - corners[k][1]);
     json openings = json::array();
     // A door in the first half, a window in the second: openings never overlap.
-    if (rng() % 2) openings.push_back({{"type", "door"}, {"offset", uniform(rng, 0.2, length / 2 - 1.0)}, {"width", 0.9}});
+    if (rng() % 2)
+      openings.push_back({{"type", "door"}, {"offset", uniform(rng, 0.2, length / 2 - 1.0)}, {"width", 0.9}});
     if (rng() % 2) {
-      openings.push_back({{"type", "window"}, {"offset", uniform(rng, length / 2, length - 1.2)}, {"width", 1.0}, {"opacity", 1.0}});
+      openings.push_back(
+          {{"type", "window"}, {"offset", uniform(rng, length / 2, length - 1.2)}, {"width", 1.0}, {"opacity", 1.0}});
     }
-    walls.push_back({{"start", {corners[k][0], corners[k][1]}}, {"end", {corners[k + 1][0], corners[k + 1][1]}},
-                     {"height", h}, {"openings", openings}});
+    walls.push_back({{"start", {corners[k][0], corners[k][1]}},
+                     {"end", {corners[k + 1][0], corners[k + 1][1]}},
+                     {"height", h},
+                     {"openings", openings}});
   }
   json solids = json::array();
   const int n = 3 + int(rng() % 6);
@@ -48,15 +54,25 @@ inline json random_room(std::mt19937& rng) {
     const double base = rng() % 3 ? 0.0 : uniform(rng, 0.2, 1.2);
     switch (rng() % 3) {
       case 0:
-        solids.push_back({{"type", "box"}, {"center", center}, {"base", base}, {"rotation_y", uniform(rng, 0, 90)},
+        solids.push_back({{"type", "box"},
+                          {"center", center},
+                          {"base", base},
+                          {"rotation_y", uniform(rng, 0, 90)},
                           {"size", {uniform(rng, 0.3, 1.5), uniform(rng, 0.3, 1.5), uniform(rng, 0.3, 1.5)}}});
         break;
       case 1:
-        solids.push_back({{"type", "cylinder"}, {"center", center}, {"base", base}, {"radius", uniform(rng, 0.1, 0.6)},
-                          {"height", uniform(rng, 0.3, 2.0)}, {"segments", 6 + int(rng() % 20)}});
+        solids.push_back({{"type", "cylinder"},
+                          {"center", center},
+                          {"base", base},
+                          {"radius", uniform(rng, 0.1, 0.6)},
+                          {"height", uniform(rng, 0.3, 2.0)},
+                          {"segments", 6 + int(rng() % 20)}});
         break;
       default:
-        solids.push_back({{"type", "pyramid"}, {"center", center}, {"base", base}, {"rotation_y", uniform(rng, 0, 90)},
+        solids.push_back({{"type", "pyramid"},
+                          {"center", center},
+                          {"base", base},
+                          {"rotation_y", uniform(rng, 0, 90)},
                           {"size", {uniform(rng, 0.3, 1.5), uniform(rng, 0.3, 1.5), uniform(rng, 0.3, 1.5)}}});
     }
   }

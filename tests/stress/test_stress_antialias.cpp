@@ -64,9 +64,7 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
   }
 }
 
-TEST(StressAntialias, RandomRoomsResolveAsTheReferenceAt16Samples) {
-  check_scenes("rooms", 1800, 12, random_room);
-}
+TEST(StressAntialias, RandomRoomsResolveAsTheReferenceAt16Samples) { check_scenes("rooms", 1800, 12, random_room); }
 
 TEST(StressAntialias, RandomIntersectingSoupsResolveAsTheReferenceAt16Samples) {
   check_scenes("soups", 2800, 8, [](std::mt19937& rng) { return random_soup(rng, 40); });

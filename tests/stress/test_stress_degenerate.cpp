@@ -17,7 +17,9 @@ Frame render_named(const StressScene& scene, const std::string& name) {
 }
 
 json quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
-  return {{"type", "mesh"}, {"vertices", {{a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z}, {d.x, d.y, d.z}}}, {"faces", {{0, 1, 2, 3}}}};
+  return {{"type", "mesh"},
+          {"vertices", {{a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z}, {d.x, d.y, d.z}}},
+          {"faces", {{0, 1, 2, 3}}}};
 }
 
 json request_of(json solids, Vec3 eye, Vec3 target, int size = 128) {
@@ -35,14 +37,17 @@ TEST(StressDegenerate, NearlyCoplanarOverlapsResolveDownToTheStatedOffset) {
   const Vec3 u = glm::normalize(glm::cross(Vec3(0, 1, 0), n)), v = glm::cross(n, u);
   for (double f : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7}) {
     const double lift = f * 4.0 * std::sqrt(2.0);
-    auto square = [&](Vec3 c) { return quad(c - 2.0 * u - 2.0 * v, c + 2.0 * u - 2.0 * v, c + 2.0 * u + 2.0 * v, c - 2.0 * u + 2.0 * v); };
+    auto square = [&](Vec3 c) {
+      return quad(c - 2.0 * u - 2.0 * v, c + 2.0 * u - 2.0 * v, c + 2.0 * u + 2.0 * v, c - 2.0 * u + 2.0 * v);
+    };
     const StressScene scene(request_of({square(Vec3(0.0)), square(0.7 * u + 0.4 * v + lift * n)}, 9.0 * n, Vec3(0.0)));
     const Frame truth = scene.render("reference");
     for (const char* p : kPipelines) {
       const Frame frame = render_named(scene, p);
       const VisibilityError e = visibility_error(truth.ids, frame.ids);
       size_t holes = 0;
-      for (size_t i = 0; i < truth.ids.ids.size(); ++i) holes += truth.ids.ids[i] != background_id && frame.ids.ids[i] == background_id;
+      for (size_t i = 0; i < truth.ids.ids.size(); ++i)
+        holes += truth.ids.ids[i] != background_id && frame.ids.ids[i] == background_id;
       std::printf("[stress] coplanar offset %.0e x size, %s: non-edge visibility error %.4f%%, holes %zu\n", f, p,
                   100.0 * e.non_edge_share(), holes);
       EXPECT_EQ(holes, 0u) << p << " at " << f;
@@ -57,19 +62,22 @@ TEST(StressDegenerate, SliverFanTilesItsSquareWithoutHoles) {
   // A 2 m square as a fan from its centre whose rim points include pairs 2e-6 m apart: those fan
   // triangles have aspect ~5e5..1e6. Every pixel the reference sees covered must be covered (no
   // crack between slivers) and non-edge pixels must agree.
-  std::vector<Vec3> rim = {{-1, -1, 0}, {0, -1, 0}, {2e-6, -1, 0}, {1, -1, 0}, {1, 0, 0}, {1, 2e-6, 0},
-                           {1, 1, 0}, {0, 1, 0}, {-2e-6, 1, 0}, {-1, 1, 0}, {-1, 0, 0}, {-1, -2e-6, 0}};
+  std::vector<Vec3> rim = {{-1, -1, 0}, {0, -1, 0}, {2e-6, -1, 0}, {1, -1, 0}, {1, 0, 0},  {1, 2e-6, 0},
+                           {1, 1, 0},   {0, 1, 0},  {-2e-6, 1, 0}, {-1, 1, 0}, {-1, 0, 0}, {-1, -2e-6, 0}};
   json vertices = json::array({{0, 0, 0}}), faces = json::array();
   for (size_t i = 0; i < rim.size(); ++i) {
     vertices.push_back({rim[i].x, rim[i].y, rim[i].z});
     faces.push_back({0, 1 + i, 1 + (i + 1) % rim.size()});
   }
-  const StressScene scene(request_of({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}}, Vec3(0.3, 0.2, 3), Vec3(0.0)));
+  const StressScene scene(
+      request_of({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}}, Vec3(0.3, 0.2, 3), Vec3(0.0)));
   const Frame truth = scene.render("reference");
   for (const char* p : kPipelines) {
     const Frame frame = render_named(scene, p);
     size_t holes = 0;
-    for (size_t i = 0; i < truth.ids.ids.size(); ++i) holes += truth.ids.ids[i] != background_id && frame.ids.ids[i] == background_id && !is_edge_pixel(truth.ids, int(i % 128), int(i / 128));
+    for (size_t i = 0; i < truth.ids.ids.size(); ++i)
+      holes += truth.ids.ids[i] != background_id && frame.ids.ids[i] == background_id &&
+               !is_edge_pixel(truth.ids, int(i % 128), int(i / 128));
     EXPECT_EQ(holes, 0u) << p;
     EXPECT_EQ(visibility_error(truth.ids, frame.ids).non_edge_differing, 0u) << p;
   }
@@ -80,8 +88,9 @@ TEST(StressDegenerate, TJunctionsLeaveNoCrack) {
   // edge (a T-junction), in front of a red back plane: a crack would show the back plane on the
   // seam. The reference has none; the rasterizers snap the T vertex to 1/256 pixel, so a pixel
   // centre within 1/512 pixel of the seam could differ: at most 1 such pixel per 100 seam pixels.
-  const json solids = {quad({-1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 1, 0}), quad({-1, -1, 0}, {0, -1, 0}, {0, 0, 0}, {-1, 0, 0}),
-                       quad({0, -1, 0}, {1, -1, 0}, {1, 0, 0}, {0, 0, 0}), quad({-3, -3, -1}, {3, -3, -1}, {3, 3, -1}, {-3, 3, -1})};
+  const json solids = {
+      quad({-1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 1, 0}), quad({-1, -1, 0}, {0, -1, 0}, {0, 0, 0}, {-1, 0, 0}),
+      quad({0, -1, 0}, {1, -1, 0}, {1, 0, 0}, {0, 0, 0}), quad({-3, -3, -1}, {3, -3, -1}, {3, 3, -1}, {-3, 3, -1})};
   for (Vec3 eye : {Vec3(0.13, 0.07, 3.0), Vec3(-0.71, 0.33, 2.2), Vec3(1.3, -0.9, 2.6)}) {
     const StressScene scene(request_of(solids, eye, Vec3(0.0), 200));
     const Frame truth = scene.render("reference");
@@ -102,13 +111,16 @@ TEST(StressDegenerate, PolygonsThroughTheEyeAndCameraOnAWallPlane) {
   // a line: no pipeline draws it, and the rest of the scene matches the reference.
   const Vec3 eye(0.0, 1.0, 4.0);
   const json solids = {quad({-2, 1, -2}, {2, 1, -2}, {2, 1, 6}, {-2, 1, 6}),  // y = 1 through the eye
-                       quad({-3, -1, -3}, {3, -1, -3}, {3, -1, 3}, {-3, -1, 3}), quad({-1, -1, -1}, {1, -1, -1}, {1, 2, -1}, {-1, 2, -1})};
+                       quad({-3, -1, -3}, {3, -1, -3}, {3, -1, 3}, {-3, -1, 3}),
+                       quad({-1, -1, -1}, {1, -1, -1}, {1, 2, -1}, {-1, 2, -1})};
   const StressScene through(request_of(solids, eye, Vec3(0.3, 0.2, 0.0)));
   // (b) A room whose camera sits exactly on a wall's inner face plane (x = thickness / 2).
-  json room = {{"scene", {{"floor", {{"cells", {4, 4}}}},
-                          {"walls", {{{"start", {0, 0}}, {"end", {0, 4}}, {"thickness", 0.2}},
-                                     {{"start", {0, 4}}, {"end", {4, 4}}, {"thickness", 0.2}}}},
-                          {"solids", {{{"type", "box"}, {"center", {2, 2}}, {"size", {1, 1, 1}}}}}}},
+  json room = {{"scene",
+                {{"floor", {{"cells", {4, 4}}}},
+                 {"walls",
+                  {{{"start", {0, 0}}, {"end", {0, 4}}, {"thickness", 0.2}},
+                   {{"start", {0, 4}}, {"end", {4, 4}}, {"thickness", 0.2}}}},
+                 {"solids", {{{"type", "box"}, {"center", {2, 2}}, {"size", {1, 1, 1}}}}}}},
                {"camera", {{"position", {0.1, 1.5, 1.0}}, {"target", {2.0, 0.5, 3.0}}}},
                {"options", {{"width", 128}, {"height", 96}}}};
   const StressScene on_wall(room);
@@ -129,16 +141,19 @@ TEST(StressDegenerate, GrazingViewsStayWithinTheStatedBound) {
   // floor's depth changes fastest per pixel near the horizon. Bound: non-edge visibility error at
   // most 0.5% of the pixels for every exact pipeline (measured values are printed).
   for (double height : {1e-3, 1e-2, 1e-1}) {
-    json request = {{"scene", {{"floor", {{"origin", {-100, -100}}, {"cells", {8, 8}}, {"cell_size", 25}}},
-                               {"solids", {{{"type", "box"}, {"center", {1, -6}}, {"size", {1, 1, 1}}},
-                                           {{"type", "box"}, {"center", {-3, -30}}, {"size", {4, 2, 4}}}}}}},
+    json request = {{"scene",
+                     {{"floor", {{"origin", {-100, -100}}, {"cells", {8, 8}}, {"cell_size", 25}}},
+                      {"solids",
+                       {{{"type", "box"}, {"center", {1, -6}}, {"size", {1, 1, 1}}},
+                        {{"type", "box"}, {"center", {-3, -30}}, {"size", {4, 2, 4}}}}}}},
                     {"camera", {{"position", {0, height, 0}}, {"target", {0.2, height, -10}}, {"far", 300}}},
                     {"options", {{"width", 160}, {"height", 120}}}};
     const StressScene scene(request);
     const Frame truth = scene.render("reference");
     for (const char* p : kPipelines) {
       const VisibilityError e = visibility_error(truth.ids, render_named(scene, p).ids);
-      std::printf("[stress] grazing at %.0e m, %s: non-edge visibility error %.4f%%\n", height, p, 100.0 * e.non_edge_share());
+      std::printf("[stress] grazing at %.0e m, %s: non-edge visibility error %.4f%%\n", height, p,
+                  100.0 * e.non_edge_share());
       EXPECT_LE(e.non_edge_share(), 0.005) << p << " at " << height;
     }
   }
@@ -152,7 +167,8 @@ TEST(StressDeterminism, SameRequestGivesByteIdenticalPngs) {
   for (const PipelineInfo& p : pipeline_table()) {
     request["options"]["pipeline"] = p.name;
     const std::string first = rr::testing::render_text(request.dump()).png;
-    for (int run = 0; run < 2; ++run) EXPECT_EQ(rr::testing::render_text(request.dump()).png, first) << p.name << " run " << run;
+    for (int run = 0; run < 2; ++run)
+      EXPECT_EQ(rr::testing::render_text(request.dump()).png, first) << p.name << " run " << run;
   }
 }
 

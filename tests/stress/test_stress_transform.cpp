@@ -1,9 +1,8 @@
-// The same room and soup moved by 1, 1e3, 1e5, 1e6 and 1e7 m (the coordinate limit) and scaled by 1e-3 .. 1e3 (geometry,
-// camera, lights and near/far together): every pipeline sees the same polygon at every pixel off
-// the untransformed reference's id edges, no value anywhere is NaN or infinite, the BSP build
-// terminates and its fragments conserve each polygon's area to 1e-9 relative (moved or scaled; both
-// at once is bounded by the input's own rounding, see below); with shadows on, every pipeline's
-// shadow mask is the one it has at the origin, off shadow edges.
+// The same room and soup moved by 1, 1e3, 1e5, 1e6 and 1e7 m (the coordinate limit) and scaled by 1e-3 .. 1e3
+// (geometry, camera, lights and near/far together): every pipeline sees the same polygon at every pixel off the
+// untransformed reference's id edges, no value anywhere is NaN or infinite, the BSP build terminates and its fragments
+// conserve each polygon's area to 1e-9 relative (moved or scaled; both at once is bounded by the input's own rounding,
+// see below); with shadows on, every pipeline's shadow mask is the one it has at the origin, off shadow edges.
 #include "render/pipelines/bsp.hpp"
 #include "stress/stress_support.hpp"
 
@@ -63,7 +62,8 @@ void check_placements(const json& request, const std::string& what) {
       if (offset == 0.0 || scale == 1.0) {
         EXPECT_LE(area_error, 1e-9 * std::max(1.0, offset / 1e6));
       } else {
-        std::printf("[stress] %s: scale %.0e and offset %.0e m together: BSP area error %.2e\n", what.c_str(), scale, offset, area_error);
+        std::printf("[stress] %s: scale %.0e and offset %.0e m together: BSP area error %.2e\n", what.c_str(), scale,
+                    offset, area_error);
         EXPECT_LE(area_error, 1e-5);
       }
       for (const char* pipeline : pipelines) {

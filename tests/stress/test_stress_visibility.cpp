@@ -53,9 +53,9 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
       const VisibilityError e = visibility_error(truth.ids, frame.ids);
       const size_t pinholes = count_pinholes(truth.ids, frame.ids);
       cracks[c.name] += pinholes;
-      EXPECT_EQ(e.non_edge_differing - pinholes, 0u) << what << " " << seed_note(seed) << ": " << c.name << " differs at "
-                                                     << e.non_edge_differing << " of " << e.non_edge_pixels
-                                                     << " non-edge pixels, " << pinholes << " of them pinholes";
+      EXPECT_EQ(e.non_edge_differing - pinholes, 0u)
+          << what << " " << seed_note(seed) << ": " << c.name << " differs at " << e.non_edge_differing << " of "
+          << e.non_edge_pixels << " non-edge pixels, " << pinholes << " of them pinholes";
       non_edge_pixels += e.non_edge_pixels;
     }
     mean.add(visibility_error(truth.ids, scene.render("painter", PainterKey::mean).ids));
@@ -72,9 +72,7 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
   }
 }
 
-TEST(StressVisibility, RandomRoomsMatchTheReferenceAwayFromEdges) {
-  check_scenes("rooms", 1000, 48, random_room);
-}
+TEST(StressVisibility, RandomRoomsMatchTheReferenceAwayFromEdges) { check_scenes("rooms", 1000, 48, random_room); }
 
 TEST(StressVisibility, RandomIntersectingSoupsMatchTheReferenceAwayFromEdges) {
   check_scenes("soups", 2000, 48, [](std::mt19937& rng) { return random_soup(rng, 40); });

@@ -17,7 +17,7 @@
 
 namespace rr::testing {
 
-constexpr int golden_channel_tolerance = 8;          // of 255
+constexpr int golden_channel_tolerance = 8;           // of 255
 constexpr double golden_max_differing_share = 0.002;  // 0.2 % of the pixels
 
 inline bool golden_update_mode() {

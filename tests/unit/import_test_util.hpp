@@ -35,7 +35,8 @@ inline std::vector<std::filesystem::path> shared_files(const std::string& sub, c
 // Test names from file names: letters and digits only.
 inline std::string test_name_of(const std::filesystem::path& file) {
   std::string name = file.stem().string();
-  std::replace_if(name.begin(), name.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+  std::replace_if(
+      name.begin(), name.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
   return name;
 }
 

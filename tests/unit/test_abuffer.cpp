@@ -41,7 +41,9 @@ class Colours final : public TileShading {
 struct Tile {
   std::vector<uint8_t> rgb = std::vector<uint8_t>(size_t(abuffer_tile) * abuffer_tile * 3, 0);
   std::vector<uint32_t> ids = std::vector<uint32_t>(size_t(abuffer_tile) * abuffer_tile, background_id);
-  float channel(int x, int y, int c) const { return float(rgb[(size_t(y) * abuffer_tile + size_t(x)) * 3 + size_t(c)]) / 255.0f; }
+  float channel(int x, int y, int c) const {
+    return float(rgb[(size_t(y) * abuffer_tile + size_t(x)) * 3 + size_t(c)]) / 255.0f;
+  }
   uint32_t id(int x, int y) const { return ids[size_t(y) * abuffer_tile + size_t(x)]; }
 };
 
@@ -90,7 +92,8 @@ std::vector<int> sample_counts(const std::vector<TriangleSetup>& triangles, cons
       int64_t e[3] = {e0[0], e0[1], e0[2]};
       for (int i = 0; i < len; ++i, e[0] += s.step_x[0], e[1] += s.step_x[1], e[2] += s.step_x[2]) {
         const uint32_t m = sample_mask(se, e);
-        for (int b = 0; b < n; ++b) count[(size_t(y) * abuffer_tile + size_t(x + i)) * size_t(n) + size_t(b)] += int(m >> b & 1u);
+        for (int b = 0; b < n; ++b)
+          count[(size_t(y) * abuffer_tile + size_t(x + i)) * size_t(n) + size_t(b)] += int(m >> b & 1u);
       }
     });
   }
@@ -112,7 +115,7 @@ TEST(ABuffer, PolygonsSharingARandomEdgeCoverEachSampleExactlyOnce) {
     std::vector<TriangleSetup> parts;
     parts.push_back(setup_of(tl, tr, r));  // top part: tl, tr, r, l
     parts.push_back(setup_of(tl, r, l));
-    parts.push_back(setup_of(l, r, br));   // bottom part: l, r, br, bl
+    parts.push_back(setup_of(l, r, br));  // bottom part: l, r, br, bl
     parts.push_back(setup_of(l, br, bl));
     const std::vector<int> count = sample_counts(parts, make_sample_set(S));
     size_t wrong = 0;

@@ -68,10 +68,13 @@ TEST(Antialias, IdsAreTheCentresSurfaceAndOnlyEdgePixelsChange) {
               // Through a translucent pane the surfaces behind it may change within the pixel.
               bool interior = !translucent.count(one.frame.ids.ids[i]);
               for (int dy = -1; dy <= 1; ++dy) {
-                for (int dx = -1; dx <= 1; ++dx) interior &= one.frame.ids.ids[size_t(y + dy) * size_t(w) + size_t(x + dx)] == one.frame.ids.ids[i];
+                for (int dx = -1; dx <= 1; ++dx)
+                  interior &= one.frame.ids.ids[size_t(y + dy) * size_t(w) + size_t(x + dx)] == one.frame.ids.ids[i];
               }
               int off = 0;
-              for (int c = 0; c < 3; ++c) off = std::max(off, std::abs(int(many.frame.image.rgb[i * 3 + size_t(c)]) - int(one.frame.image.rgb[i * 3 + size_t(c)])));
+              for (int c = 0; c < 3; ++c)
+                off = std::max(off, std::abs(int(many.frame.image.rgb[i * 3 + size_t(c)]) -
+                                             int(one.frame.image.rgb[i * 3 + size_t(c)])));
               differing += off > 0;
               // One byte: S = 1 rounds to bytes after each translucent blend, the resolve once.
               if (shading == "flat" && interior) {
@@ -107,7 +110,8 @@ TEST(Antialias, TheMemoryBudgetCountsTheABuffer) {
   limits.max_render_bytes = render_bytes(640, 480, 4);
   EXPECT_NO_THROW(parse_request(R"({"options":{"width":640,"height":480,"antialias":4}})", limits));
   std::string pointer;
-  EXPECT_EQ(failure(R"({"options":{"width":640,"height":480,"antialias":8}})", limits, pointer), InputError::Kind::too_large);
+  EXPECT_EQ(failure(R"({"options":{"width":640,"height":480,"antialias":8}})", limits, pointer),
+            InputError::Kind::too_large);
   EXPECT_EQ(pointer, "/options/antialias");
   limits.max_render_bytes = render_bytes(640, 480, 1) - 1;
   EXPECT_EQ(failure(R"({"options":{"width":640,"height":480}})", limits, pointer), InputError::Kind::too_large);

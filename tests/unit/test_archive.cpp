@@ -44,7 +44,8 @@ TEST(Archive, ReadsEntriesAndResolvesNamesExactlyThenByBaseName) {
                                     {"furniture/chair.obj", "v 1 1 1\n"},
                                     {"chair.mtl", "newmtl a\n", false}});
   Archive archive(zip);
-  EXPECT_EQ(archive.names(), (std::vector<std::string>{"Home.xml", "12/chair.obj", "furniture/chair.obj", "chair.mtl"}));
+  EXPECT_EQ(archive.names(),
+            (std::vector<std::string>{"Home.xml", "12/chair.obj", "furniture/chair.obj", "chair.mtl"}));
   EXPECT_EQ(archive.resolve("furniture/chair.obj"), "furniture/chair.obj");
   // Not an entry: the shallowest entry of that base name, the first in the archive among equals.
   EXPECT_EQ(archive.resolve("com/eteks/sweethome3d/io/resources/chair.obj"), "12/chair.obj");
@@ -79,7 +80,8 @@ TEST(Archive, UnsafeNamesAreRefused) {
   EXPECT_NO_THROW(Archive archive(dots));  // dots that are no step up
   // libzip will not write one name twice: write two, then make the second name the first.
   std::string zip = make_zip({{"dup-one", "1"}, {"dup-two", "2"}});
-  for (size_t at = zip.find("dup-two"); at != std::string::npos; at = zip.find("dup-two")) zip.replace(at, 7, "dup-one");
+  for (size_t at = zip.find("dup-two"); at != std::string::npos; at = zip.find("dup-two"))
+    zip.replace(at, 7, "dup-one");
   InputError twice = error_of([&] { Archive archive(zip); });
   EXPECT_EQ(twice.kind(), Kind::invalid);
 }

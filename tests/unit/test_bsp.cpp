@@ -128,7 +128,8 @@ TEST(Bsp, FarFromTheOriginAndSmallStaysExact) {
 
   BspTree tree = build_bsp(soup, r.options.bsp);
   EXPECT_GT(tree.splits, 0u);
-  for (const Vec3& p : tree.fragments.positions) ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (const Vec3& p : tree.fragments.positions)
+    ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
   const double fragment_area = total_area(tree.fragments) / (scale * scale);
   EXPECT_NEAR(fragment_area / area, 1.0, 1e-9) << fragment_area << " vs " << area;
 }
@@ -192,9 +193,10 @@ TEST(Bsp, SeededRandomTrianglesMatchTheZbuffer) {
       for (int k = 0; k < 3; ++k) vertices.push_back({u(rng), u(rng) + 1.0, u(rng)});
       faces.push_back({3 * t, 3 * t + 1, 3 * t + 2});
     }
-    json request = {{"scene", {{"solids", json::array({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}})}}},
-                    {"camera", {{"position", {2.5 * u(rng), 1.0 + u(rng), 3.0}}, {"target", {0.0, 1.0, 0.0}}}},
-                    {"options", {{"width", 96}, {"height", 72}}}};
+    json request = {
+        {"scene", {{"solids", json::array({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}})}}},
+        {"camera", {{"position", {2.5 * u(rng), 1.0 + u(rng), 3.0}}, {"target", {0.0, 1.0, 0.0}}}},
+        {"options", {{"width", 96}, {"height", 72}}}};
     RenderRequest r = request_from_json(request);
     PolygonSoup soup = tessellate(r.scene.geometry);
     testing::IdDiff d = testing::compare_ids(render(r, soup, pipeline_id("zbuffer")).frame.ids,

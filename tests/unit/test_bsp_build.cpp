@@ -49,7 +49,8 @@ PolygonSoup random_soup(std::mt19937& rng, size_t count) {
 
 // The definition in bsp.hpp, written out plainly: evenly sampled candidates, each scored on evenly
 // sampled polygons classified by classify_polygon; the lowest score wins, ties to the first.
-uint32_t plain_best(const PolygonSoup& soup, const std::vector<uint32_t>& polygons, const BspOptions& o, double epsilon) {
+uint32_t plain_best(const PolygonSoup& soup, const std::vector<uint32_t>& polygons, const BspOptions& o,
+                    double epsilon) {
   auto pick = [](size_t n, size_t want, size_t k) { return n <= want ? k : k * n / want; };
   const size_t candidates = std::min(polygons.size(), size_t(o.max_candidates));
   const size_t sampled = std::min(polygons.size(), kScoreSample);
@@ -61,10 +62,18 @@ uint32_t plain_best(const PolygonSoup& soup, const std::vector<uint32_t>& polygo
     for (size_t i = 0; i < sampled; ++i) {
       const Polygon& p = soup.polygons[polygons[pick(polygons.size(), kScoreSample, i)]];
       switch (classify_polygon(soup.points(p), plane_of(soup.polygons[candidate]), epsilon)) {
-        case PlaneSide::front: ++front; break;
-        case PlaneSide::back: ++back; break;
-        case PlaneSide::on: ++on; break;
-        case PlaneSide::spanning: ++splits; break;
+        case PlaneSide::front:
+          ++front;
+          break;
+        case PlaneSide::back:
+          ++back;
+          break;
+        case PlaneSide::on:
+          ++on;
+          break;
+        case PlaneSide::spanning:
+          ++splits;
+          break;
       }
     }
     const double score = o.w1 * std::abs(front - back) + o.w2 * splits + o.w3 * on;

@@ -104,17 +104,19 @@ TEST(BspOcclusion, EyeLevelApartmentDrawsFewerPolygonsAndFragments) {
   EXPECT_GT(p.front_to_back.stats.bsp_polygons_occluded, 0u);
   EXPECT_LT(p.front_to_back.stats.polygons_drawn, p.back_to_front.stats.polygons_drawn);
   EXPECT_LT(p.front_to_back.stats.fragments, p.back_to_front.stats.fragments);
-  std::printf("eye level 640x360: polygons drawn %zu -> %zu, fragments %zu -> %zu, subtrees occluded %zu, "
-              "polygons occluded %zu\n",
-              p.back_to_front.stats.polygons_drawn, p.front_to_back.stats.polygons_drawn,
-              p.back_to_front.stats.fragments, p.front_to_back.stats.fragments,
-              p.front_to_back.stats.bsp_subtrees_occluded, p.front_to_back.stats.bsp_polygons_occluded);
+  std::printf(
+      "eye level 640x360: polygons drawn %zu -> %zu, fragments %zu -> %zu, subtrees occluded %zu, "
+      "polygons occluded %zu\n",
+      p.back_to_front.stats.polygons_drawn, p.front_to_back.stats.polygons_drawn, p.back_to_front.stats.fragments,
+      p.front_to_back.stats.fragments, p.front_to_back.stats.bsp_subtrees_occluded,
+      p.front_to_back.stats.bsp_polygons_occluded);
 }
 
 // A camera close to a wall sees nothing else: the first polygons fill the screen and the walk ends.
 TEST(BspOcclusion, AFullScreenEndsTheWalk) {
-  json request = {{"scene", {{"walls", json::array({{{"start", {-5, 0}}, {"end", {5, 0}}, {"height", 3}}})},
-                             {"solids", json::array({{{"type", "box"}, {"center", {0, -3}}, {"size", {1, 1, 1}}}})}}},
+  json request = {{"scene",
+                   {{"walls", json::array({{{"start", {-5, 0}}, {"end", {5, 0}}, {"height", 3}}})},
+                    {"solids", json::array({{{"type", "box"}, {"center", {0, -3}}, {"size", {1, 1, 1}}}})}}},
                   {"camera", {{"position", {0, 1.5, 1.0}}, {"target", {0, 1.5, 0}}}},
                   {"options", {{"width", 64}, {"height", 48}, {"pipeline", "bsp"}}}};
   Pair p = render_both(request);

@@ -15,8 +15,8 @@ namespace rr {
 namespace {
 
 bool box_contains(const Box& outer, const Box& inner) {
-  return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
-         outer.hi.x >= inner.hi.x && outer.hi.y >= inner.hi.y && outer.hi.z >= inner.hi.z;
+  return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z && outer.hi.x >= inner.hi.x &&
+         outer.hi.y >= inner.hi.y && outer.hi.z >= inner.hi.z;
 }
 
 // Depth of the tree, checking containment on the way (explicit stack, like the build).
@@ -101,8 +101,8 @@ TEST(Bvh, ClosestAndAnyHitEqualBruteForceOnRandomSoups) {
         }
         return false;
       });
-      ASSERT_EQ(tree.polygon, brute.polygon) << "seed " << seed << " (replay with ROOMRENDER_TEST_SEED=" << seed
-                                             << "), ray " << r;
+      ASSERT_EQ(tree.polygon, brute.polygon)
+          << "seed " << seed << " (replay with ROOMRENDER_TEST_SEED=" << seed << "), ray " << r;
       ASSERT_EQ(tree.t, brute.t) << "seed " << seed << ", ray " << r;
       // Any-hit within the segment t < 1.
       bool any = false;

@@ -73,9 +73,10 @@ json square_mesh(double u0, double v0, double s, bool other_diagonal) {
 json two_squares() {
   const Vec3 normal = glm::cross(kE1, kE2);
   const Vec3 eye = kCentre + 4.0 * normal + Vec3(0.7, 0.4, 0.3);
-  return {{"scene", {{"solids", {square_mesh(-1.0, -1.0, 1.6, false), square_mesh(-0.5, -0.4, 1.6, true)}}}},
-          {"camera", {{"position", {eye.x, eye.y, eye.z}}, {"target", {kCentre.x, kCentre.y, kCentre.z}}, {"fov_y", 50}}},
-          {"options", {{"width", 200}, {"height", 150}}}};
+  return {
+      {"scene", {{"solids", {square_mesh(-1.0, -1.0, 1.6, false), square_mesh(-0.5, -0.4, 1.6, true)}}}},
+      {"camera", {{"position", {eye.x, eye.y, eye.z}}, {"target", {kCentre.x, kCentre.y, kCentre.z}}, {"fov_y", 50}}},
+      {"options", {{"width", 200}, {"height", 150}}}};
 }
 
 TEST(Coplanar, OverlappingSquaresFormOneGroupAndTheirOwnHalvesDoNot) {
@@ -166,9 +167,10 @@ json random_stacks(std::mt19937& rng) {
     for (int k = 0; k < 4; ++k) add_stack_polygon(rng, c, e1, e2, solids);
   }
   const double a = M_PI * unit(rng);
-  return {{"scene", {{"solids", solids}}},
-          {"camera", {{"position", {3.5 * std::cos(a), 4.5 + 0.5 * unit(rng), 3.5 * std::sin(a)}}, {"target", {0, 0, 0}}}},
-          {"options", {{"width", 160}, {"height", 120}}}};
+  return {
+      {"scene", {{"solids", solids}}},
+      {"camera", {{"position", {3.5 * std::cos(a), 4.5 + 0.5 * unit(rng), 3.5 * std::sin(a)}}, {"target", {0, 0, 0}}}},
+      {"options", {{"width", 160}, {"height", 120}}}};
 }
 
 TEST(Coplanar, RandomCoplanarStacksMatchTheReferenceInEveryExactPipeline) {
@@ -177,9 +179,11 @@ TEST(Coplanar, RandomCoplanarStacksMatchTheReferenceInEveryExactPipeline) {
     std::mt19937 rng(seed);
     const json request = random_stacks(rng);
     size_t grouped = 0;
-    for (const Polygon& p : tessellate(request_from_json(request).scene.geometry).polygons) grouped += p.plane_group != 0;
+    for (const Polygon& p : tessellate(request_from_json(request).scene.geometry).polygons)
+      grouped += p.plane_group != 0;
     EXPECT_GT(grouped, 0u) << "seed " << seed;
-    expect_exact(request, "seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
+    expect_exact(request,
+                 "seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
   }
 }
 

@@ -49,17 +49,15 @@ double overshoot_ms(std::chrono::milliseconds budget, Fn&& work) {
 
 TEST(Deadlines, BspBuildStopsSoonAfterItsDeadline) {
   const PolygonSoup& soup = large_soup();
-  const double late_ms = overshoot_ms(std::chrono::milliseconds(200), [&](const CancelToken& token) {
-    build_bsp(soup, BspOptions{}, &token);
-  });
+  const double late_ms = overshoot_ms(std::chrono::milliseconds(200),
+                                      [&](const CancelToken& token) { build_bsp(soup, BspOptions{}, &token); });
   EXPECT_LT(late_ms, 1000.0);
 }
 
 TEST(Deadlines, BspBuildWithAnExpiredDeadlineStopsAtOnce) {
   const PolygonSoup& soup = large_soup();
-  const double late_ms = overshoot_ms(std::chrono::milliseconds(0), [&](const CancelToken& token) {
-    build_bsp(soup, BspOptions{}, &token);
-  });
+  const double late_ms = overshoot_ms(std::chrono::milliseconds(0),
+                                      [&](const CancelToken& token) { build_bsp(soup, BspOptions{}, &token); });
   EXPECT_LT(late_ms, 1000.0);
 }
 

@@ -16,9 +16,9 @@
 namespace rr {
 namespace {
 
-constexpr int side = 32;                                       // image width = height, pixels
+constexpr int side = 32;                                                         // image width = height, pixels
 constexpr std::array<int, 3> colour = {200, 100, 40}, background = {0, 20, 40};  // 8-bit
-constexpr double depth = 4.0;                                  // the polygon's plane: z = -depth
+constexpr double depth = 4.0;                                                    // the polygon's plane: z = -depth
 
 // World point on the plane z = -depth that the camera below projects to screen point (px, py):
 // eye at the origin looking down -z, 90 degree field of view, square image.
@@ -65,7 +65,8 @@ double coverage(std::vector<Vec2> poly, int x, int y) {
     }
   }
   double twice = 0.0;
-  for (size_t i = 0; i < poly.size(); ++i) twice += poly[i].x * poly[(i + 1) % poly.size()].y - poly[(i + 1) % poly.size()].x * poly[i].y;
+  for (size_t i = 0; i < poly.size(); ++i)
+    twice += poly[i].x * poly[(i + 1) % poly.size()].y - poly[(i + 1) % poly.size()].x * poly[i].y;
   return std::abs(twice) / 2.0;
 }
 
@@ -76,7 +77,8 @@ Image exact_image(const std::vector<Vec2>& poly) {
   for (int y = 0; y < side; ++y) {
     for (int x = 0; x < side; ++x) {
       const double area = coverage(poly, x, y);
-      for (int ch = 0; ch < 3; ++ch) out.rgb[size_t(y * side + x) * 3 + size_t(ch)] = uint8_t(std::lround(exact_channel(area, ch)));
+      for (int ch = 0; ch < 3; ++ch)
+        out.rgb[size_t(y * side + x) * 3 + size_t(ch)] = uint8_t(std::lround(exact_channel(area, ch)));
     }
   }
   return out;
@@ -118,7 +120,8 @@ TEST(EdgeError, SupersampledReferenceMatchesExactCoverageOfRandomTriangles) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> coord(2.0, side - 2.0);
     std::vector<Vec2> tri = {{coord(rng), coord(rng)}, {coord(rng), coord(rng)}, {coord(rng), coord(rng)}};
-    const double twice_area = std::abs((tri[1].x - tri[0].x) * (tri[2].y - tri[0].y) - (tri[2].x - tri[0].x) * (tri[1].y - tri[0].y));
+    const double twice_area =
+        std::abs((tri[1].x - tri[0].x) * (tri[2].y - tri[0].y) - (tri[2].x - tri[0].x) * (tri[1].y - tri[0].y));
     if (twice_area < 40.0) continue;  // slivers: fine, but they say little here
     const Frame truth = render_polygon(tri, 256);
     const Image exact = exact_image(tri);

@@ -40,8 +40,9 @@ TEST(FrameBounds, EveryCornerOfRandomBoxesIsInView) {
     const rr::ViewTransform view = rr::make_view(c, width, height);
     for (int corner = 0; corner < 8; ++corner) {
       const rr::Vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
-      expect_in_view(view, p, "seed " + std::to_string(seed) + " trial " + std::to_string(trial) + " corner " +
-                                  std::to_string(corner));
+      expect_in_view(
+          view, p,
+          "seed " + std::to_string(seed) + " trial " + std::to_string(trial) + " corner " + std::to_string(corner));
     }
   }
 }

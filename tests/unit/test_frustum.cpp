@@ -4,8 +4,8 @@
 #include "render/core/frustum.hpp"
 #include "render/pipelines/painter.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/scene_io/scene_json.hpp"
 #include "render/pipelines/zbuffer.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -21,12 +21,12 @@ using json = nlohmann::json;
 TEST(Frustum, BoxesOnEitherSideOfEachPlane) {
   Camera camera;  // at (0, 1.6, 5) looking at (0, 1, 0), near 0.1, far 100
   const Frustum f(make_view(camera, 64, 48));
-  EXPECT_FALSE(f.outside(Vec3(-0.5, 0.5, -0.5), Vec3(0.5, 1.5, 0.5)));   // in front of the eye
-  EXPECT_TRUE(f.outside(Vec3(-0.5, 0.5, 6.0), Vec3(0.5, 1.5, 7.0)));     // behind the eye
-  EXPECT_TRUE(f.outside(Vec3(20.0, 0.5, -0.5), Vec3(21.0, 1.5, 0.5)));   // far to the right
-  EXPECT_TRUE(f.outside(Vec3(-21.0, 0.5, -0.5), Vec3(-20.0, 1.5, 0.5))); // far to the left
-  EXPECT_TRUE(f.outside(Vec3(-0.5, 0.5, -200.0), Vec3(0.5, 1.5, -199.0)));  // beyond the far plane
-  EXPECT_TRUE(f.outside(Vec3(-0.01, 1.59, 4.95), Vec3(0.01, 1.61, 4.97)));  // between eye and near
+  EXPECT_FALSE(f.outside(Vec3(-0.5, 0.5, -0.5), Vec3(0.5, 1.5, 0.5)));             // in front of the eye
+  EXPECT_TRUE(f.outside(Vec3(-0.5, 0.5, 6.0), Vec3(0.5, 1.5, 7.0)));               // behind the eye
+  EXPECT_TRUE(f.outside(Vec3(20.0, 0.5, -0.5), Vec3(21.0, 1.5, 0.5)));             // far to the right
+  EXPECT_TRUE(f.outside(Vec3(-21.0, 0.5, -0.5), Vec3(-20.0, 1.5, 0.5)));           // far to the left
+  EXPECT_TRUE(f.outside(Vec3(-0.5, 0.5, -200.0), Vec3(0.5, 1.5, -199.0)));         // beyond the far plane
+  EXPECT_TRUE(f.outside(Vec3(-0.01, 1.59, 4.95), Vec3(0.01, 1.61, 4.97)));         // between eye and near
   EXPECT_FALSE(f.outside(Vec3(-100.0, -100.0, -50.0), Vec3(100.0, 100.0, 50.0)));  // around it all
 }
 
@@ -41,8 +41,10 @@ json random_room(std::mt19937& rng) {
       solids.push_back({{"type", "cylinder"}, {"center", center}, {"radius", 0.4}, {"height", size(rng)}});
     }
   }
-  return {{"scene", {{"floor", {{"cells", {6, 6}}}}, {"solids", solids},
-                     {"lights", json::array({{{"type", "directional"}, {"direction", {-0.3, -1, -0.2}}}})}}},
+  return {{"scene",
+           {{"floor", {{"cells", {6, 6}}}},
+            {"solids", solids},
+            {"lights", json::array({{{"type", "directional"}, {"direction", {-0.3, -1, -0.2}}}})}}},
           {"camera", {{"position", {u(rng), 1.6, u(rng)}}, {"target", {u(rng), 0.8, u(rng)}}, {"fov_y", 50}}},
           {"options", {{"width", 120}, {"height", 90}, {"shading", "phong"}, {"shadows", true}}}};
 }
@@ -58,7 +60,8 @@ TEST(Frustum, SkippingObjectsOutsideTheViewChangesNoPixel) {
     const ObjectsInView objects = objects_in_view(soup, view);
     culled_total += objects.culled;
     for (auto draw : {&draw_zbuffer, &draw_painter}) {
-      Frame with{Image(r.options.width, r.options.height, r.scene.background), IdBuffer(r.options.width, r.options.height)};
+      Frame with{Image(r.options.width, r.options.height, r.scene.background),
+                 IdBuffer(r.options.width, r.options.height)};
       Frame without = with;
       RenderStats s1, s2;
       StageTimings t1, t2;

@@ -3,8 +3,8 @@
 // (and reach the tessellated soup), zero-area faces are dropped; bad input is an InputError naming
 // its line. Also the optional mesh "normals" of the scene format, which this importer fills.
 #include "import_test_util.hpp"
-#include "render/import/import.hpp"
 #include "render/core/tessellate.hpp"
+#include "render/import/import.hpp"
 
 #include <gtest/gtest.h>
 

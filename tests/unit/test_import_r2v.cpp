@@ -128,7 +128,8 @@ TEST_P(R2vPlan, ImportsAndRendersWithEveryPipeline) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(SharedData, R2vPlan, ::testing::ValuesIn(rr::testing::shared_files("floorplans/r2v", ".txt", "r2v_")),
+INSTANTIATE_TEST_SUITE_P(SharedData, R2vPlan,
+                         ::testing::ValuesIn(rr::testing::shared_files("floorplans/r2v", ".txt", "r2v_")),
                          [](const auto& param_info) { return rr::testing::test_name_of(param_info.param); });
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(R2vPlan);
 

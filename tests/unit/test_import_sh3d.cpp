@@ -8,8 +8,8 @@
 #include "render/import/import.hpp"
 
 #include <gtest/gtest.h>
-#include <pugixml.hpp>
 #include <zip.h>
+#include <pugixml.hpp>
 
 #include <cmath>
 
@@ -229,8 +229,9 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
   EXPECT_EQ(solids[0]["color"], json::array({1.0, 0.0, 0.0}));
   EXPECT_EQ(solids[2]["type"], "box");
   ASSERT_EQ(r.warnings.size(), 2u);  // the missing model, then the missing observer camera
-  EXPECT_EQ(r.warnings[0],
-            "1 furniture models were not found and 0 could not be read: those pieces are boxes (not found: models/lost.obj)");
+  EXPECT_EQ(
+      r.warnings[0],
+      "1 furniture models were not found and 0 could not be read: those pieces are boxes (not found: models/lost.obj)");
   // Width (model x, 2 units -> 1 m) turned by the angle runs along +z; depth (4 units -> 0.5 m)
   // along -x; height 1 unit -> 2 m from the elevation up. Measured on the tessellated meshes, since
   // each mesh is the unit model placed by its solid's scale, rotation_y and position.
@@ -271,7 +272,7 @@ TEST(ImportSh3d, EachDistinctModelIsOneMeshPlacedByRef) {
   };
   ImportResult refs = rr::import_sweethome3d(home, options);
   const json& solids = refs.request["scene"]["solids"];
-  ASSERT_EQ(solids.size(), 6u);  // two groups per piece
+  ASSERT_EQ(solids.size(), 6u);       // two groups per piece
   EXPECT_EQ(refs.meshes.size(), 4u);  // two groups x (plain, mirrored)
   EXPECT_EQ(solids[0]["ref"], solids[2]["ref"]);
   EXPECT_NE(solids[0]["ref"], solids[4]["ref"]);
@@ -283,7 +284,7 @@ TEST(ImportSh3d, EachDistinctModelIsOneMeshPlacedByRef) {
     }
   }
   // The mirrored mesh is the plain one with x negated and every face reversed.
-  const json& plain = refs.meshes.at(solids[0]["ref"]), &mirrored = refs.meshes.at(solids[4]["ref"]);
+  const json &plain = refs.meshes.at(solids[0]["ref"]), &mirrored = refs.meshes.at(solids[4]["ref"]);
   ASSERT_EQ(plain["faces"].size(), 1u);
   ASSERT_EQ(mirrored["faces"].size(), 1u);
   const json& f0 = plain["faces"][0];
@@ -323,7 +324,8 @@ TEST(ImportSh3d, ExampleHomeMatchesItsXml) {
   for (pugi::xpath_node n : doc.select_nodes("//wall")) {
     pugi::xml_node w = n.node();
     walls.push_back({w.attribute("id").value(), w.attribute("xStart").as_double(), w.attribute("yStart").as_double(),
-                     w.attribute("xEnd").as_double(), w.attribute("yEnd").as_double(), w.attribute("thickness").as_double()});
+                     w.attribute("xEnd").as_double(), w.attribute("yEnd").as_double(),
+                     w.attribute("thickness").as_double()});
     total_length_m += std::hypot(walls.back().x1 - walls.back().x0, walls.back().y1 - walls.back().y0) / 100.0;
   }
   size_t pieces = doc.select_nodes("//doorOrWindow").size();

@@ -21,9 +21,21 @@ TEST(LruCache, SecondLookupIsAHitAndBuildsNothing) {
   Cache cache(100);
   int builds = 0;
   bool hit = true;
-  auto a = cache.get_or_build("k", [&] { ++builds; return make(7, 10); }, hit);
+  auto a = cache.get_or_build(
+      "k",
+      [&] {
+        ++builds;
+        return make(7, 10);
+      },
+      hit);
   EXPECT_FALSE(hit);
-  auto b = cache.get_or_build("k", [&] { ++builds; return make(8, 10); }, hit);
+  auto b = cache.get_or_build(
+      "k",
+      [&] {
+        ++builds;
+        return make(8, 10);
+      },
+      hit);
   EXPECT_TRUE(hit);
   EXPECT_EQ(builds, 1);
   EXPECT_EQ(a.get(), b.get());
@@ -63,7 +75,8 @@ TEST(LruCache, EntryCountIsBoundedToo) {
 TEST(LruCache, ValueLargerThanBudgetIsReturnedButNotKept) {
   Cache cache(10);
   bool hit = false;
-  auto v = cache.get_or_build("big", [] { return make(5, 11); }, hit);
+  auto v = cache.get_or_build(
+      "big", [] { return make(5, 11); }, hit);
   ASSERT_NE(v, nullptr);
   EXPECT_EQ(*v, 5);
   EXPECT_EQ(cache.stats().entries, 0u);
@@ -93,11 +106,14 @@ TEST(LruCache, ConcurrentFirstLookupsBuildOnce) {
       ++arrived;
       while (arrived.load() < kThreads) std::this_thread::yield();
       bool hit = false;
-      results[size_t(t)] = cache.get_or_build("k", [&] {
-        ++builds;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));  // keep the build in flight
-        return make(42, 1);
-      }, hit);
+      results[size_t(t)] = cache.get_or_build(
+          "k",
+          [&] {
+            ++builds;
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));  // keep the build in flight
+            return make(42, 1);
+          },
+          hit);
     });
   }
   for (auto& th : threads) th.join();
@@ -109,10 +125,12 @@ TEST(LruCache, ConcurrentFirstLookupsBuildOnce) {
 TEST(LruCache, FailedBuildReachesEveryWaiterAndCachesNothing) {
   Cache cache(100);
   bool hit = false;
-  EXPECT_THROW(cache.get_or_build("k", []() -> Cache::Built { throw std::runtime_error("no"); }, hit),
+  EXPECT_THROW(cache.get_or_build(
+                   "k", []() -> Cache::Built { throw std::runtime_error("no"); }, hit),
                std::runtime_error);
   EXPECT_EQ(cache.stats().entries, 0u);
-  auto v = cache.get_or_build("k", [] { return make(1, 1); }, hit);  // a later lookup builds again
+  auto v = cache.get_or_build(
+      "k", [] { return make(1, 1); }, hit);  // a later lookup builds again
   EXPECT_FALSE(hit);
   EXPECT_EQ(*v, 1);
 }

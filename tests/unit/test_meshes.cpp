@@ -103,7 +103,8 @@ TEST(MeshJson, LimitsAreTooLarge) {
 
 std::string cube_obj() {
   std::string text = "# a cube\n";
-  for (const Vec3& v : cube_vertices) text += "v " + std::to_string(int(v.x)) + " " + std::to_string(int(v.y)) + " " + std::to_string(int(v.z)) + "\n";
+  for (const Vec3& v : cube_vertices)
+    text += "v " + std::to_string(int(v.x)) + " " + std::to_string(int(v.y)) + " " + std::to_string(int(v.z)) + "\n";
   text += "g first\n";
   for (size_t f = 0; f < cube_faces.size(); ++f) {
     if (f == 3) text += "g second\n";
@@ -157,14 +158,19 @@ ParseLimits limits_with(const std::vector<std::shared_ptr<const MeshData>>& mesh
 }
 
 json ref_solid(const std::string& id, Vec3 position, double rotation_y, Vec3 scale) {
-  return {{"type", "mesh"}, {"ref", id}, {"position", {position.x, position.y, position.z}},
-          {"rotation_y", rotation_y}, {"scale", {scale.x, scale.y, scale.z}}};
+  return {{"type", "mesh"},
+          {"ref", id},
+          {"position", {position.x, position.y, position.z}},
+          {"rotation_y", rotation_y},
+          {"scale", {scale.x, scale.y, scale.z}}};
 }
 
 TEST(MeshRef, ResolvedThroughTheLimitsAndSharedNotCopied) {
   auto cube = make_mesh_data(cube_vertices, cube_faces, {});
-  json request = {{"scene", {{"solids", {ref_solid(cube->content_id, Vec3(0.0), 0.0, Vec3(1.0)),
-                                         ref_solid(cube->content_id, Vec3(3.0), 45.0, Vec3(2.0))}}}}};
+  json request = {{"scene",
+                   {{"solids",
+                     {ref_solid(cube->content_id, Vec3(0.0), 0.0, Vec3(1.0)),
+                      ref_solid(cube->content_id, Vec3(3.0), 45.0, Vec3(2.0))}}}}};
   RenderRequest r = request_from_json(request, limits_with({cube}));
   ASSERT_EQ(r.scene.geometry.solids.size(), 2u);
   EXPECT_EQ(r.scene.geometry.solids[0].mesh.get(), cube.get());
@@ -174,7 +180,10 @@ TEST(MeshRef, ResolvedThroughTheLimitsAndSharedNotCopied) {
 
 TEST(MeshRef, MissingOrMixedRefIsInvalidAtItsPointer) {
   auto cube = make_mesh_data(cube_vertices, cube_faces, {});
-  json request = {{"scene", {{"solids", {json::parse(R"({"type": "box", "center": [5, 5], "size": [1, 1, 1]})"), ref_solid("00000000000000ff", Vec3(0.0), 0.0, Vec3(1.0))}}}}};
+  json request = {{"scene",
+                   {{"solids",
+                     {json::parse(R"({"type": "box", "center": [5, 5], "size": [1, 1, 1]})"),
+                      ref_solid("00000000000000ff", Vec3(0.0), 0.0, Vec3(1.0))}}}}};
   for (const ParseLimits& limits : {limits_with({cube}), ParseLimits{}}) {
     try {
       request_from_json(request, limits);
@@ -240,7 +249,8 @@ TEST(MeshInstancing, ThreePlacementsEqualThreeTransformedCopies) {
   std::vector<std::vector<uint32_t>> faces = {{0, 5, 4, 3, 2, 1}, {6, 7, 8, 9, 10, 11}};
   for (uint32_t i = 0; i < 6; ++i) faces.push_back({i, (i + 1) % 6, (i + 1) % 6 + 6, i + 6});
   auto shared = make_mesh_data(vertices, faces, {});
-  const Placement placements[3] = {{{0, 0, 0}, 0.0, {1, 1, 1}}, {{5, 1, -2}, 30.0, {1, 2, 0.5}}, {{-4, 0, 3}, 200.0, {0.3, 0.3, 0.3}}};
+  const Placement placements[3] = {
+      {{0, 0, 0}, 0.0, {1, 1, 1}}, {{5, 1, -2}, 30.0, {1, 2, 0.5}}, {{-4, 0, 3}, 200.0, {0.3, 0.3, 0.3}}};
   StaticGeometry instanced, copies;
   for (const Placement& p : placements) {
     Solid s;

@@ -5,12 +5,12 @@
 // must be identical for 1, 2 and 5 threads, on every example and on seeded random scenes with
 // translucent panes, every shading, shadows off and on, at sizes that leave partial tiles. The bsp
 // front-to-back walk (first writer wins) must leave the same image, ids and mask.
+#include "render/core/frustum.hpp"
+#include "render/core/shading.hpp"
 #include "render/pipelines/bsp.hpp"
 #include "render/pipelines/painter.hpp"
 #include "render/pipelines/shadow_cache.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "render/core/frustum.hpp"
-#include "render/core/shading.hpp"
 #include "support/render_modes.hpp"
 #include "support/test_support.hpp"
 
@@ -113,10 +113,12 @@ void check_painter(const json& request) {
     draw_whole_frame(input, {&input.soup, &order.fragments}, items, frame, stats);
   });
   for (unsigned threads : {1u, 2u, 5u}) {
-    expect_same(setup.draw(threads, true, [](const FrameInput& input, Frame& frame, RenderStats& stats) {
-      StageTimings timings;
-      draw_painter(input, frame, stats, timings);
-    }), reference, threads, phong);
+    expect_same(setup.draw(threads, true,
+                           [](const FrameInput& input, Frame& frame, RenderStats& stats) {
+                             StageTimings timings;
+                             draw_painter(input, frame, stats, timings);
+                           }),
+                reference, threads, phong);
   }
 }
 
@@ -153,9 +155,10 @@ json random_scene(uint32_t seed) {
   json solids = json::array({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}});
   solids.push_back({{"type", "box"}, {"center", {u(rng), u(rng)}}, {"size", {0.5, 0.8, 0.4}}});
   json window = {{"type", "window"}, {"offset", 0.5 + 0.5 * u(rng)}, {"width", 2.0}, {"sill", 0.3},
-                 {"height", 1.5}, {"opacity", opacity(rng)}};
+                 {"height", 1.5},    {"opacity", opacity(rng)}};
   const double wall_y = 0.3 + 0.3 * u(rng);  // triangles reach through the wall and its window
-  json walls = json::array({{{"start", {-2.0, wall_y}}, {"end", {2.0, wall_y}}, {"height", 2.5}, {"openings", {window}}}});
+  json walls =
+      json::array({{{"start", {-2.0, wall_y}}, {"end", {2.0, wall_y}}, {"height", 2.5}, {"openings", {window}}}});
   json light = {{"type", "directional"}, {"direction", {u(rng), -1.0, u(rng)}}};
   return {{"scene", {{"floor", {{"cells", {3, 3}}}}, {"walls", walls}, {"solids", solids}, {"lights", {light}}}},
           {"camera", {{"position", {2.0 * u(rng), 1.2 + 0.5 * u(rng), 4.0}}, {"target", {0.0, 1.0, 0.0}}}},

@@ -8,8 +8,8 @@
 #include "render/pipelines/painter.hpp"
 #include "render/pipelines/painter_detail.hpp"
 #include "render/pipelines/pipeline.hpp"
-#include "render/scene_io/scene_json.hpp"
 #include "render/scene_io/report_json.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -58,8 +58,8 @@ using testing::IdDiff;
 using testing::is_edge_pixel;
 
 // A mesh solid of one face per polygon, open (no back-face culling) unless `closed`.
-json mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
-          const std::string& color, bool closed = false) {
+json mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces, const std::string& color,
+          bool closed = false) {
   json v = json::array(), f = json::array();
   for (const Vec3& p : vertices) v.push_back({p.x, p.y, p.z});
   for (const auto& face : faces) f.push_back(face);
@@ -165,12 +165,14 @@ TEST(Painter, IntersectingTrianglesNeedExactlyOneSplit) {
 // them right, and the ids equal the zbuffer's on every pixel (same rasterizer, same coverage).
 TEST(Painter, ParallelSquaresMatchTheZbufferExactlyWithEveryKey) {
   auto square = [](double cx, double cy, double z, double half, const char* color) {
-    return mesh({{cx - half, cy - half, z}, {cx + half, cy - half, z}, {cx + half, cy + half, z}, {cx - half, cy + half, z}},
-                {{0, 1, 2, 3}}, color);
+    return mesh(
+        {{cx - half, cy - half, z}, {cx + half, cy - half, z}, {cx + half, cy + half, z}, {cx - half, cy + half, z}},
+        {{0, 1, 2, 3}}, color);
   };
   // The far square is listed second, so it has the higher id: id order and depth order disagree.
-  json request = request_with(json::array({square(0.3, 0.2, 0.5, 0.5, "#e05050"), square(0.0, 0.0, -0.5, 1.0, "#50c060")}),
-                              {{"position", {0.0, 0.0, 4.0}}, {"target", {0.0, 0.0, 0.0}}}, 32, 24);
+  json request =
+      request_with(json::array({square(0.3, 0.2, 0.5, 0.5, "#e05050"), square(0.0, 0.0, -0.5, 1.0, "#50c060")}),
+                   {{"position", {0.0, 0.0, 4.0}}, {"target", {0.0, 0.0, 0.0}}}, 32, 24);
   Rendered truth = render(request, "zbuffer");
   for (const char* key : {"mean", "min", "max", "newell"}) {
     SCOPED_TRACE(key);
@@ -247,8 +249,8 @@ TEST(Painter, EqualKeysDrawTheLowerIdLast) {
 // Back faces of closed solids and polygons outside the view are dropped before sorting.
 TEST(Painter, CullsBackFacesAndPolygonsOutsideTheViewBeforeSorting) {
   json box = {{"type", "box"}, {"center", {0.0, 0.0}}, {"size", {1.0, 1.0, 1.0}}};  // 6 faces, 3 seen
-  json behind = mesh({{-1, 0, 8}, {1, 0, 8}, {0, 1, 8}}, {{0, 1, 2}}, "#ffffff");       // behind the camera
-  json aside = mesh({{40, 0, 0}, {41, 0, 0}, {40, 1, 0}}, {{0, 1, 2}}, "#ffffff");      // far to the right
+  json behind = mesh({{-1, 0, 8}, {1, 0, 8}, {0, 1, 8}}, {{0, 1, 2}}, "#ffffff");   // behind the camera
+  json aside = mesh({{40, 0, 0}, {41, 0, 0}, {40, 1, 0}}, {{0, 1, 2}}, "#ffffff");  // far to the right
   json request = request_with(json::array({box, behind, aside}),
                               {{"position", {2.0, 2.0, 3.0}}, {"target", {0.0, 0.5, 0.0}}}, 64, 48);
   Fixture f(request);
@@ -269,11 +271,18 @@ TEST(Painter, TranslucentPaneBlendsInDrawingOrder) {
   json request = {
       {"scene",
        {{"background", "#000000"},
-        {"walls", json::array({{{"start", {-2.0, 0.0}}, {"end", {2.0, 0.0}}, {"height", 2.5},
-                                {"openings", json::array({{{"type", "window"}, {"offset", 1.0}, {"width", 2.0},
-                                                           {"sill", 0.5}, {"height", 1.4}, {"opacity", 0.5}}})}}})},
-        {"solids", json::array({{{"type", "box"}, {"color", "#e05050"}, {"center", {0.0, -1.5}}, {"size", {1.0, 1.6, 1.0}}},
-                                {{"type", "box"}, {"color", "#50c060"}, {"center", {0.5, 1.0}}, {"size", {0.2, 1.6, 0.2}}}})},
+        {"walls", json::array({{{"start", {-2.0, 0.0}},
+                                {"end", {2.0, 0.0}},
+                                {"height", 2.5},
+                                {"openings", json::array({{{"type", "window"},
+                                                           {"offset", 1.0},
+                                                           {"width", 2.0},
+                                                           {"sill", 0.5},
+                                                           {"height", 1.4},
+                                                           {"opacity", 0.5}}})}}})},
+        {"solids",
+         json::array({{{"type", "box"}, {"color", "#e05050"}, {"center", {0.0, -1.5}}, {"size", {1.0, 1.6, 1.0}}},
+                      {{"type", "box"}, {"color", "#50c060"}, {"center", {0.5, 1.0}}, {"size", {0.2, 1.6, 0.2}}}})},
         {"lights", json::array({{{"type", "directional"}, {"direction", {0.3, -0.6, -1.0}}}})}}},
       {"camera", {{"position", {0.3, 1.3, 4.0}}, {"target", {0.0, 1.1, 0.0}}}},
       {"options", {{"width", 96}, {"height", 72}}}};
@@ -392,7 +401,8 @@ TEST(Painter, ReachedWorkBoundIsReportedInTheStats) {
 // whose inner pixels are edges of neither image.
 TEST(Painter, RandomTrianglesNewellMatchesTheZbufferAwayFromEdges) {
   unsigned first_seed = 20261122, trials = 200;
-  if (const char* s = std::getenv("ROOMRENDER_TEST_SEED")) first_seed = unsigned(std::strtoul(s, nullptr, 10)), trials = 1;
+  if (const char* s = std::getenv("ROOMRENDER_TEST_SEED"))
+    first_seed = unsigned(std::strtoul(s, nullptr, 10)), trials = 1;
   if (const char* s = std::getenv("ROOMRENDER_TEST_TRIALS")) trials = unsigned(std::strtoul(s, nullptr, 10));
   size_t splits = 0, mean_failures = 0;
   for (unsigned seed = first_seed; seed < first_seed + trials; ++seed) {

@@ -21,7 +21,8 @@ void check_loop(unsigned threads, size_t count) {
     ++runs[task];
   });
   EXPECT_FALSE(bad_worker) << threads << " threads, " << count << " tasks";
-  for (size_t t = 0; t < count; ++t) ASSERT_EQ(runs[t].load(), 1) << "task " << t << " of " << count << ", " << threads << " threads";
+  for (size_t t = 0; t < count; ++t)
+    ASSERT_EQ(runs[t].load(), 1) << "task " << t << " of " << count << ", " << threads << " threads";
 }
 
 TEST(Parallel, EveryTaskRunsOnceOnAWorkerBelowTheThreadCount) {
@@ -45,9 +46,7 @@ TEST(Parallel, AllowedWorkersReallyShareTheTasks) {
 TEST(Parallel, NestedLoopsAndLoopsFromSeveralThreadsAllComplete) {
   std::atomic<size_t> total{0};
   auto nested = [&] {
-    parallel_for(4, 16, [&](size_t, unsigned) {
-      parallel_for(3, 50, [&](size_t, unsigned) { ++total; });
-    });
+    parallel_for(4, 16, [&](size_t, unsigned) { parallel_for(3, 50, [&](size_t, unsigned) { ++total; }); });
   };
   std::vector<std::thread> callers;
   for (int c = 0; c < 4; ++c) callers.emplace_back(nested);

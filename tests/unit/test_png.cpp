@@ -1,17 +1,17 @@
 // PNG encoders: every mode decodes to exactly the pixels it was given (checked with stb_image and,
 // for the container and zlib stream, independently with zlib, which verifies the CRCs and the
 // Adler-32 that stb_image skips), and `fast` is byte-identical for any thread count.
-#include "render/scene_io/errors.hpp"
-#include "render/pipelines/pipeline.hpp"
 #include "render/core/png.hpp"
+#include "render/core/scene_names.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/render_helpers.hpp"
-#include "render/core/scene_names.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <zlib.h>
+#include <nlohmann/json.hpp>
 
 #include <cstring>
 #include <random>
@@ -20,8 +20,8 @@ namespace rr {
 namespace {
 
 uint32_t read_u32(const std::string& s, size_t at) {
-  return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 |
-         uint32_t(uint8_t(s[at + 2])) << 8 | uint32_t(uint8_t(s[at + 3]));
+  return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 | uint32_t(uint8_t(s[at + 2])) << 8 |
+         uint32_t(uint8_t(s[at + 3]));
 }
 
 // Walks the chunks (checking every CRC), inflates the IDAT stream with zlib (checking its Adler-32)
@@ -44,8 +44,7 @@ std::vector<uint8_t> decode_with_zlib(const std::string& png, int width, int hei
   const size_t row_bytes = size_t(width) * 3;
   std::vector<uint8_t> raw(size_t(height) * (row_bytes + 1));
   uLongf raw_size = uLongf(raw.size());
-  EXPECT_EQ(uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(idat.data()), uLong(idat.size())),
-            Z_OK);
+  EXPECT_EQ(uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(idat.data()), uLong(idat.size())), Z_OK);
   EXPECT_EQ(raw_size, raw.size());
   std::vector<uint8_t> pixels(size_t(height) * row_bytes);
   for (int y = 0; y < height; ++y) {
@@ -56,16 +55,25 @@ std::vector<uint8_t> decode_with_zlib(const std::string& png, int width, int hei
       int a = i >= 3 ? row[i - 3] : 0, b = prev ? prev[i] : 0, c = prev && i >= 3 ? prev[i - 3] : 0;
       int predictor = 0;
       switch (in[0]) {
-        case 0: break;
-        case 1: predictor = a; break;
-        case 2: predictor = b; break;
-        case 3: predictor = (a + b) / 2; break;
+        case 0:
+          break;
+        case 1:
+          predictor = a;
+          break;
+        case 2:
+          predictor = b;
+          break;
+        case 3:
+          predictor = (a + b) / 2;
+          break;
         case 4: {
           int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
           predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
           break;
         }
-        default: ADD_FAILURE() << "filter type " << int(in[0]) << " in row " << y; return {};
+        default:
+          ADD_FAILURE() << "filter type " << int(in[0]) << " in row " << y;
+          return {};
       }
       row[i] = uint8_t(in[1 + i] + predictor);
     }

@@ -83,8 +83,8 @@ TEST(Raster, FanAroundCentreHasNoGapsOrOverlaps) {
   const double cx = 16.0, cy = 16.0, r = 13.0;
   for (int k = 0; k < 24; ++k) {
     double a0 = 2 * pi * k / 24, a1 = 2 * pi * (k + 1) / 24;
-    tris.push_back({v(cx, cy), v(cx + r * std::cos(a0), cy + r * std::sin(a0)),
-                    v(cx + r * std::cos(a1), cy + r * std::sin(a1))});
+    tris.push_back(
+        {v(cx, cy), v(cx + r * std::cos(a0), cy + r * std::sin(a0)), v(cx + r * std::cos(a1), cy + r * std::sin(a1))});
   }
   auto count = coverage(32, 32, tris);
   int covered = 0;
@@ -106,16 +106,16 @@ TEST(Camera, ProjectsKnownPointsToKnownPixels) {
   Camera cam;
   cam.position = {0, 0, 0};
   cam.target = {0, 0, -1};
-  cam.fov_y_deg = 90.0;  // tan(45 deg) = 1: y_ndc = y / -z
+  cam.fov_y_deg = 90.0;                          // tan(45 deg) = 1: y_ndc = y / -z
   ViewTransform view = make_view(cam, 100, 50);  // aspect 2: x_ndc = x / (2 * -z)
   auto expect_px = [&](Vec3 p, double sx, double sy) {
     Vec2 s = project_to_screen(view, p);
     EXPECT_NEAR(s.x, sx, 1e-9) << p.x << "," << p.y << "," << p.z;
     EXPECT_NEAR(s.y, sy, 1e-9) << p.x << "," << p.y << "," << p.z;
   };
-  expect_px({0, 0, -1}, 50.0, 25.0);   // straight ahead: the image centre
-  expect_px({1, 0, -1}, 75.0, 25.0);   // right: x grows
-  expect_px({0, 0.5, -1}, 50.0, 12.5); // up: y shrinks (pixel rows count down)
+  expect_px({0, 0, -1}, 50.0, 25.0);    // straight ahead: the image centre
+  expect_px({1, 0, -1}, 75.0, 25.0);    // right: x grows
+  expect_px({0, 0.5, -1}, 50.0, 12.5);  // up: y shrinks (pixel rows count down)
   expect_px({-4, -2, -4}, 25.0, 37.5);
 
   cam.target = {1, 0, 0};  // looking along +X with +Y up: +Z is to the right
@@ -187,8 +187,9 @@ TEST(Clip, FloorThroughTheCameraCoversExactlyTheAnalyticPixels) {
 TEST(ZBuffer, NearerQuadWinsEvenOneMillimetreApartAtTenMetres) {
   // Depth precision claim of zbuffer.cpp: 1/w as float separates 10.000 m from 10.001 m with the
   // default near/far. The nearer quad (id 1) is drawn second and must own every pixel.
-  PolygonSoup soup = make_quads({{Vec3(-2, -2, -10.001), Vec3(2, -2, -10.001), Vec3(2, 2, -10.001), Vec3(-2, 2, -10.001)},
-                                 {Vec3(-2, -2, -10.0), Vec3(2, -2, -10.0), Vec3(2, 2, -10.0), Vec3(-2, 2, -10.0)}});
+  PolygonSoup soup =
+      make_quads({{Vec3(-2, -2, -10.001), Vec3(2, -2, -10.001), Vec3(2, 2, -10.001), Vec3(-2, 2, -10.001)},
+                  {Vec3(-2, -2, -10.0), Vec3(2, -2, -10.0), Vec3(2, 2, -10.0), Vec3(-2, 2, -10.0)}});
   Scene scene;
   Camera cam;
   cam.position = {0.3, 0.2, 0};

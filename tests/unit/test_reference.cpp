@@ -4,9 +4,9 @@
 // shade_point's at the pixel's exact hit point; its shadow rays shadow exactly the analytic
 // footprint; and the shadow mask of the rasterizing pipelines agrees with it away from shadow edges.
 #include "render/core/error_metrics.hpp"
+#include "render/core/shading.hpp"
 #include "render/pipelines/pipeline_table.hpp"
 #include "render/pipelines/reference.hpp"
-#include "render/core/shading.hpp"
 #include "support/render_helpers.hpp"
 #include "support/soup_builder.hpp"
 #include "support/test_support.hpp"
@@ -69,7 +69,8 @@ TEST(Reference, CoverageEqualsTheRasterizersOnTheSubpixelGrid) {
       const double px = x + 0.5, py = y + 0.5;
       EXPECT_EQ(covers_screen_point(square, px, py), raster[size_t(y * w + x)] == 1) << x << "," << y;
       EXPECT_EQ(int(covers_screen_point(a, px, py)) + int(covers_screen_point(b, px, py)),
-                int(covers_screen_point(square, px, py))) << x << "," << y;
+                int(covers_screen_point(square, px, py)))
+          << x << "," << y;
     }
   }
   EXPECT_FALSE(covers_screen_point(std::vector<Vec2>{{1, 1}, {3, 3}, {5, 5}}, 3.0, 3.0));  // no area
@@ -94,7 +95,8 @@ TEST(Reference, AmbientOnlyRoomEqualsTheZbufferAwayFromEdges) {
       if (is_edge_pixel(r.ids, x, y)) continue;
       ++compared;
       ASSERT_EQ(r.ids.at(x, y), z.result.frame.ids.at(x, y)) << x << "," << y;
-      for (int c = 0; c < 3; ++c) ASSERT_EQ(testing::channel(r.image, x, y, c), testing::channel(z.result.frame.image, x, y, c));
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(testing::channel(r.image, x, y, c), testing::channel(z.result.frame.image, x, y, c));
     }
   }
   EXPECT_GT(compared, size_t(96 * 72 / 2));
@@ -109,7 +111,8 @@ json shadow_request(const std::string& pipeline, json light, bool shadows) {
             {"solids", {{{"type", "box"}, {"center", {0.5, -0.5}}, {"base", 1.0}, {"size", {1.0, 0.5, 2.0}}}}},
             {"lights", {std::move(light)}}}},
           {"camera", {{"position", {0, 9, 6}}, {"target", {0, 0, 0}}}},
-          {"options", {{"width", 120}, {"height", 90}, {"pipeline", pipeline}, {"shading", "phong"}, {"shadows", shadows}}}};
+          {"options",
+           {{"width", 120}, {"height", 90}, {"pipeline", pipeline}, {"shading", "phong"}, {"shadows", shadows}}}};
 }
 
 TEST(Reference, ColourIsShadePointAtTheExactHitPoint) {
@@ -125,7 +128,8 @@ TEST(Reference, ColourIsShadePointAtTheExactHitPoint) {
       const Color expected = shade_point(r.request.scene, floor_material, p, Vec3(0, 1, 0), r.view.eye);
       // The ray here is normalised, the reference's is not: the hit points differ by rounding, so
       // the exact colour may sit on the other side of a rounding boundary (1 level).
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(testing::channel(f.image, x, y, c), int(to_byte(expected[c])), 1) << x << "," << y;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(testing::channel(f.image, x, y, c), int(to_byte(expected[c])), 1) << x << "," << y;
       ++checked;
     }
   }
@@ -193,7 +197,8 @@ TEST(Reference, RasterShadowMaskAgreesWithShadowRaysAwayFromShadowEdges) {
         if (is_edge_pixel(truth.ids, x, y) || truth.ids.ids[i] != test.ids.ids[i]) continue;
         const uint8_t m = truth.shadow_mask[i];
         if (truth.shadow_mask[i - 1] != m || truth.shadow_mask[i + 1] != m || truth.shadow_mask[i - 120] != m ||
-            truth.shadow_mask[i + 120] != m) continue;
+            truth.shadow_mask[i + 120] != m)
+          continue;
         ++compared;
         differing += test.shadow_mask[i] != m;
       }
@@ -216,10 +221,14 @@ TEST(Reference, TranslucentPaneCompositesOverTheOpaqueHitAndTakesTheId) {
   for (int y = 0; y < 60; ++y) {
     for (int x = 0; x < 80; ++x) {
       const uint32_t id = r.result.frame.ids.at(x, y);
-      if (id == background_id || !(r.soup.polygons[id].flags & polygon_translucent) || is_edge_pixel(r.result.frame.ids, x, y)) continue;
+      if (id == background_id || !(r.soup.polygons[id].flags & polygon_translucent) ||
+          is_edge_pixel(r.result.frame.ids, x, y))
+        continue;
       ++translucent_pixels;
       EXPECT_EQ(z.result.frame.ids.at(x, y), id) << x << "," << y;
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(testing::channel(r.result.frame.image, x, y, c), testing::channel(z.result.frame.image, x, y, c), 1);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(testing::channel(r.result.frame.image, x, y, c), testing::channel(z.result.frame.image, x, y, c),
+                    1);
     }
   }
   if (translucent_pixels == 0) GTEST_SKIP() << "studio.json shows no translucent pane at this camera";

@@ -88,10 +88,13 @@ TEST(Rooms, ErrorsNameTheirPointer) {
   unknown["level"] = "attic";
   const json levels = {{{"id", "ground"}}};
   EXPECT_EQ(error_pointer({{"scene", {{"levels", levels}, {"rooms", {l_room, unknown}}}}}), "/scene/rooms/1/level");
-  EXPECT_EQ(error_pointer({{"scene", {{"levels", levels}, {"walls", {{{"start", {0, 0}}, {"end", {1, 0}}, {"level", 3}}}}}}}),
-            "/scene/walls/0/level");
-  EXPECT_EQ(error_pointer({{"scene", {{"solids", {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"level", "x"}}}}}}}),
-            "/scene/solids/0/level");
+  EXPECT_EQ(
+      error_pointer({{"scene", {{"levels", levels}, {"walls", {{{"start", {0, 0}}, {"end", {1, 0}}, {"level", 3}}}}}}}),
+      "/scene/walls/0/level");
+  EXPECT_EQ(
+      error_pointer(
+          {{"scene", {{"solids", {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"level", "x"}}}}}}}),
+      "/scene/solids/0/level");
   EXPECT_EQ(error_pointer({{"scene", {{"levels", {{{"id", "a"}}, {{"id", "a"}}}}}}}), "/scene/levels/1/id");
   EXPECT_EQ(error_pointer({{"scene", {{"levels", levels}}}, {"options", {{"levels", {"ground", "roof"}}}}}),
             "/options/levels/1");
@@ -104,10 +107,12 @@ TEST(Rooms, ErrorsNameTheirPointer) {
 
 TEST(Rooms, SceneIdCoversRooms) {
   const rr::RenderRequest plain = parse({{"scene", {{"walls", {{{"start", {0, 0}}, {"end", {1, 0}}}}}}}});
-  const rr::RenderRequest with_room = parse({{"scene", {{"walls", {{{"start", {0, 0}}, {"end", {1, 0}}}}}, {"rooms", {l_room}}}}});
+  const rr::RenderRequest with_room =
+      parse({{"scene", {{"walls", {{{"start", {0, 0}}, {"end", {1, 0}}}}}, {"rooms", {l_room}}}}});
   json taller = l_room;
   taller["ceiling_height"] = 3.0;
-  const rr::RenderRequest taller_room = parse({{"scene", {{"walls", {{{"start", {0, 0}}, {"end", {1, 0}}}}}, {"rooms", {taller}}}}});
+  const rr::RenderRequest taller_room =
+      parse({{"scene", {{"walls", {{{"start", {0, 0}}, {"end", {1, 0}}}}}, {"rooms", {taller}}}}});
   EXPECT_NE(rr::scene_id(plain.scene.geometry), rr::scene_id(with_room.scene.geometry));
   EXPECT_NE(rr::scene_id(with_room.scene.geometry), rr::scene_id(taller_room.scene.geometry));
 }
@@ -117,12 +122,16 @@ json box_room(const std::string& pipeline, rr::Vec3 eye, rr::Vec3 target) {
   json walls = json::array();
   const double c[5][2] = {{0, 0}, {4, 0}, {4, 4}, {0, 4}, {0, 0}};
   for (int i = 0; i < 4; ++i) {
-    walls.push_back({{"start", {c[i][0], c[i][1]}}, {"end", {c[i + 1][0], c[i + 1][1]}}, {"height", 2.5}, {"thickness", 0.2}});
+    walls.push_back(
+        {{"start", {c[i][0], c[i][1]}}, {"end", {c[i + 1][0], c[i + 1][1]}}, {"height", 2.5}, {"thickness", 0.2}});
   }
   json room = {{"points", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}}, {"ceiling_color", "#ff0000"}};
   json solids = {{{"type", "box"}, {"center", {2.5, 1.5}}, {"size", {0.8, 0.9, 0.6}}}};
-  return {{"scene", {{"walls", walls}, {"rooms", {room}}, {"solids", solids},
-                     {"lights", {{{"type", "directional"}, {"direction", {0.2, -1.0, 0.1}}}}}}},
+  return {{"scene",
+           {{"walls", walls},
+            {"rooms", {room}},
+            {"solids", solids},
+            {"lights", {{{"type", "directional"}, {"direction", {0.2, -1.0, 0.1}}}}}}},
           {"camera", {{"position", {eye.x, eye.y, eye.z}}, {"target", {target.x, target.y, target.z}}}},
           {"options", {{"width", 96}, {"height", 72}, {"pipeline", pipeline}, {"painter", {{"key", "newell"}}}}}};
 }
@@ -193,8 +202,8 @@ TEST(Levels, EveryPipelineMatchesTheReferenceWithALevelLeftOut) {
     json r = box_room(pipeline, eye, target);
     r["scene"]["levels"] = json::parse(R"([{"id": "low"}, {"id": "high", "elevation": 1.0}])");
     r["scene"]["solids"][0]["level"] = "high";
-    r["scene"]["solids"].push_back({{"type", "cylinder"}, {"center", {2.0, 2.5}}, {"radius", 0.4}, {"height", 1.2},
-                                    {"level", "low"}});
+    r["scene"]["solids"].push_back(
+        {{"type", "cylinder"}, {"center", {2.0, 2.5}}, {"radius", 0.4}, {"height", 1.2}, {"level", "low"}});
     r["options"]["levels"] = {"low"};
     r["options"]["shading"] = "gouraud";
     return r;
@@ -260,10 +269,11 @@ TEST(Rooms, DrawnCeilingsCastShadowsUndrawnOnesDoNot) {
 TEST(Levels, LevelsNotDrawnCastNoShadow) {
   // A slab on level "up" hangs over a floor on no level; the sun shines straight down.
   const json request = {
-      {"scene", {{"levels", {{{"id", "up"}, {"elevation", 2.0}}}},
-                 {"floor", {{"origin", {-2, -2}}, {"cells", {4, 4}}}},
-                 {"solids", {{{"type", "box"}, {"center", {0, 0}}, {"base", 2.0}, {"size", {2, 0.2, 2}}, {"level", "up"}}}},
-                 {"lights", {{{"type", "directional"}, {"direction", {0.0, -1.0, 0.0}}}}}}},
+      {"scene",
+       {{"levels", {{{"id", "up"}, {"elevation", 2.0}}}},
+        {"floor", {{"origin", {-2, -2}}, {"cells", {4, 4}}}},
+        {"solids", {{{"type", "box"}, {"center", {0, 0}}, {"base", 2.0}, {"size", {2, 0.2, 2}}, {"level", "up"}}}},
+        {"lights", {{{"type", "directional"}, {"direction", {0.0, -1.0, 0.0}}}}}}},
       {"camera", {{"position", {0.0, 1.0, 3.0}}, {"target", {0.0, 0.0, 0.0}}}},
       {"options", {{"width", 64}, {"height", 48}, {"shadows", true}}}};
   const std::set<uint32_t> floor = ids_of_kind(request, rr::ElementKind::floor);
@@ -280,12 +290,13 @@ TEST(Levels, LevelsNotDrawnCastNoShadow) {
 }
 
 TEST(Levels, SelectionKeepsPolygonIdsAndTheCacheApart) {
-  const json request = {
-      {"scene", {{"levels", {{{"id", "a"}}, {{"id", "b"}, {"viewable", false}}}},
-                 {"solids", {{{"type", "box"}, {"center", {-1, 0}}, {"size", {1, 1, 1}}, {"level", "a"}},
-                             {{"type", "box"}, {"center", {1, 0}}, {"size", {1, 1, 1}}, {"level", "b"}}}}}},
-      {"camera", {{"position", {0.0, 2.0, 5.0}}, {"target", {0.0, 0.5, 0.0}}}},
-      {"options", {{"width", 64}, {"height", 48}, {"pipeline", "bsp"}}}};
+  const json request = {{"scene",
+                         {{"levels", {{{"id", "a"}}, {{"id", "b"}, {"viewable", false}}}},
+                          {"solids",
+                           {{{"type", "box"}, {"center", {-1, 0}}, {"size", {1, 1, 1}}, {"level", "a"}},
+                            {{"type", "box"}, {"center", {1, 0}}, {"size", {1, 1, 1}}, {"level", "b"}}}}}},
+                        {"camera", {{"position", {0.0, 2.0, 5.0}}, {"target", {0.0, 0.5, 0.0}}}},
+                        {"options", {{"width", 64}, {"height", 48}, {"pipeline", "bsp"}}}};
   rr::BspCache cache(8);
   rr::RenderContext context;
   context.bsp_cache = &cache;
@@ -330,8 +341,8 @@ void look_from_above(json& request, double height) {
     }
   }
   const double cx = 0.5 * (lo_x + hi_x), cz = 0.5 * (lo_z + hi_z);
-  request["camera"] = {{"position", {cx, height, cz + 0.3 * height}}, {"target", {cx, 0.0, cz}}, {"far", 200.0},
-                       {"fov_y", 60.0}};
+  request["camera"] = {
+      {"position", {cx, height, cz + 0.3 * height}}, {"target", {cx, 0.0, cz}}, {"far", 200.0}, {"fov_y", 60.0}};
 }
 
 TEST(RoomsSh3d, ObserverSeesCeilingsOverheadAndAnAerialViewNone) {

@@ -21,8 +21,9 @@ TEST(SceneId, NumberSpellingDoesNotMatter) {
   EXPECT_EQ(id_of(R"({"scene":{"walls":[{"start":[-0.0,0],"end":[4,-0]}]}})"),
             id_of(R"({"scene":{"walls":[{"start":[0,0],"end":[4,0]}]}})"))
       << "-0 and 0 draw alike";
-  EXPECT_EQ(id_of(R"({"scene":{"solids":[{"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":12}]}})"),
-            id_of(R"({"scene":{"solids":[{"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":12.0}]}})"));
+  EXPECT_EQ(
+      id_of(R"({"scene":{"solids":[{"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":12}]}})"),
+      id_of(R"({"scene":{"solids":[{"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":12.0}]}})"));
 }
 
 TEST(SceneId, SpeltOutDefaultsEqualOmittedOnes) {
@@ -95,7 +96,8 @@ StaticGeometry every_kind() {
     Solid s;
     s.type = type;
     s.points = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
-    if (type == SolidType::mesh) s.mesh = make_mesh_data({{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}, {{0, 1, 2}}, {});
+    if (type == SolidType::mesh)
+      s.mesh = make_mesh_data({{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}, {{0, 1, 2}}, {});
     g.solids.push_back(s);
   }
   return g;
@@ -105,7 +107,9 @@ StaticGeometry every_kind() {
 // test, so a member dropped from the hash fails here even where the parser cannot reach it.
 TEST(SceneId, EveryDrawnMemberCounts) {
   using Edit = std::function<void(StaticGeometry&)>;
-  auto solid = [](size_t i, std::function<void(Solid&)> edit) { return Edit([=](StaticGeometry& g) { edit(g.solids[i]); }); };
+  auto solid = [](size_t i, std::function<void(Solid&)> edit) {
+    return Edit([=](StaticGeometry& g) { edit(g.solids[i]); });
+  };
   auto opening = [](size_t i, std::function<void(Opening&)> edit) {
     return Edit([=](StaticGeometry& g) { edit(g.walls[0].openings[i]); });
   };
@@ -148,11 +152,19 @@ TEST(SceneId, EveryDrawnMemberCounts) {
       {"cylinder.smooth", solid(1, [](Solid& s) { s.smooth = false; })},
       {"cylinder.caps", solid(1, [](Solid& s) { s.caps = false; })},
       {"prism.points", solid(3, [](Solid& s) { s.points[2].x = 0.5; })},
-      {"mesh.vertices", solid(4, [](Solid& s) { s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0.5}, {0, 1, 0}}, {{0, 1, 2}}, {}); })},
-      {"mesh.faces", solid(4, [](Solid& s) { s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 2, 1}}, {}); })},
-      {"mesh.normals", solid(4, [](Solid& s) {
-         s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, std::vector<Vec3>(3, Vec3(0, 0, 1)));
-       })},
+      {"mesh.vertices", solid(4,
+                              [](Solid& s) {
+                                s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0.5}, {0, 1, 0}}, {{0, 1, 2}}, {});
+                              })},
+      {"mesh.faces", solid(4,
+                           [](Solid& s) {
+                             s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 2, 1}}, {});
+                           })},
+      {"mesh.normals", solid(4,
+                             [](Solid& s) {
+                               s.mesh = make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}},
+                                                       std::vector<Vec3>(3, Vec3(0, 0, 1)));
+                             })},
       {"mesh.position", solid(4, [](Solid& s) { s.position.x = 1.0; })},
       {"mesh.scale", solid(4, [](Solid& s) { s.scale.z = 2.0; })},
       {"mesh.closed", solid(4, [](Solid& s) { s.closed = true; })},

@@ -2,9 +2,9 @@
 // every class of error carries its exact kind and JSON Pointer, and that hostile bodies (deep nesting,
 // huge images) are refused quickly. The scene id's properties are tested in test_scene_id.cpp.
 #include "render/core/scene_id.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "render/pipelines/pipeline_table.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -35,8 +35,8 @@ Failure failure_of(std::string_view text, const ParseLimits& limits = {}) {
   return {Kind::malformed, "<accepted>", ""};
 }
 
-void expect_error(std::string_view text, Kind kind, const std::string& pointer,
-                  const std::string& detail_part = "", const ParseLimits& limits = {}) {
+void expect_error(std::string_view text, Kind kind, const std::string& pointer, const std::string& detail_part = "",
+                  const ParseLimits& limits = {}) {
   SCOPED_TRACE(std::string(text.substr(0, 200)));
   Failure f = failure_of(text, limits);
   EXPECT_EQ(f.kind, kind) << f.detail;
@@ -113,8 +113,8 @@ TEST(SceneJson, MinimalWallGetsDefaults) {
 }
 
 TEST(SceneJson, DoorAndWindowDefaultsDependOnType) {
-  RenderRequest r = parse_request(wall_with_openings(
-      R"({"type":"door","offset":0.5,"width":0.9},{"type":"window","offset":2,"width":1})"));
+  RenderRequest r = parse_request(
+      wall_with_openings(R"({"type":"door","offset":0.5,"width":0.9},{"type":"window","offset":2,"width":1})"));
   const auto& openings = r.scene.geometry.walls.at(0).openings;
   ASSERT_EQ(openings.size(), 2u);
   const Opening& door = openings[0];
@@ -187,8 +187,7 @@ TEST(SceneJson, ColoursAsHexInAnyCaseOrArrays) {
   EXPECT_EQ(r.scene.geometry.floor.colors[1], hex_color(10, 11, 12));
   expect_error(R"({"scene":{"background":"#ff800"}})", Kind::invalid, "/scene/background", "#rrggbb");
   expect_error(R"({"scene":{"background":"#gg8000"}})", Kind::invalid, "/scene/background");
-  expect_error(R"({"scene":{"background":[1,2,0]}})", Kind::invalid, "/scene/background/1",
-               "at most 1");
+  expect_error(R"({"scene":{"background":[1,2,0]}})", Kind::invalid, "/scene/background/1", "at most 1");
   expect_error(R"({"scene":{"background":[1,0]}})", Kind::invalid, "/scene/background");
 }
 
@@ -205,61 +204,58 @@ TEST(SceneJson, EveryExampleParses) {
 
 TEST(SceneJsonErrors, UnknownKeysAnywhere) {
   expect_error(R"({"scene":{},"extra":1})", Kind::invalid, "/extra", "unknown key");
-  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"frame":"oak"})"),
-               Kind::invalid, "/scene/walls/0/openings/0/frame", "unknown key");
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"frame":"oak"})"), Kind::invalid,
+               "/scene/walls/0/openings/0/frame", "unknown key");
   // A door has no sill: the key belongs to windows only.
-  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"sill":0.5})"),
-               Kind::invalid, "/scene/walls/0/openings/0/sill", "unknown key");
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"sill":0.5})"), Kind::invalid,
+               "/scene/walls/0/openings/0/sill", "unknown key");
   expect_error(R"({"scene":{"a/b~c":1}})", Kind::invalid, "/scene/a~1b~0c", "unknown key");
-  expect_error(one_solid(R"({"type":"box","center":[0,0],"size":[1,1,1],"material":{"gloss":1}})"),
-               Kind::invalid, "/scene/solids/0/material/gloss", "unknown key");
+  expect_error(one_solid(R"({"type":"box","center":[0,0],"size":[1,1,1],"material":{"gloss":1}})"), Kind::invalid,
+               "/scene/solids/0/material/gloss", "unknown key");
 }
 
 TEST(SceneJsonErrors, WrongTypes) {
   expect_error("[]", Kind::invalid, "", "must be an object");
-  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"thickness":"thick"}]}})",
-               Kind::invalid, "/scene/walls/0/thickness", "must be a number");
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"thickness":"thick"}]}})", Kind::invalid,
+               "/scene/walls/0/thickness", "must be a number");
   expect_error(R"({"scene":{"walls":{}}})", Kind::invalid, "/scene/walls", "must be an array");
-  expect_error(R"({"scene":{"walls":[{"start":[0,"0"],"end":[1,0]}]}})", Kind::invalid,
-               "/scene/walls/0/start/1", "must be a number");
-  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"caps":1})"),
-               Kind::invalid, "/scene/solids/0/caps", "true or false");
+  expect_error(R"({"scene":{"walls":[{"start":[0,"0"],"end":[1,0]}]}})", Kind::invalid, "/scene/walls/0/start/1",
+               "must be a number");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"caps":1})"), Kind::invalid,
+               "/scene/solids/0/caps", "true or false");
   expect_error(one_solid(R"({"type":"sphere"})"), Kind::invalid, "/scene/solids/0/type");
   expect_error(R"({"options":{"width":640.5}})", Kind::invalid, "/options/width", "integer");
-  expect_error(R"({"options":{"pipeline":"raytrace"}})", Kind::invalid, "/options/pipeline",
-               "zbuffer");
+  expect_error(R"({"options":{"pipeline":"raytrace"}})", Kind::invalid, "/options/pipeline", "zbuffer");
   expect_error(R"({"options":{"shading":"toon"}})", Kind::invalid, "/options/shading", "flat");
   expect_error(R"({"scene":{"version":2}})", Kind::invalid, "/scene/version");
 }
 
 TEST(SceneJsonErrors, MissingRequiredKeysNameTheKey) {
-  expect_error(R"({"scene":{"walls":[{"end":[1,0]}]}})", Kind::invalid, "/scene/walls/0",
-               "\"start\"");
+  expect_error(R"({"scene":{"walls":[{"end":[1,0]}]}})", Kind::invalid, "/scene/walls/0", "\"start\"");
   expect_error(R"({"scene":{"floor":{}}})", Kind::invalid, "/scene/floor", "\"cells\"");
   expect_error(one_solid(R"({"center":[0,0]})"), Kind::invalid, "/scene/solids/0", "\"type\"");
 }
 
 TEST(SceneJsonErrors, OutOfRange) {
-  expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"opacity":1.5})"),
-               Kind::invalid, "/scene/walls/0/openings/0/opacity", "must be at most 1");
+  expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"opacity":1.5})"), Kind::invalid,
+               "/scene/walls/0/openings/0/opacity", "must be at most 1");
   expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[1,0],"height":0}]}})", Kind::invalid,
                "/scene/walls/0/height", "must be greater than 0");
-  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[2e7,0]}]}})", Kind::invalid,
-               "/scene/walls/0/end/0", "at most 10000000");
-  expect_error(R"({"scene":{"walls":[{"start":[1,1],"end":[1,1]}]}})", Kind::invalid,
-               "/scene/walls/0/end", "from start");
-  expect_error(R"({"scene":{"ambient":{"intensity":-1}}})", Kind::invalid,
-               "/scene/ambient/intensity", "at least 0");
+  expect_error(R"({"scene":{"walls":[{"start":[0,0],"end":[2e7,0]}]}})", Kind::invalid, "/scene/walls/0/end/0",
+               "at most 10000000");
+  expect_error(R"({"scene":{"walls":[{"start":[1,1],"end":[1,1]}]}})", Kind::invalid, "/scene/walls/0/end",
+               "from start");
+  expect_error(R"({"scene":{"ambient":{"intensity":-1}}})", Kind::invalid, "/scene/ambient/intensity", "at least 0");
   expect_error(R"({"scene":{"floor":{"cells":[0,3]}}})", Kind::invalid, "/scene/floor/cells/0");
-  expect_error(R"({"scene":{"floor":{"cells":[2,2],"colors":["#ffffff"]}}})", Kind::invalid,
-               "/scene/floor/colors", "at least 2");
+  expect_error(R"({"scene":{"floor":{"cells":[2,2],"colors":["#ffffff"]}}})", Kind::invalid, "/scene/floor/colors",
+               "at least 2");
   expect_error(one_solid(R"({"type":"box","center":[0,0],"size":[1,1,1],
                              "material":{"shininess":0.5}})"),
                Kind::invalid, "/scene/solids/0/material/shininess", "at least 1");
-  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":2})"),
-               Kind::invalid, "/scene/solids/0/segments", "at least 3");
-  expect_error(R"({"scene":{"lights":[{"type":"directional","direction":[0,0,0]}]}})",
-               Kind::invalid, "/scene/lights/0/direction", "zero");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":2})"), Kind::invalid,
+               "/scene/solids/0/segments", "at least 3");
+  expect_error(R"({"scene":{"lights":[{"type":"directional","direction":[0,0,0]}]}})", Kind::invalid,
+               "/scene/lights/0/direction", "zero");
 }
 
 // JSON Schema's "integer" is any number with a zero fraction; the parser must agree with the schema.
@@ -267,10 +263,10 @@ TEST(SceneJsonErrors, IntegersMayBeSpelledWithAZeroFraction) {
   RenderRequest r = parse_request(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,
                                          "segments":16.0})"));
   EXPECT_EQ(r.scene.geometry.solids.at(0).segments, 16);
-  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":16.5})"),
-               Kind::invalid, "/scene/solids/0/segments", "must be an integer");
-  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":"16"})"),
-               Kind::invalid, "/scene/solids/0/segments", "must be an integer");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":16.5})"), Kind::invalid,
+               "/scene/solids/0/segments", "must be an integer");
+  expect_error(one_solid(R"({"type":"cylinder","center":[0,0],"radius":1,"height":1,"segments":"16"})"), Kind::invalid,
+               "/scene/solids/0/segments", "must be an integer");
 }
 
 // Every integer member, not just one: they are all read by read_integer.
@@ -303,8 +299,8 @@ TEST(SceneJsonErrors, FractionalIntegersNameTheirPointerAndValue) {
   expect_error(R"({"options":{"shadow":{"pcf":3.0000001}}})", Kind::invalid, "/options/shadow/pcf",
                "must be an integer");
   // Out-of-range exact integers keep their own messages, whichever way they are spelled.
-  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,3.0]]})"),
-               Kind::invalid, "/scene/solids/0/faces/0/2", "out of range");
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,3.0]]})"), Kind::invalid,
+               "/scene/solids/0/faces/0/2", "out of range");
   expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,1e300]]})"),
                Kind::invalid, "/scene/solids/0/faces/0/2", "at most");
   expect_error(R"({"options":{"width":1e300}})", Kind::too_large, "/options/width", "at most");
@@ -317,14 +313,13 @@ TEST(SceneJsonRules, OpeningMustFitItsWall) {
                                      {"type":"window","offset":4.2,"width":1})"),
                Kind::invalid, "/scene/walls/0/openings/1",
                "window extends past the end of its wall (offset + width = 5.2 m > length 5 m)");
-  expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"sill":1.5,"height":1.2})"),
-               Kind::invalid, "/scene/walls/0/openings/0", "window extends above its wall (sill + height");
-  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"height":2.6})"),
-               Kind::invalid, "/scene/walls/0/openings/0",
-               "door is taller than its wall (height 2.6 m > wall height 2.5 m)");
+  expect_error(wall_with_openings(R"({"type":"window","offset":0,"width":1,"sill":1.5,"height":1.2})"), Kind::invalid,
+               "/scene/walls/0/openings/0", "window extends above its wall (sill + height");
+  expect_error(wall_with_openings(R"({"type":"door","offset":0,"width":1,"height":2.6})"), Kind::invalid,
+               "/scene/walls/0/openings/0", "door is taller than its wall (height 2.6 m > wall height 2.5 m)");
   // Exactly reaching the end and the top is allowed.
-  EXPECT_NO_THROW(parse_request(wall_with_openings(
-      R"({"type":"window","offset":4,"width":1,"sill":1.3,"height":1.2})")));
+  EXPECT_NO_THROW(
+      parse_request(wall_with_openings(R"({"type":"window","offset":4,"width":1,"sill":1.3,"height":1.2})")));
 }
 
 TEST(SceneJsonRules, OpeningsMustNotOverlap) {
@@ -333,57 +328,55 @@ TEST(SceneJsonRules, OpeningsMustNotOverlap) {
                                      {"type":"door","offset":1.5,"width":2})"),
                Kind::invalid, "/scene/walls/0/openings/2", "overlaps opening 0");
   // Touching is allowed.
-  EXPECT_NO_THROW(parse_request(wall_with_openings(
-      R"({"type":"door","offset":0,"width":1},{"type":"window","offset":1,"width":1})")));
+  EXPECT_NO_THROW(parse_request(
+      wall_with_openings(R"({"type":"door","offset":0,"width":1},{"type":"window","offset":1,"width":1})")));
 }
 
 TEST(SceneJsonRules, MeshFacesMustBeValid) {
   const std::string vertices = R"("vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0]])";
-  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,2],[0,2,4]]})"),
-               Kind::invalid, "/scene/solids/0/faces/1/2", "out of range");
-  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,-1]]})"),
-               Kind::invalid, "/scene/solids/0/faces/0/2", "out of range");
-  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,1.5]]})"),
-               Kind::invalid, "/scene/solids/0/faces/0/2", "integer");
-  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,2,1]]})"),
-               Kind::invalid, "/scene/solids/0/faces/0/3", "twice");
-  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1]]})"),
-               Kind::invalid, "/scene/solids/0/faces/0", "at least 3");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,2],[0,2,4]]})"), Kind::invalid,
+               "/scene/solids/0/faces/1/2", "out of range");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,-1]]})"), Kind::invalid,
+               "/scene/solids/0/faces/0/2", "out of range");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,1.5]]})"), Kind::invalid,
+               "/scene/solids/0/faces/0/2", "integer");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1,2,1]]})"), Kind::invalid,
+               "/scene/solids/0/faces/0/3", "twice");
+  expect_error(one_solid(R"({"type":"mesh",)" + vertices + R"(,"faces":[[0,1]]})"), Kind::invalid,
+               "/scene/solids/0/faces/0", "at least 3");
   // Lift one corner of the quad 1 mm: far more than 1e-6 of a ~1.4 m mesh.
   expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,0.001],[0,1,0]],
                              "faces":[[0,1,2],[0,1,2,3]]})"),
                Kind::invalid, "/scene/solids/0/faces/1", "not planar");
-  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[2,0,0]],"faces":[[0,1,2]]})"),
-               Kind::invalid, "/scene/solids/0/faces/0", "zero area");
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[2,0,0]],"faces":[[0,1,2]]})"), Kind::invalid,
+               "/scene/solids/0/faces/0", "zero area");
   // Within tolerance: 1e-9 m off a ~1.4 m mesh.
-  EXPECT_NO_THROW(parse_request(one_solid(
-      R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,1e-9],[0,1,0]],"faces":[[0,1,2,3]]})")));
+  EXPECT_NO_THROW(parse_request(
+      one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,1e-9],[0,1,0]],"faces":[[0,1,2,3]]})")));
 }
 
 TEST(SceneJsonRules, MeshFromJsonBuiltInCodeAcceptsSignedIndices) {
-  json request = {{"scene",
-                   {{"solids",
-                     {{{"type", "mesh"},
-                       {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}},
-                       {"faces", {{0, 1, 2}}}}}}}}};
+  json request = {
+      {"scene",
+       {{"solids", {{{"type", "mesh"}, {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {"faces", {{0, 1, 2}}}}}}}}};
   ASSERT_TRUE(request["scene"]["solids"][0]["faces"][0][1].is_number_integer());
   EXPECT_EQ(request_from_json(request).scene.geometry.solids.at(0).mesh->faces.at(0).at(2), 2u);
 }
 
 TEST(SceneJsonRules, PrismMustBeSimplePolygon) {
-  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,1],[1,0],[0,1]],"height":1})"),
-               Kind::invalid, "/scene/solids/0/points", "intersect");
-  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0],[1,0],[0,1]],"height":1})"),
-               Kind::invalid, "/scene/solids/0/points", "repeats");
-  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0],[2,0]],"height":1})"),
-               Kind::invalid, "/scene/solids/0/points");
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,1],[1,0],[0,1]],"height":1})"), Kind::invalid,
+               "/scene/solids/0/points", "intersect");
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0],[1,0],[0,1]],"height":1})"), Kind::invalid,
+               "/scene/solids/0/points", "repeats");
+  expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0],[2,0]],"height":1})"), Kind::invalid,
+               "/scene/solids/0/points");
   expect_error(one_solid(R"({"type":"prism","points":[[0,0],[1,0]],"height":1})"), Kind::invalid,
                "/scene/solids/0/points", "at least 3");
   // Non-convex but simple (an L), in either winding.
-  EXPECT_NO_THROW(parse_request(one_solid(
-      R"({"type":"prism","points":[[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],"height":1})")));
-  EXPECT_NO_THROW(parse_request(one_solid(
-      R"({"type":"prism","points":[[0,2],[1,2],[1,1],[2,1],[2,0],[0,0]],"height":1})")));
+  EXPECT_NO_THROW(
+      parse_request(one_solid(R"({"type":"prism","points":[[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],"height":1})")));
+  EXPECT_NO_THROW(
+      parse_request(one_solid(R"({"type":"prism","points":[[0,2],[1,2],[1,1],[2,1],[2,0],[0,0]],"height":1})")));
 }
 
 TEST(SceneJsonRules, CameraMustBeUsable) {
@@ -395,12 +388,9 @@ TEST(SceneJsonRules, CameraMustBeUsable) {
   expect_error(camera(R"("near":2,"far":1)"), Kind::invalid, "/camera/far");
   expect_error(camera(R"("near":0)"), Kind::invalid, "/camera/near", "greater than 0");
   expect_error(camera(R"("near":1e-6,"far":100)"), Kind::invalid, "/camera/far", "exceeds");
-  expect_error(camera(R"("position":[0,5,0],"target":[0,0,0])"), Kind::invalid, "/camera/up",
-               "parallel");
-  expect_error(camera(R"("position":[0,0,0],"target":[0,0,-1],"up":[0,0,2])"), Kind::invalid,
-               "/camera/up", "parallel");
-  expect_error(camera(R"("position":[1,2,3],"target":[1,2,3])"), Kind::invalid, "/camera/target",
-               "coincide");
+  expect_error(camera(R"("position":[0,5,0],"target":[0,0,0])"), Kind::invalid, "/camera/up", "parallel");
+  expect_error(camera(R"("position":[0,0,0],"target":[0,0,-1],"up":[0,0,2])"), Kind::invalid, "/camera/up", "parallel");
+  expect_error(camera(R"("position":[1,2,3],"target":[1,2,3])"), Kind::invalid, "/camera/target", "coincide");
 }
 
 // --- limits --------------------------------------------------------------------------------------------
@@ -414,8 +404,7 @@ TEST(SceneJsonLimits, HugeImageIsTooLargeAndRefusedFast) {
   EXPECT_NO_THROW(parse_request(R"({"options":{"width":4096,"height":4096}})"));
   ParseLimits limits;
   limits.max_pixels = 1000;
-  expect_error(R"({"options":{"width":100,"height":11}})", Kind::too_large, "/options/width",
-               "1100 pixels", limits);
+  expect_error(R"({"options":{"width":100,"height":11}})", Kind::too_large, "/options/width", "1100 pixels", limits);
 }
 
 TEST(SceneJsonLimits, WorkLimitsAreTooLarge) {
@@ -426,13 +415,11 @@ TEST(SceneJsonLimits, WorkLimitsAreTooLarge) {
   EXPECT_NO_THROW(parse_request(R"({"scene":{"floor":{"cells":[1000,1000]}}})"));
   ParseLimits limits;
   limits.max_polygons = 50;
-  expect_error(R"({"scene":{"floor":{"cells":[10,10]}}})", Kind::too_large, "/scene", "polygons",
-               limits);
+  expect_error(R"({"scene":{"floor":{"cells":[10,10]}}})", Kind::too_large, "/scene", "polygons", limits);
   std::string faces = "[0,1,2]";
   for (int i = 0; i < 60; ++i) faces += ",[0,1,2]";
-  expect_error(
-      one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[)" + faces + "]}"),
-      Kind::too_large, "/scene/solids/0/faces", "61 faces", limits);
+  expect_error(one_solid(R"({"type":"mesh","vertices":[[0,0,0],[1,0,0],[0,1,0]],"faces":[)" + faces + "]}"),
+               Kind::too_large, "/scene/solids/0/faces", "61 faces", limits);
 }
 
 // --- malformed text ------------------------------------------------------------------------------------

@@ -42,8 +42,8 @@ TEST(SceneJsonErrorList, EveryBadElementOfAMeshIsListed) {
 
 TEST(SceneJsonErrorList, UnknownKeysAndBadMembersOfOneObjectAreAllListed) {
   InputError e = error_of(R"({"options":{"widht":10,"hieght":10,"shading":"glossy","shadows":1}})");
-  EXPECT_EQ(pointers(e), (std::vector<std::string>{"/options/hieght", "/options/widht", "/options/shading",
-                                                   "/options/shadows"}));
+  EXPECT_EQ(pointers(e),
+            (std::vector<std::string>{"/options/hieght", "/options/widht", "/options/shading", "/options/shadows"}));
 }
 
 // A rule combining members is judged only on members that were read: one mistake, one error.

@@ -83,9 +83,9 @@ TEST(SchemaTables, EverySolidTypeHasAReader) {
 TEST(SchemaTables, OpenApiParameterEnumsEqualTheTables) {
   const json parameters = read_schema("openapi.json")["paths"]["/v1/scenes/{id}/render.png"]["get"]["parameters"];
   const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
-      {"pipeline", names_of(pipeline_table())},         {"shading", names_of(shading_names)},
-      {"painter_key", names_of(painter_key_names)},     {"bsp_traversal", names_of(bsp_traversal_names)},
-      {"shadow_fit", names_of(shadow_fit_names)},       {"png", names_of(png_compression_names)}};
+      {"pipeline", names_of(pipeline_table())},     {"shading", names_of(shading_names)},
+      {"painter_key", names_of(painter_key_names)}, {"bsp_traversal", names_of(bsp_traversal_names)},
+      {"shadow_fit", names_of(shadow_fit_names)},   {"png", names_of(png_compression_names)}};
   for (const json& p : parameters) {
     if (!p["schema"].contains("enum")) continue;
     for (const auto& [name, table] : tables) {
@@ -122,7 +122,7 @@ class Dump {
   void put(Color v) { put(v.r), out_ << ',', put(v.g), out_ << ',', put(v.b); }
   void put(PipelineId v) { out_ << int(v.index); }
   template <class E>
-    requires std::is_enum_v<E>
+  requires std::is_enum_v<E>
   void put(E v) { out_ << int(v); }
   template <class T>
   void put(const std::vector<T>& v) {
@@ -134,19 +134,18 @@ class Dump {
     (*this)("specular", m.specular)("specular_color", m.specular_color)("shininess", m.shininess);
   }
   void put(const Opening& o) {
-    (*this)("type", o.type)("id", o.id)("offset", o.offset)("width", o.width)("height", o.height)(
-        "sill", o.sill)("color", o.color)("opacity", o.opacity)("leaf", o.leaf);
+    (*this)("type", o.type)("id", o.id)("offset", o.offset)("width", o.width)("height", o.height)("sill", o.sill)(
+        "color", o.color)("opacity", o.opacity)("leaf", o.leaf);
   }
   void put(const Wall& w) {
-    (*this)("id", w.id)("start", w.start)("end", w.end)("thickness", w.thickness)("height", w.height)(
-        "base", w.base)("color", w.color)("material", w.material)("openings", w.openings);
+    (*this)("id", w.id)("start", w.start)("end", w.end)("thickness", w.thickness)("height", w.height)("base", w.base)(
+        "color", w.color)("material", w.material)("openings", w.openings);
   }
   void put(const Solid& s) {
-    (*this)("type", s.type)("id", s.id)("color", s.color)("material", s.material)("center", s.center)(
-        "base", s.base)("rotation_y", s.rotation_y_deg)("size", s.size)("radius", s.radius)(
-        "height", s.height)("segments", s.segments)("smooth", s.smooth)("caps", s.caps)("points", s.points)(
-        "mesh", s.mesh)("mesh_ref", s.mesh_ref)("position", s.position)(
-        "scale", s.scale)("closed", s.closed);
+    (*this)("type", s.type)("id", s.id)("color", s.color)("material", s.material)("center", s.center)("base", s.base)(
+        "rotation_y", s.rotation_y_deg)("size", s.size)("radius", s.radius)("height", s.height)("segments", s.segments)(
+        "smooth", s.smooth)("caps", s.caps)("points", s.points)("mesh", s.mesh)("mesh_ref", s.mesh_ref)(
+        "position", s.position)("scale", s.scale)("closed", s.closed);
   }
   void put(const std::shared_ptr<const MeshData>& m) {
     if (!m) return;
@@ -160,10 +159,12 @@ class Dump {
         "material", r.floor_material)("ceiling", r.ceiling)("ceiling_height", r.ceiling_height)(
         "ceiling_color", r.ceiling_color)("level", r.level);
   }
-  void put(const Level& l) { (*this)("id", l.id)("elevation", l.elevation)("height", l.height)("viewable", l.viewable); }
+  void put(const Level& l) {
+    (*this)("id", l.id)("elevation", l.elevation)("height", l.height)("viewable", l.viewable);
+  }
   void put(const Light& l) {
-    (*this)("type", l.type)("id", l.id)("direction", l.direction)("position", l.position)(
-        "color", l.color)("intensity", l.intensity)("attenuation", l.attenuation);
+    (*this)("type", l.type)("id", l.id)("direction", l.direction)("position", l.position)("color", l.color)(
+        "intensity", l.intensity)("attenuation", l.attenuation);
   }
 
   std::ostringstream out_;
@@ -183,8 +184,8 @@ std::string dump(const RenderRequest& r) {
   d("camera.position", c.position)("camera.target", c.target)("camera.up", c.up)("camera.fov_y", c.fov_y_deg)(
       "camera.near", c.near)("camera.far", c.far);
   const RenderOptions& o = r.options;
-  d("width", o.width)("height", o.height)("pipeline", o.pipeline)("shading", o.shading)(
-      "painter_key", o.painter_key)("shadows", o.shadows)("png", o.png_compression);
+  d("width", o.width)("height", o.height)("pipeline", o.pipeline)("shading", o.shading)("painter_key", o.painter_key)(
+      "shadows", o.shadows)("png", o.png_compression);
   d("levels_given", o.levels_given)("levels", o.levels)("ceilings", o.ceilings);
   d("bsp.w1", o.bsp.w1)("bsp.w2", o.bsp.w2)("bsp.w3", o.bsp.w3)("bsp.epsilon", o.bsp.epsilon)(
       "bsp.max_candidates", o.bsp.max_candidates)("bsp.traversal", o.bsp.traversal);
@@ -208,10 +209,10 @@ std::string first_difference(const std::string& a, const std::string& b) {
 
 // Where each schema object with defaults sits in a minimal valid request, with its required members.
 struct Site {
-  std::string schema;         // file in schemas/
-  std::string def;            // "" for the schema's root, else a $defs name
-  json::json_pointer at;      // where the object sits in the request
-  json request;               // a minimal valid request holding the object at `at`
+  std::string schema;     // file in schemas/
+  std::string def;        // "" for the schema's root, else a $defs name
+  json::json_pointer at;  // where the object sits in the request
+  json request;           // a minimal valid request holding the object at `at`
 };
 
 std::vector<Site> sites() {
@@ -231,7 +232,9 @@ std::vector<Site> sites() {
       {"scene.schema.json", "", json::json_pointer("/scene"), json::object()},
       {"scene.schema.json", "ambient", json::json_pointer("/scene/ambient"), json::object()},
       {"scene.schema.json", "floor", json::json_pointer("/scene/floor"), {{"scene", {{"floor", {{"cells", {2, 2}}}}}}}},
-      {"scene.schema.json", "material", json::json_pointer("/scene/walls/0/material"),
+      {"scene.schema.json",
+       "material",
+       json::json_pointer("/scene/walls/0/material"),
        {{"scene", {{"walls", {wall}}}}}},
       {"scene.schema.json", "wall", json::json_pointer("/scene/walls/0"), {{"scene", {{"walls", {wall}}}}}},
       {"scene.schema.json", "door", json::json_pointer("/scene/walls/0/openings/0"),
@@ -252,9 +255,13 @@ std::vector<Site> sites() {
        with_light({{"type", "directional"}})},
       {"scene.schema.json", "point_light", json::json_pointer("/scene/lights/0"),
        with_light({{"type", "point"}, {"position", {0, 2, 0}}})},
-      {"scene.schema.json", "room", json::json_pointer("/scene/rooms/0"),
+      {"scene.schema.json",
+       "room",
+       json::json_pointer("/scene/rooms/0"),
        {{"scene", {{"rooms", {{{"points", {{0, 0}, {1, 0}, {0, 1}}}}}}}}}},
-      {"scene.schema.json", "level", json::json_pointer("/scene/levels/0"),
+      {"scene.schema.json",
+       "level",
+       json::json_pointer("/scene/levels/0"),
        {{"scene", {{"levels", {{{"id", "ground"}}}}}}}},
   };
 }

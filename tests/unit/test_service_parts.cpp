@@ -58,7 +58,7 @@ TEST(Base64, Rfc4648TestVectors) {
 }
 
 TEST(HashHex, IsFnv1a64) {
-  EXPECT_EQ(hash_hex(""), "cbf29ce484222325");  // the offset basis
+  EXPECT_EQ(hash_hex(""), "cbf29ce484222325");   // the offset basis
   EXPECT_EQ(hash_hex("a"), "af63dc4c8601ec8c");  // published FNV-1a test vector
 }
 
@@ -134,9 +134,11 @@ TEST(Metrics, HistogramIsCumulativeWithSumAndCount) {
   metrics.record_request("/v1/render", "POST", 422, 20.0);
   std::string text = metrics.prometheus_text({});
   EXPECT_NE(text.find("roomrender_http_requests_total{route=\"/v1/render\",method=\"POST\",status=\"200\"} 2\n"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("roomrender_http_request_duration_seconds_bucket{route=\"/v1/render\",le=\"0.0025\"} 0\n"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("roomrender_http_request_duration_seconds_bucket{route=\"/v1/render\",le=\"0.005\"} 1\n"),
             std::string::npos);
   EXPECT_NE(text.find("roomrender_http_request_duration_seconds_bucket{route=\"/v1/render\",le=\"10\"} 2\n"),
@@ -144,7 +146,8 @@ TEST(Metrics, HistogramIsCumulativeWithSumAndCount) {
   EXPECT_NE(text.find("roomrender_http_request_duration_seconds_bucket{route=\"/v1/render\",le=\"+Inf\"} 3\n"),
             std::string::npos);
   EXPECT_NE(text.find("roomrender_http_request_duration_seconds_count{route=\"/v1/render\"} 3\n"), std::string::npos);
-  EXPECT_NE(text.find("roomrender_http_request_duration_seconds_sum{route=\"/v1/render\"} 20.25390625\n"), std::string::npos);
+  EXPECT_NE(text.find("roomrender_http_request_duration_seconds_sum{route=\"/v1/render\"} 20.25390625\n"),
+            std::string::npos);
 }
 
 TEST(LruCacheEvictionListener, HearsEvictionsButNotErasesOrReplacements) {
@@ -159,7 +162,12 @@ TEST(LruCacheEvictionListener, HearsEvictionsButNotErasesOrReplacements) {
   cache.put("c", std::make_shared<const int>(4), 10);
   cache.put("d", std::make_shared<const int>(5), 10);  // evicts a
   bool hit = false;
-  cache.get_or_build("e", [] { return rr::SharedLruCache<int>::Built{std::make_shared<const int>(6), 10}; }, hit);
+  cache.get_or_build(
+      "e",
+      [] {
+        return rr::SharedLruCache<int>::Built{std::make_shared<const int>(6), 10};
+      },
+      hit);
   EXPECT_EQ(evicted, (std::vector<std::string>{"a", "c"}));
 }
 
@@ -252,7 +260,8 @@ TEST(Placement, OpeningsTooCloseToAWallEndOrEachOther) {
 
 TEST(Placement, WarningsAreCappedWithASummary) {
   std::string solids;
-  for (int i = 0; i < 20; ++i) solids += std::string(i ? "," : "") + R"({"type": "box", "center": [0, 0], "size": [1, 1, 1]})";
+  for (int i = 0; i < 20; ++i)
+    solids += std::string(i ? "," : "") + R"({"type": "box", "center": [0, 0], "size": [1, 1, 1]})";
   rr::RenderRequest request = rr::parse_request("{\"scene\": {\"solids\": [" + solids + "]}}");
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
   rr::PlacementLimits limits;
@@ -266,7 +275,8 @@ TEST(Placement, WarningsAreCappedWithASummary) {
 // The same warnings name elements relative to where the scene sits: a stored scene document is the
 // scene itself, so its pointers have no "/scene" prefix.
 TEST(Placement, PointersFollowTheDocumentThatHoldsTheScene) {
-  rr::RenderRequest request = rr::parse_request(R"({"scene": {"walls": [{"start": [0, 0], "end": [4, 0], "id": "north"}],
+  rr::RenderRequest request =
+      rr::parse_request(R"({"scene": {"walls": [{"start": [0, 0], "end": [4, 0], "id": "north"}],
       "solids": [{"type": "box", "center": [1, 0], "size": [1, 1, 1]}]}})");
   rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
   auto typed = rr::placement_warnings(request.scene, soup);

@@ -30,7 +30,9 @@ json floor_request(double size, const std::string& shading, json lights) {
   return {{"scene",
            {{"ambient", {{"intensity", 0.2}}},
             {"floor",
-             {{"origin", {-size / 2, -size / 2}}, {"cells", {1, 1}}, {"cell_size", size},
+             {{"origin", {-size / 2, -size / 2}},
+              {"cells", {1, 1}},
+              {"cell_size", size},
               {"colors", {"#808080", "#808080"}}}},
             {"lights", std::move(lights)}}},
           {"camera", {{"position", {0, 6, 5}}, {"target", {0, 0, 0}}}},
@@ -45,8 +47,8 @@ TEST(Shading, DirectionalLightOnSquareFloorHasTheLambertValueInEveryMode) {
     const double expected = 128.0 * (0.2 + 0.9 * std::cos(a));  // #808080 = 128/255
     for (const char* mode : kModes) {
       SCOPED_TRACE(std::string(mode) + " at " + std::to_string(angle_deg) + " degrees");
-      json lights = json::array({{{"type", "directional"}, {"direction", {std::sin(a), -std::cos(a), 0.0}},
-                                  {"intensity", 0.9}}});
+      json lights =
+          json::array({{{"type", "directional"}, {"direction", {std::sin(a), -std::cos(a), 0.0}}, {"intensity", 0.9}}});
       auto r = render_json(floor_request(8.0, mode, lights));
       const Image& img = r.result.frame.image;
       double sum = 0.0, worst = 0.0;
@@ -70,8 +72,11 @@ TEST(Shading, DirectionalLightOnSquareFloorHasTheLambertValueInEveryMode) {
 TEST(Shading, PhongMatchesTheReferenceModelAtEveryPixel) {
   // A point light with attenuation and a coloured specular lobe: the per-pixel float path against
   // shade_point in doubles at the ray-cast floor point of each pixel centre.
-  json lights = json::array({{{"type", "point"}, {"position", {0.5, 1.5, -0.5}}, {"intensity", 1.2},
-                              {"attenuation", {1.0, 0.1, 0.05}}, {"color", "#fff0e0"}}});
+  json lights = json::array({{{"type", "point"},
+                              {"position", {0.5, 1.5, -0.5}},
+                              {"intensity", 1.2},
+                              {"attenuation", {1.0, 0.1, 0.05}},
+                              {"color", "#fff0e0"}}});
   json request = floor_request(10.0, "phong", lights);
   request["scene"]["floor"]["material"] = {{"specular", 0.8}, {"shininess", 40}, {"specular_color", "#ffccaa"}};
   auto r = render_json(request);
@@ -139,8 +144,14 @@ std::map<uint32_t, std::set<int>> values_per_polygon(const SceneRender& r) {
 
 json cylinder_request(const std::string& shading, bool smooth) {
   return {{"scene",
-           {{"solids", {{{"type", "cylinder"}, {"center", {0, 0}}, {"radius", 1}, {"height", 2}, {"segments", 12},
-                         {"smooth", smooth}, {"material", {{"specular", 0.5}, {"shininess", 20}}}}}},
+           {{"solids",
+             {{{"type", "cylinder"},
+               {"center", {0, 0}},
+               {"radius", 1},
+               {"height", 2},
+               {"segments", 12},
+               {"smooth", smooth},
+               {"material", {{"specular", 0.5}, {"shininess", 20}}}}}},
             {"lights", {{{"type", "directional"}, {"direction", {-1, -0.3, -0.4}}}}}}},
           {"camera", {{"position", {0, 1.5, 5}}, {"target", {0, 1, 0}}}},
           {"options", {{"width", 200}, {"height", 150}, {"shading", shading}}}};
@@ -177,7 +188,8 @@ TEST(Shading, FacetedCylinderLooksFlatInEveryMode) {
   for (const char* mode : {"gouraud", "phong"}) {
     const Image other = request(mode).result.frame.image;
     int worst = 0;
-    for (size_t i = 0; i < flat.rgb.size(); ++i) worst = std::max(worst, std::abs(int(flat.rgb[i]) - int(other.rgb[i])));
+    for (size_t i = 0; i < flat.rgb.size(); ++i)
+      worst = std::max(worst, std::abs(int(flat.rgb[i]) - int(other.rgb[i])));
     EXPECT_LE(worst, 1) << mode;
   }
 }
@@ -232,9 +244,12 @@ TEST(Shading, FragmentsOfAPolygonShadeLikeTheWholePolygon) {
   // with the scene drawn from input.soup where the triangle shows. Pixels on the
   // cuts may round differently and shadow-edge pixels may flip, hence 0.2 % slack beyond 1 level.
   json request = {{"scene",
-                   {{"solids", {{{"type", "mesh"}, {"vertices", {{-4, 0, -3}, {4, 0, -3}, {0, 0, 4}}},
-                                 {"faces", {{0, 2, 1}}}, {"material", {{"specular", 0.6}}}},
-                                {{"type", "box"}, {"center", {0.3, 0}}, {"size", {0.6, 1, 0.6}}}}},
+                   {{"solids",
+                     {{{"type", "mesh"},
+                       {"vertices", {{-4, 0, -3}, {4, 0, -3}, {0, 0, 4}}},
+                       {"faces", {{0, 2, 1}}},
+                       {"material", {{"specular", 0.6}}}},
+                      {{"type", "box"}, {"center", {0.3, 0}}, {"size", {0.6, 1, 0.6}}}}},
                     {"lights", {{{"type", "point"}, {"position", {-1, 2.5, -1}}}}}}},
                   {"camera", {{"position", {0, 5, 5}}, {"target", {0, 0, 0}}}},
                   {"options", {{"width", 200}, {"height", 150}, {"shadows", true}}}};
@@ -257,14 +272,16 @@ TEST(Shading, FragmentsOfAPolygonShadeLikeTheWholePolygon) {
     ASSERT_GE(second.front, 0);
     ASSERT_GE(second.back, 0);
     PolygonSoup fragments = make_fragment_soup(soup);
-    for (int64_t k : {first.front, second.front, second.back}) append_polygon(fragments, pieces, pieces.polygons[size_t(k)]);
+    for (int64_t k : {first.front, second.front, second.back})
+      append_polygon(fragments, pieces, pieces.polygons[size_t(k)]);
     // The whole scene drawn from input.soup (the box over the triangle), against the fragments.
     const Frame whole = draw_soup(input, soup), split = draw_soup(input, fragments);
     size_t drawn = 0, differing = 0;
     for (size_t i = 0; i < whole.ids.ids.size(); ++i) {
       if (whole.ids.ids[i] != 0 || split.ids.ids[i] != 0) continue;
       ++drawn;
-      for (size_t c = 0; c < 3; ++c) differing += std::abs(int(whole.image.rgb[3 * i + c]) - int(split.image.rgb[3 * i + c])) > 1;
+      for (size_t c = 0; c < 3; ++c)
+        differing += std::abs(int(whole.image.rgb[3 * i + c]) - int(split.image.rgb[3 * i + c])) > 1;
     }
     EXPECT_GT(drawn, 5000u);
     EXPECT_LE(double(differing), 0.002 * double(drawn));
@@ -276,9 +293,12 @@ TEST(Shading, MaterialsThatDifferOnlyInSpecularColourStayApart) {
   // indices, so the specular colour must take part in both.
   auto scene = [](const char* specular_color) {
     return json{{"scene",
-                 {{"solids", {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"material", {{"specular", 0.5}}}},
-                              {{"type", "box"}, {"center", {2, 0}}, {"size", {1, 1, 1}},
-                               {"material", {{"specular", 0.5}, {"specular_color", specular_color}}}}}}}}};
+                 {{"solids",
+                   {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"material", {{"specular", 0.5}}}},
+                    {{"type", "box"},
+                     {"center", {2, 0}},
+                     {"size", {1, 1, 1}},
+                     {"material", {{"specular", 0.5}, {"specular_color", specular_color}}}}}}}}};
   };
   RenderRequest white = request_from_json(scene("#ffffff")), red = request_from_json(scene("#ff0000"));
   EXPECT_NE(scene_id(white.scene.geometry), scene_id(red.scene.geometry));

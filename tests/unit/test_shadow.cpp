@@ -34,7 +34,9 @@ json box_on_floor(json light, double floor_size = 12.0) {
   return {{"scene",
            {{"ambient", {{"intensity", 0.2}}},
             {"floor",
-             {{"origin", {-floor_size / 2, -floor_size / 2}}, {"cells", {1, 1}}, {"cell_size", floor_size},
+             {{"origin", {-floor_size / 2, -floor_size / 2}},
+              {"cells", {1, 1}},
+              {"cell_size", floor_size},
               {"colors", {"#808080", "#808080"}}}},
             {"solids", {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1.5, 1}}, {"color", "#3060c0"}}}},
             {"lights", {std::move(light)}}}},
@@ -149,9 +151,9 @@ TEST(Shadow, PointLightShadowAcrossCubeFacesMatchesTheRayCastShadow) {
 // receiver the camera's frustum holds, so the floor becomes a caster and meets its own depth.
 SceneRender grazing_floor(double elevation_deg, double azimuth_deg, int pcf, double extra_bias) {
   const double e = radians(elevation_deg), a = radians(azimuth_deg);
-  json request = box_on_floor({{"type", "directional"},
-                               {"direction", {std::cos(e) * std::cos(a), -std::sin(e), std::cos(e) * std::sin(a)}}},
-                              30.0);
+  json request = box_on_floor(
+      {{"type", "directional"}, {"direction", {std::cos(e) * std::cos(a), -std::sin(e), std::cos(e) * std::sin(a)}}},
+      30.0);
   request["scene"]["solids"][0] = {{"type", "box"}, {"center", {0, 0}}, {"base", -3}, {"size", {1, 1, 1}}};
   request["options"]["shadow"] = {{"pcf", pcf}, {"bias", extra_bias}, {"slope_bias", extra_bias}};
   return render_json(request);
@@ -255,7 +257,8 @@ TEST(Shadow, PassIsSkippedWhenNothingNeedsIt) {
 
 TEST(Shadow, ManyLightsShareABoundedTexelBudget) {
   json request = box_on_floor({{"type", "point"}, {"position", {-2, 3, -2}}});
-  for (double x : {2.0, -2.0, 2.0}) request["scene"]["lights"].push_back({{"type", "point"}, {"position", {x, 3, x > 0 ? 2 : -1}}});
+  for (double x : {2.0, -2.0, 2.0})
+    request["scene"]["lights"].push_back({{"type", "point"}, {"position", {x, 3, x > 0 ? 2 : -1}}});
   RenderRequest req = request_from_json(request);
   PolygonSoup soup = tessellate(req.scene.geometry);
   ShadowMaps maps = build_shadow_maps(req.scene, soup, make_view(req.camera, 640, 480), req.options);

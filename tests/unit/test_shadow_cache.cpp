@@ -2,10 +2,10 @@
 // options; any camera for fit "scene", the same view for fit "view"), that a reused map gives the
 // bytes a frame's own pass gives, that a dark or recoloured light does not change the key while a
 // moved one does, and that simultaneous first requests run one pass.
-#include "render/pipelines/pipeline.hpp"
-#include "render/scene_io/scene_json.hpp"
 #include "render/core/shadow.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/shadow_cache.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/render_helpers.hpp"
 #include "support/test_support.hpp"
 
@@ -125,7 +125,9 @@ TEST(ShadowCache, EightSimultaneousFirstRequestsRunOnePass) {
   std::vector<rr::testing::TextRender> renders(8);
   std::vector<std::thread> threads;
   for (size_t t = 0; t < renders.size(); ++t) {
-    threads.emplace_back([&, t] { renders[t] = rr::testing::render_text(text, RenderContext{nullptr, nullptr, "", &cache}); });
+    threads.emplace_back([&, t] {
+      renders[t] = rr::testing::render_text(text, RenderContext{nullptr, nullptr, "", &cache});
+    });
   }
   for (auto& th : threads) th.join();
   EXPECT_EQ(cache.stats().builds, 1u);

@@ -31,7 +31,8 @@ bool draw_per_fragment(const ShadowMapJob& job, int side, const PolygonSoup& sou
   shadow_detail::ClipBuffers buf;
   bool any = false;
   for (uint32_t c : job.casters) {
-    if (!shadow_detail::clip_points(shadow_detail::exact_frustum(job.clip), soup.points(soup.polygons[c]), buf)) continue;
+    if (!shadow_detail::clip_points(shadow_detail::exact_frustum(job.clip), soup.points(soup.polygons[c]), buf))
+      continue;
     any = true;
     buf.screen.resize(buf.out.size());
     for (size_t i = 0; i < buf.out.size(); ++i) {

@@ -2,8 +2,8 @@
 // sibling fragment on an edge's interior is inserted into that edge, bit for bit and in order, and
 // nothing else changes; and after a real BSP build no fragment has a sibling's vertex strictly
 // inside one of its edges, the condition that left one-pixel cracks (tests/stress, seed 2011).
-#include "render/pipelines/bsp.hpp"
 #include "render/core/polygon_ops.hpp"
+#include "render/pipelines/bsp.hpp"
 #include "support/soup_builder.hpp"
 
 #include <gtest/gtest.h>

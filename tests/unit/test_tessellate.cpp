@@ -258,13 +258,13 @@ TEST(Tessellate, WallWithDoorAndWindowFaceCountAndOrder) {
   // 17 + 3 + 6 + 4 + 1 = 31.
   ASSERT_EQ(soup.polygons.size(), 31u);
   const Vec3 left{0, 0, -1}, right{0, 0, 1}, up{0, 1, 0}, down{0, -1, 0}, back{-1, 0, 0}, ahead{1, 0, 0};
-  const std::vector<Vec3> expected = {
-      left, left, left, left, left, left, right, right, right, right, right, right,  // long faces
-      up, down, down, back, ahead,                                                    // top, bottom, ends
-      ahead, back, down,                                                              // door reveals
-      left, right, up, down, back, ahead,                                             // door leaf
-      ahead, back, down, up,                                                          // window reveals
-      left};                                                                          // pane
+  const std::vector<Vec3> expected = {left,  left,  left,  left,  left,  left,
+                                      right, right, right, right, right, right,  // long faces
+                                      up,    down,  down,  back,  ahead,         // top, bottom, ends
+                                      ahead, back,  down,                        // door reveals
+                                      left,  right, up,    down,  back,  ahead,  // door leaf
+                                      ahead, back,  down,  up,                   // window reveals
+                                      left};                                     // pane
   for (size_t i = 0; i < expected.size(); ++i) {
     SCOPED_TRACE("polygon " + std::to_string(i));
     expect_vec(soup.polygons[i].normal, expected[i]);
@@ -284,8 +284,8 @@ TEST(Tessellate, WallWithDoorAndWindowIsClosedWithAnalyticAreaAndVolume) {
   // Long faces 2 (L h - door - window), top L t, bottom (L - door width) t, ends 2 h t, door
   // reveals (2 h_door + w_door) t, window reveals 2 (w + h) t.
   const double L = 4.0, h = 2.5, t = 0.2;
-  const double area = 2 * (L * h - 0.9 * 2.0 - 1.2 * 1.0) + L * t + (L - 0.9) * t + 2 * h * t +
-                      (2 * 2.0 + 0.9) * t + 2 * (1.2 + 1.0) * t;
+  const double area = 2 * (L * h - 0.9 * 2.0 - 1.2 * 1.0) + L * t + (L - 0.9) * t + 2 * h * t + (2 * 2.0 + 0.9) * t +
+                      2 * (1.2 + 1.0) * t;
   expect_rel(total_area(soup, wall), area);
   expect_closed(soup, wall);
   expect_rel(volume(soup, wall), (L * h - 0.9 * 2.0 - 1.2 * 1.0) * t);
@@ -322,7 +322,7 @@ TEST(Tessellate, DoorLeafAndWindowPane) {
   EXPECT_FALSE(soup.objects[p.object].closed);
   EXPECT_EQ(p.flags, uint32_t(polygon_translucent));
   EXPECT_FLOAT_EQ(soup.materials[p.material].opacity, 0.35f);
-  expect_vec(p.normal, {0, 0, -1});  // faces the wall's left
+  expect_vec(p.normal, {0, 0, -1});   // faces the wall's left
   EXPECT_NEAR(p.offset, 0.0, 1e-15);  // middle of the thickness
   expect_rel(polygon_area(soup.points(p)), 1.2 * 1.0);
 }
@@ -627,7 +627,7 @@ TEST(Tessellate, CylinderWithCapsIsClosedAndSmooth) {
   const auto all = polygons_of(soup, "/scene/solids/0");
   expect_closed(soup, all);
   expect_rel(volume(soup, all), 0.5 * 8 * 0.25 * std::sin(2 * pi / 8) * 2.0);  // inscribed octagon
-  for (size_t i = 0; i < 8; ++i) {  // radial shading normals on the sides
+  for (size_t i = 0; i < 8; ++i) {                                             // radial shading normals on the sides
     const Polygon& p = soup.polygons[i];
     for (size_t k = 0; k < 4; ++k) {
       const Vec3 v = soup.points(p)[k];
@@ -794,12 +794,12 @@ TEST(Tessellate, DegenerateAndNonPlanarMeshFaces) {
   s.closed = false;
   std::vector<Vec3> vertices = tetrahedron_vertices;
   std::vector<std::vector<uint32_t>> faces = tetrahedron_faces;
-  vertices.push_back({2, 0, 0});                    // 4: collinear with 0 and 1
-  vertices.push_back({3, 0, 0});                    // 5
-  vertices.push_back({3, 0, 1});                    // 6
-  vertices.push_back({2, 1e-7, 1});                 // 7: 1e-7 off the plane of 4, 5, 6
-  faces.push_back({0, 1, 4});                       // zero area: dropped
-  faces.push_back({4, 7, 6, 5});                    // planar only to 1e-7: two triangles
+  vertices.push_back({2, 0, 0});     // 4: collinear with 0 and 1
+  vertices.push_back({3, 0, 0});     // 5
+  vertices.push_back({3, 0, 1});     // 6
+  vertices.push_back({2, 1e-7, 1});  // 7: 1e-7 off the plane of 4, 5, 6
+  faces.push_back({0, 1, 4});        // zero area: dropped
+  faces.push_back({4, 7, 6, 5});     // planar only to 1e-7: two triangles
   s.mesh = make_mesh_data(vertices, faces, {});
   g.solids = {s};
   const PolygonSoup soup = tessellate_checked(g);

@@ -3,10 +3,10 @@
 // buffers. The size is not a multiple of the 64-pixel tile, so partial tiles and tile seams are in
 // every image, and 8 threads exceed this machine's cores, so tiles really interleave. The same holds
 // with anti-aliasing on.
+#include "render/core/scene_names.hpp"
+#include "render/core/shading.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "render/core/shading.hpp"
-#include "render/core/scene_names.hpp"
 #include "support/render_modes.hpp"
 #include "support/test_support.hpp"
 

@@ -6,11 +6,11 @@
 // so where two surfaces are within a float rounding of each other the other one may win; that is
 // bounded by 1 pixel in 10,000.
 #include "render/core/draw.hpp"
-#include "render/pipelines/pipeline.hpp"
-#include "render/scene_io/scene_json.hpp"
+#include "render/core/scene_names.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/shadow.hpp"
-#include "render/core/scene_names.hpp"
+#include "render/pipelines/pipeline.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -53,7 +53,8 @@ Frame draw_reference(const RenderRequest& req, const PolygonSoup& soup) {
     if (!project_polygon(view, soup, poly, scratch)) return;
     shader.bind(i, scratch);
     const float alpha = mode == DepthMode::test_only ? soup.materials[poly.material].opacity : 1.0f;
-    draw_projected(target, scratch, poly.id, alpha, mode, [&](const Fragment& f, size_t k) { return shader.fragment(f, k); });
+    draw_projected(target, scratch, poly.id, alpha, mode,
+                   [&](const Fragment& f, size_t k) { return shader.fragment(f, k); });
   };
   for (uint32_t i : opaque) draw(i, DepthMode::test_and_write);
   for (const auto& [d, i] : translucent) draw(i, DepthMode::test_only);
@@ -84,7 +85,8 @@ TEST(Visibility, MatchesPerFragmentZBufferingOnEveryExampleAndMode) {
             ++id_differs;
             continue;
           }
-          for (size_t c = 0; c < 3; ++c) colour_differs += reference.image.rgb[i * 3 + c] != tiled.frame.image.rgb[i * 3 + c];
+          for (size_t c = 0; c < 3; ++c)
+            colour_differs += reference.image.rgb[i * 3 + c] != tiled.frame.image.rgb[i * 3 + c];
         }
         EXPECT_LE(id_differs, reference.ids.ids.size() / 10000);
         EXPECT_EQ(colour_differs, 0u);

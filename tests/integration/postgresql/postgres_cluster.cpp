@@ -99,9 +99,7 @@ std::string PostgresCluster::url(const std::string& database) const {
   return "postgresql://rr@/" + database + "?host=" + dir_.string();
 }
 
-void PostgresCluster::create_database(const std::string& name) {
-  query("postgres", "CREATE DATABASE " + name);
-}
+void PostgresCluster::create_database(const std::string& name) { query("postgres", "CREATE DATABASE " + name); }
 
 std::string PostgresCluster::query(const std::string& database, const std::string& sql) const {
   const fs::path out = dir_ / "query.out";

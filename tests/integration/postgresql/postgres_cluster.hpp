@@ -18,12 +18,12 @@ class PostgresCluster {
   // The directory of initdb/pg_ctl/psql, or nullopt when PostgreSQL is not installed.
   static std::optional<std::filesystem::path> bin_dir();
 
-  PostgresCluster();  // initdb and start; throws std::runtime_error (with the server's log) on failure
+  PostgresCluster();   // initdb and start; throws std::runtime_error (with the server's log) on failure
   ~PostgresCluster();  // stops the server at once and removes the directory
   PostgresCluster(const PostgresCluster&) = delete;
   PostgresCluster& operator=(const PostgresCluster&) = delete;
 
-  void stop();   // fast shutdown: clients are disconnected
+  void stop();  // fast shutdown: clients are disconnected
   void start();
   // A URL for `database` (created with create_database, or "postgres").
   std::string url(const std::string& database = "postgres") const;

@@ -115,9 +115,8 @@ TEST_F(PostgresStoreTest, ConcurrentStoresOfOneContentFromTwoServersGiveOneRowAn
   for (int i = 0; i < contents; ++i) {
     both.push_back(std::async(std::launch::async, [&, i] {
       const std::string body = scene_with_box_at(0.1 * i).dump();
-      auto via_a = std::async(std::launch::async, [&] {
-        return a.client().Post("/v1/scenes", bearer(alice), body, "application/json");
-      });
+      auto via_a = std::async(std::launch::async,
+                              [&] { return a.client().Post("/v1/scenes", bearer(alice), body, "application/json"); });
       auto via_b = b.client().Post("/v1/scenes", bearer(bob), body, "application/json");
       auto first = via_a.get();
       return Answers{first ? first->status : -1, via_b ? via_b->status : -1,
