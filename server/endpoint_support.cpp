@@ -48,39 +48,6 @@ class TrimAfterLargeWork {
   Stopwatch clock_;
 };
 
-MeshStoreConfig mesh_store_config(const ServerConfig& c, MeshPins& pins) {
-  MeshStoreConfig out;
-  out.max_entries = c.mesh_store_entries;
-  out.max_bytes = c.mesh_store_bytes;
-  out.data_dir = c.data_dir;
-  out.ttl = std::chrono::seconds(c.scene_ttl_s);
-  out.kind = "mesh";
-  out.plural = "meshes";
-  out.read = [limits = c.limits](const std::string& text) { return read_stored_mesh(text, limits); };
-  out.pinned = [&pins](const std::string& id) { return pins.pinned(id); };
-  out.pinned_by = [&pins](const std::string& id, size_t most) { return pins.scenes_placing(id, most); };
-  return out;
-}
-
-ParseLimits limits_with_meshes(ParseLimits limits, MeshDocuments& meshes) {
-  limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
-    auto stored = meshes.find(id);
-    return stored ? stored->mesh : nullptr;
-  };
-  return limits;
-}
-
-SceneStoreConfig scene_store_config(const ServerConfig& c, const ParseLimits& limits, MeshPins& pins) {
-  SceneStoreConfig out;
-  out.max_entries = c.scene_store_entries;
-  out.max_bytes = c.scene_store_bytes;
-  out.data_dir = c.data_dir;
-  out.ttl = std::chrono::seconds(c.scene_ttl_s);
-  out.read = [limits](const std::string& text) { return prepare_scene(parse_json_text(text, limits), limits); };
-  out.on_change = [&pins](const StoredScene& scene, bool added) { pins.change(scene, added); };
-  return out;
-}
-
 }  // namespace
 
 ServiceState::ServiceState(const ServerConfig& c)
@@ -88,23 +55,10 @@ ServiceState::ServiceState(const ServerConfig& c)
       gate(render_workers(c), render_queue_length(c)),
       bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
       shadow_cache(c.shadow_cache_bytes),
-      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {
-  auto to_log = [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); };
-  MeshStoreConfig mesh_config = mesh_store_config(c, mesh_pins);
-  if (c.store_url.empty()) {
-    meshes = std::make_unique<MeshStore>(mesh_config, to_log);
-  } else {
-    store_pool = std::make_shared<PostgresPool>(postgres_config(c), to_log);
-    meshes = std::make_unique<PostgresStore<StoredMesh>>(store_pool, mesh_config, c.store_cache_bytes, to_log);
-  }
-  limits = limits_with_meshes(c.limits, *meshes);
-  SceneStoreConfig scene_config = scene_store_config(c, limits, mesh_pins);
-  if (c.store_url.empty()) {
-    scenes = std::make_unique<SceneStore>(scene_config, to_log);
-  } else {
-    scenes = std::make_unique<PostgresStore<StoredScene>>(store_pool, scene_config, c.store_cache_bytes, to_log);
-  }
-}
+      stores(open_stores(
+          c, [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); })),
+      limits(resolving_meshes(c.limits, *stores.meshes)),
+      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 
 void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {
   if (level_rank(level) < level_rank(config.log_level)) return;

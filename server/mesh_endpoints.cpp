@@ -59,7 +59,7 @@ void handle_post_mesh(ServiceState& state, const Request& req, Response& res, co
 }
 
 void handle_get_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto mesh = state.meshes->find(match.params.at(0));
+  auto mesh = state.stores.meshes->find(match.params.at(0));
   if (!mesh) throw HttpError(404, "There is no stored mesh " + match.params[0] + ".");
   send_stored_document(req, res, mesh->id, mesh->text);
 }
@@ -69,8 +69,7 @@ void handle_get_mesh(ServiceState& state, const Request& req, Response& res, con
 void handle_delete_mesh(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  std::lock_guard pins(state.mesh_pins.writers());
-  switch (state.meshes->release(id, owner)) {
+  switch (state.stores.meshes->release(id, owner)) {
     case MeshDocuments::ReleaseResult::not_found:
       throw HttpError(404, "There is no stored mesh " + id + ".");
     case MeshDocuments::ReleaseResult::not_owner:
@@ -80,7 +79,7 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
     case MeshDocuments::ReleaseResult::pinned: {
       std::vector<FieldError> errors;
       std::string list;
-      for (const std::string& scene : state.meshes->pinned_by(id, 5)) {
+      for (const std::string& scene : state.stores.meshes->pinned_by(id, 5)) {
         errors.push_back({"", "placed by stored scene " + scene});
         list += (list.empty() ? "" : ", ") + scene;
       }
@@ -96,7 +95,7 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
 }
 
 [[noreturn]] void throw_mesh_store_full(ServiceState& state) {
-  CacheStats fill = state.meshes->stats();
+  CacheStats fill = state.stores.meshes->stats();
   throw HttpError(507,
                   "The mesh store is full: it holds " + std::to_string(fill.entries) + " meshes of at most " +
                       std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
@@ -110,14 +109,15 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
 
 StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shared_ptr<const MeshData> mesh) {
   std::shared_ptr<const StoredMesh> stored = prepare_mesh(std::move(mesh));
-  switch (state.meshes->put(stored, owner)) {
+  switch (state.stores.meshes->put(stored, owner)) {
     case MeshDocuments::PutResult::conflict:
       throw HttpError(409, "A different mesh with the id " + stored->id + " is stored already (a hash collision).",
                       {{"", "content differs from the stored mesh with this id"}});
     case MeshDocuments::PutResult::too_large:
       throw HttpError(413,
                       "The stored form of this mesh takes about " + std::to_string(stored->bytes) +
-                          " bytes; the mesh store holds at most " + std::to_string(state.meshes->max_bytes()) + ".",
+                          " bytes; the mesh store holds at most " + std::to_string(state.stores.meshes->max_bytes()) +
+                          ".",
                       {{"", "mesh too large to store"}});
     case MeshDocuments::PutResult::full:
       throw_mesh_store_full(state);

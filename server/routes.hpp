@@ -9,11 +9,9 @@
 #include "render/pipelines/pipeline.hpp"
 #include "server/access.hpp"
 #include "server/http_server.hpp"
-#include "server/mesh_store.hpp"
 #include "server/metrics.hpp"
-#include "server/postgres_store.hpp"
+#include "server/open_stores.hpp"
 #include "server/render_gate.hpp"
-#include "server/scene_store.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -41,12 +39,8 @@ struct ServiceState {
   RenderGate gate;
   BspCache bsp_cache;
   ShadowCache shadow_cache;
-  MeshPins mesh_pins;                        // which stored scenes place which stored meshes (the embedded store)
-  std::shared_ptr<PostgresPool> store_pool;  // the shared store's connections; null: embedded
-  // The embedded store (ContentStore) or the shared one (--store): handlers see only the interface.
-  std::unique_ptr<DocumentStore<StoredMesh>> meshes;
-  ParseLimits limits;  // config.limits with "ref" resolved through `meshes`: parse requests with these
-  std::unique_ptr<DocumentStore<StoredScene>> scenes;
+  Stores stores;        // the stored scenes and meshes, in the store --store names (open_stores.hpp)
+  ParseLimits limits;   // config.limits with "ref" resolved through stores.meshes: parse requests with these
   AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
   std::atomic<bool> draining{false};
@@ -110,7 +104,8 @@ std::optional<std::string> releasing_owner(const ServiceState& state);
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
 // Stores `scene` for the caller (request_context().owner) and answers its id: sets Location and
 // X-Scene-Id, returns {id, location, scene_id, created, expires} for the caller to complete and send
-// (201 when created, else 200). Throws HttpError 409, 413 (larger than the store) or 507 (store full).
+// (201 when created, else 200). Throws HttpError 409, 413 (larger than the store), 422 (a mesh it
+// places was deleted meanwhile) or 507 (store full).
 nlohmann::json store_scene(ServiceState& state, httplib::Response& res,
                            const std::shared_ptr<const StoredScene>& scene);
 // Stores a parsed mesh for `owner` (as POST /v1/meshes does) and returns its id and whether it was

@@ -67,7 +67,7 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
 }
 
 [[noreturn]] void throw_store_full(ServiceState& state) {
-  CacheStats fill = state.scenes->stats();
+  CacheStats fill = state.stores.scenes->stats();
   throw HttpError(507,
                   "The scene store is full: it holds " + std::to_string(fill.entries) + " scenes of at most " +
                       std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
@@ -77,9 +77,16 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
                   {{"", "scene store full"}});
 }
 
-// `meshes`: those the scene places, one of which (the first when it is not known which) is gone.
-[[noreturn]] void throw_mesh_deleted(const std::vector<std::string>& meshes) {
-  const std::string& mesh = meshes.at(0);
+// The store says only that something the scene places is gone: the answer names the first mesh
+// no longer stored (the first it places, when every one is back by now).
+[[noreturn]] void throw_mesh_deleted(ServiceState& state, const StoredScene& scene) {
+  std::string mesh = scene.mesh_refs.at(0);
+  for (const std::string& id : scene.mesh_refs) {
+    if (!state.stores.meshes->find(id)) {
+      mesh = id;
+      break;
+    }
+  }
   throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
                   {{"", "there is no stored mesh \"" + mesh + "\""}});
 }
@@ -112,7 +119,7 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
 }
 
 void handle_get_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = state.scenes->find(match.params.at(0));
+  auto scene = state.stores.scenes->find(match.params.at(0));
   if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
   request_context().scene_id = scene->static_id;
   res.set_header("X-Scene-Id", scene->static_id);
@@ -123,7 +130,7 @@ void handle_get_scene(ServiceState& state, const Request& req, Response& res, co
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  switch (state.scenes->release(id, owner)) {
+  switch (state.stores.scenes->release(id, owner)) {
     case SceneDocuments::ReleaseResult::not_found:
       throw HttpError(404, "There is no stored scene " + id + ".");
     case SceneDocuments::ReleaseResult::not_owner:
@@ -163,7 +170,7 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
   const std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
   SceneDocuments::Page page;
   try {
-    page = state.scenes->list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
+    page = state.stores.scenes->list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
   } catch (const std::invalid_argument&) {
     throw HttpError(400, "The query parameter cursor must be the \"next\" of an earlier page.",
                     {{"", "not a cursor: \"" + quote_input(cursor) + "\"", "cursor"}});
@@ -186,12 +193,7 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
 
 json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
   request_context().scene_id = scene->static_id;
-  // The meshes it places are pinned once it is stored; one deleted since the parse is refused here.
-  std::lock_guard pins(state.mesh_pins.writers());
-  for (const std::string& mesh : scene->mesh_refs) {
-    if (!state.meshes->find(mesh)) throw_mesh_deleted({mesh});
-  }
-  SceneDocuments::PutResult result = state.scenes->put(scene, request_context().owner);
+  SceneDocuments::PutResult result = state.stores.scenes->put(scene, request_context().owner);
   switch (result) {
     case SceneDocuments::PutResult::conflict:
       throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
@@ -199,12 +201,13 @@ json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const
     case SceneDocuments::PutResult::too_large:
       throw HttpError(413,
                       "The stored form of this scene takes about " + std::to_string(scene->bytes) +
-                          " bytes; the scene store holds at most " + std::to_string(state.scenes->max_bytes()) + ".",
+                          " bytes; the scene store holds at most " + std::to_string(state.stores.scenes->max_bytes()) +
+                          ".",
                       {{"", "scene too large to store"}});
     case SceneDocuments::PutResult::full:
       throw_store_full(state);
     case SceneDocuments::PutResult::missing_reference:
-      throw_mesh_deleted(scene->mesh_refs);
+      throw_mesh_deleted(state, *scene);
     case SceneDocuments::PutResult::created:
     case SceneDocuments::PutResult::existed:
       break;
@@ -215,7 +218,7 @@ json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const
           {"location", scene_location(scene->id)},
           {"scene_id", scene->static_id},
           {"created", result == SceneDocuments::PutResult::created},
-          {"expires", time_or_null(state.scenes->expiry_from_now())}};
+          {"expires", time_or_null(state.stores.scenes->expiry_from_now())}};
 }
 
 std::vector<Route> scene_routes() {
