@@ -1,5 +1,5 @@
 // What every endpoint file shares (declared in routes.hpp): the service state, the per-request
-// context, JSON answers, conditional requests, body parsing and render admission.
+// context, JSON answers and times, conditional requests, body parsing and render admission.
 #include "server/routes.hpp"
 
 #include "server/http_util.hpp"
@@ -8,6 +8,7 @@
 #include <httplib.h>
 
 #include <cstdio>
+#include <ctime>
 
 namespace rr::server {
 
@@ -48,6 +49,18 @@ class TrimAfterLargeWork {
   Stopwatch clock_;
 };
 
+// "2026-12-02T04:00:00.123Z" (RFC 3339, UTC).
+std::string rfc3339(std::chrono::system_clock::time_point t) {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
+  std::time_t seconds = std::time_t(ms / 1000);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char text[40];
+  size_t n = std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
+  std::snprintf(text + n, sizeof text - n, ".%03dZ", int(ms % 1000));
+  return text;
+}
+
 }  // namespace
 
 ServiceState::ServiceState(const ServerConfig& c)
@@ -76,6 +89,10 @@ void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) 
 RequestContext& request_context() {
   thread_local RequestContext context;
   return context;
+}
+
+nlohmann::json time_or_null(const std::optional<std::chrono::system_clock::time_point>& t) {
+  return t ? nlohmann::json(rfc3339(*t)) : nlohmann::json(nullptr);
 }
 
 void send_json(httplib::Response& res, const nlohmann::json& body, int status) {
