@@ -38,7 +38,7 @@ class DocumentStore {
   // cryptographic commitment, so a crafted collision is possible; it is refused, never merged).
   // full: storing it would pass the entry or byte budget; nothing stored is given up for it.
   // missing_reference: it places a stored document that is no longer stored (a mesh deleted
-  // meanwhile); only a store that checks references itself answers it.
+  // meanwhile); each backend checks that itself (open_stores.hpp).
   enum class PutResult { created, existed, too_large, full, conflict, missing_reference };
   // not_owner: stored, but the caller holds no reference to it. pinned: the last reference, but
   // something stored depends on it (a mesh that a stored scene places).

@@ -1,5 +1,5 @@
 // What every endpoint file shares (declared in routes.hpp): the service state, the per-request
-// context, JSON answers, conditional requests, body parsing and render admission.
+// context, JSON answers and times, conditional requests, body parsing and render admission.
 #include "server/routes.hpp"
 
 #include "server/http_util.hpp"
@@ -8,6 +8,7 @@
 #include <httplib.h>
 
 #include <cstdio>
+#include <ctime>
 
 namespace rr::server {
 
@@ -48,37 +49,16 @@ class TrimAfterLargeWork {
   Stopwatch clock_;
 };
 
-MeshStoreConfig mesh_store_config(const ServerConfig& c, MeshPins& pins) {
-  MeshStoreConfig out;
-  out.max_entries = c.mesh_store_entries;
-  out.max_bytes = c.mesh_store_bytes;
-  out.data_dir = c.data_dir;
-  out.ttl = std::chrono::seconds(c.scene_ttl_s);
-  out.kind = "mesh";
-  out.plural = "meshes";
-  out.read = [limits = c.limits](const std::string& text) { return read_stored_mesh(text, limits); };
-  out.pinned = [&pins](const std::string& id) { return pins.pinned(id); };
-  out.pinned_by = [&pins](const std::string& id, size_t most) { return pins.scenes_placing(id, most); };
-  return out;
-}
-
-ParseLimits limits_with_meshes(ParseLimits limits, MeshDocuments& meshes) {
-  limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
-    auto stored = meshes.find(id);
-    return stored ? stored->mesh : nullptr;
-  };
-  return limits;
-}
-
-SceneStoreConfig scene_store_config(const ServerConfig& c, const ParseLimits& limits, MeshPins& pins) {
-  SceneStoreConfig out;
-  out.max_entries = c.scene_store_entries;
-  out.max_bytes = c.scene_store_bytes;
-  out.data_dir = c.data_dir;
-  out.ttl = std::chrono::seconds(c.scene_ttl_s);
-  out.read = [limits](const std::string& text) { return prepare_scene(parse_json_text(text, limits), limits); };
-  out.on_change = [&pins](const StoredScene& scene, bool added) { pins.change(scene, added); };
-  return out;
+// "2026-12-02T04:00:00.123Z" (RFC 3339, UTC).
+std::string rfc3339(std::chrono::system_clock::time_point t) {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
+  std::time_t seconds = std::time_t(ms / 1000);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char text[40];
+  size_t n = std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
+  std::snprintf(text + n, sizeof text - n, ".%03dZ", int(ms % 1000));
+  return text;
 }
 
 }  // namespace
@@ -88,23 +68,10 @@ ServiceState::ServiceState(const ServerConfig& c)
       gate(render_workers(c), render_queue_length(c)),
       bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
       shadow_cache(c.shadow_cache_bytes),
-      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {
-  auto to_log = [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); };
-  MeshStoreConfig mesh_config = mesh_store_config(c, mesh_pins);
-  if (c.store_url.empty()) {
-    meshes = std::make_unique<MeshStore>(mesh_config, to_log);
-  } else {
-    store_pool = std::make_shared<PostgresPool>(postgres_config(c), to_log);
-    meshes = std::make_unique<PostgresStore<StoredMesh>>(store_pool, mesh_config, c.store_cache_bytes, to_log);
-  }
-  limits = limits_with_meshes(c.limits, *meshes);
-  SceneStoreConfig scene_config = scene_store_config(c, limits, mesh_pins);
-  if (c.store_url.empty()) {
-    scenes = std::make_unique<SceneStore>(scene_config, to_log);
-  } else {
-    scenes = std::make_unique<PostgresStore<StoredScene>>(store_pool, scene_config, c.store_cache_bytes, to_log);
-  }
-}
+      stores(open_stores(
+          c, [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); })),
+      limits(resolving_meshes(c.limits, *stores.meshes)),
+      access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 
 void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {
   if (level_rank(level) < level_rank(config.log_level)) return;
@@ -122,6 +89,10 @@ void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) 
 RequestContext& request_context() {
   thread_local RequestContext context;
   return context;
+}
+
+nlohmann::json time_or_null(const std::optional<std::chrono::system_clock::time_point>& t) {
+  return t ? nlohmann::json(rfc3339(*t)) : nlohmann::json(nullptr);
 }
 
 void send_json(httplib::Response& res, const nlohmann::json& body, int status) {

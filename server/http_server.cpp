@@ -578,8 +578,8 @@ void Service::start() {
   if (server_) throw std::logic_error("Service::start called twice");
   state_ = std::make_unique<ServiceState>(config_);
   // Meshes first: stored scenes place them by ref.
-  size_t meshes_loaded = state_->meshes->load();
-  size_t loaded = state_->scenes->load();
+  size_t meshes_loaded = state_->stores.meshes->load();
+  size_t loaded = state_->stores.scenes->load();
   if (!config_.data_dir.empty()) {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});

@@ -56,11 +56,14 @@ bool furniture_param(const Request& req, bool fallback) {
 void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
   std::map<std::string, std::string> stored_ids;
   for (const auto& [key, mesh] : imported.meshes) {
+    std::shared_ptr<const StoredMesh> stored;
     try {
-      stored_ids[key] = store_mesh(state, request_context().owner, mesh_from_json(mesh, state.limits)).id;
+      stored = prepare_mesh(mesh_from_json(mesh, state.limits));
     } catch (const InputError& e) {  // the importer wrote it, so only a limit can refuse it
       throw InputError(e.kind(), "", "furniture mesh " + key + ": " + e.summary());
     }
+    store_document(state, stored);
+    stored_ids[key] = stored->id;
   }
   for (json& solid : imported.request["scene"]["solids"]) {
     auto ref = solid.find("ref");
@@ -96,11 +99,9 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
     send_json(res, imported.request);
     return;
   }
-  json body = store_scene(state, res, scene);
-  body["camera"] = imported.request.at("camera");
-  body["options"] = imported.request.at("options");
-  body["warnings"] = warnings;
-  send_json(res, body, body["created"] == true ? 201 : 200);
+  store_and_answer(
+      state, res, scene,
+      {{"camera", imported.request.at("camera")}, {"options", imported.request.at("options")}, {"warnings", warnings}});
 }
 
 }  // namespace

@@ -18,8 +18,6 @@ using httplib::Request;
 using httplib::Response;
 using nlohmann::json;
 
-std::string mesh_location(const std::string& id) { return "/v1/meshes/" + id; }
-
 json vec_json(Vec3 v) { return json::array({v.x, v.y, v.z}); }
 
 // The body as a mesh; parsing holds a render slot, as storing a scene does.
@@ -44,22 +42,18 @@ std::shared_ptr<const MeshData> read_mesh_body(ServiceState& state, const Reques
 
 void handle_post_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
   std::vector<std::string> warnings;
-  std::shared_ptr<const MeshData> mesh = read_mesh_body(state, req, warnings);
-  StoredMeshId stored = store_mesh(state, request_context().owner, mesh);
-  res.set_header("Location", mesh_location(stored.id));
-  json body = {{"id", stored.id},
-               {"location", mesh_location(stored.id)},
-               {"created", stored.created},
-               {"vertices", mesh->vertices.size()},
-               {"faces", mesh->faces.size()},
-               {"normals", !mesh->normals.empty()},
-               {"bounds", {{"min", vec_json(mesh->bounds_min)}, {"max", vec_json(mesh->bounds_max)}}},
-               {"warnings", warnings}};
-  send_json(res, body, stored.created ? 201 : 200);
+  std::shared_ptr<const StoredMesh> stored = prepare_mesh(read_mesh_body(state, req, warnings));
+  const MeshData& mesh = *stored->mesh;
+  store_and_answer(state, res, stored,
+                   {{"vertices", mesh.vertices.size()},
+                    {"faces", mesh.faces.size()},
+                    {"normals", !mesh.normals.empty()},
+                    {"bounds", {{"min", vec_json(mesh.bounds_min)}, {"max", vec_json(mesh.bounds_max)}}},
+                    {"warnings", warnings}});
 }
 
 void handle_get_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto mesh = state.meshes->find(match.params.at(0));
+  auto mesh = state.stores.meshes->find(match.params.at(0));
   if (!mesh) throw HttpError(404, "There is no stored mesh " + match.params[0] + ".");
   send_stored_document(req, res, mesh->id, mesh->text);
 }
@@ -69,8 +63,7 @@ void handle_get_mesh(ServiceState& state, const Request& req, Response& res, con
 void handle_delete_mesh(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  std::lock_guard pins(state.mesh_pins.writers());
-  switch (state.meshes->release(id, owner)) {
+  switch (state.stores.meshes->release(id, owner)) {
     case MeshDocuments::ReleaseResult::not_found:
       throw HttpError(404, "There is no stored mesh " + id + ".");
     case MeshDocuments::ReleaseResult::not_owner:
@@ -80,7 +73,7 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
     case MeshDocuments::ReleaseResult::pinned: {
       std::vector<FieldError> errors;
       std::string list;
-      for (const std::string& scene : state.meshes->pinned_by(id, 5)) {
+      for (const std::string& scene : state.stores.meshes->pinned_by(id, 5)) {
         errors.push_back({"", "placed by stored scene " + scene});
         list += (list.empty() ? "" : ", ") + scene;
       }
@@ -95,41 +88,7 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
   }
 }
 
-[[noreturn]] void throw_mesh_store_full(ServiceState& state) {
-  CacheStats fill = state.meshes->stats();
-  throw HttpError(507,
-                  "The mesh store is full: it holds " + std::to_string(fill.entries) + " meshes of at most " +
-                      std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
-                      " bytes of at most " + std::to_string(fill.budget_bytes) +
-                      ". Stored meshes are kept, not evicted: delete meshes you no longer need, or ask the "
-                      "operator to raise --mesh-store-entries or --mesh-store-bytes.",
-                  {{"", "mesh store full"}});
-}
-
 }  // namespace
-
-StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shared_ptr<const MeshData> mesh) {
-  std::shared_ptr<const StoredMesh> stored = prepare_mesh(std::move(mesh));
-  switch (state.meshes->put(stored, owner)) {
-    case MeshDocuments::PutResult::conflict:
-      throw HttpError(409, "A different mesh with the id " + stored->id + " is stored already (a hash collision).",
-                      {{"", "content differs from the stored mesh with this id"}});
-    case MeshDocuments::PutResult::too_large:
-      throw HttpError(413,
-                      "The stored form of this mesh takes about " + std::to_string(stored->bytes) +
-                          " bytes; the mesh store holds at most " + std::to_string(state.meshes->max_bytes()) + ".",
-                      {{"", "mesh too large to store"}});
-    case MeshDocuments::PutResult::full:
-      throw_mesh_store_full(state);
-    case MeshDocuments::PutResult::missing_reference:
-      throw std::logic_error("a mesh places no stored document");
-    case MeshDocuments::PutResult::created:
-      return {stored->id, true};
-    case MeshDocuments::PutResult::existed:
-      break;
-  }
-  return {stored->id, false};
-}
 
 std::vector<Route> mesh_routes(const ServerConfig& config) {
   const std::vector<std::string> bodies = {"application/json", "text/plain", "model/obj", "application/octet-stream"};

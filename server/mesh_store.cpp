@@ -1,4 +1,4 @@
-// StoredMesh and MeshPins (mesh_store.hpp); the store itself is content_store.cpp.
+// StoredMesh, the mesh resolver and MeshPins (mesh_store.hpp); the store itself is content_store.cpp.
 #include "server/mesh_store.hpp"
 
 #include "render/scene_io/mesh_json.hpp"
@@ -18,6 +18,14 @@ std::shared_ptr<const StoredMesh> prepare_mesh(std::shared_ptr<const MeshData> m
 
 std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, const ParseLimits& limits) {
   return prepare_mesh(mesh_from_json(parse_json_text(text, limits), limits));
+}
+
+ParseLimits resolving_meshes(ParseLimits limits, MeshDocuments& meshes) {
+  limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
+    auto stored = meshes.find(id);
+    return stored ? stored->mesh : nullptr;
+  };
+  return limits;
 }
 
 void MeshPins::change(const StoredScene& scene, bool added) {

@@ -20,6 +20,8 @@ namespace rr::server {
 struct StoredScene;
 
 struct StoredMesh {
+  static constexpr const char* kind = "mesh";  // in answers, log events and file or table names
+  static constexpr const char* plural = "meshes";
   std::string id;    // mesh->content_id
   std::string text;  // canonical JSON mesh document (mesh_to_json)
   size_t bytes = 0;  // charged against the store's budget
@@ -33,6 +35,9 @@ std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, cons
 using MeshStoreConfig = ContentStoreConfig<StoredMesh>;
 using MeshStore = ContentStore<StoredMesh>;       // the embedded store
 using MeshDocuments = DocumentStore<StoredMesh>;  // either store, as the handlers see it
+
+// `limits` whose mesh references ("ref") resolve to the meshes stored in `meshes`.
+ParseLimits resolving_meshes(ParseLimits limits, MeshDocuments& meshes);
 
 class MeshPins {
  public:

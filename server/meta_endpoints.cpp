@@ -68,7 +68,7 @@ void handle_readyz(ServiceState& state, const Request&, Response& res, const Rou
   const char* status = state.draining || load.closed ? "draining" : load.saturated() ? "saturated" : "ok";
   // A replica whose shared store does not answer cannot serve stored ids: the balancer should
   // prefer one that can (inline renders still work here if it has no other).
-  std::string store_reason = std::string_view(status) == "ok" ? state.scenes->unavailable_reason() : "";
+  std::string store_reason = std::string_view(status) == "ok" ? state.stores.scenes->unavailable_reason() : "";
   if (!store_reason.empty()) status = "store_unavailable";
   if (std::string_view(status) != "ok") res.set_header("Retry-After", std::to_string(state.config.retry_after_s));
   nlohmann::json body = {{"status", status}, {"renders_in_flight", load.running}, {"renders_queued", load.queued}};
@@ -81,11 +81,11 @@ void handle_metrics(ServiceState& state, const Request&, Response& res, const Ro
   MetricsSnapshot snapshot{state.gate.load(),
                            state.bsp_cache.stats(),
                            state.shadow_cache.stats(),
-                           state.scenes->stats(),
+                           state.stores.scenes->stats(),
                            resident_bytes(),
                            std::string(version()),
                            state.front_stats ? state.front_stats() : FrontStats{},
-                           state.meshes->stats()};
+                           state.stores.meshes->stats()};
   res.set_content(state.metrics.prometheus_text(snapshot), "text/plain; version=0.0.4; charset=utf-8");
 }
 

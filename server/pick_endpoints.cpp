@@ -117,7 +117,7 @@ void handle_pick(ServiceState& state, const Request& req, Response& res, const R
 
 void handle_stored_pick(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   res.set_header("Cache-Control", "no-store");
-  auto scene = state.scenes->find(match.params.at(0));
+  auto scene = state.stores.scenes->find(match.params.at(0));
   if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
   request_context().scene_id = scene->static_id;
   PixelRequest pixel = split_pixel(parse_body(state, req));

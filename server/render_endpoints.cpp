@@ -140,7 +140,7 @@ void handle_render(ServiceState& state, const Request& req, Response& res, const
 }
 
 std::shared_ptr<const StoredScene> require_scene(ServiceState& state, const RouteMatch& match) {
-  auto scene = state.scenes->find(match.params.at(0));
+  auto scene = state.stores.scenes->find(match.params.at(0));
   if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
   request_context().scene_id = scene->static_id;
   return scene;

@@ -9,11 +9,9 @@
 #include "render/pipelines/pipeline.hpp"
 #include "server/access.hpp"
 #include "server/http_server.hpp"
-#include "server/mesh_store.hpp"
 #include "server/metrics.hpp"
-#include "server/postgres_store.hpp"
+#include "server/open_stores.hpp"
 #include "server/render_gate.hpp"
-#include "server/scene_store.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -41,12 +39,8 @@ struct ServiceState {
   RenderGate gate;
   BspCache bsp_cache;
   ShadowCache shadow_cache;
-  MeshPins mesh_pins;                        // which stored scenes place which stored meshes (the embedded store)
-  std::shared_ptr<PostgresPool> store_pool;  // the shared store's connections; null: embedded
-  // The embedded store (ContentStore) or the shared one (--store): handlers see only the interface.
-  std::unique_ptr<DocumentStore<StoredMesh>> meshes;
-  ParseLimits limits;  // config.limits with "ref" resolved through `meshes`: parse requests with these
-  std::unique_ptr<DocumentStore<StoredScene>> scenes;
+  Stores stores;        // the stored scenes and meshes, in the store --store names (open_stores.hpp)
+  ParseLimits limits;   // config.limits with "ref" resolved through stores.meshes: parse requests with these
   AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
   std::atomic<bool> draining{false};
@@ -108,18 +102,24 @@ void send_stored_document(const httplib::Request& req, httplib::Response& res, c
 std::optional<std::string> releasing_owner(const ServiceState& state);
 // The request body as JSON, parsed with the configured depth bound (InputError -> 400).
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
-// Stores `scene` for the caller (request_context().owner) and answers its id: sets Location and
-// X-Scene-Id, returns {id, location, scene_id, created, expires} for the caller to complete and send
-// (201 when created, else 200). Throws HttpError 409, 413 (larger than the store) or 507 (store full).
-nlohmann::json store_scene(ServiceState& state, httplib::Response& res,
-                           const std::shared_ptr<const StoredScene>& scene);
-// Stores a parsed mesh for `owner` (as POST /v1/meshes does) and returns its id and whether it was
-// created. Throws HttpError 409 (hash collision), 413 (larger than the store) or 507 (store full).
-struct StoredMeshId {
-  std::string id;
-  bool created = false;
-};
-StoredMeshId store_mesh(ServiceState& state, const std::string& owner, std::shared_ptr<const MeshData> mesh);
+// Where a stored scene or mesh is served: "/v1/scenes/{id}", "/v1/meshes/{id}".
+template <class T>
+std::string location_of(const std::string& id) {
+  return std::string("/v1/") + T::plural + "/" + id;
+}
+// A time as answers write it: RFC 3339 in UTC with milliseconds ("2026-12-02T04:00:00.123Z"), or null.
+nlohmann::json time_or_null(const std::optional<std::chrono::system_clock::time_point>& t);
+// Stores a scene or mesh for the caller (request_context().owner); returns whether it was created
+// now (false: it was stored already). Throws HttpError 409 (another document has its id: a hash
+// collision), 413 (larger than the whole store), 507 (the store is full) or 422 (a scene placing a
+// mesh that was deleted meanwhile). store_answer.cpp.
+template <class T>
+bool store_document(ServiceState& state, const std::shared_ptr<const T>& item);
+// store_document, then the answer: `body` (the caller's members) with id, location, created (and a
+// scene's scene_id and expires), 201 when created else 200, Location (and a scene's X-Scene-Id).
+template <class T>
+void store_and_answer(ServiceState& state, httplib::Response& res, const std::shared_ptr<const T>& item,
+                      nlohmann::json body);
 // Throws HttpError 503 (+ Retry-After) unless `admission` is admitted.
 void require_admission(ServiceState& state, RenderGate::Admission admission);
 // A stopwatch started on admission, and how long the request waited for its slot (the `queue` stage).

@@ -13,7 +13,6 @@
 #include <httplib.h>
 
 #include <charconv>
-#include <ctime>
 #include <stdexcept>
 
 namespace rr::server {
@@ -24,22 +23,6 @@ using httplib::Request;
 using httplib::Response;
 using nlohmann::json;
 using Clock = SceneDocuments::Clock;
-
-std::string scene_location(const std::string& id) { return "/v1/scenes/" + id; }
-
-// "2026-12-02T04:00:00.123Z" (RFC 3339, UTC).
-std::string rfc3339(Clock::time_point t) {
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
-  std::time_t seconds = std::time_t(ms / 1000);
-  std::tm utc{};
-  gmtime_r(&seconds, &utc);
-  char text[40];
-  size_t n = std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
-  std::snprintf(text + n, sizeof text - n, ".%03dZ", int(ms % 1000));
-  return text;
-}
-
-json time_or_null(const std::optional<Clock::time_point>& t) { return t ? json(rfc3339(*t)) : json(nullptr); }
 
 // The scene of a body, and where it sits in the body ("" for a scene document, "/scene" in a whole
 // request), so errors and warnings point into what the client sent.
@@ -66,32 +49,12 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
   return out;
 }
 
-[[noreturn]] void throw_store_full(ServiceState& state) {
-  CacheStats fill = state.scenes->stats();
-  throw HttpError(507,
-                  "The scene store is full: it holds " + std::to_string(fill.entries) + " scenes of at most " +
-                      std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
-                      " bytes of at most " + std::to_string(fill.budget_bytes) +
-                      ". Stored scenes are kept, not evicted: delete scenes you no longer need, or ask the "
-                      "operator to raise --scene-store-entries or --scene-store-bytes.",
-                  {{"", "scene store full"}});
-}
-
-// `meshes`: those the scene places, one of which (the first when it is not known which) is gone.
-[[noreturn]] void throw_mesh_deleted(const std::vector<std::string>& meshes) {
-  const std::string& mesh = meshes.at(0);
-  throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
-                  {{"", "there is no stored mesh \"" + mesh + "\""}});
-}
-
 void answer_stored(ServiceState& state, Response& res, const SceneBody& sent) {
-  json body = store_scene(state, res, sent.scene);
   json warnings = json::array();
   for (const WarningText& w : describe(sent.scene->warnings, sent.scene->scene, sent.pointer)) {
     warnings.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
   }
-  body["warnings"] = std::move(warnings);
-  send_json(res, body, body["created"] == true ? 201 : 200);
+  store_and_answer(state, res, sent.scene, {{"warnings", std::move(warnings)}});
 }
 
 void handle_post_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
@@ -104,7 +67,7 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
   if (scene->id != match.params.at(0)) {
     throw HttpError(422,
                     "Scene ids are content hashes: this scene's id is " + scene->id + ", not " +
-                        quote_input(match.params[0]) + "; PUT it at " + scene_location(scene->id) +
+                        quote_input(match.params[0]) + "; PUT it at " + location_of<StoredScene>(scene->id) +
                         " (or POST it to /v1/scenes).",
                     {{sent.pointer, "content hashes to " + scene->id}});
   }
@@ -112,7 +75,7 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
 }
 
 void handle_get_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = state.scenes->find(match.params.at(0));
+  auto scene = state.stores.scenes->find(match.params.at(0));
   if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
   request_context().scene_id = scene->static_id;
   res.set_header("X-Scene-Id", scene->static_id);
@@ -123,7 +86,7 @@ void handle_get_scene(ServiceState& state, const Request& req, Response& res, co
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  switch (state.scenes->release(id, owner)) {
+  switch (state.stores.scenes->release(id, owner)) {
     case SceneDocuments::ReleaseResult::not_found:
       throw HttpError(404, "There is no stored scene " + id + ".");
     case SceneDocuments::ReleaseResult::not_owner:
@@ -163,7 +126,7 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
   const std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
   SceneDocuments::Page page;
   try {
-    page = state.scenes->list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
+    page = state.stores.scenes->list(tokens ? std::optional(request_context().owner) : std::nullopt, limit, cursor);
   } catch (const std::invalid_argument&) {
     throw HttpError(400, "The query parameter cursor must be the \"next\" of an earlier page.",
                     {{"", "not a cursor: \"" + quote_input(cursor) + "\"", "cursor"}});
@@ -171,8 +134,8 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
   json scenes = json::array();
   for (const SceneDocuments::Listed& s : page.scenes) {
     scenes.push_back({{"id", s.id},
-                      {"location", scene_location(s.id)},
-                      {"created", rfc3339(Clock::time_point(std::chrono::microseconds(s.created_us)))},
+                      {"location", location_of<StoredScene>(s.id)},
+                      {"created", time_or_null(Clock::time_point(std::chrono::microseconds(s.created_us)))},
                       {"expires", time_or_null(s.expires)},
                       {"bytes", s.bytes}});
   }
@@ -183,40 +146,6 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
 }
 
 }  // namespace
-
-json store_scene(ServiceState& state, Response& res, const std::shared_ptr<const StoredScene>& scene) {
-  request_context().scene_id = scene->static_id;
-  // The meshes it places are pinned once it is stored; one deleted since the parse is refused here.
-  std::lock_guard pins(state.mesh_pins.writers());
-  for (const std::string& mesh : scene->mesh_refs) {
-    if (!state.meshes->find(mesh)) throw_mesh_deleted({mesh});
-  }
-  SceneDocuments::PutResult result = state.scenes->put(scene, request_context().owner);
-  switch (result) {
-    case SceneDocuments::PutResult::conflict:
-      throw HttpError(409, "A different scene with the id " + scene->id + " is stored already (a hash collision).",
-                      {{"", "content differs from the stored scene with this id"}});
-    case SceneDocuments::PutResult::too_large:
-      throw HttpError(413,
-                      "The stored form of this scene takes about " + std::to_string(scene->bytes) +
-                          " bytes; the scene store holds at most " + std::to_string(state.scenes->max_bytes()) + ".",
-                      {{"", "scene too large to store"}});
-    case SceneDocuments::PutResult::full:
-      throw_store_full(state);
-    case SceneDocuments::PutResult::missing_reference:
-      throw_mesh_deleted(scene->mesh_refs);
-    case SceneDocuments::PutResult::created:
-    case SceneDocuments::PutResult::existed:
-      break;
-  }
-  res.set_header("Location", scene_location(scene->id));
-  res.set_header("X-Scene-Id", scene->static_id);
-  return {{"id", scene->id},
-          {"location", scene_location(scene->id)},
-          {"scene_id", scene->static_id},
-          {"created", result == SceneDocuments::PutResult::created},
-          {"expires", time_or_null(state.scenes->expiry_from_now())}};
-}
 
 std::vector<Route> scene_routes() {
   const std::vector<std::string> json_body = {"application/json"};

@@ -20,6 +20,8 @@ namespace rr::server {
 // The prepared scene (render() draws it as is; its warnings point into the scene document,
 // "/solids/2") with the document it came from.
 struct StoredScene : PreparedScene {
+  static constexpr const char* kind = "scene";  // in answers, log events and file or table names
+  static constexpr const char* plural = "scenes";
   std::string id;                      // hash_hex(text)
   std::string text;                    // canonical JSON of the scene document
   size_t bytes = 0;                    // charged against the store's budget

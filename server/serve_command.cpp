@@ -3,7 +3,7 @@
 // SIGTERM or SIGINT, drain, exit 0. Declared in cli.hpp.
 #include "server/serve_command.hpp"
 
-#include "server/postgres_pool.hpp"
+#include "server/open_stores.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -136,9 +136,9 @@ const Setting settings[] = {
   {"--store", "postgresql://user:password@host:port/db: stored scenes and meshes in PostgreSQL, shared by every replica (default: embedded, in memory and --data-dir)",
    [](ServerConfig& c, const std::string& v, const std::string& s) {
      try {
-       check_postgres_url(v);
+       check_store_url(v);
      } catch (const std::invalid_argument& e) {
-       throw UsageError(s + " is not a PostgreSQL connection URL: " + e.what());
+       throw UsageError(s + " " + e.what());
      }
      c.store_url = v;
    }},

@@ -1,0 +1,107 @@
+// Storing a document for a request and answering it (declared in routes.hpp), one template for
+// scenes and meshes: every DocumentStore::PutResult maps to its answer here (201 or 200 with
+// Location, 409, 413, 507, 422). What differs by kind is in the overloads below: a scene also names
+// its static scene id (X-Scene-Id, the log line) and its expiry, and only a scene places other
+// documents.
+#include "server/problem.hpp"
+#include "server/routes.hpp"
+
+#include <httplib.h>
+
+#include <stdexcept>
+
+namespace rr::server {
+
+namespace {
+
+using nlohmann::json;
+
+void note_storing(const StoredScene& scene) { request_context().scene_id = scene.static_id; }
+void note_storing(const StoredMesh&) {}
+
+// The store says only that something the scene places is gone: the answer names the first mesh
+// no longer stored (the first it places, when every one is back by now).
+[[noreturn]] void throw_missing_reference(ServiceState& state, const StoredScene& scene) {
+  std::string mesh = scene.mesh_refs.at(0);
+  for (const std::string& id : scene.mesh_refs) {
+    if (!state.stores.meshes->find(id)) {
+      mesh = id;
+      break;
+    }
+  }
+  throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
+                  {{"", "there is no stored mesh \"" + mesh + "\""}});
+}
+[[noreturn]] void throw_missing_reference(ServiceState&, const StoredMesh&) {
+  throw std::logic_error("a mesh places no stored document");
+}
+
+void add_answer_members(ServiceState& state, httplib::Response& res, const StoredScene& scene, json& body) {
+  res.set_header("X-Scene-Id", scene.static_id);
+  body["scene_id"] = scene.static_id;
+  body["expires"] = time_or_null(state.stores.scenes->expiry_from_now());
+}
+void add_answer_members(ServiceState&, httplib::Response&, const StoredMesh&, json&) {}
+
+template <class T>
+[[noreturn]] void throw_store_full(DocumentStore<T>& store) {
+  const std::string kind = T::kind, plural = T::plural;
+  CacheStats fill = store.stats();
+  throw HttpError(507,
+                  "The " + kind + " store is full: it holds " + std::to_string(fill.entries) + " " + plural +
+                      " of at most " + std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
+                      " bytes of at most " + std::to_string(fill.budget_bytes) + ". Stored " + plural +
+                      " are kept, not evicted: delete " + plural +
+                      " you no longer need, or ask the operator to raise --" + kind + "-store-entries or --" + kind +
+                      "-store-bytes.",
+                  {{"", kind + " store full"}});
+}
+
+}  // namespace
+
+template <class T>
+bool store_document(ServiceState& state, const std::shared_ptr<const T>& item) {
+  const std::string kind = T::kind;
+  note_storing(*item);
+  DocumentStore<T>& store = state.stores.of<T>();
+  using PutResult = typename DocumentStore<T>::PutResult;
+  switch (store.put(item, request_context().owner)) {
+    case PutResult::conflict:
+      throw HttpError(409,
+                      "A different " + kind + " with the id " + item->id + " is stored already (a hash collision).",
+                      {{"", "content differs from the stored " + kind + " with this id"}});
+    case PutResult::too_large:
+      throw HttpError(413,
+                      "The stored form of this " + kind + " takes about " + std::to_string(item->bytes) +
+                          " bytes; the " + kind + " store holds at most " + std::to_string(store.max_bytes()) + ".",
+                      {{"", kind + " too large to store"}});
+    case PutResult::full:
+      throw_store_full(store);
+    case PutResult::missing_reference:
+      throw_missing_reference(state, *item);
+    case PutResult::created:
+      return true;
+    case PutResult::existed:
+      break;
+  }
+  return false;
+}
+
+template <class T>
+void store_and_answer(ServiceState& state, httplib::Response& res, const std::shared_ptr<const T>& item, json body) {
+  const bool created = store_document(state, item);
+  const std::string location = location_of<T>(item->id);
+  res.set_header("Location", location);
+  body["id"] = item->id;
+  body["location"] = location;
+  body["created"] = created;
+  add_answer_members(state, res, *item, body);
+  send_json(res, body, created ? 201 : 200);
+}
+
+template bool store_document(ServiceState&, const std::shared_ptr<const StoredScene>&);
+template bool store_document(ServiceState&, const std::shared_ptr<const StoredMesh>&);
+template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredScene>&, json);
+template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredMesh>&, json);
+
+}  // namespace rr::server
