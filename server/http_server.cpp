@@ -28,10 +28,6 @@
 #include <regex>
 #include <stdexcept>
 
-#ifndef ROOMRENDER_SOURCE_DIR
-#define ROOMRENDER_SOURCE_DIR "."
-#endif
-
 namespace rr::server {
 namespace {
 
@@ -465,110 +461,6 @@ FrontConfig front_config(const ServerConfig& c) {
 }
 
 }  // namespace
-
-ServerConfig default_server_config() {
-  ServerConfig config;
-  config.web_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "clients" / "web";
-  config.examples_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "examples";
-  config.schemas_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "schemas";
-  return config;
-}
-
-size_t render_workers(const ServerConfig& config) {
-  if (config.render_workers > 0) return size_t(config.render_workers);
-  return std::max<size_t>(1, std::thread::hardware_concurrency());
-}
-
-unsigned render_threads(const ServerConfig& config) {
-  if (config.render_threads > 0) return unsigned(config.render_threads);
-  return std::max(1u, std::thread::hardware_concurrency());
-}
-
-size_t render_queue_length(const ServerConfig& config) {
-  if (config.render_queue >= 0) return size_t(config.render_queue);
-  return 4 * render_workers(config);
-}
-
-size_t request_workers(const ServerConfig& config) {
-  // Every admitted or queued render holds a worker; the 8 beyond those answer health checks,
-  // metrics, stored scenes and 503s while renders run.
-  if (config.threads > 0) return size_t(config.threads);
-  return render_workers(config) + render_queue_length(config) + 8;
-}
-
-size_t max_pending_requests(const ServerConfig& config) {
-  if (config.max_pending_requests >= 0) return std::max<size_t>(1, size_t(config.max_pending_requests));
-  return request_workers(config);
-}
-
-// The store URL as the start-up line prints it: without a password.
-static std::string redacted_store_url(const std::string& url) {
-  if (url.empty()) return "embedded";
-  static const std::regex password("(://[^:/@]*:)[^@]*@|(password=)[^ ]*");
-  return std::regex_replace(url, password, "$1$2***@");
-}
-
-std::string config_json(const ServerConfig& c) {
-  const ParseLimits& l = c.limits;
-  nlohmann::ordered_json j = {{"bind", c.bind},
-                              {"port", c.port},
-                              {"threads", request_workers(c)},
-                              {"render_workers", render_workers(c)},
-                              {"render_threads", render_threads(c)},
-                              {"render_queue", render_queue_length(c)},
-                              {"render_timeout_ms", c.render_timeout_ms},
-                              {"trim_after_work_ms", c.trim_after_work_ms},
-                              {"retry_after_s", c.retry_after_s},
-                              {"drain_timeout_ms", c.drain_timeout_ms},
-                              {"max_body_bytes", c.max_body_bytes},
-                              {"max_import_bytes", c.max_import_bytes},
-                              {"max_json_depth", l.max_depth},
-                              {"max_image_side", l.max_image_side},
-                              {"max_pixels", l.max_pixels},
-                              {"max_render_bytes", l.max_render_bytes},
-                              {"max_polygons", l.max_polygons},
-                              {"max_cylinder_segments", l.max_cylinder_segments},
-                              {"max_floor_cells", l.max_floor_cells},
-                              {"max_abs_coordinate", l.max_abs_coordinate},
-                              {"max_far_over_near", l.max_far_over_near},
-                              {"max_mesh_vertices", l.max_mesh_vertices},
-                              {"bsp_cache_bytes", c.bsp_cache_bytes},
-                              {"bsp_cache_entries", c.bsp_cache_entries},
-                              {"shadow_cache_bytes", c.shadow_cache_bytes},
-                              {"scene_store_bytes", c.scene_store_bytes},
-                              {"scene_store_entries", c.scene_store_entries},
-                              {"scene_ttl_s", c.scene_ttl_s},
-                              {"mesh_store_bytes", c.mesh_store_bytes},
-                              {"mesh_store_entries", c.mesh_store_entries},
-                              {"store", redacted_store_url(c.store_url)},
-                              {"store_pool", c.store_pool_size},
-                              {"store_timeout_ms", c.store_timeout_ms},
-                              {"store_cache_bytes", c.store_cache_bytes},
-                              {"cors_origins", c.cors_origins},
-                              {"api_token_file", c.api_token_file.string()},
-                              {"allow_listing", c.allow_listing},
-                              {"data_dir", c.data_dir.string()},
-                              {"web_dir", c.web_dir.string()},
-                              {"examples_dir", c.examples_dir.string()},
-                              {"schemas_dir", c.schemas_dir.string()},
-                              {"max_connections", c.max_connections},
-                              {"max_idle_connections", c.max_idle_connections},
-                              {"keep_alive_timeout_s", c.keep_alive_timeout_s},
-                              {"keep_alive_max_requests", c.keep_alive_max_requests},
-                              {"header_timeout_ms", c.header_timeout_ms},
-                              {"body_timeout_ms", c.body_timeout_ms},
-                              {"write_timeout_s", c.write_timeout_s},
-                              {"min_transfer_rate", c.min_transfer_rate},
-                              {"max_request_line_bytes", c.max_request_line_bytes},
-                              {"max_header_bytes", c.max_header_bytes},
-                              {"max_header_count", c.max_header_count},
-                              {"max_pending_requests", max_pending_requests(c)},
-                              {"max_buffered_body_bytes", c.max_buffered_body_bytes},
-                              {"listen_backlog", c.listen_backlog},
-                              {"log_level", c.log_level},
-                              {"log_requests", c.log_requests}};
-  return j.dump();
-}
 
 Service::Service(ServerConfig config) : config_(std::move(config)) {}
 
