@@ -1,6 +1,6 @@
 // The service's route table and the state its handlers share. A route names its method, its path
 // template (the label in logs and metrics), the body media types it consumes and the response
-// types it produces; screening (http_server.cpp) uses those to answer 404/405/406/411/413/415
+// types it produces; screening (screening.cpp) uses those to answer 404/405/406/411/413/415
 // before a body is read, so handlers only see requests they can serve. Adding an endpoint (e.g.
 // POST /v1/import/{format}) is one row in a *_routes() list and one handler.
 #pragma once

@@ -3,11 +3,11 @@
 #pragma once
 
 #include "server/http_server.hpp"
+#include "server/settings.hpp"
 
 #include <functional>
 #include <optional>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -16,12 +16,7 @@ namespace rr::server {
 std::string_view version();  // the project's version, as CMake sets it
 
 int run_serve(std::span<const std::string> args);
-std::string serve_usage();  // every serve option with its default
-
-// A command line that cannot be obeyed; exit code 2.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+std::string serve_usage();  // every serve option with its default and unit
 
 // The serve configuration: defaults, then ROOMRENDER_* variables read through `getenv`, then flags
 // (flags win). Throws UsageError naming the flag or variable that is wrong.
