@@ -19,17 +19,17 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-class ApiTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
+class ApiTest : public SharedServerTest<ApiTest> {
+ public:
+  static rr::server::ServerConfig config() {
     rr::server::ServerConfig config = test_server_config();
     config.log_requests = true;
     config.log_level = "info";
     config.log_sink = log_.sink();
-    server_ = std::make_unique<TestServer>(config);
+    return config;
   }
-  static void TearDownTestSuite() { server_.reset(); }
-  static httplib::Client client() { return server_->client(); }
+
+ protected:
   static httplib::Result post_json(const std::string& path, const std::string& body, const std::string& accept = "") {
     httplib::Headers headers;
     if (!accept.empty()) headers.emplace("Accept", accept);
@@ -48,7 +48,6 @@ class ApiTest : public ::testing::Test {
   }
 
   static inline LogCapture log_;
-  static inline std::unique_ptr<TestServer> server_;
 };
 
 // Two boxes overlapping by 0.5 m, one box flush against the other (touching, no warning), and a

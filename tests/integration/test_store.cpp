@@ -36,13 +36,7 @@ json store(const TestServer& server, const json& scene, int expected_status = 20
   return body;
 }
 
-class StoreTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
-  static void TearDownTestSuite() { server_.reset(); }
-  static httplib::Client client() { return server_->client(); }
-  static inline std::unique_ptr<TestServer> server_;
-};
+class StoreTest : public SharedServerTest<StoreTest> {};
 
 TEST_F(StoreTest, PostNamesTheSceneByItsContent) {
   json created = store(*server_, scene_with_box_at(0.1));
