@@ -120,13 +120,7 @@ void configure_limits(httplib::Server& server, const ServerConfig& config) {
 }
 
 std::shared_ptr<std::vector<Route>> make_routes(const ServerConfig& config) {
-  auto routes = std::make_shared<std::vector<Route>>();
-  for (std::vector<Route> list : {render_routes(), scene_routes(), mesh_routes(config), import_routes(config),
-                                  meta_routes(config), pick_routes()}) {
-    routes->insert(routes->end(), list.begin(), list.end());
-  }
-  for (Route& r : *routes) r.regex = std::regex(r.pattern);
-  return routes;
+  return std::make_shared<std::vector<Route>>(service_routes(config));
 }
 
 std::unique_ptr<RequestProcessor> make_server(ServiceState& state, std::shared_ptr<std::vector<Route>> routes) {

@@ -111,7 +111,7 @@ std::vector<Route> import_routes(const ServerConfig& config) {
   const std::vector<std::string> files = {
       "application/octet-stream",    "application/xml", "text/xml", "application/zip",
       "application/vnd.sweethome3d", "text/plain",      "model/obj"};
-  Route route{"POST", "/v1/import/{format}", "/v1/import/([a-z0-9]+)", files, {"application/json"}, handle_import};
+  Route route{"POST", "/v1/import/{format}", files, {"application/json"}, handle_import};
   route.max_body_bytes = config.max_import_bytes;
   route.access = Access::write_when_stored;
   return {route};

@@ -93,11 +93,10 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
 std::vector<Route> mesh_routes(const ServerConfig& config) {
   const std::vector<std::string> bodies = {"application/json", "text/plain", "model/obj", "application/octet-stream"};
   const std::vector<std::string> json_answer = {"application/json"};
-  const char* one = "/v1/meshes/([0-9a-f]{16})";
   std::vector<Route> routes = {
-      {"POST", "/v1/meshes", "/v1/meshes", bodies, json_answer, handle_post_mesh},
-      {"GET", "/v1/meshes/{id}", one, {}, json_answer, handle_get_mesh},
-      {"DELETE", "/v1/meshes/{id}", one, {}, {}, handle_delete_mesh},
+      {"POST", "/v1/meshes", bodies, json_answer, handle_post_mesh},
+      {"GET", "/v1/meshes/{id}", {}, json_answer, handle_get_mesh},
+      {"DELETE", "/v1/meshes/{id}", {}, {}, handle_delete_mesh},
   };
   routes[0].max_body_bytes = config.max_import_bytes;  // an OBJ is text, larger than its JSON request
   for (Route& r : routes) r.access = r.method == "GET" ? Access::read : Access::write;

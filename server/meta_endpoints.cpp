@@ -205,40 +205,38 @@ RouteHandler docs_asset_handler(fs::path dir) {
 std::vector<Route> meta_routes(const ServerConfig& config) {
   const std::vector<std::string> json_answer = {"application/json"};
   return {
-      {"GET", "/livez", "/livez", {}, json_answer, handle_livez},
-      {"GET", "/readyz", "/readyz", {}, json_answer, handle_readyz},
-      {"GET", "/healthz", "/healthz", {}, json_answer, handle_readyz},
-      {"GET", "/metrics", "/metrics", {}, {"text/plain"}, handle_metrics},
-      {"GET", "/v1/pipelines", "/v1/pipelines", {}, json_answer, handle_pipelines},
-      {"GET", "/openapi.json", "/openapi\\.json", {}, json_answer, openapi_handler(config.schemas_dir)},
-      {"GET",
-       "/v1/schemas/openapi.json",
-       "/v1/schemas/openapi\\.json",
-       {},
-       json_answer,
-       openapi_file_handler(config.schemas_dir)},
-      {"GET", "/v1/schemas", "/v1/schemas/?", {}, json_answer, schema_list_handler(config.schemas_dir)},
+      {"GET", "/livez", {}, json_answer, handle_livez},
+      {"GET", "/readyz", {}, json_answer, handle_readyz},
+      {"GET", "/healthz", {}, json_answer, handle_readyz},
+      {"GET", "/metrics", {}, {"text/plain"}, handle_metrics},
+      {"GET", "/v1/pipelines", {}, json_answer, handle_pipelines},
+      {"GET", "/openapi.json", {}, json_answer, openapi_handler(config.schemas_dir)},
+      {"GET", "/v1/schemas/openapi.json", {}, json_answer, openapi_file_handler(config.schemas_dir)},
+      {"GET", "/v1/schemas", {}, json_answer, schema_list_handler(config.schemas_dir), "/v1/schemas/?"},
+      // A schema's name may hold '-', and its file is <name>.schema.json.
       {"GET",
        "/v1/schemas/{name}.json",
-       "/v1/schemas/([a-z0-9_-]+)\\.schema\\.json",
        {},
        {"application/schema+json", "application/json"},
-       schema_handler(config.schemas_dir)},
-      {"GET", "/", "/", {}, {"text/html"}, index_handler(config.web_dir)},
-      {"GET", "/docs", "/docs", {}, {"text/html"}, docs_handler(config.web_dir)},
+       schema_handler(config.schemas_dir),
+       "/v1/schemas/([a-z0-9_-]+)\\.schema\\.json"},
+      {"GET", "/docs", {}, {"text/html"}, docs_handler(config.web_dir)},
+  };
+}
+
+std::vector<Route> page_routes(const ServerConfig& config) {
+  const std::vector<std::string> json_answer = {"application/json"};
+  return {
+      {"GET", "/", {}, {"text/html"}, index_handler(config.web_dir)},
+      // Only the files the API page loads, by name.
       {"GET",
        "/docs/{file}",
-       "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)",
        {},
        {},
-       docs_asset_handler(config.web_dir)},
-      {"GET", "/examples/", "/examples/?", {}, json_answer, examples_list_handler(config.examples_dir)},
-      {"GET",
-       "/examples/{name}.json",
-       "/examples/([a-z0-9_]+)\\.json",
-       {},
-       json_answer,
-       example_handler(config.examples_dir)},
+       docs_asset_handler(config.web_dir),
+       "/docs/(redoc\\.standalone\\.js(?:\\.LICENSE\\.txt)?)"},
+      {"GET", "/examples/", {}, json_answer, examples_list_handler(config.examples_dir), "/examples/?"},
+      {"GET", "/examples/{name}.json", {}, json_answer, example_handler(config.examples_dir)},
   };
 }
 

@@ -147,8 +147,8 @@ std::vector<Route> pick_routes() {
   const std::vector<std::string> json_body = {"application/json"};
   const std::vector<std::string> json_answer = {"application/json"};
   return {
-      {"POST", "/v1/pick", "/v1/pick", json_body, json_answer, handle_pick},
-      {"POST", "/v1/scenes/{id}/pick", "/v1/scenes/([0-9a-f]{16})/pick", json_body, json_answer, handle_stored_pick},
+      {"POST", "/v1/pick", json_body, json_answer, handle_pick},
+      {"POST", "/v1/scenes/{id}/pick", json_body, json_answer, handle_stored_pick},
   };
 }
 

@@ -325,15 +325,9 @@ void handle_render_png(ServiceState& state, const Request& req, Response& res, c
 std::vector<Route> render_routes() {
   const std::vector<std::string> json_body = {"application/json"};
   return {
-      {"POST", "/v1/render", "/v1/render", json_body, render_types, handle_render},
-      {"POST", "/v1/scenes/{id}/render", "/v1/scenes/([0-9a-f]{16})/render", json_body, render_types,
-       handle_stored_render},
-      {"GET",
-       "/v1/scenes/{id}/render.png",
-       "/v1/scenes/([0-9a-f]{16})/render\\.png",
-       {},
-       {"image/png"},
-       handle_render_png},
+      {"POST", "/v1/render", json_body, render_types, handle_render},
+      {"POST", "/v1/scenes/{id}/render", json_body, render_types, handle_stored_render},
+      {"GET", "/v1/scenes/{id}/render.png", {}, {"image/png"}, handle_render_png},
   };
 }
 

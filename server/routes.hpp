@@ -1,8 +1,9 @@
 // The service's route table and the state its handlers share. A route names its method, its path
-// template (the label in logs and metrics), the body media types it consumes and the response
-// types it produces; screening (screening.cpp) uses those to answer 404/405/406/411/413/415
-// before a body is read, so handlers only see requests they can serve. Adding an endpoint (e.g.
-// POST /v1/import/{format}) is one row in a *_routes() list and one handler.
+// template (the label in logs and metrics, and its path's regex), the body media types it consumes
+// and the response types it produces; screening (screening.cpp) uses those to answer
+// 404/405/406/411/413/415 before a body is read, so handlers only see requests they can serve.
+// Adding an endpoint (e.g. POST /v1/import/{format}) is one row in a *_routes() list, one handler and
+// its path in schemas/openapi.json (unit.Routes holds the two to each other).
 #pragma once
 
 #include "render/core/timer.hpp"
@@ -56,15 +57,22 @@ using RouteHandler = std::function<void(ServiceState&, const httplib::Request&, 
 
 struct Route {
   std::string method;                 // "GET" routes also answer HEAD
-  std::string path_template;          // "/v1/scenes/{id}": logs, metrics, Allow lookups
-  std::string pattern;                // regex for the whole decoded path; groups become RouteMatch::params
+  std::string path_template;          // "/v1/scenes/{id}": logs, metrics, Allow lookups, OpenAPI's path
   std::vector<std::string> consumes;  // body media types accepted; empty: the route takes no body
   std::vector<std::string> produces;  // response types offered, preferred first; empty: not negotiated
   RouteHandler handler;
-  std::regex regex = {};
+  // The regex for the whole decoded path where the template cannot say it all (an optional trailing
+  // slash, a file name the template leaves out, a whitelist); empty: route_pattern derives it.
+  std::string pattern = {};
+  std::regex regex = {};         // route_pattern's, compiled by service_routes
   size_t max_body_bytes = 0;     // 0: ServerConfig::max_body_bytes
   Access access = Access::read;  // which origins may call it, and whether it needs a token
 };
+
+// The regex of a route's whole path, its groups the placeholders in order: `pattern` when the row
+// gives one, else the template with each {placeholder} as its group (routes.cpp lists them) and
+// every other character literal. Throws std::logic_error for a placeholder it does not know.
+std::string route_pattern(const Route& route);
 
 // Per request, on the thread that handles it from screening to the log line (httplib runs one
 // request on one thread). Handlers add what the log line reports.
@@ -88,6 +96,11 @@ std::vector<Route> mesh_routes(const ServerConfig& config);    // mesh_endpoints
 std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
 std::vector<Route> meta_routes(const ServerConfig& config);    // meta_endpoints.cpp
 std::vector<Route> pick_routes();                              // pick_endpoints.cpp
+// The web page's own routes (the page, the API page's assets, the example requests): served beside
+// the API but not part of it, so schemas/openapi.json leaves them out. meta_endpoints.cpp.
+std::vector<Route> page_routes(const ServerConfig& config);
+// Every route above, in that order, each with its regex compiled (routes.cpp).
+std::vector<Route> service_routes(const ServerConfig& config);
 
 // Helpers shared by the endpoint files.
 // A drawn camera as a request's camera object (pick answers; render answers of a framed view).

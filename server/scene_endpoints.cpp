@@ -150,13 +150,12 @@ void handle_list_scenes(ServiceState& state, const Request& req, Response& res, 
 std::vector<Route> scene_routes() {
   const std::vector<std::string> json_body = {"application/json"};
   const std::vector<std::string> json_answer = {"application/json"};
-  const char* one = "/v1/scenes/([0-9a-f]{16})";
   std::vector<Route> routes = {
-      {"POST", "/v1/scenes", "/v1/scenes", json_body, json_answer, handle_post_scene},
-      {"PUT", "/v1/scenes/{id}", one, json_body, json_answer, handle_put_scene},
-      {"GET", "/v1/scenes/{id}", one, {}, json_answer, handle_get_scene},
-      {"DELETE", "/v1/scenes/{id}", one, {}, {}, handle_delete_scene},
-      {"GET", "/v1/scenes", "/v1/scenes", {}, json_answer, handle_list_scenes},
+      {"POST", "/v1/scenes", json_body, json_answer, handle_post_scene},
+      {"PUT", "/v1/scenes/{id}", json_body, json_answer, handle_put_scene},
+      {"GET", "/v1/scenes/{id}", {}, json_answer, handle_get_scene},
+      {"DELETE", "/v1/scenes/{id}", {}, {}, handle_delete_scene},
+      {"GET", "/v1/scenes", {}, json_answer, handle_list_scenes},
   };
   for (Route& r : routes) r.access = r.method == "GET" ? Access::read : Access::write;
   routes.back().access = Access::owner_read;

@@ -16,22 +16,31 @@
 namespace rr {
 
 namespace {
+void newell_order(RenderOptions& options) { options.painter_key = PainterKey::newell; }
+
 constexpr auto pipelines = std::to_array<PipelineInfo>({
-    {"zbuffer", "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
-     draw_zbuffer, true},
-    {"painter",
-     "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
-     "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
-     draw_painter, true},
-    {"bsp",
-     "A BSP tree of the static scene (built once, cached by scene id), walked front to back with a "
-     "coverage buffer that skips hidden subtrees (bsp.traversal back_to_front: the classic "
-     "back-to-front walk), with frustum and back-face culling; no depth buffer.",
-     draw_bsp},
-    {"reference",
-     "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
-     "with exact shadow rays; the ground truth the others are measured against (slow).",
-     draw_reference, false, false},
+    {.name = "zbuffer",
+     .summary = "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
+     .draw = draw_zbuffer,
+     .culls_objects = true},
+    {.name = "painter",
+     .summary = "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
+                "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
+     .draw = draw_painter,
+     .culls_objects = true,
+     .exact_mode = newell_order},  // a depth-sorted order is not exact: intersecting polygons need splitting
+    {.name = "bsp",
+     .summary = "A BSP tree of the static scene (built once, cached by scene id), walked front to back with a "
+                "coverage buffer that skips hidden subtrees (bsp.traversal back_to_front: the classic "
+                "back-to-front walk), with frustum and back-face culling; no depth buffer.",
+     .draw = draw_bsp},
+    {.name = "reference",
+     .summary = "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
+                "with exact shadow rays; the ground truth the others are measured against (slow).",
+     .draw = draw_reference,
+     .shadow_maps = false,
+     .abuffer = false,
+     .reference = true},
 });
 static_assert(pipelines.size() <= std::numeric_limits<decltype(PipelineId::index)>::max() + 1);
 }  // namespace

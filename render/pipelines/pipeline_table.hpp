@@ -1,7 +1,8 @@
 // The table of pipelines: one row per pipeline holds every fact about it (name, summary, draw
-// function, whether whole objects are culled before it draws, whether it uses shadow maps).
-// RenderOptions::pipeline is a PipelineId, an index into this table; validation, GET /v1/pipelines,
-// the tests, the benchmarks and the fuzz harness iterate the table and never name a pipeline in code.
+// function) and what it supports, one column per capability (object culling, shadow maps, the
+// A-buffer, exact visibility, being the reference). RenderOptions::pipeline is a PipelineId, an index
+// into this table; validation, GET /v1/pipelines, the tests, the benchmarks and the fuzz harness
+// iterate the table and pick rows by its columns, so a new row is tested for what it says it does.
 #pragma once
 
 #include "render/core/frame.hpp"
@@ -11,6 +12,8 @@
 
 namespace rr {
 
+inline void keep_options(RenderOptions&) {}  // an exact_mode: exact as requested
+
 struct PipelineInfo {
   const char* name;
   const char* summary;
@@ -19,6 +22,13 @@ struct PipelineInfo {
   // for pipelines that cull on their own (bsp walks its tree; reference casts rays through a BVH).
   bool culls_objects = false;
   bool shadow_maps = true;  // render_frame runs the shadow-map pass for it (when shadows are on)
+  // options.antialias > 1 resolves its sub-samples through the A-buffer (docs/antialiasing.md); off
+  // for the reference, which casts a ray per sub-sample and has goldens of its own.
+  bool abuffer = true;
+  // Sets the options under which its visibility is exact: every pixel off the reference's id edges
+  // shows the reference's polygon (the stress suites hold it to that). Null: never exact.
+  void (*exact_mode)(RenderOptions& options) = keep_options;
+  bool reference = false;  // the exact ray caster every other row is measured against
 };
 
 NameTable<PipelineInfo> pipeline_table();  // row 0 is the default pipeline

@@ -1,7 +1,7 @@
-// Golden images with options.antialias = 8: every example x every raster pipeline, compared with
-// tests/golden/images/antialias/<example>.<pipeline>.png (support/golden.hpp's tolerance). The
-// reference pipeline's supersampled goldens live with its own suite. Regenerate only on purpose:
-// ROOMRENDER_UPDATE_GOLDENS=1 ctest -R golden (then look at every changed image).
+// Golden images with options.antialias = 8: every example x every pipeline that resolves through the
+// A-buffer (PipelineInfo::abuffer), compared with tests/golden/images/antialias/<example>.<pipeline>.png
+// (support/golden.hpp's tolerance). The reference pipeline's supersampled goldens live with its own suite. Regenerate
+// only on purpose: ROOMRENDER_UPDATE_GOLDENS=1 ctest -R golden (then look at every changed image).
 #include "render/pipelines/pipeline.hpp"
 #include "support/golden.hpp"
 #include "support/render_helpers.hpp"
@@ -27,7 +27,9 @@ void PrintTo(const AntialiasCase& c, std::ostream* os) {
 std::vector<AntialiasCase> antialias_cases() {
   std::vector<AntialiasCase> cases;
   for (const auto& file : testing::example_files()) {
-    for (const char* pipeline : {"zbuffer", "painter", "bsp"}) cases.push_back({file.stem().string(), pipeline});
+    for (const PipelineInfo& p : pipeline_table()) {
+      if (p.abuffer) cases.push_back({file.stem().string(), p.name});
+    }
   }
   return cases;
 }

@@ -46,6 +46,20 @@ class TestServer {
   std::unique_ptr<rr::server::Service> service_;
 };
 
+// The base of a test suite whose tests share one server: started before the suite's first test with
+// Suite::config() (test_server_config() unless the suite declares its own), stopped after its last.
+//   class StoreTest : public SharedServerTest<StoreTest> {};
+template <class Suite>
+class SharedServerTest : public ::testing::Test {
+ protected:
+  static rr::server::ServerConfig config() { return test_server_config(); }
+  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(Suite::config()); }
+  static void TearDownTestSuite() { server_.reset(); }
+  static httplib::Client client() { return server_->client(); }
+
+  static inline std::unique_ptr<TestServer> server_;
+};
+
 // Checks the problem+json shape (type, title, status, detail) and returns the body.
 nlohmann::json expect_problem(const httplib::Result& res, int status);
 // expect_problem, and the answer carries `header: value` (Allow with 405, Retry-After with 503).

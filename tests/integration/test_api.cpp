@@ -7,6 +7,7 @@
 
 #include "render/pipelines/pipeline.hpp"
 #include "server/http_server.hpp"
+#include "support/api_routes.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -18,17 +19,17 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-class ApiTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
+class ApiTest : public SharedServerTest<ApiTest> {
+ public:
+  static rr::server::ServerConfig config() {
     rr::server::ServerConfig config = test_server_config();
     config.log_requests = true;
     config.log_level = "info";
     config.log_sink = log_.sink();
-    server_ = std::make_unique<TestServer>(config);
+    return config;
   }
-  static void TearDownTestSuite() { server_.reset(); }
-  static httplib::Client client() { return server_->client(); }
+
+ protected:
   static httplib::Result post_json(const std::string& path, const std::string& body, const std::string& accept = "") {
     httplib::Headers headers;
     if (!accept.empty()) headers.emplace("Accept", accept);
@@ -47,7 +48,6 @@ class ApiTest : public ::testing::Test {
   }
 
   static inline LogCapture log_;
-  static inline std::unique_ptr<TestServer> server_;
 };
 
 // Two boxes overlapping by 0.5 m, one box flush against the other (touching, no warning), and a
@@ -294,10 +294,9 @@ TEST_F(ApiTest, OpenApiDocumentDescribesEveryRoute) {
   json doc = json::parse(res->body);
   EXPECT_EQ(doc["openapi"].get<std::string>().rfind("3.1", 0), 0u);
   EXPECT_EQ(doc["jsonSchemaDialect"], "https://json-schema.org/draft/2020-12/schema");
-  for (const char* path : {"/v1/render", "/v1/scenes", "/v1/scenes/{id}", "/v1/scenes/{id}/render",
-                           "/v1/scenes/{id}/render.png", "/v1/pipelines", "/openapi.json", "/v1/schemas",
-                           "/v1/schemas/{name}.json", "/livez", "/readyz", "/healthz", "/metrics"}) {
-    EXPECT_TRUE(doc["paths"].contains(path)) << path;
+  const std::set<std::string> described = openapi_operations(doc);
+  for (const std::string& operation : api_operations(test_server_config())) {
+    EXPECT_TRUE(described.contains(operation)) << operation;
   }
 }
 

@@ -41,14 +41,6 @@ Outcome roomrender(const fs::path& dir, const std::string& args) {
   return o;
 }
 
-fs::path fresh_dir() {
-  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = rr::testing::output_dir("integration") / (std::string("bench_") + test->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // A lit box, an open floor quad and a translucent pane: opaque, open and blended paths all draw.
 json small_scene() {
   return {
@@ -66,7 +58,7 @@ json small_scene() {
 bool same_file(const fs::path& a, const fs::path& b) { return rr::testing::read_file(a) == rr::testing::read_file(b); }
 
 TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "scene.json", json{{"scene", small_scene()}}.dump());
   Outcome run = roomrender(dir, "bench-render --request scene.json --size 64x48 --frames 5 --warmup 2");
   ASSERT_EQ(run.status, 0) << run.err;
@@ -104,7 +96,7 @@ TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
 }
 
 TEST(BenchRender, OutAndIdsEqualANormalRender) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   fs::path studio = rr::testing::examples_dir() / "studio.json";  // walls, openings, translucent panes
   Outcome render =
       roomrender(dir, "render '" + studio.string() + "' -o render.png --ids render.ids --width 160 --height 120");
@@ -124,7 +116,7 @@ TEST(BenchRender, OutAndIdsEqualANormalRender) {
 // --obj: polygon id k is the OBJ's k-th `f` line (one group, no repairs), and the frame is the one
 // `render --obj` draws from the same file.
 TEST(BenchRender, ObjIdsAreTheFaceLinesInOrder) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "two.obj",
                           "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -0.5 0.5 0\nv 0.5 0.5 0\nv 0 1.2 0\n"
                           "f 1 4 3 2\nf 5 6 7\n");
@@ -148,7 +140,7 @@ TEST(BenchRender, ObjIdsAreTheFaceLinesInOrder) {
 // The peer's flags (OpenGL look-at, fovy, near/far, WxH, a direction toward the light) written into a
 // request by hand must give the same picture as bench-render given them as flags.
 TEST(BenchRender, CameraAndLightFlagsMeanTheRequestsValues) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "plain.json", json{{"scene", small_scene()}}.dump());
   json by_hand = {{"scene", small_scene()},
                   {"camera",
@@ -181,7 +173,7 @@ TEST(BenchRender, CameraAndLightFlagsMeanTheRequestsValues) {
 }
 
 TEST(BenchRender, ListNamesTheBuildsTables) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   Outcome list = roomrender(dir, "bench-render --list");
   ASSERT_EQ(list.status, 0) << list.err;
   std::vector<std::string> pipelines, shadings;
@@ -192,7 +184,7 @@ TEST(BenchRender, ListNamesTheBuildsTables) {
 }
 
 TEST(BenchRender, BadCommandLinesAndBadValues) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "scene.json", json{{"scene", small_scene()}}.dump());
   // Usage errors (exit 2): no input, two inputs, malformed numbers.
   for (const char* args :

@@ -33,15 +33,6 @@ struct RunResult {
   std::string err;
 };
 
-// A scratch directory per test, emptied first.
-fs::path scratch_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = rr::testing::output_dir("integration") / (std::string("cli_") + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // Runs `roomrender <args>` in `dir` (args are passed to the shell as written).
 RunResult run_roomrender(const std::string& args, const fs::path& dir, const std::string& stdin_file = "") {
   std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args +
@@ -107,7 +98,7 @@ size_t check_id_file(const std::string& bytes, uint32_t width, uint32_t height, 
 }
 
 TEST(Cli, RenderWritesPngIdsAndOneTimingsLine) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   write_request(dir, mesh_request());
   RunResult run = run_roomrender("render request.json -o out.png --ids out.ids", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -125,7 +116,7 @@ TEST(Cli, RenderWritesPngIdsAndOneTimingsLine) {
 }
 
 TEST(Cli, RenderOverridesAndStdin) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   fs::path request = write_request(dir, mesh_request());
   RunResult run = run_roomrender("render - -o out.png --ids out.ids --width 24 --height=18 --pipeline zbuffer", dir,
                                  request.string());
@@ -134,7 +125,7 @@ TEST(Cli, RenderOverridesAndStdin) {
 }
 
 TEST(Cli, RenderErrorsAreOneJsonLineWithPointer) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   json bad_wall = {{"scene", {{"walls", {{{"start", {0, 0}}, {"end", {2, 0}}, {"thickness", -1}}}}}}};
   write_request(dir, bad_wall);
   RunResult invalid = run_roomrender("render request.json -o out.png", dir);
@@ -149,7 +140,7 @@ TEST(Cli, RenderErrorsAreOneJsonLineWithPointer) {
 }
 
 TEST(Cli, UsageErrorsExitTwo) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   EXPECT_EQ(run_roomrender("no-such-command", dir).exit_code, 2);
   EXPECT_EQ(run_roomrender("", dir).exit_code, 2);
   EXPECT_EQ(run_roomrender("render request.json", dir).exit_code, 2);  // no -o
@@ -202,7 +193,7 @@ bool same_loop(const std::vector<std::array<double, 3>>& a, const std::vector<st
 }
 
 TEST(Cli, ExportWritesOneFaceLinePerPolygonWithExactVertices) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   write_request(dir, mesh_request());
   RunResult run = run_roomrender("export request.json --obj out.obj", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -221,7 +212,7 @@ TEST(Cli, ExportWritesOneFaceLinePerPolygonWithExactVertices) {
 }
 
 TEST(Cli, ExportAndRenderAgreeOnPolygonCountForStudio) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   std::string studio = (rr::testing::examples_dir() / "studio.json").string();
   RunResult exported = run_roomrender("export '" + studio + "' --obj studio.obj", dir);
   ASSERT_EQ(exported.exit_code, 0) << exported.err;
@@ -299,7 +290,7 @@ TEST(Cli, ServeConfigReadsVariablesButFlagsWin) {
 // non-edge visibility error is exactly 0); a file compared with itself has zero error and an
 // infinite PSNR (null in JSON).
 TEST(Cli, CompareIdsAndPngsPrintsErrorMeasures) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   json request = mesh_request();
   // A point light: its lighting varies across each face, so flat shading differs from the
   // reference's per-pixel lighting (with the directional light alone both are exact).
@@ -328,7 +319,7 @@ TEST(Cli, CompareIdsAndPngsPrintsErrorMeasures) {
 }
 
 TEST(Cli, CompareRejectsMismatchedSizesKindsAndUnreadableFiles) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   write_request(dir, mesh_request());
   ASSERT_EQ(run_roomrender("render request.json -o a.png --ids a.ids", dir).exit_code, 0);
   ASSERT_EQ(run_roomrender("render request.json -o b.png --ids b.ids --width 20", dir).exit_code, 0);

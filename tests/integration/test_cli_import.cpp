@@ -25,14 +25,6 @@ struct CommandRun {
   std::string out, err;
 };
 
-fs::path fresh_dir() {
-  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = rr::testing::output_dir("integration") / (std::string("cli_import_") + test->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // roomrender with `args` (each single-quoted for the shell) in `dir`; stdout and stderr kept apart.
 CommandRun roomrender(const std::vector<std::string>& args, const fs::path& dir) {
   std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender'";
@@ -60,7 +52,7 @@ std::optional<fs::path> shared(const std::string& relative) {
 TEST(CliImport, HomeXmlImportsAndTheRequestRendersAsIs) {
   auto home = shared("floorplans/sweethome3d/Studio.xml");
   if (!home) GTEST_SKIP() << "../shared/data is absent";
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   CommandRun imported = roomrender({"import", home->string()}, dir);
   ASSERT_EQ(imported.exit_code, 0) << imported.err;
   EXPECT_EQ(imported.err, "");  // Studio imports without a warning
@@ -77,7 +69,7 @@ TEST(CliImport, HomeXmlImportsAndTheRequestRendersAsIs) {
 TEST(CliImport, R2vPlanIsRecognisedAndScaled) {
   auto plan = shared("floorplans/r2v/r2v_01_0403_4f22be9b24bf02dc516c579d14aa_0001.txt");
   if (!plan) GTEST_SKIP() << "../shared/data is absent";
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   CommandRun imported = roomrender({"import", plan->string(), "--scale", "0.02"}, dir);
   ASSERT_EQ(imported.exit_code, 0) << imported.err;
   json request = json::parse(imported.out);
@@ -88,7 +80,7 @@ TEST(CliImport, R2vPlanIsRecognisedAndScaled) {
 }
 
 TEST(CliImport, RenderObjFindsItsMaterialLibraryBesideIt) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   fs::create_directories(dir / "models");
   rr::testing::write_file(dir / "models/tile.mtl", "newmtl green\nKd 0 1 0\n");
   rr::testing::write_file(dir / "models/tile.obj",
@@ -110,7 +102,7 @@ TEST(CliImport, RenderObjFindsItsMaterialLibraryBesideIt) {
 }
 
 TEST(CliImport, ErrorsLocateTheProblemInTheSourceFile) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
   CommandRun run = roomrender({"import", "bad.obj"}, dir);
   EXPECT_EQ(run.exit_code, 1);
@@ -129,7 +121,7 @@ TEST(CliImport, ErrorsLocateTheProblemInTheSourceFile) {
 }
 
 TEST(CliImport, WarningsAreJsonLinesOnStderr) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "bent.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.5\nf 1 2 3 4\n");
   CommandRun run = roomrender({"import", "bent.obj"}, dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -139,7 +131,7 @@ TEST(CliImport, WarningsAreJsonLinesOnStderr) {
 }
 
 TEST(CliImport, UsageMistakesExitTwo) {
-  fs::path dir = fresh_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   EXPECT_EQ(roomrender({"import", "x.obj", "--format", "dxf"}, dir).exit_code, 2);
   EXPECT_EQ(roomrender({"import"}, dir).exit_code, 2);
   EXPECT_EQ(roomrender({"import", "x.obj", "--scale", "-3"}, dir).exit_code, 2);

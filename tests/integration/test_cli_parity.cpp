@@ -27,14 +27,6 @@ struct RunResult {
   std::string err;
 };
 
-fs::path scratch_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = rr::testing::output_dir("integration") / (std::string("cli_parity_") + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 RunResult run_roomrender(const std::string& args, const fs::path& dir) {
   std::string command =
       "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args + " >stdout.bin 2>stderr.txt";
@@ -100,7 +92,7 @@ std::vector<FlagCase> flag_cases() {
 }
 
 TEST(CliParity, EachRequestFlagGivesTheBytesOfItsValueInTheFile) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   const std::string base = render_png("", dir);
   ASSERT_FALSE(base.empty());
@@ -117,7 +109,7 @@ TEST(CliParity, EachRequestFlagGivesTheBytesOfItsValueInTheFile) {
 }
 
 TEST(CliParity, AllFlagsTogetherEqualAllValuesInTheFile) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   std::string args;
   json written = base_request();
@@ -130,7 +122,7 @@ TEST(CliParity, AllFlagsTogetherEqualAllValuesInTheFile) {
 }
 
 TEST(CliParity, DashOutputWritesThePngToStdoutAndTheLineToStderr) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   RunResult to_file = run_roomrender("render request.json -o out.png --shading phong", dir);
   ASSERT_EQ(to_file.exit_code, 0) << to_file.err;
@@ -164,7 +156,7 @@ void expect_usage_error_naming(const RunResult& run, const std::string& flag_nam
 }
 
 TEST(CliParity, MalformedFlagValuesExitTwoNamingTheFlag) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--eye 1,2", "--eye"},         {"--target 1,2,x", "--target"},    {"--up '0;1;0'", "--up"},
@@ -182,7 +174,7 @@ TEST(CliParity, MalformedFlagValuesExitTwoNamingTheFlag) {
 }
 
 TEST(CliParity, ValuesTheRequestRefusesExitOneAtTheirPointerNamingTheFlag) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   const std::vector<std::array<std::string, 3>> cases = {
       {"--fovy 500", "/camera/fov_y", "--fovy"},
@@ -206,7 +198,7 @@ TEST(CliParity, ValuesTheRequestRefusesExitOneAtTheirPointerNamingTheFlag) {
 
 // bench-render reads the same table: the same flags give the frame render draws.
 TEST(CliParity, BenchRenderTakesTheSameFlagsAsRender) {
-  fs::path dir = scratch_dir();
+  fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "request.json", base_request().dump());
   const std::string args = "--shading phong --shadows true --eye 4,2.5,5 --fovy 50 --width 80 --height 60 --png small";
   const std::string rendered = render_png(args, dir);

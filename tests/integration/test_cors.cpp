@@ -35,11 +35,9 @@ bool lists(const std::string& list, const std::string& item) {
   return (", " + list + ",").find(", " + item + ",") != std::string::npos;
 }
 
-class Cors : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(cors_config()); }
-  static void TearDownTestSuite() { server_.reset(); }
-  static inline std::unique_ptr<TestServer> server_;
+class Cors : public SharedServerTest<Cors> {
+ public:
+  static rr::server::ServerConfig config() { return cors_config(); }
 };
 
 TEST_F(Cors, PreflightForAReadFromAnyOrigin) {

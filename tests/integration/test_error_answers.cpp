@@ -11,14 +11,11 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-class ErrorAnswersTest : public ::testing::Test {
+class ErrorAnswersTest : public SharedServerTest<ErrorAnswersTest> {
  protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
-  static void TearDownTestSuite() { server_.reset(); }
   static httplib::Result post(const std::string& path, const std::string& body) {
-    return server_->client().Post(path, body, "application/json");
+    return client().Post(path, body, "application/json");
   }
-  static inline std::unique_ptr<TestServer> server_;
 };
 
 std::vector<std::string> pointers_of(const json& problem) {

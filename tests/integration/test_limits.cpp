@@ -17,11 +17,8 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-class LimitsTest : public ::testing::Test {
+class LimitsTest : public SharedServerTest<LimitsTest> {
  protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
-  static void TearDownTestSuite() { server_.reset(); }
-  static httplib::Client client() { return server_->client(); }
   static json post_problem(const std::string& body, int status) {
     return expect_problem(client().Post("/v1/render", body, "application/json"), status);
   }
@@ -30,7 +27,6 @@ class LimitsTest : public ::testing::Test {
     json problem = post_problem(body, status);
     return problem.contains("errors") ? problem["errors"][0].value("pointer", "?") : "(no errors array)";
   }
-  static inline std::unique_ptr<TestServer> server_;
 };
 
 std::string status_line(const std::string& response) { return response.substr(0, response.find("\r\n")); }

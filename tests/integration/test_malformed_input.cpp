@@ -11,12 +11,10 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-class MalformedInputTest : public ::testing::Test {
+class MalformedInputTest : public SharedServerTest<MalformedInputTest> {
  protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
-  static void TearDownTestSuite() { server_.reset(); }
   static httplib::Result post_render(const std::string& body) {
-    return server_->client().Post("/v1/render", body, "application/json");
+    return client().Post("/v1/render", body, "application/json");
   }
   // A normal render from a fresh client, hence on a new connection.
   static void expect_render_answered() {
@@ -27,7 +25,6 @@ class MalformedInputTest : public ::testing::Test {
     EXPECT_EQ(size.width, 64u);
     EXPECT_EQ(size.height, 48u);
   }
-  static inline std::unique_ptr<TestServer> server_;
 };
 
 // A key of `bytes` bytes: 'a' and then two-byte characters, so a cut at byte 64 would split one.

@@ -3,6 +3,8 @@
 // its samples, never split by another family's lines.
 #include "server_fixture.hpp"
 
+#include "render/pipelines/pipeline_table.hpp"
+
 #include <map>
 #include <regex>
 #include <set>
@@ -49,9 +51,9 @@ TEST(MetricsText, EachFamilyIsOneBlockUnderItsHelpAndType) {
   TestServer server;
   auto client = server.client();
   // Fill the labelled families: a render per pipeline for stage histograms, and a stored scene.
-  for (const char* pipeline : {"zbuffer", "bsp"}) {
+  for (const rr::PipelineInfo& pipeline : rr::pipeline_table()) {
     json request = json::parse(small_request);
-    request["options"]["pipeline"] = pipeline;
+    request["options"]["pipeline"] = pipeline.name;
     auto res = client.Post("/v1/render", request.dump(), "application/json");
     ASSERT_TRUE(res && res->status == 200);
   }

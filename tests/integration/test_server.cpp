@@ -15,13 +15,9 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-class ServerTest : public ::testing::Test {
+class ServerTest : public SharedServerTest<ServerTest> {
  protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
-  static void TearDownTestSuite() { server_.reset(); }
-  static httplib::Client client() { return server_->client(); }
   static void expect_healthy() { rr::testing::expect_healthy(*server_); }
-  static inline std::unique_ptr<TestServer> server_;
 };
 
 // Also the health endpoint's exact body, which deployments match on.

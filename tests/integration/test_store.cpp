@@ -36,20 +36,7 @@ json store(const TestServer& server, const json& scene, int expected_status = 20
   return body;
 }
 
-fs::path fresh_dir(const std::string& name) {
-  fs::path dir = output_dir("integration") / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-class StoreTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { server_ = std::make_unique<TestServer>(); }
-  static void TearDownTestSuite() { server_.reset(); }
-  static httplib::Client client() { return server_->client(); }
-  static inline std::unique_ptr<TestServer> server_;
-};
+class StoreTest : public SharedServerTest<StoreTest> {};
 
 TEST_F(StoreTest, PostNamesTheSceneByItsContent) {
   json created = store(*server_, scene_with_box_at(0.1));
@@ -228,7 +215,7 @@ TEST(StoreBounds, SceneLargerThanTheWholeBudgetIs413) {
 }
 
 TEST(StorePersistence, StoredScenesSurviveARestart) {
-  fs::path dir = fresh_dir("store_restart");
+  fs::path dir = fresh_output_dir();
   rr::server::ServerConfig config = test_server_config();
   config.data_dir = dir;
   json scene = scene_with_box_at(2.0);
@@ -255,7 +242,7 @@ TEST(StorePersistence, StoredScenesSurviveARestart) {
 // What a crash can leave: a temporary file from a write that never reached its rename (removed at
 // start), and a file whose content no longer hashes to its name (kept for a person, not served).
 TEST(StorePersistence, StartUpRemovesTornWritesAndSkipsMismatchedFiles) {
-  fs::path dir = fresh_dir("store_crash");
+  fs::path dir = fresh_output_dir();
   fs::create_directories(dir / "scenes");
   write_file(dir / "scenes" / ".tmp-0123456789abcdef", "{\"walls\": [");
   write_file(dir / "scenes" / "fedcba9876543210.json", small_scene().dump());

@@ -26,8 +26,7 @@ TEST(StoreDataDir, DataDirWrittenBeforeLoadsAndEveryIdResolves) {
   const fs::path fixture = source_dir() / "tests" / "fixtures" / "data-dir-v1";
   const std::map<std::string, std::string> stored = scene_files(fixture);
   ASSERT_EQ(stored.size(), 4u) << "the fixture holds four scenes";
-  fs::path dir = output_dir("integration") / "store_data_dir_v1";
-  fs::remove_all(dir);
+  fs::path dir = fresh_output_dir();
   fs::copy(fixture, dir, fs::copy_options::recursive);
 
   rr::server::ServerConfig config = test_server_config();

@@ -37,13 +37,6 @@ int status_of(const TestServer& server, const std::string& path) {
   return res ? res->status : -1;
 }
 
-fs::path fresh_dir(const std::string& name) {
-  fs::path dir = output_dir("integration") / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 TEST(StoreFull, FullStoreAnswers507AndEvictsNothing) {
   rr::server::ServerConfig config = test_server_config();
   config.scene_store_entries = 2;
@@ -88,7 +81,7 @@ TEST(StoreFull, ByteBudgetIsKeptToo) {
 }
 
 TEST(StoreFull, RestartKeepsEveryAcknowledgedScene) {
-  fs::path dir = fresh_dir("store_full_restart");
+  fs::path dir = fresh_output_dir();
   rr::server::ServerConfig config = test_server_config();
   config.data_dir = dir;
   config.scene_store_entries = 3;
@@ -123,7 +116,7 @@ TEST(StoreRetention, WithoutRetentionNothingExpires) {
 // and so does its file.
 TEST(StoreRetention, ScenesExpireAfterTheirLastAccess) {
   using namespace std::chrono_literals;
-  fs::path dir = fresh_dir("store_ttl");
+  fs::path dir = fresh_output_dir();
   rr::server::ServerConfig config = test_server_config();
   config.data_dir = dir;
   config.scene_ttl_s = 2;

@@ -6,6 +6,7 @@
 #include "render/core/error_metrics.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "support/render_modes.hpp"
 #include "support/soup_builder.hpp"
 #include "support/test_support.hpp"
 
@@ -131,18 +132,11 @@ struct StressScene {
     options.painter_key = key;
     return render_frame(request.scene, soup, request.camera, options).frame;
   }
-};
 
-// The exact pipelines, which must match the reference away from id edges.
-struct Contender {
-  const char* name;
-  const char* pipeline;
-  PainterKey key;
-};
-inline constexpr Contender exact_pipelines[] = {
-    {"zbuffer", "zbuffer", PainterKey::mean},
-    {"bsp", "bsp", PainterKey::mean},
-    {"painter-newell", "painter", PainterKey::newell},
+  // Drawn by a row of testing::exact_pipelines() in its exact mode.
+  Frame render_exact(const PipelineInfo& pipeline) const {
+    return render_frame(request.scene, soup, request.camera, testing::exact_options(pipeline, request.options)).frame;
+  }
 };
 
 // Replay hint for failure messages.

@@ -54,11 +54,11 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
     std::mt19937 rng(seed);
     const StressScene scene(ambient_only(make(rng)));
     const Frame truth = scene.render("reference");
-    for (const Contender& c : exact_pipelines) {
-      const Worst w = compare_colours(truth.image, scene.render(c.pipeline, c.key).image);
+    for (const PipelineInfo* p : testing::exact_pipelines(false)) {
+      const Worst w = compare_colours(truth.image, scene.render_exact(*p).image);
       std::printf("[stress] %s %s %s: largest difference %d at %d,%d; %zu pixels off by more than 1\n", what,
-                  seed_note(seed).c_str(), c.name, w.diff, w.x, w.y, w.over_one);
-      EXPECT_LE(w.diff, tolerance) << what << " " << seed_note(seed) << ": " << c.name << " at pixel " << w.x << ","
+                  seed_note(seed).c_str(), p->name, w.diff, w.x, w.y, w.over_one);
+      EXPECT_LE(w.diff, tolerance) << what << " " << seed_note(seed) << ": " << p->name << " at pixel " << w.x << ","
                                    << w.y;
     }
   }

@@ -10,12 +10,6 @@
 namespace rr::stress {
 namespace {
 
-const char* const kPipelines[] = {"reference", "zbuffer", "bsp", "painter"};
-
-Frame render_named(const StressScene& scene, const std::string& name) {
-  return scene.render(name, name == "painter" ? PainterKey::newell : PainterKey::mean);
-}
-
 json quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
   return {{"type", "mesh"},
           {"vertices", {{a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z}, {d.x, d.y, d.z}}},
@@ -42,17 +36,17 @@ TEST(StressDegenerate, NearlyCoplanarOverlapsResolveDownToTheStatedOffset) {
     };
     const StressScene scene(request_of({square(Vec3(0.0)), square(0.7 * u + 0.4 * v + lift * n)}, 9.0 * n, Vec3(0.0)));
     const Frame truth = scene.render("reference");
-    for (const char* p : kPipelines) {
-      const Frame frame = render_named(scene, p);
+    for (const PipelineInfo* p : testing::exact_pipelines()) {
+      const Frame frame = scene.render_exact(*p);
       const VisibilityError e = visibility_error(truth.ids, frame.ids);
       size_t holes = 0;
       for (size_t i = 0; i < truth.ids.ids.size(); ++i)
         holes += truth.ids.ids[i] != background_id && frame.ids.ids[i] == background_id;
-      std::printf("[stress] coplanar offset %.0e x size, %s: non-edge visibility error %.4f%%, holes %zu\n", f, p,
+      std::printf("[stress] coplanar offset %.0e x size, %s: non-edge visibility error %.4f%%, holes %zu\n", f, p->name,
                   100.0 * e.non_edge_share(), holes);
-      EXPECT_EQ(holes, 0u) << p << " at " << f;
+      EXPECT_EQ(holes, 0u) << p->name << " at " << f;
       if (f >= 1e-5) {
-        EXPECT_EQ(e.non_edge_differing, 0u) << p << " at " << f;
+        EXPECT_EQ(e.non_edge_differing, 0u) << p->name << " at " << f;
       }
     }
   }
@@ -72,14 +66,14 @@ TEST(StressDegenerate, SliverFanTilesItsSquareWithoutHoles) {
   const StressScene scene(
       request_of({{{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}}}, Vec3(0.3, 0.2, 3), Vec3(0.0)));
   const Frame truth = scene.render("reference");
-  for (const char* p : kPipelines) {
-    const Frame frame = render_named(scene, p);
+  for (const PipelineInfo* p : testing::exact_pipelines()) {
+    const Frame frame = scene.render_exact(*p);
     size_t holes = 0;
     for (size_t i = 0; i < truth.ids.ids.size(); ++i)
       holes += truth.ids.ids[i] != background_id && frame.ids.ids[i] == background_id &&
                !is_edge_pixel(truth.ids, int(i % 128), int(i / 128));
-    EXPECT_EQ(holes, 0u) << p;
-    EXPECT_EQ(visibility_error(truth.ids, frame.ids).non_edge_differing, 0u) << p;
+    EXPECT_EQ(holes, 0u) << p->name;
+    EXPECT_EQ(visibility_error(truth.ids, frame.ids).non_edge_differing, 0u) << p->name;
   }
 }
 
@@ -94,14 +88,14 @@ TEST(StressDegenerate, TJunctionsLeaveNoCrack) {
   for (Vec3 eye : {Vec3(0.13, 0.07, 3.0), Vec3(-0.71, 0.33, 2.2), Vec3(1.3, -0.9, 2.6)}) {
     const StressScene scene(request_of(solids, eye, Vec3(0.0), 200));
     const Frame truth = scene.render("reference");
-    for (const char* p : kPipelines) {
-      const Frame frame = render_named(scene, p);
+    for (const PipelineInfo* p : testing::exact_pipelines()) {
+      const Frame frame = scene.render_exact(*p);
       size_t cracks = 0;
       for (size_t i = 0; i < truth.ids.ids.size(); ++i) cracks += truth.ids.ids[i] <= 2 && frame.ids.ids[i] == 3;
-      if (std::string(p) == "reference") {
+      if (p->reference) {
         EXPECT_EQ(cracks, 0u);
       }
-      EXPECT_LE(cracks, 2u) << p << " from " << eye.x << "," << eye.y << "," << eye.z;
+      EXPECT_LE(cracks, 2u) << p->name << " from " << eye.x << "," << eye.y << "," << eye.z;
     }
   }
 }
@@ -126,12 +120,12 @@ TEST(StressDegenerate, PolygonsThroughTheEyeAndCameraOnAWallPlane) {
   const StressScene on_wall(room);
   for (const StressScene* scene : {&through, &on_wall}) {
     const Frame truth = scene->render("reference");
-    for (const char* p : kPipelines) {
-      const Frame frame = render_named(*scene, p);
+    for (const PipelineInfo* p : testing::exact_pipelines()) {
+      const Frame frame = scene->render_exact(*p);
       if (scene == &through) {
-        EXPECT_EQ(std::count(frame.ids.ids.begin(), frame.ids.ids.end(), 0u), 0) << p << " drew the edge-on quad";
+        EXPECT_EQ(std::count(frame.ids.ids.begin(), frame.ids.ids.end(), 0u), 0) << p->name << " drew the edge-on quad";
       }
-      EXPECT_EQ(visibility_error(truth.ids, frame.ids).non_edge_differing, 0u) << p;
+      EXPECT_EQ(visibility_error(truth.ids, frame.ids).non_edge_differing, 0u) << p->name;
     }
   }
 }
@@ -150,11 +144,11 @@ TEST(StressDegenerate, GrazingViewsStayWithinTheStatedBound) {
                     {"options", {{"width", 160}, {"height", 120}}}};
     const StressScene scene(request);
     const Frame truth = scene.render("reference");
-    for (const char* p : kPipelines) {
-      const VisibilityError e = visibility_error(truth.ids, render_named(scene, p).ids);
-      std::printf("[stress] grazing at %.0e m, %s: non-edge visibility error %.4f%%\n", height, p,
+    for (const PipelineInfo* p : testing::exact_pipelines()) {
+      const VisibilityError e = visibility_error(truth.ids, scene.render_exact(*p).ids);
+      std::printf("[stress] grazing at %.0e m, %s: non-edge visibility error %.4f%%\n", height, p->name,
                   100.0 * e.non_edge_share());
-      EXPECT_LE(e.non_edge_share(), 0.005) << p << " at " << height;
+      EXPECT_LE(e.non_edge_share(), 0.005) << p->name << " at " << height;
     }
   }
 }

@@ -43,7 +43,6 @@ double worst_area_error(const PolygonSoup& soup, const BspTree& tree) {
 void check_placements(const json& request, const std::string& what) {
   const StressScene base(request);
   const Frame truth = base.render("reference");
-  const char* pipelines[] = {"reference", "zbuffer", "bsp", "painter"};
   for (double offset : kOffsets) {
     for (double scale : kScales) {
       if (offset != 0.0 && scale != 1.0 && scale != 1e-3 && scale != 1e3) continue;  // the corners suffice
@@ -66,11 +65,11 @@ void check_placements(const json& request, const std::string& what) {
                     offset, area_error);
         EXPECT_LE(area_error, 1e-5);
       }
-      for (const char* pipeline : pipelines) {
-        const PainterKey key = std::string(pipeline) == "painter" ? PainterKey::newell : PainterKey::mean;
-        const Frame f = moved.render(pipeline, key);
+      for (const PipelineInfo* pipeline : testing::exact_pipelines()) {
+        const Frame f = moved.render_exact(*pipeline);
         const VisibilityError e = visibility_error(truth.ids, f.ids);
-        EXPECT_EQ(e.non_edge_differing, 0u) << pipeline << ": " << e.non_edge_differing << " non-edge pixels differ";
+        EXPECT_EQ(e.non_edge_differing, 0u)
+            << pipeline->name << ": " << e.non_edge_differing << " non-edge pixels differ";
       }
     }
   }
@@ -93,10 +92,8 @@ size_t mask_differences_off_edges(const Frame& a, const Frame& b) {
   return count;
 }
 
-Frame render_shadowed(const StressScene& s, const char* pipeline) {
-  RenderOptions options = s.request.options;
-  options.pipeline = pipeline_id(pipeline);
-  options.painter_key = PainterKey::newell;
+Frame render_shadowed(const StressScene& s, const PipelineInfo& pipeline) {
+  RenderOptions options = testing::exact_options(pipeline, s.request.options);
   options.shadows = true;
   RenderContext context;
   context.shadow_mask = true;
@@ -112,14 +109,14 @@ TEST(StressTransform, RoomKeepsItsShadowsWhenMoved) {
     json request = random_room(rng);
     request["scene"]["lights"].push_back({{"type", "point"}, {"position", {1.0, 2.2, 1.0}}});
     const StressScene base(request);
-    for (const char* pipeline : {"reference", "zbuffer", "bsp", "painter"}) {
-      const Frame origin = render_shadowed(base, pipeline);
+    for (const PipelineInfo* pipeline : testing::exact_pipelines()) {
+      const Frame origin = render_shadowed(base, *pipeline);
       for (double offset : kOffsets) {
         if (offset == 0.0) continue;
-        SCOPED_TRACE("room " + seed_note(seed) + ", " + pipeline + ", moved by " + std::to_string(offset) + " m");
+        SCOPED_TRACE("room " + seed_note(seed) + ", " + pipeline->name + ", moved by " + std::to_string(offset) + " m");
         StressScene moved(request);
         moved.place(1.0, Vec3(offset, 0.5 * offset, -offset));
-        const Frame f = render_shadowed(moved, pipeline);
+        const Frame f = render_shadowed(moved, *pipeline);
         EXPECT_EQ(visibility_error(origin.ids, f.ids).non_edge_differing, 0u);
         EXPECT_EQ(mask_differences_off_edges(origin, f), 0u);
       }

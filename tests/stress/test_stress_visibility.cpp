@@ -48,13 +48,13 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
     std::mt19937 rng(seed);
     const StressScene scene(make(rng));
     const Frame truth = scene.render("reference");
-    for (const Contender& c : exact_pipelines) {
-      const Frame frame = scene.render(c.pipeline, c.key);
+    for (const PipelineInfo* p : testing::exact_pipelines(false)) {
+      const Frame frame = scene.render_exact(*p);
       const VisibilityError e = visibility_error(truth.ids, frame.ids);
       const size_t pinholes = count_pinholes(truth.ids, frame.ids);
-      cracks[c.name] += pinholes;
+      cracks[p->name] += pinholes;
       EXPECT_EQ(e.non_edge_differing - pinholes, 0u)
-          << what << " " << seed_note(seed) << ": " << c.name << " differs at " << e.non_edge_differing << " of "
+          << what << " " << seed_note(seed) << ": " << p->name << " differs at " << e.non_edge_differing << " of "
           << e.non_edge_pixels << " non-edge pixels, " << pinholes << " of them pinholes";
       non_edge_pixels += e.non_edge_pixels;
     }
@@ -64,7 +64,7 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
   // Pinholes (see count_pinholes) are bounded, not zero: at most 1 per 10^4 non-edge pixels.
   for (const auto& [name, n] : cracks) {
     std::printf("[stress] %s %s: %zu pinhole pixels\n", what, name.c_str(), n);
-    EXPECT_LE(double(n), 1e-4 * double(non_edge_pixels / std::size(exact_pipelines))) << name;
+    EXPECT_LE(double(n), 1e-4 * double(non_edge_pixels / testing::exact_pipelines(false).size())) << name;
   }
   for (auto [name, t] : {std::pair{"painter-mean", mean}, std::pair{"painter-min", min}}) {
     std::printf("[stress] %s %s: non-edge visibility error %.5f%% over %zu scenes (worst scene %.4f%%)\n", what, name,

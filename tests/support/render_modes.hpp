@@ -1,5 +1,6 @@
 // Every render mode of one request, for tests that hold a property across all of them: each
-// pipeline (the reference one optionally), each shading and shadows off and on.
+// pipeline (the reference one optionally), each shading and shadows off and on; and the rows of the
+// pipeline table whose visibility is exact, with the options that make them so.
 #pragma once
 
 #include "render/core/scene_names.hpp"
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace rr::testing {
 
@@ -32,7 +34,7 @@ void for_each_shading_mode(nlohmann::json request, Fn&& fn) {
 template <class Fn>
 void for_each_render_mode(nlohmann::json request, bool with_reference, Fn&& fn) {
   for (const PipelineInfo& pipeline : pipeline_table()) {
-    if (!with_reference && std::string(pipeline.name) == "reference") continue;
+    if (!with_reference && pipeline.reference) continue;
     request["options"]["pipeline"] = pipeline.name;
     for_each_shading_mode(request, [&](const nlohmann::json& mode, const std::string& label) {
       std::string full = " ";
@@ -41,6 +43,24 @@ void for_each_render_mode(nlohmann::json request, bool with_reference, Fn&& fn) 
       fn(mode, full);
     });
   }
+}
+
+// The pipelines whose visibility is exact (PipelineInfo::exact_mode), in table order: drawn with
+// exact_options, each shows the reference's polygon at every pixel off the reference's id edges. The
+// reference itself is among them unless `with_reference` is false.
+inline std::vector<const PipelineInfo*> exact_pipelines(bool with_reference = true) {
+  std::vector<const PipelineInfo*> rows;
+  for (const PipelineInfo& p : pipeline_table()) {
+    if (p.exact_mode && (with_reference || !p.reference)) rows.push_back(&p);
+  }
+  return rows;
+}
+
+// `options` set to draw with `pipeline` (a row of pipeline_table()) in its exact mode.
+inline RenderOptions exact_options(const PipelineInfo& pipeline, RenderOptions options) {
+  options.pipeline = pipeline_id(pipeline);
+  pipeline.exact_mode(options);
+  return options;
 }
 
 }  // namespace rr::testing

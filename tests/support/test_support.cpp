@@ -25,6 +25,17 @@ std::filesystem::path output_dir(const std::string& suite) {
   return dir;
 }
 
+std::filesystem::path fresh_output_dir(const std::string& suite) {
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (!test) throw std::logic_error("fresh_output_dir is for a running test");
+  std::string name = std::string(test->test_suite_name()) + "." + test->name();
+  std::replace(name.begin(), name.end(), '/', '_');
+  const std::filesystem::path dir = output_dir(suite) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 std::string read_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot read " + path.string());

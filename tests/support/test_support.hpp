@@ -19,6 +19,9 @@ std::filesystem::path examples_dir();
 // ../shared/data beside the repository, or nullopt when absent.
 std::optional<std::filesystem::path> shared_data_dir();
 std::filesystem::path output_dir(const std::string& suite);  // build/test-output/<suite>, created
+// An empty scratch directory of the running test: output_dir(suite)/<TestSuite>.<TestName> (a '/' of a
+// parameterized name becomes '_'), removed and created anew.
+std::filesystem::path fresh_output_dir(const std::string& suite = "integration");
 
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);

@@ -1,10 +1,11 @@
 // Coplanar overlaps: tessellation groups polygons that overlap in one plane (and only those), and
-// every exact pipeline — zbuffer, bsp in both traversals, painter newell — shows the reference's
+// every exact pipeline (PipelineInfo::exact_mode; bsp in both traversals) shows the reference's
 // polygon (the lowest id of a plane group) at every pixel off the reference's id edges, for two
 // differently triangulated overlapping squares and for seeded random stacks of coplanar polygons.
 #include "render/core/coplanar.hpp"
 #include "render/core/error_metrics.hpp"
 #include "support/render_helpers.hpp"
+#include "support/render_modes.hpp"
 #include "support/soup_builder.hpp"
 
 #include <gtest/gtest.h>
@@ -18,21 +19,34 @@ namespace {
 using nlohmann::json;
 
 struct Exact {
-  const char* name;
-  json options;
+  std::string name;
+  const PipelineInfo* pipeline;
+  json options;  // set before the pipeline's exact mode
 };
 
-const Exact kExact[] = {
-    {"zbuffer", {{"pipeline", "zbuffer"}}},
-    {"bsp back_to_front", {{"pipeline", "bsp"}, {"bsp", {{"traversal", "back_to_front"}}}}},
-    {"bsp front_to_back", {{"pipeline", "bsp"}, {"bsp", {{"traversal", "front_to_back"}}}}},
-    {"bsp epsilon 0", {{"pipeline", "bsp"}, {"bsp", {{"epsilon", 0.0}}}}},
-    {"painter newell", {{"pipeline", "painter"}, {"painter", {{"key", "newell"}}}}},
-};
+// Every exact pipeline in its exact mode, and the bsp walk in its other settings.
+std::vector<Exact> exact_modes() {
+  std::vector<Exact> modes;
+  for (const PipelineInfo* p : testing::exact_pipelines(false)) modes.push_back({p->name, p, json::object()});
+  const PipelineInfo* bsp = find_pipeline("bsp");
+  modes.push_back({"bsp back_to_front", bsp, {{"bsp", {{"traversal", "back_to_front"}}}}});
+  modes.push_back({"bsp epsilon 0", bsp, {{"bsp", {{"epsilon", 0.0}}}}});
+  return modes;
+}
 
 testing::SceneRender render_with(json request, const json& options) {
   for (auto& [key, value] : options.items()) request["options"][key] = value;
   return testing::render_json(request);
+}
+
+testing::SceneRender render_exact(json request, const Exact& mode) {
+  for (auto& [key, value] : mode.options.items()) request["options"][key] = value;
+  testing::SceneRender out;
+  out.request = request_from_json(request);
+  out.request.options = testing::exact_options(*mode.pipeline, out.request.options);
+  out.soup = tessellate(out.request.scene.geometry);
+  out.result = render_frame(out.request.scene, out.soup, out.request.camera, out.request.options);
+  return out;
 }
 
 // Non-edge pixels of each exact pipeline that differ from the reference; also checks that the
@@ -42,8 +56,8 @@ void expect_exact(const json& request, const std::string& what) {
   size_t covered = 0;
   for (uint32_t id : truth.result.frame.ids.ids) covered += id != background_id;
   ASSERT_GT(covered, 500u) << what;
-  for (const Exact& e : kExact) {
-    const testing::SceneRender r = render_with(request, e.options);
+  for (const Exact& e : exact_modes()) {
+    const testing::SceneRender r = render_exact(request, e);
     const VisibilityError err = visibility_error(truth.result.frame.ids, r.result.frame.ids);
     EXPECT_EQ(err.non_edge_differing, 0u) << what << ", " << e.name << ": " << err.non_edge_differing << " of "
                                           << err.non_edge_pixels << " non-edge pixels differ from the reference";

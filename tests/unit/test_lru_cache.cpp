@@ -1,5 +1,5 @@
 // SharedLruCache: LRU order under the byte budget and entry count, single-flight builds under
-// concurrency, and failed builds that cache nothing.
+// concurrency, failed builds that cache nothing, and an eviction listener that hears evictions only.
 #include "render/core/lru_cache.hpp"
 
 #include <gtest/gtest.h>
@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -133,6 +134,27 @@ TEST(LruCache, FailedBuildReachesEveryWaiterAndCachesNothing) {
       "k", [] { return make(1, 1); }, hit);  // a later lookup builds again
   EXPECT_FALSE(hit);
   EXPECT_EQ(*v, 1);
+}
+
+TEST(LruCacheEvictionListener, HearsEvictionsButNotErasesOrReplacements) {
+  rr::SharedLruCache<int> cache(20);
+  std::vector<std::string> evicted;
+  cache.set_eviction_listener([&](const std::string& key) { evicted.push_back(key); });
+  cache.put("a", std::make_shared<const int>(1), 10);
+  cache.put("b", std::make_shared<const int>(2), 10);
+  cache.put("b", std::make_shared<const int>(3), 10);  // replacement
+  cache.erase("b");
+  EXPECT_TRUE(evicted.empty());
+  cache.put("c", std::make_shared<const int>(4), 10);
+  cache.put("d", std::make_shared<const int>(5), 10);  // evicts a
+  bool hit = false;
+  cache.get_or_build(
+      "e",
+      [] {
+        return rr::SharedLruCache<int>::Built{std::make_shared<const int>(6), 10};
+      },
+      hit);
+  EXPECT_EQ(evicted, (std::vector<std::string>{"a", "c"}));
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 import { PlanView } from "./plan_view.js";
 import { renderProperties, fieldProblem } from "./properties.js";
 import { History } from "./history.js";
-import { toolMethods } from "./designer_tools.js";
+import { tools, toolMethods } from "./designer_tools.js";
 import { commandMethods } from "./designer_commands.js";
 import { at, setAt, clone } from "./designer_util.js";
 
@@ -237,7 +237,7 @@ export class Designer {
       this.plan.draw(this.drag?.scene || this.lastScene, {
         selection: this.selection,
         marks: this.marks,
-        preview: this.tool === "wall" ? { chain: this.chain, cursor: this.cursor } : null,
+        preview: tools[this.tool].preview?.(this) ?? null,
         camera: request?.camera,
       });
     } catch (error) {
@@ -270,13 +270,13 @@ export class Designer {
   // ---- tools ---------------------------------------------------------------------------------
 
   setTool(tool) {
-    if (this.tool === "wall" && tool !== "wall") this.chain = [];
-    const wasWalk = this.tool === "walk";
+    const previous = this.tool;
+    if (tool !== previous) tools[previous].leave?.(this);
     this.tool = tool;
     for (const b of document.querySelectorAll("[data-tool]")) b.setAttribute("aria-pressed", String(b.dataset.tool === tool));
     $("catalogue").classList.toggle("inactive", tool !== "furniture");
     document.body.dataset.tool = tool;
-    if (tool === "walk" && !wasWalk) this.startWalk();
+    if (tool !== previous) tools[tool].enter?.(this);
     this.redraw();
   }
 
@@ -360,7 +360,7 @@ export class Designer {
     }, { passive: false });
     svg.addEventListener("pointerleave", () => {
       this.cursor = null;
-      if (this.tool === "wall") this.redraw();
+      if (tools[this.tool].preview) this.redraw();
     });
   }
 

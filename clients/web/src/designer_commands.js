@@ -5,6 +5,7 @@
 import { moveSolid, solidAnchor, sceneBounds, wallsProblem } from "./plan_math.js";
 import { withDefaults, atEyeHeight, walkStep, frameBounds, roundVec } from "./camera.js";
 import { at, setAt, clone } from "./designer_util.js";
+import { tools } from "./designer_tools.js";
 
 const $ = (id) => document.getElementById(id);
 const eyeHeightM = 1.6;
@@ -90,6 +91,20 @@ export const commandMethods = {
     if (request) this.moveCamera(walkStep(request.camera, forward, right, metres));
   },
 
+  // The walk tool's keys: arrows and WASD step 0.25 m (Shift: 1 m), Escape goes back to Select. True
+  // when the key was one of them.
+  walkKey(key, e) {
+    const moves = { ArrowUp: [1, 0], w: [1, 0], ArrowDown: [-1, 0], s: [-1, 0], ArrowLeft: [0, -1], a: [0, -1],
+      ArrowRight: [0, 1], d: [0, 1] };
+    if (moves[key]) {
+      this.walk(...moves[key], e.shiftKey ? 1 : 0.25);
+      return true;
+    }
+    if (key !== "Escape") return false;
+    this.setTool("select");
+    return true;
+  },
+
   // The plan fitted to the scene, and the camera over all of it: the frame the server chooses for
   // "camera": {"frame": "all"} (so the page and API users get the same view), or, from a server
   // without framing, one over the plan's bounds.
@@ -126,26 +141,9 @@ export const commandMethods = {
     if (mod && key === "y") return done(), this.actions.redo();
     if (mod && key === "d") return done(), this.duplicateSelection();
     if (mod || e.altKey) return;
-    if (this.tool === "walk") {
-      const moves = { ArrowUp: [1, 0], w: [1, 0], ArrowDown: [-1, 0], s: [-1, 0], ArrowLeft: [0, -1], a: [0, -1],
-        ArrowRight: [0, 1], d: [0, 1] };
-      if (moves[key]) {
-        done();
-        this.walk(...moves[key], e.shiftKey ? 1 : 0.25);
-        return;
-      }
-    }
+    if (tools[this.tool].key?.(this, key, e)) return done();
     if (key === "Escape") {
-      if (this.tool === "wall" && this.chain.length) {
-        this.chain = [];
-        this.redraw();
-        done();
-      } else if (this.tool === "walk") {
-        this.setTool("select");
-        done();
-      } else if (this.selection) {
-        this.select(null);
-      }
+      if (this.selection) this.select(null);
       return;
     }
     const nudges = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] };
@@ -156,7 +154,7 @@ export const commandMethods = {
     }
     if (key === "Delete" || key === "Backspace") return this.selection && (done(), this.deleteSelection());
     if (key === "r" && this.selection) return done(), this.rotateSelection(e.shiftKey ? -15 : 15);
-    const tools = { v: "select", w: "wall", d: "door", n: "window", f: "furniture", l: "light", k: "walk" };
-    if (tools[key] && !e.target.closest?.("#views")) return done(), this.setTool(tools[key]);
+    const tool = Object.keys(tools).find((name) => tools[name].shortcut === key);
+    if (tool && !e.target.closest?.("#views")) return done(), this.setTool(tool);
   },
 };

@@ -1,7 +1,8 @@
 // The plan's pointer tools of the designer: select/drag (elements, walls, wall corners), wall
-// chains, doors and windows, furniture and lights. In: plan points in metres (+X right, +Z down) and
-// the pointer events they came from. Out: designer steps through Designer.edit(), or a refusal said
-// in place. Mixed into Designer.prototype (designer.js), so `this` is the designer.
+// chains, doors and windows, furniture and lights, and the table of tools that says what each does.
+// In: plan points in metres (+X right, +Z down) and the pointer events they came from. Out: designer
+// steps through Designer.edit(), or a refusal said in place. Mixed into Designer.prototype
+// (designer.js), so `this` is the designer.
 import { makeFurniture } from "./catalogue.js";
 import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
   solidAnchor, distance, roundPoint, moveWallEnds, wallsProblem } from "./plan_math.js";
@@ -15,44 +16,68 @@ const openingDefaults = {
   window: { type: "window", width: 1.2, height: 1.2, sill: 0.9 },
 };
 
+// The tools, one row each, every entry optional and given the designer `d`: down(d, p, e), move(d, p)
+// and up(d) for the pointer in the plan; key(d, key, e) for a key outside the editor (true when the
+// tool took it); preview(d), what the plan draws for the tool; enter(d) and leave(d) when it is
+// chosen and left; shortcut, the key that chooses it. A tool without move or up does what Select
+// does: it carries on a drag that Select began (a shortcut may change the tool while the pointer is down).
+export const tools = {
+  select: { shortcut: "v", down: (d, p, e) => d.selectDown(p, e), move: (d, p) => d.dragMove(p), up: (d) => d.dragEnd() },
+  wall: {
+    shortcut: "w",
+    down: (d, p) => d.clickWall(p),
+    move: (d, p) => d.moveWallCursor(p),
+    key: (d, key) => key === "Escape" && d.endChain(),
+    preview: (d) => ({ chain: d.chain, cursor: d.cursor }),
+    leave: (d) => { d.chain = []; },
+  },
+  door: { shortcut: "d", down: (d, p, e) => d.clickOpening(p, e) },
+  window: { shortcut: "n", down: (d, p, e) => d.clickOpening(p, e) },
+  furniture: { shortcut: "f", down: (d, p) => d.dropFurniture(p) },
+  light: { shortcut: "l", down: (d, p, e) => d.clickLight(p, e) },
+  walk: { shortcut: "k", key: (d, key, e) => d.walkKey(key, e), enter: (d) => d.startWalk() },
+};
+
 export const toolMethods = {
   tolerance() {
     return snapPx / this.plan.s;
   },
 
   pointerDown(p, e) {
-    const scene = this.lastScene;
-    if (this.tool === "wall") this.clickWall(p);
-    else if (this.tool === "door" || this.tool === "window") this.clickOpening(p, e);
-    else if (this.tool === "furniture") this.dropFurniture(p);
-    else if (this.tool === "light") this.clickLight(p, e);
-    else if (this.tool === "select") {
-      // An end of the selected wall: dragging it moves that corner (and the walls meeting there).
-      const wall = /^\/scene\/walls\/\d+$/.test(this.selection || "") ? at({ scene }, this.selection) : null;
-      const end = wall && [wall.start, wall.end].find((q) => distance(p, q) <= this.tolerance());
-      if (end) {
-        this.drag = { pointer: "/scene/walls", corner: end, from: p, original: clone(scene.walls), moved: false, scene: null };
-        this.plan.svg.setPointerCapture(e.pointerId);
-        return;
-      }
-      const hit = hitTest(scene, p, this.tolerance());
-      this.select(hit);
-      if (hit && /^\/scene\/walls\/\d+$/.test(hit)) {
-        this.drag = { pointer: "/scene/walls", wall: at({ scene }, hit), from: p, original: clone(scene.walls), moved: false, scene: null };
-        this.plan.svg.setPointerCapture(e.pointerId);
-      } else if (hit && !hit.endsWith("floor")) {
-        this.drag = { pointer: hit, from: p, original: clone(at({ scene }, hit)), moved: false, scene: null };
-        this.plan.svg.setPointerCapture(e.pointerId);
-      }
-    }
+    tools[this.tool].down?.(this, p, e);
   },
 
   pointerMove(p) {
-    if (this.tool === "wall") {
-      this.cursor = snapWallPoint(p, this.chain[this.chain.length - 1], [...wallEnds(this.lastScene.walls), ...this.chain], this.tolerance());
-      this.redraw();
+    (tools[this.tool].move ?? tools.select.move)(this, p);
+  },
+
+  pointerUp() {
+    (tools[this.tool].up ?? tools.select.up)(this);
+  },
+
+  // Select: a click selects what is under it and picks it up to drag (an end of the selected wall
+  // drags that corner and the walls meeting there).
+  selectDown(p, e) {
+    const scene = this.lastScene;
+    const wall = /^\/scene\/walls\/\d+$/.test(this.selection || "") ? at({ scene }, this.selection) : null;
+    const end = wall && [wall.start, wall.end].find((q) => distance(p, q) <= this.tolerance());
+    if (end) {
+      this.drag = { pointer: "/scene/walls", corner: end, from: p, original: clone(scene.walls), moved: false, scene: null };
+      this.plan.svg.setPointerCapture(e.pointerId);
       return;
     }
+    const hit = hitTest(scene, p, this.tolerance());
+    this.select(hit);
+    if (hit && /^\/scene\/walls\/\d+$/.test(hit)) {
+      this.drag = { pointer: "/scene/walls", wall: at({ scene }, hit), from: p, original: clone(scene.walls), moved: false, scene: null };
+      this.plan.svg.setPointerCapture(e.pointerId);
+    } else if (hit && !hit.endsWith("floor")) {
+      this.drag = { pointer: hit, from: p, original: clone(at({ scene }, hit)), moved: false, scene: null };
+      this.plan.svg.setPointerCapture(e.pointerId);
+    }
+  },
+
+  dragMove(p) {
     if (!this.drag) return;
     const d = [p[0] - this.drag.from[0], p[1] - this.drag.from[1]];
     if (!this.drag.moved && Math.hypot(d[0], d[1]) * this.plan.s < 3) return;
@@ -70,7 +95,7 @@ export const toolMethods = {
     if (changed) this.onDragPreview(scene);
   },
 
-  pointerUp() {
+  dragEnd() {
     const drag = this.drag;
     this.drag = null;
     this.onDragPreview(null);
@@ -123,6 +148,19 @@ export const toolMethods = {
     const ends = wallEnds(drag.original).filter((q) => distance(q, drag.corner) >= 1e-6);
     const to = snapWallPoint(p, other, ends, this.tolerance());
     return moveWallEnds(drag.original, [{ from: drag.corner, to }]);
+  },
+
+  moveWallCursor(p) {
+    this.cursor = snapWallPoint(p, this.chain[this.chain.length - 1], [...wallEnds(this.lastScene.walls), ...this.chain], this.tolerance());
+    this.redraw();
+  },
+
+  // Escape in a chain of walls ends it; false when no chain was being drawn.
+  endChain() {
+    if (!this.chain.length) return false;
+    this.chain = [];
+    this.redraw();
+    return true;
   },
 
   clickWall(p) {

@@ -3,21 +3,16 @@
 // opening must pass before it is added. Pure functions; no DOM. rotation_y turns counter-clockwise
 // seen from above (+X toward −Z), as the format says.
 
+import { mm, roundPoint, placePoint } from "./plan_point.js";
+import { solidType } from "./solid_types.js";
+
+export { roundPoint, placePoint };
+
 export const gridStepM = 0.1;    // wall points and drops snap to this grid
 export const angleStepDeg = 15;  // wall directions snap to these steps
-const mm = (v) => Math.round(v * 1000) / 1000 + 0;
 
-export const roundPoint = (p) => [mm(p[0]), mm(p[1])];
 export const snapToGrid = (p, step = gridStepM) => roundPoint([Math.round(p[0] / step) * step, Math.round(p[1] / step) * step]);
 export const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
-
-// Object space (x, z) turned by rotation_y degrees, then moved to `center`.
-export function placePoint([x, z], rotationDeg, center) {
-  const r = (rotationDeg * Math.PI) / 180;
-  const c = Math.cos(r);
-  const s = Math.sin(r);
-  return [center[0] + x * c + z * s, center[1] - x * s + z * c];
-}
 
 // Where the next wall point goes: onto an existing wall end within `endTolM`, else (from `from`) along
 // the nearest 15° direction with its length on the grid, else onto the grid.
@@ -73,39 +68,9 @@ export function projectOnWall(w, p) {
   return { t, off: distance(p, q) };
 }
 
-function boxCorners(sx, sz, rotation, center) {
-  return [[-sx / 2, -sz / 2], [sx / 2, -sz / 2], [sx / 2, sz / 2], [-sx / 2, sz / 2]].map((q) => placePoint(q, rotation, center));
-}
-
-const unitBox = [[-0.5, 0, -0.5], [0.5, 0, 0.5]];
-
-// A solid's footprint: {polygon} or {circle: {center, radius}}.
+// A solid's footprint: {polygon} or {circle: {center, radius}} (solid_types.js).
 export function solidFootprint(s) {
-  const rot = s.rotation_y || 0;
-  if (s.type === "box" || s.type === "pyramid") return { polygon: boxCorners(s.size[0], s.size[2], rot, s.center) };
-  if (s.type === "cylinder") return { circle: { center: s.center, radius: s.radius } };
-  if (s.type === "prism") return { polygon: s.points };
-  if (s.type === "mesh") {
-    const scale = Array.isArray(s.scale) ? s.scale : [s.scale ?? 1, s.scale ?? 1, s.scale ?? 1];
-    // Loops, not Math.min(...xs): an imported mesh can have more vertices than a call has arguments.
-    const lo = [Infinity, Infinity];
-    const hi = [-Infinity, -Infinity];
-    // A mesh placed by `ref` carries no vertices here; a stored furniture model is the unit box
-    // centred on the origin (its scale is the piece's size), so that box stands in for it.
-    for (const v of Array.isArray(s.vertices) ? s.vertices : s.ref ? unitBox : []) {
-      const x = v[0] * scale[0];
-      const z = v[2] * scale[2];
-      if (x < lo[0]) lo[0] = x;
-      if (x > hi[0]) hi[0] = x;
-      if (z < lo[1]) lo[1] = z;
-      if (z > hi[1]) hi[1] = z;
-    }
-    if (!(lo[0] <= hi[0] && lo[1] <= hi[1])) return { polygon: [] };
-    const pos = s.position || [0, 0, 0];
-    const corners = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
-    return { polygon: corners.map((q) => placePoint(q, rot, [pos[0], pos[2]])) };
-  }
-  return { polygon: [] };
+  return solidType(s).footprint(s);
 }
 
 // The footprint, or null for a solid that lacks the members it needs (half-typed in the editor).
@@ -117,26 +82,15 @@ export function footprintOrNull(s) {
   }
 }
 
-// The plan point a solid is moved by: center, or position's x and z for a mesh.
+// The plan point a solid is moved by: center, or position's x and z for a mesh (solid_types.js).
 export function solidAnchor(s) {
-  if (s.type === "mesh") return [(s.position || [0, 0, 0])[0], (s.position || [0, 0, 0])[2]];
-  if (s.type === "prism") {
-    const n = s.points.length;
-    return [s.points.reduce((a, p) => a + p[0], 0) / n, s.points.reduce((a, p) => a + p[1], 0) / n];
-  }
-  return s.center;
+  return solidType(s).anchor(s);
 }
 
 // The solid moved so its anchor lands on `to` (a new object; the input is left alone).
 export function moveSolid(s, to) {
   const from = solidAnchor(s);
-  const d = [to[0] - from[0], to[1] - from[1]];
-  if (s.type === "mesh") {
-    const p = s.position || [0, 0, 0];
-    return { ...s, position: [mm(p[0] + d[0]), p[1], mm(p[2] + d[1])] };
-  }
-  if (s.type === "prism") return { ...s, points: s.points.map((q) => roundPoint([q[0] + d[0], q[1] + d[1]])) };
-  return { ...s, center: roundPoint(to) };
+  return solidType(s).move(s, to, [to[0] - from[0], to[1] - from[1]]);
 }
 
 export function pointInPolygon(p, poly) {

@@ -1,11 +1,9 @@
 // The properties panel. In: the selected element's JSON Pointer and value. Out: its fields
 // ([{label, path, kind, value, min | exclusiveMin, max, step}], current values or the format's
-// defaults) as inputs with the limits of schemas/scene.schema.json ("> 0" sizes are exclusiveMin 0;
-// intensities, offsets and sills are ≥ 0; rotation any number), and the check of a typed value.
-
-const num = (label, path, value, limits = {}) => ({ label, path, kind: "number", value, ...limits });
-const positive = { exclusiveMin: 0, min: 0.01 };
-const nonNegative = { min: 0 };
+// defaults) as inputs with the limits of schemas/scene.schema.json (fields.js; rotation any number),
+// and the check of a typed value. A solid's fields come from its row of solid_types.js.
+import { num, positive, nonNegative } from "./fields.js";
+import { solidType } from "./solid_types.js";
 
 function colorOf(c, fallback) {
   if (typeof c === "string" && /^#[0-9a-f]{6}$/i.test(c)) return c;
@@ -38,22 +36,7 @@ function openingFields(o) {
 }
 
 function solidFields(s) {
-  const fields = [];
-  if (s.type === "mesh") {
-    const p = s.position || [0, 0, 0];
-    fields.push(num("x", ["position", 0], p[0]), num("z", ["position", 2], p[2]), num("elevation", ["position", 1], p[1]));
-  } else if (s.type !== "prism") {
-    fields.push(num("x", ["center", 0], s.center[0]), num("z", ["center", 1], s.center[1]), num("base", ["base"], s.base ?? 0));
-  }
-  if (s.type !== "prism") fields.push(num("rotation (°)", ["rotation_y"], s.rotation_y ?? 0, { step: 15 }));
-  if (s.type === "box" || s.type === "pyramid") {
-    fields.push(num("width", ["size", 0], s.size[0], positive), num("height", ["size", 1], s.size[1], positive),
-      num("depth", ["size", 2], s.size[2], positive));
-  }
-  if (s.type === "cylinder") fields.push(num("radius", ["radius"], s.radius, positive), num("height", ["height"], s.height, positive));
-  if (s.type === "prism") fields.push(num("height", ["height"], s.height, positive));
-  fields.push({ label: "colour", path: ["color"], kind: "color", value: colorOf(s.color, "#b3b3b3") });
-  return fields;
+  return [...solidType(s).fields(s), { label: "colour", path: ["color"], kind: "color", value: colorOf(s.color, "#b3b3b3") }];
 }
 
 function lightFields(l) {

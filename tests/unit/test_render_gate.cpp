@@ -1,0 +1,80 @@
+// The render gate (server/render_gate.hpp): admission up to the concurrency, a bounded queue served in
+// arrival order, queued work that expires at its deadline, and abort cancelling running work.
+#include "server/render_gate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <future>
+#include <thread>
+
+namespace {
+
+using namespace rr::server;
+using namespace std::chrono_literals;
+
+// A token whose deadline is `budget` from now (tokens hold an atomic, so they are built in place).
+struct Token : rr::CancelToken {
+  explicit Token(std::chrono::milliseconds budget) { deadline = std::chrono::steady_clock::now() + budget; }
+};
+
+TEST(RenderGate, AdmitsUpToConcurrencyQueuesUpToTheLimitAndRefusesBeyond) {
+  RenderGate gate(1, 1);
+  Token first(5s);
+  ASSERT_EQ(gate.enter(first), RenderGate::Admission::admitted);
+  Token second(5s);
+  auto waiting = std::async(std::launch::async, [&] { return gate.enter(second); });
+  while (gate.load().queued == 0) std::this_thread::sleep_for(1ms);
+  Token third(5s);
+  EXPECT_EQ(gate.enter(third), RenderGate::Admission::saturated);
+  EXPECT_TRUE(gate.load().saturated());
+  gate.leave(first);
+  EXPECT_EQ(waiting.get(), RenderGate::Admission::admitted);
+  EXPECT_EQ(gate.load().running, 1u);
+  gate.leave(second);
+  EXPECT_EQ(gate.load().running, 0u);
+}
+
+TEST(RenderGate, AdmitsInArrivalOrder) {
+  RenderGate gate(1, 8);
+  Token holder(5s);
+  ASSERT_EQ(gate.enter(holder), RenderGate::Admission::admitted);
+  std::vector<rr::CancelToken> tokens(4);
+  std::vector<int> order;
+  std::mutex order_mutex;
+  std::vector<std::thread> waiters;
+  for (int i = 0; i < 4; ++i) {
+    tokens[size_t(i)].deadline = std::chrono::steady_clock::now() + 5s;
+    waiters.emplace_back([&, i] {
+      EXPECT_EQ(gate.enter(tokens[size_t(i)]), RenderGate::Admission::admitted);
+      {
+        std::lock_guard lock(order_mutex);
+        order.push_back(i);
+      }
+      gate.leave(tokens[size_t(i)]);
+    });
+    while (gate.load().queued != size_t(i) + 1) std::this_thread::sleep_for(1ms);  // arrive one by one
+  }
+  gate.leave(holder);
+  for (std::thread& t : waiters) t.join();
+  EXPECT_EQ(order, (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(RenderGate, QueuedWorkExpiresAtItsDeadlineAndAbortCancelsRunningWork) {
+  RenderGate gate(1, 1);
+  Token running(5s);
+  ASSERT_EQ(gate.enter(running), RenderGate::Admission::admitted);
+  Token late(30ms);
+  EXPECT_EQ(gate.enter(late), RenderGate::Admission::expired);
+  EXPECT_EQ(gate.load().queued, 0u);
+  gate.close();
+  Token after_close(5s);
+  EXPECT_EQ(gate.enter(after_close), RenderGate::Admission::closed);
+  EXPECT_FALSE(gate.wait_idle(std::chrono::steady_clock::now() + 10ms));
+  gate.abort();
+  EXPECT_TRUE(running.expired()) << "abort cancels what runs";
+  gate.leave(running);
+  EXPECT_TRUE(gate.wait_idle(std::chrono::steady_clock::now() + 10ms));
+}
+
+}  // namespace
