@@ -219,6 +219,7 @@ constexpr QueryParam query_params[] = {
     {"shadow_fit", "/options/shadow/fit", ParamKind::text},
     {"png", "/options/png/compression", ParamKind::text},
     {"antialias", "/options/antialias", ParamKind::integer},
+    {"culling", "/options/culling", ParamKind::text},
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {

@@ -18,7 +18,7 @@ namespace rr {
 namespace {
 constexpr auto pipelines = std::to_array<PipelineInfo>({
     {"zbuffer", "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
-     draw_zbuffer, true},
+     draw_zbuffer, true, true, true},
     {"painter",
      "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
      "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
@@ -27,7 +27,7 @@ constexpr auto pipelines = std::to_array<PipelineInfo>({
      "A BSP tree of the static scene (built once, cached by scene id), walked front to back with a "
      "coverage buffer that skips hidden subtrees (bsp.traversal back_to_front: the classic "
      "back-to-front walk), with frustum and back-face culling; no depth buffer.",
-     draw_bsp},
+     draw_bsp, false, true, true},
     {"reference",
      "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
      "with exact shadow rays; the ground truth the others are measured against (slow).",

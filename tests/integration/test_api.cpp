@@ -71,7 +71,7 @@ TEST_F(ApiTest, PngByDefaultWithEveryRenderHeader) {
   EXPECT_EQ(png_size(res->body).width, 64u);
   std::string timing = res->get_header_value("Server-Timing");
   for (const char* stage :
-       {"parse", "tessellate", "build", "sort", "traverse", "shadow", "raster", "shade", "encode", "total"}) {
+       {"parse", "tessellate", "build", "cull", "sort", "traverse", "shadow", "raster", "shade", "encode", "total"}) {
     EXPECT_NE(timing.find(std::string(stage) + ";dur="), std::string::npos) << stage << " in " << timing;
   }
   EXPECT_EQ(res->get_header_value("X-Scene-Id").size(), 16u);
