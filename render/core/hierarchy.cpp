@@ -13,7 +13,10 @@ namespace rr {
 namespace {
 
 constexpr int bin_count = 16;
-constexpr double traversal_cost = 1.0;  // one node test against one polygon, in the SAH
+// A node test against one polygon's cost, in the SAH: a node's occlusion test projects a box and reads
+// the pyramid, so leaves of a dozen polygons pay (on the homes: 60 % fewer node tests, 2 % more
+// polygons projected than with a cost of 1).
+constexpr double traversal_cost = 4.0;
 
 struct Bounds {
   Vec3 lo{std::numeric_limits<double>::infinity()};

@@ -37,7 +37,7 @@ struct SceneHierarchy {
 };
 
 // Leaves hold at most this many polygons (fewer when the surface-area heuristic says so).
-constexpr uint32_t hierarchy_leaf_max = 8;
+constexpr uint32_t hierarchy_leaf_max = 16;
 
 // Builds the hierarchy of `soup`. Deterministic: the same soup gives the same tree.
 SceneHierarchy build_hierarchy(const PolygonSoup& soup);

@@ -44,6 +44,8 @@ class DepthPyramid {
   // Whether no block meeting the rectangle has been raised.
   bool empty(int x0, int y0, int x1, int y1) const;
   bool empty() const { return raised_ == 0; }
+  // Brings the coarser levels up to date: after it, tests only read, so threads may share it.
+  void finish() const { refresh(); }
 
   int blocks_x() const { return levels_.empty() ? 0 : levels_[0].w; }
   int blocks_y() const { return levels_.empty() ? 0 : levels_[0].h; }
@@ -55,10 +57,13 @@ class DepthPyramid {
     std::vector<double> min, max;  // over the level-0 blocks below each entry
   };
   void raise(int bx, int by, double inv_w);
-  void update(int bx0, int by0, int bx1, int by1);  // refreshes the coarser levels over blocks [bx0, bx1]
+  // The coarser levels are refreshed over the blocks raised since the last refresh only when a test
+  // reads them: most tests read a few level-0 blocks, and most polygons are drawn between tests.
+  void refresh() const;
   int width_ = 0, height_ = 0;
-  std::vector<Level> levels_;
+  mutable std::vector<Level> levels_;
   size_t raised_ = 0;
+  mutable int dirty_x0_ = 0, dirty_y0_ = 0, dirty_x1_ = -1, dirty_y1_ = -1;  // level-0 blocks, inclusive
 };
 
 // The screen rectangle (pixels, half-open, clamped) that holds every pixel and sample a polygon in
@@ -83,9 +88,9 @@ constexpr uint32_t no_frame_polygon = 0xFFFFFFFFu;
 struct OcclusionResult {
   std::vector<uint8_t> shown;  // per frame polygon
   DepthPyramid pyramid;
-  size_t nodes_tested = 0;     // hierarchy nodes tested against the pyramid
-  size_t nodes_occluded = 0;   // of which hidden (their subtrees skipped)
-  size_t occluders = 0;        // polygons drawn into the pyramid
+  size_t nodes_tested = 0;    // hierarchy nodes tested against the pyramid
+  size_t nodes_occluded = 0;  // of which hidden (their subtrees skipped)
+  size_t occluders = 0;       // polygons drawn into the pyramid
 };
 // Which frame polygons the pipeline draws, and which of those may raise the pyramid (opaque ones).
 struct OcclusionCandidates {

@@ -100,7 +100,10 @@ void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, siz
       out.triangles.push_back(t);
       out.tiles.push_back({px0 / tile_size, py0 / tile_size, std::min(tiles_x, px1 / tile_size + 1),
                            std::min(tiles_y, py1 / tile_size + 1)});
-      if (occlusion) flag_hidden_tiles(input, t, px0, py0, px1, py1, out.tiles.back(), out);
+      // A triangle within one tile was tested with its hierarchy node; larger ones, tile by tile.
+      const PixelRect& r = out.tiles.back();
+      if (occlusion && (r.x1 - r.x0) * (r.y1 - r.y0) > 1) flag_hidden_tiles(input, t, px0, py0, px1, py1, r, out);
+      else if (occlusion) out.skip_first.push_back(no_skip);
     }
   }
 }

@@ -47,7 +47,8 @@ inline std::vector<CullingScene> culling_scenes(const std::string& which, const 
     }
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
-      if (wanted(f.stem().string())) out.push_back({f.stem().string(), request_from_json(nlohmann::json::parse(read_file(f)))});
+      if (wanted(f.stem().string()))
+        out.push_back({f.stem().string(), request_from_json(nlohmann::json::parse(read_file(f)))});
     }
     return out;
   }
@@ -60,7 +61,8 @@ inline std::vector<CullingScene> culling_scenes(const std::string& which, const 
   if (!std::filesystem::is_directory(dir)) return out;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     const std::string ext = e.path().extension().string();
-    if ((which == "homes" && ext == ".xml") || (which == "r2v" && ext == ".txt" && e.path().stem().string().starts_with("r2v_")) ||
+    if ((which == "homes" && ext == ".xml") ||
+        (which == "r2v" && ext == ".txt" && e.path().stem().string().starts_with("r2v_")) ||
         (which == "fireplace" && e.path().filename() == "fireplace_room.obj")) {
       files.push_back(e.path());
     }

@@ -134,7 +134,8 @@ TEST(Culling, CountersAreTheSameForAnyThreadCount) {
   Matrix m;
   for (const char* name : {"zbuffer", "bsp"}) {
     const PipelineId p = pipeline_id(name);
-    const RenderOutcome one = m.draw(scenes[0].request, scene, scenes[0].request.camera, p, 1, false, CullingMode::on, 0, 1);
+    const RenderOutcome one =
+        m.draw(scenes[0].request, scene, scenes[0].request.camera, p, 1, false, CullingMode::on, 0, 1);
     const RenderOutcome three =
         m.draw(scenes[0].request, scene, scenes[0].request.camera, p, 1, false, CullingMode::on, 0, 3);
     const RenderOutcome off =
@@ -198,8 +199,9 @@ TEST(Culling, PyramidBoundsHoldForTheRasterizer) {
     DepthPyramid pyramid(view.width, view.height);
     raised_total += pyramid.add_polygon(scratch.screen);
     std::vector<double> depth(size_t(view.width) * size_t(view.height), 0.0);
-    rasterize_convex(scratch.screen, PixelRect{0, 0, view.width, view.height},
-                     [&](const Fragment& f, size_t) { depth[size_t(f.y) * size_t(view.width) + size_t(f.x)] = f.inv_w; });
+    rasterize_convex(scratch.screen, PixelRect{0, 0, view.width, view.height}, [&](const Fragment& f, size_t) {
+      depth[size_t(f.y) * size_t(view.width) + size_t(f.x)] = f.inv_w;
+    });
     for (int y = 0; y < view.height; ++y) {
       for (int x = 0; x < view.width; ++x) {
         const double bound = pyramid.block(x / occlusion_block, y / occlusion_block);
