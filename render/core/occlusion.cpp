@@ -18,10 +18,12 @@ namespace {
 constexpr double cover_margin = 1.0 / 64.0;
 // The farthest a snapped vertex lies from the exact one, in pixels.
 constexpr double snap_reach = 0.5 / double(subpixel_one) * 1.4142135623730951;
-// A node with at most this many polygons whose rectangle meets no raised block is taken whole: the
-// walk does not descend where nothing can be hidden yet (a soup seen from the front, the first
-// things met), which keeps its cost a small share of a frame.
-constexpr uint32_t bulk_polygons = 64;
+// A node with at most this many polygons that lies wholly in front of the pyramid over its rectangle
+// is taken whole: nothing below it can be hidden by what is drawn so far, so the walk does not
+// descend (a soup seen from the front, the first things met, furniture before the walls), which keeps
+// its cost a small share of a frame. Larger nodes are still opened, so a walk that starts with an
+// empty pyramid does not take the whole scene at once.
+constexpr uint32_t bulk_polygons = 256;
 // A polygon is drawn into the pyramid when its bounding sphere's radius spans this many pixels on
 // screen or more: smaller ones cover few whole blocks, and on the homes they cost more walk time
 // than the little they hide (a radius of 16 pixels hid 2 % more polygons for 40 % more walk time).
@@ -243,7 +245,7 @@ bool DepthPyramid::hidden(int x0, int y0, int x1, int y1, double inv_w) const {
   return true;
 }
 
-bool DepthPyramid::empty(int x0, int y0, int x1, int y1) const {
+bool DepthPyramid::in_front(int x0, int y0, int x1, int y1, double inv_w) const {
   if (raised_ == 0) return true;
   x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, width_), y1 = std::min(y1, height_);
   if (x0 >= x1 || y0 >= y1) return true;
@@ -255,8 +257,8 @@ bool DepthPyramid::empty(int x0, int y0, int x1, int y1) const {
     ++level;
   }
   refresh();
-  // A coarse entry whose max is 0 has no raised block below it; one that is raised may be raised
-  // outside the rectangle, so descend.
+  // A coarse entry whose max is at most inv_w has no such block below it; one above may have it
+  // outside the rectangle only, so descend.
   struct Entry {
     int level, x, y;
   };
@@ -268,7 +270,7 @@ bool DepthPyramid::empty(int x0, int y0, int x1, int y1) const {
   while (top > 0) {
     const Entry en = stack[--top];
     const Level& l = levels_[size_t(en.level)];
-    if (l.max[size_t(en.y) * size_t(l.w) + size_t(en.x)] == 0.0) continue;
+    if (l.max[size_t(en.y) * size_t(l.w) + size_t(en.x)] <= inv_w) continue;
     if (en.level == 0) return false;
     for (int dy = 1; dy >= 0; --dy) {
       for (int dx = 1; dx >= 0; --dx) {
@@ -284,7 +286,7 @@ bool DepthPyramid::empty(int x0, int y0, int x1, int y1) const {
 }
 
 bool project_box(const ViewTransform& view, Vec3 lo, Vec3 hi, ScreenBox& out) {
-  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0, w_min = x0;
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0, w_min = x0, w_max = 0.0;
   // The corners as one corner plus the box's edges, each edge's clip-space step taken once.
   const Mat4& m = view.clip_from_world;
   const Vec4 base = m * Vec4(lo, 1.0);
@@ -300,13 +302,14 @@ bool project_box(const ViewTransform& view, Vec3 lo, Vec3 hi, ScreenBox& out) {
     const double inv_w = 1.0 / clip.w;  // as screen_from_clip, give or take rounding the margin covers
     const double sx = (clip.x * inv_w + 1.0) * half_w, sy = (1.0 - clip.y * inv_w) * half_h;
     x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
-    w_min = std::min(w_min, clip.w);
+    w_min = std::min(w_min, clip.w), w_max = std::max(w_max, clip.w);
   }
   // One pixel more each way: snapping, and samples anywhere in a pixel whose centre is outside.
   auto clamp = [](double v, int hi_) { return int(std::clamp(v, -1.0, double(hi_) + 1.0)); };
   out.x0 = clamp(std::floor(x0) - 1.0, view.width), out.x1 = clamp(std::ceil(x1) + 1.0, view.width);
   out.y0 = clamp(std::floor(y0) - 1.0, view.height), out.y1 = clamp(std::ceil(y1) + 1.0, view.height);
   out.near_inv_w = 1.0 / w_min;
+  out.far_inv_w = 1.0 / w_max;
   return true;
 }
 
@@ -378,7 +381,8 @@ void walk_occlusion(const SceneHierarchy& hierarchy, const PolygonSoup& frame_so
       }
     }
     const bool bulk =
-        node.count <= bulk_polygons && (!testable ? pyramid.empty() : pyramid.empty(box.x0, box.y0, box.x1, box.y1));
+        node.count <= bulk_polygons &&
+        (!testable ? pyramid.empty() : pyramid.in_front(box.x0, box.y0, box.x1, box.y1, box.far_inv_w * widen));
     if (node.leaf() || bulk) {
       emit(node);
       continue;

@@ -41,8 +41,9 @@ class DepthPyramid {
 
   // Whether every pixel of [x0, x1) x [y0, y1) (clamped to the image) lies behind depth `inv_w`.
   bool hidden(int x0, int y0, int x1, int y1, double inv_w) const;
-  // Whether no block meeting the rectangle has been raised.
-  bool empty(int x0, int y0, int x1, int y1) const;
+  // Whether no block meeting the rectangle lies behind depth `inv_w` (raised above it): then nothing
+  // whose 1/w is at least `inv_w` can be hidden there. With inv_w = 0: nothing raised there yet.
+  bool in_front(int x0, int y0, int x1, int y1, double inv_w) const;
   bool empty() const { return raised_ == 0; }
   // Brings the coarser levels up to date: after it, tests only read, so threads may share it.
   void finish() const { refresh(); }
@@ -72,6 +73,7 @@ class DepthPyramid {
 struct ScreenBox {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   double near_inv_w = 0.0;
+  double far_inv_w = 0.0;  // the box's least 1/w
 };
 bool project_box(const ViewTransform& view, Vec3 lo, Vec3 hi, ScreenBox& out);
 
