@@ -9,7 +9,6 @@
 #include "render/import/import_files.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
-#include "support/test_support.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -17,7 +16,10 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,47 +30,47 @@ struct CullingScene {
   RenderRequest request;  // as parsed from the example or the imported request
 };
 
-// `which`: "examples", "homes", "r2v", "fireplace". `only`: scene names to keep (empty: all).
-inline std::vector<CullingScene> culling_scenes(const std::string& which, const std::vector<std::string>& only = {}) {
+// `which`: "examples" (from the repository `root`), "homes", "r2v", "fireplace" (from `data`, the
+// shared data folder, when there is one). `only`: scene names to keep (empty: all).
+inline std::vector<CullingScene> culling_scenes(const std::string& which, const std::filesystem::path& root,
+                                                const std::optional<std::filesystem::path>& data,
+                                                const std::vector<std::string>& only = {}) {
   std::vector<CullingScene> out;
   auto wanted = [&](const std::string& name) {
     return only.empty() || std::find(only.begin(), only.end(), name) != only.end();
   };
-  auto add_import = [&](const std::string& name, const std::filesystem::path& file, bool models) {
-    if (!wanted(name)) return;
-    ImportOptions options;
-    options.furniture_models = models;
-    out.push_back({name, request_from_json(import_path(file, std::nullopt, options).request)});
-  };
-  if (which == "examples") {
-    std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::directory_iterator(source_dir() / "examples")) {
-      if (e.path().extension() == ".json") files.push_back(e.path());
-    }
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) {
-      if (wanted(f.stem().string()))
-        out.push_back({f.stem().string(), request_from_json(nlohmann::json::parse(read_file(f)))});
-    }
-    return out;
-  }
-  const auto data = shared_data_dir();
-  if (!data) return out;
   std::vector<std::filesystem::path> files;
-  const std::filesystem::path dir = which == "homes" ? *data / "floorplans" / "sweethome3d"
-                                    : which == "r2v" ? *data / "floorplans" / "r2v"
-                                                     : *data / "meshes" / "fireplace_room";
+  std::filesystem::path dir = root / "examples";
+  if (which != "examples") {
+    if (!data) return out;
+    dir = which == "homes" ? *data / "floorplans" / "sweethome3d"
+          : which == "r2v" ? *data / "floorplans" / "r2v"
+                           : *data / "meshes" / "fireplace_room";
+  }
   if (!std::filesystem::is_directory(dir)) return out;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     const std::string ext = e.path().extension().string();
-    if ((which == "homes" && ext == ".xml") ||
+    if ((which == "examples" && ext == ".json") || (which == "homes" && ext == ".xml") ||
         (which == "r2v" && ext == ".txt" && e.path().stem().string().starts_with("r2v_")) ||
         (which == "fireplace" && e.path().filename() == "fireplace_room.obj")) {
       files.push_back(e.path());
     }
   }
   std::sort(files.begin(), files.end());
-  for (const auto& f : files) add_import(f.stem().string(), f, which == "homes");
+  for (const auto& f : files) {
+    const std::string name = f.stem().string();
+    if (!wanted(name)) continue;
+    if (which == "examples") {
+      std::ifstream in(f, std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      out.push_back({name, request_from_json(nlohmann::json::parse(text.str()))});
+      continue;
+    }
+    ImportOptions options;
+    options.furniture_models = which == "homes";  // as the service imports them
+    out.push_back({name, request_from_json(import_path(f, std::nullopt, options).request)});
+  }
   return out;
 }
 
@@ -79,8 +81,9 @@ struct SeededCamera {
 
 // `per_kind` cameras of each seeded kind (kinds a scene cannot have, such as doorways without doors,
 // fall back to inside views), after the request's own camera.
+// `kinds` keeps the first `kinds` of inside, doorway, outside, aerial (1: the benchmark's eye level).
 inline std::vector<SeededCamera> seeded_cameras(const RenderRequest& request, const PolygonSoup& soup, uint64_t seed,
-                                                int per_kind) {
+                                                int per_kind, int kinds = 4) {
   std::vector<SeededCamera> out{{"own", request.camera}};
   Vec3 lo(1e300), hi(-1e300);
   for (const Vec3& p : soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
@@ -123,6 +126,7 @@ inline std::vector<SeededCamera> seeded_cameras(const RenderRequest& request, co
     }
   }
   for (int i = 0; i < per_kind; ++i) out.push_back({"inside", inside()});
+  if (kinds < 2) return out;
   for (int i = 0; i < per_kind; ++i) {
     if (doors.empty()) {
       out.push_back({"doorway", inside()});
@@ -138,11 +142,13 @@ inline std::vector<SeededCamera> seeded_cameras(const RenderRequest& request, co
     const double y = base + uniform(1.3, 1.7);
     out.push_back({"doorway", make(Vec3(eye2.x, y, eye2.y), Vec3(look.x, y - 0.2, look.y), 0.05)});
   }
+  if (kinds < 3) return out;
   for (int i = 0; i < per_kind; ++i) {
     const double yaw = uniform(0.0, 6.283185307179586), d = uniform(0.6, 1.0) * extent;
     const Vec3 eye = centre + Vec3(d * std::cos(yaw), 0.0, d * std::sin(yaw));
     out.push_back({"outside", make(Vec3(eye.x, lo.y + uniform(1.2, 3.0), eye.z), centre, 0.1)});
   }
+  if (kinds < 4) return out;
   for (int i = 0; i < per_kind; ++i) {
     const double yaw = uniform(0.0, 6.283185307179586), d = uniform(0.1, 0.5) * extent;
     const Vec3 eye = centre + Vec3(d * std::cos(yaw), 0.0, d * std::sin(yaw));

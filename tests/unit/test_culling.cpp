@@ -10,6 +10,7 @@
 #include "render/pipelines/render.hpp"
 #include "render/pipelines/shadow_cache.hpp"
 #include "support/culling_cases.hpp"
+#include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -92,17 +93,22 @@ void expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed) {
   std::cout << m.compared << " on/off pairs compared\n";
 }
 
-TEST(Culling, IdenticalOnAndOffExamples) { expect_identical(testing::culling_scenes("examples"), culling_seed()); }
+TEST(Culling, IdenticalOnAndOffExamples) {
+  expect_identical(testing::culling_scenes("examples", testing::source_dir(), testing::shared_data_dir()),
+                   culling_seed());
+}
 
 TEST(Culling, IdenticalOnAndOffHomesWithModels) {
-  expect_identical(testing::culling_scenes("homes", {"Studio", "3BedroomApartment", "2BedroomHouseWithBasement"}),
+  expect_identical(testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(),
+                                           {"Studio", "3BedroomApartment", "2BedroomHouseWithBasement"}),
                    culling_seed());
 }
 
 TEST(Culling, IdenticalOnAndOffPlansAndFireplaceRoom) {
-  std::vector<CullingScene> scenes = testing::culling_scenes("r2v");
+  std::vector<CullingScene> scenes = testing::culling_scenes("r2v", testing::source_dir(), testing::shared_data_dir());
   if (scenes.size() > 2) scenes.resize(2);
-  for (CullingScene& s : testing::culling_scenes("fireplace")) scenes.push_back(std::move(s));
+  for (CullingScene& s : testing::culling_scenes("fireplace", testing::source_dir(), testing::shared_data_dir()))
+    scenes.push_back(std::move(s));
   expect_identical(scenes, culling_seed());
 }
 
@@ -110,8 +116,11 @@ TEST(Culling, IdenticalOnAndOffPlansAndFireplaceRoom) {
 // counts as hidden when its nearest point is up to one margin in front of the pyramid) must show.
 TEST(Culling, OneMarginTooEagerIsCaught) {
   const uint64_t seed = culling_seed();
-  std::vector<CullingScene> scenes = testing::culling_scenes("examples");
-  for (CullingScene& s : testing::culling_scenes("homes", {"Studio"})) scenes.push_back(std::move(s));
+  std::vector<CullingScene> scenes =
+      testing::culling_scenes("examples", testing::source_dir(), testing::shared_data_dir());
+  for (CullingScene& s :
+       testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"Studio"}))
+    scenes.push_back(std::move(s));
   Matrix m;
   std::string first;
   for (const CullingScene& s : scenes) {
@@ -128,7 +137,8 @@ TEST(Culling, OneMarginTooEagerIsCaught) {
 
 // The counters and the image do not depend on the thread count; culling does skip work on a home.
 TEST(Culling, CountersAreTheSameForAnyThreadCount) {
-  std::vector<CullingScene> scenes = testing::culling_scenes("homes", {"3BedroomApartment"});
+  std::vector<CullingScene> scenes =
+      testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"3BedroomApartment"});
   if (scenes.empty()) GTEST_SKIP() << "no homes (../shared/data absent)";
   const PreparedScene scene = prepare_scene(scenes[0].request.scene);
   Matrix m;
