@@ -230,6 +230,9 @@ TEST_F(ApiTest, MetricsCountRequestsByRouteTemplateAndStatus) {
   EXPECT_GE(
       server_->metric("roomrender_render_stage_duration_seconds_count", {"pipeline=\"zbuffer\"", "stage=\"raster\""}),
       1.0);
+  EXPECT_GE(
+      server_->metric("roomrender_render_culling_total", {"pipeline=\"zbuffer\"", "count=\"polygons_projected\""}),
+      1.0);
   EXPECT_EQ(server_->metric("roomrender_renders_in_flight"), 0.0);
   EXPECT_EQ(server_->metric("roomrender_renders_queued"), 0.0);
   EXPECT_EQ(server_->metric("roomrender_build_info"), 1.0);
