@@ -175,8 +175,13 @@ json run_identity(std::map<std::string, std::string>& a) {
       std::cerr << which << " " << s.name << ": " << pairs << " pairs so far, " << differing.size() << " differ\n";
     }
   }
-  return {{"seed", seed},        {"size", a["--size"]},       {"scenes", scenes}, {"cameras", cameras},
-          {"pairs", pairs},      {"differing", differing},    {"seconds", clock.elapsed_ms() / 1000.0}};
+  return {{"seed", seed},
+          {"size", a["--size"]},
+          {"scenes", scenes},
+          {"cameras", cameras},
+          {"pairs", pairs},
+          {"differing", differing},
+          {"seconds", clock.elapsed_ms() / 1000.0}};
 }
 
 // The picture of docs/culling.md: the home's frame from its observer camera, and the same home from
@@ -264,8 +269,12 @@ json run_picture(std::map<std::string, std::string>& a) {
     }
   }
   std::ofstream(a["--out-above"], std::ios::binary) << encode_png(top.frame.image, PngCompression::small, 2);
-  return {{"polygons", soup.polygons.size()}, {"shown", shown}, {"hidden", hidden}, {"elsewhere", elsewhere},
-          {"nodes_tested", walk.nodes_tested}, {"occluders", walk.occluders}};
+  return {{"polygons", soup.polygons.size()},
+          {"shown", shown},
+          {"hidden", hidden},
+          {"elsewhere", elsewhere},
+          {"nodes_tested", walk.nodes_tested},
+          {"occluders", walk.occluders}};
 }
 
 }  // namespace
@@ -276,9 +285,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string mode = argv[1];
-  std::map<std::string, std::string> a = {{"--seed", "2029"},   {"--inside", "10"}, {"--threads", "2"},
-                                          {"--frames", "9"},    {"--size", "1280x720"},
-                                          {"--cameras", "20"},  {"--root", ROOMRENDER_SOURCE_DIR},
+  std::map<std::string, std::string> a = {{"--seed", "2029"},
+                                          {"--inside", "10"},
+                                          {"--threads", "2"},
+                                          {"--frames", "9"},
+                                          {"--size", "1280x720"},
+                                          {"--cameras", "20"},
+                                          {"--root", ROOMRENDER_SOURCE_DIR},
                                           {"--data", std::string(ROOMRENDER_SOURCE_DIR) + "/../shared/data"}};
   for (int i = 2; i + 1 < argc; i += 2) a[argv[i]] = argv[i + 1];
   const json result = mode == "frames" ? run_frames(a) : mode == "picture" ? run_picture(a) : run_identity(a);

@@ -106,7 +106,7 @@ size_t SceneHierarchy::bytes() const {
          spheres.capacity() * sizeof(PolygonSphere);
 }
 
-SceneHierarchy build_hierarchy(const PolygonSoup& soup) {
+SceneHierarchy build_hierarchy(const PolygonSoup& soup, const CancelToken* cancel) {
   SceneHierarchy out;
   const size_t n = soup.polygons.size();
   Builder b{std::vector<Bounds>(n), std::vector<Vec3>(n), out};
@@ -126,8 +126,10 @@ SceneHierarchy build_hierarchy(const PolygonSoup& soup) {
   if (n == 0) return out;
   out.nodes.reserve(2 * n / 3 + 1);
   std::vector<Task> stack{{no_parent, 0, uint32_t(n)}};
+  CancelMeter meter(cancel, size_t(1) << 16);  // units: polygons partitioned
   while (!stack.empty()) {
     const Task task = stack.back();
+    meter.add(task.end - task.begin);
     stack.pop_back();
     const uint32_t index = uint32_t(out.nodes.size());
     if (task.parent != no_parent) out.nodes[task.parent].second = index;

@@ -7,6 +7,7 @@
 // collapse it into wider nodes. It is not the reference's BVH (bvh.hpp), which stays the oracle's.
 #pragma once
 
+#include "render/core/cancel.hpp"
 #include "render/core/math.hpp"
 #include "render/core/tessellate.hpp"
 
@@ -39,7 +40,8 @@ struct SceneHierarchy {
 // Leaves hold at most this many polygons (fewer when the surface-area heuristic says so).
 constexpr uint32_t hierarchy_leaf_max = 16;
 
-// Builds the hierarchy of `soup`. Deterministic: the same soup gives the same tree.
-SceneHierarchy build_hierarchy(const PolygonSoup& soup);
+// Builds the hierarchy of `soup`. Deterministic: the same soup gives the same tree. Throws
+// RenderCancelled when `cancel` expires (a frame that builds its own).
+SceneHierarchy build_hierarchy(const PolygonSoup& soup, const CancelToken* cancel = nullptr);
 
 }  // namespace rr

@@ -45,7 +45,7 @@ const SceneHierarchy& frame_hierarchy(const PolygonSoup& soup, const RenderConte
     state.frame_of.clear();
   }
   Stopwatch build_clock;
-  state.private_hierarchy = std::make_unique<SceneHierarchy>(build_hierarchy(soup));
+  state.private_hierarchy = std::make_unique<SceneHierarchy>(build_hierarchy(soup, context.cancel));
   timings.build_ms += build_clock.elapsed_ms();
   return *state.private_hierarchy;
 }
