@@ -228,6 +228,9 @@ void Service::start() {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
   }
+  for (const std::string& problem : state_->catalogue->problems) {
+    state_->log("warn", {{"event", "catalogue_entry_left_out"}, {"detail", problem}});
+  }
   if (!config_.store_url.empty() && !config_.data_dir.empty()) {  // said, so nobody backs up an empty directory
     state_->log("warn",
                 {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});

@@ -21,7 +21,10 @@ std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, cons
 }
 
 ParseLimits resolving_meshes(ParseLimits limits, MeshDocuments& meshes) {
-  limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
+  limits.resolve_mesh = [&meshes, first = limits.resolve_mesh](const std::string& id) -> std::shared_ptr<const MeshData> {
+    if (first) {
+      if (auto mesh = first(id)) return mesh;
+    }
     auto stored = meshes.find(id);
     return stored ? stored->mesh : nullptr;
   };

@@ -36,7 +36,8 @@ using MeshStoreConfig = ContentStoreConfig<StoredMesh>;
 using MeshStore = ContentStore<StoredMesh>;       // the embedded store
 using MeshDocuments = DocumentStore<StoredMesh>;  // either store, as the handlers see it
 
-// `limits` whose mesh references ("ref") resolve to the meshes stored in `meshes`.
+// `limits` whose mesh references ("ref") resolve to the meshes stored in `meshes` (after the
+// resolver `limits` had, when it finds them: the catalogue's).
 ParseLimits resolving_meshes(ParseLimits limits, MeshDocuments& meshes);
 
 class MeshPins {

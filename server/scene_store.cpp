@@ -40,9 +40,14 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   out->id = hash_hex(out->text);
   static_cast<PreparedScene&>(*out) = rr::prepare_scene(std::move(parsed.scene));
   out->bytes = entry_bytes(*out);
+  // The stored meshes it places: those that are always there (the catalogue's) it does not depend on.
   std::set<std::string> refs;
+  auto place = [&](const std::string& ref) {
+    if (!ref.empty() && !(limits.builtin_mesh && limits.builtin_mesh(ref))) refs.insert(ref);
+  };
   for (const Solid& s : out->scene.geometry.solids) {
-    if (!s.mesh_ref.empty()) refs.insert(s.mesh_ref);
+    place(s.mesh_ref);
+    for (const PiecePart& part : s.parts) place(part.mesh_ref);
   }
   out->mesh_refs.assign(refs.begin(), refs.end());
   return out;

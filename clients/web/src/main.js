@@ -63,10 +63,19 @@ function showWarnings(result) {
   const notes = result.warnings.map((w) => ({ pointer: w.pointer, message: w.detail, severity: "warning" }));
   editor.setServerNotes(notes);
   app.lastWarnings = result.warnings;
+  app.warningCount = result.warningCount || notes.length;
   designer.setMarks(result.warnings.map((w) => ({ ...w, severity: "warning" })));
   showProblemList([]);
-  showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0, warningClicks);
-  return notes.length || result.warningCount || 0;
+  showWarningList(result.warnings, app.warningCount, warningClicks);
+  return app.warningCount;
+}
+
+// How the warning list names an element: a solid by its id (an imported piece's is its name and
+// where it was in the home), else its pointer.
+function elementLabel(pointer) {
+  const m = /^\/scene\/solids\/(\d+)$/.exec(pointer || "");
+  const solid = m && designer.lastScene?.solids?.[Number(m[1])];
+  return solid?.id ? `${solid.id} — ${pointer}` : pointer || "the scene";
 }
 
 function showError(error) {
@@ -287,7 +296,7 @@ const designer = new Designer(editor, {
   },
 });
 const sharing = new Sharing({ api, editor, designer, onStatus: setStatus });
-const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p) };
+const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p), label: elementLabel };
 const controls = new Controls({
   setOptions: (entries) => {
     if (editor.setValues(entries)) render();
@@ -313,7 +322,7 @@ attachViewer($("views"), {
     enabled: () => api.has("/v1/pick"),
   }),
 });
-$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0, warningClicks));
+$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], app.warningCount || 0, warningClicks));
 
 // Hooks for scripted checks that drive the page as a person would (tests/browser/designer.mjs).
 window.roomrenderDesigner = {
@@ -406,6 +415,7 @@ async function start() {
   ]);
   controls.setPipelines(pipelines);
   controls.setImportSupported(api.has("/v1/import/{format}"));
+  designer.setCatalogue(await api.catalogue().catch(() => null));
   if (schemas) {
     editor.setChecker(sharing.filterChecker(makeRequestChecker(...schemas)));
     $("check-note").textContent = "Checked against the server's schema as you type; Ctrl+Enter renders.";
