@@ -5,8 +5,11 @@
 // What a request means is not decided here: the `answer` callback (cpp-httplib on an in-memory
 // stream, server/http_server.cpp) parses, routes and answers; `refusal` formats the answers the
 // front gives itself (408, 414, 431, 503).
+// The parts: front_listener (the listening socket), front_deadlines (how long each phase may take),
+// front_workers (the pool), and the event loop over connections in connection_front.cpp.
 #pragma once
 
+#include "server/front_deadlines.hpp"
 #include "server/request_head.hpp"
 
 #include <atomic>
@@ -28,11 +31,7 @@ struct FrontConfig {
   size_t max_pending = 8;  // complete requests waiting for a worker; beyond: 503
   size_t max_connections = 4096;
   size_t max_idle_connections = 512;
-  std::chrono::milliseconds keep_alive_timeout{5000};
-  std::chrono::milliseconds header_timeout{10000};
-  std::chrono::milliseconds body_timeout{20000};   // plus length / min_transfer_rate
-  std::chrono::milliseconds write_timeout{10000};  // plus length / min_transfer_rate
-  uint64_t min_transfer_rate = 256u << 10;         // bytes per second
+  DeadlinePolicy deadlines;
   uint64_t max_buffered_body_bytes = 512ull << 20;
   size_t max_requests_per_connection = 100;
   HeadLimits head_limits;
@@ -104,8 +103,9 @@ class ConnectionFront {
   void finish(std::chrono::steady_clock::time_point until);
   FrontStats stats() const;
 
+  struct Loop;  // the event loop's state (front_loop.hpp), shared by the front's own files only
+
  private:
-  struct Loop;
   std::unique_ptr<Loop> loop_;
 };
 

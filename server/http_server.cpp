@@ -201,11 +201,11 @@ FrontConfig front_config(const ServerConfig& c) {
   f.max_pending = max_pending_requests(c);
   f.max_connections = c.max_connections;
   f.max_idle_connections = c.max_idle_connections;
-  f.keep_alive_timeout = std::chrono::seconds(c.keep_alive_timeout_s);
-  f.header_timeout = std::chrono::milliseconds(c.header_timeout_ms);
-  f.body_timeout = std::chrono::milliseconds(c.body_timeout_ms);
-  f.write_timeout = std::chrono::seconds(c.write_timeout_s);
-  f.min_transfer_rate = c.min_transfer_rate;
+  f.deadlines.keep_alive_timeout = std::chrono::seconds(c.keep_alive_timeout_s);
+  f.deadlines.header_timeout = std::chrono::milliseconds(c.header_timeout_ms);
+  f.deadlines.body_timeout = std::chrono::milliseconds(c.body_timeout_ms);
+  f.deadlines.write_timeout = std::chrono::seconds(c.write_timeout_s);
+  f.deadlines.min_transfer_rate = c.min_transfer_rate;
   f.max_buffered_body_bytes = c.max_buffered_body_bytes;
   f.max_requests_per_connection = c.keep_alive_max_requests;
   f.head_limits = {c.max_request_line_bytes, c.max_header_bytes, c.max_header_count};
