@@ -2,9 +2,9 @@
 // connection, every read and write, and every deadline and cap; a fixed pool of worker threads gets
 // only complete requests (head and whole body, as bytes) and gives back complete answers (bytes).
 // A slow or idle client therefore holds a connection record of a few hundred bytes, never a thread.
-// What a request means is not decided here: the `answer` callback (cpp-httplib on an in-memory
-// stream, server/http_server.cpp) parses, routes and answers; `refusal` formats the answers the
-// front gives itself (408, 414, 431, 503).
+// The front parses each head (request_head.hpp); what a request means is not decided here: the
+// `answer` callback (cpp-httplib on an in-memory stream, server/http_server.cpp) routes and answers,
+// and `refusal` formats the answers the front gives itself (408, 414, 431, 501, 503).
 // The parts: front_listener (the listening socket), front_deadlines (how long each phase may take),
 // front_workers (the pool), and the event loop over connections in connection_front.cpp.
 #pragma once
@@ -40,10 +40,12 @@ struct FrontConfig {
 // A complete request handed to a worker.
 struct FrontRequest {
   std::string bytes;  // head and body; with head_only, the head alone
+  RequestHead head;   // the front's parse of the head in `bytes`
   // The body was not read: the head already rules the request out (too large, chunked). The answer
   // must come from the head alone, and the connection closes after it.
   bool head_only = false;
-  bool last = false;  // the connection closes after this answer (draining, request count)
+  // The connection closes after this answer (the client asked, draining, the request count).
+  bool last = false;
   std::string remote_ip, local_ip;
   int remote_port = 0, local_port = 0;
 };

@@ -1,10 +1,10 @@
 // One connection's requests and answers in the connection front (see front_loop.hpp): bytes are
 // read into the connection's buffer and framed into a head; a head whose body its route does not
 // take goes to a worker alone, its body never read; a body is read under its deadline
-// (front_deadlines.hpp), then the whole request goes to a worker. The answer is written back without reading meanwhile; then the
-// connection waits for its next request, or shuts its write side and lingers: what the client still
-// sends is read and dropped for a moment, so closing with unread bytes does not reset the connection
-// and destroy the answer before the client has read it.
+// (front_deadlines.hpp), then the whole request goes to a worker. The answer is written back without reading meanwhile;
+// then the connection waits for its next request, or shuts its write side and lingers: what the client still sends is
+// read and dropped for a moment, so closing with unread bytes does not reset the connection and destroy the answer
+// before the client has read it.
 #include "server/front_loop.hpp"
 
 #include <sys/epoll.h>
@@ -69,6 +69,7 @@ void Loop::advance(Connection& c, Clock::time_point now) {
     if (c.in.size() < need) return;
     FrontRequest request;
     request.bytes = c.in.substr(0, need);
+    request.head = std::move(c.head);
     c.in.erase(0, need);
     // A large body's buffer is not kept for the connection's next request.
     if (c.in.capacity() > 2 * read_chunk) c.in.shrink_to_fit();
@@ -102,6 +103,7 @@ bool Loop::read_head(Connection& c, Clock::time_point now) {
     // The answer follows from the head alone; the body stays unread and the connection closes.
     FrontRequest request;
     request.bytes = c.in.substr(0, c.head.head_bytes);
+    request.head = std::move(c.head);
     request.head_only = true;
     c.in.clear();
     reset_scan(c);
@@ -117,8 +119,7 @@ bool Loop::read_head(Connection& c, Clock::time_point now) {
   buffered_body_bytes += length;
   if (c.head.expects_continue) {
     // Answered here, so the worker must not see the Expect line and answer it again.
-    c.in.erase(c.head.expect_begin, c.head.expect_end - c.head.expect_begin);
-    c.head.head_bytes -= c.head.expect_end - c.head.expect_begin;
+    erase_expect_line(c.in, c.head);
     reset_scan(c);
     const uint64_t id = c.id;
     if (c.in.size() < c.head.head_bytes + length) send_bytes(c, std::string(continue_line));
@@ -130,7 +131,8 @@ bool Loop::read_head(Connection& c, Clock::time_point now) {
 }
 
 void Loop::dispatch(Connection& c, FrontRequest request, Clock::time_point now) {
-  request.last = request.last || request.head_only || stopping || c.served + 1 >= config.max_requests_per_connection;
+  request.last = request.last || request.head_only || !request.head.keep_alive || stopping ||
+                 c.served + 1 >= config.max_requests_per_connection;
   request.remote_ip = c.peer.remote_ip;
   request.remote_port = c.peer.remote_port;
   request.local_ip = c.peer.local_ip;

@@ -65,7 +65,7 @@ struct ServerConfig {
   int body_timeout_ms = 20'000;           // the whole body: this plus Content-Length / min_transfer_rate; then 408
   int write_timeout_s = 10;               // the whole answer: this plus its size / min_transfer_rate; then closed
   size_t min_transfer_rate = 256u << 10;  // bytes per second granted on top of the body and write timeouts
-  size_t max_request_line_bytes = 8192;   // longer: 414; also the cap on one header line (431)
+  size_t max_request_line_bytes = 8190;   // longer: 414; also the cap on one header line (431); httplib's limit
   size_t max_header_bytes = 64u << 10;    // the whole head; larger: 431
   size_t max_header_count = 100;          // more header fields: 431
   int max_pending_requests = -1;          // complete requests waiting for a worker; -1: request_workers
