@@ -36,9 +36,9 @@ constexpr milliseconds accept_pause{100};  // after running out of file descript
 
 using Loop = ConnectionFront::Loop;
 
-Loop::Loop(FrontConfig c, BodyLimit b, Answer a, Refusal r)
+Loop::Loop(FrontConfig c, Screen s, Answer a, Refusal r)
     : config(std::move(c)),
-      body_limit(std::move(b)),
+      screen(std::move(s)),
       refusal(std::move(r)),
       workers(
           config.max_pending, std::move(a),
@@ -292,8 +292,8 @@ void Loop::run() {
   publish();
 }
 
-ConnectionFront::ConnectionFront(FrontConfig config, BodyLimit body_limit, Answer answer, Refusal refusal)
-    : loop_(std::make_unique<Loop>(std::move(config), std::move(body_limit), std::move(answer), std::move(refusal))) {}
+ConnectionFront::ConnectionFront(FrontConfig config, Screen screen, Answer answer, Refusal refusal)
+    : loop_(std::make_unique<Loop>(std::move(config), std::move(screen), std::move(answer), std::move(refusal))) {}
 
 ConnectionFront::~ConnectionFront() { finish(Clock::now()); }
 

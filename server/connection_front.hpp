@@ -2,9 +2,10 @@
 // connection, every read and write, and every deadline and cap; a fixed pool of worker threads gets
 // only complete requests (head and whole body, as bytes) and gives back complete answers (bytes).
 // A slow or idle client therefore holds a connection record of a few hundred bytes, never a thread.
-// The front parses each head (request_head.hpp); what a request means is not decided here: the
-// `answer` callback (cpp-httplib on an in-memory stream, server/http_server.cpp) routes and answers,
-// and `refusal` formats the answers the front gives itself (408, 414, 431, 501, 503).
+// The front parses each head (request_head.hpp) and asks `screen` whether the body is to be read at
+// all, so a refused request's body never is; what a request means is not decided here: the `answer`
+// callback (cpp-httplib on an in-memory stream, server/http_server.cpp) routes and answers, and
+// `refusal` formats the answers the front gives itself (408, 414, 431, 501, 503).
 // The parts: front_listener (the listening socket), front_deadlines (how long each phase may take),
 // front_workers (the pool), and the event loop over connections in connection_front.cpp.
 #pragma once
@@ -41,8 +42,8 @@ struct FrontConfig {
 struct FrontRequest {
   std::string bytes;  // head and body; with head_only, the head alone
   RequestHead head;   // the front's parse of the head in `bytes`
-  // The body was not read: the head already rules the request out (too large, chunked). The answer
-  // must come from the head alone, and the connection closes after it.
+  // The body was not read: the head already rules the request out (screening refused it, or it is
+  // chunked). The answer must come from the head alone, and the connection closes after it.
   bool head_only = false;
   // The connection closes after this answer (the client asked, draining, the request count).
   bool last = false;
@@ -80,14 +81,14 @@ struct FrontStats {
 
 class ConnectionFront {
  public:
-  using BodyLimit = std::function<uint64_t(std::string_view method, std::string_view target)>;
+  // Screening's verdict on a head that announces a body: true when the body is to be read. Runs on
+  // the event thread. False: the head goes to `answer` alone and the connection closes after it.
+  using Screen = std::function<bool(const RequestHead& head)>;
   using Answer = std::function<FrontAnswer(FrontRequest&)>;
   // The whole response for a refusal the front makes itself; `close` says the connection closes.
   using Refusal = std::function<std::string(int status, std::string_view detail, bool close)>;
 
-  // `body_limit` gives the largest body the request's route takes (0: none); a larger announced
-  // body is not read, the head goes to `answer` alone.
-  ConnectionFront(FrontConfig config, BodyLimit body_limit, Answer answer, Refusal refusal);
+  ConnectionFront(FrontConfig config, Screen screen, Answer answer, Refusal refusal);
   ~ConnectionFront();
   ConnectionFront(const ConnectionFront&) = delete;
   ConnectionFront& operator=(const ConnectionFront&) = delete;

@@ -1,7 +1,8 @@
 // One connection's requests and answers in the connection front (see front_loop.hpp): bytes are
-// read into the connection's buffer and framed into a head; a head whose body its route does not
-// take goes to a worker alone, its body never read; a body is read under its deadline
-// (front_deadlines.hpp), then the whole request goes to a worker. The answer is written back without reading meanwhile;
+// read into the connection's buffer and framed into a head; a head that announces a body is
+// screened before "100 Continue" is sent or a body byte is taken, and a refused one goes to a worker
+// alone, its body never read; a body is read under its deadline (front_deadlines.hpp), then the
+// whole request goes to a worker. The answer is written back without reading meanwhile;
 // then the connection waits for its next request, or shuts its write side and lingers: what the client still sends is
 // read and dropped for a moment, so closing with unread bytes does not reset the connection and destroy the answer
 // before the client has read it.
@@ -99,7 +100,7 @@ bool Loop::read_head(Connection& c, Clock::time_point now) {
   }
   c.head = std::move(scan.head);
   const uint64_t length = c.head.content_length;
-  if (c.head.has_transfer_encoding || length > body_limit(c.head.method, c.head.target)) {
+  if (c.head.has_transfer_encoding || (length > 0 && !body_wanted(c.head))) {
     // The answer follows from the head alone; the body stays unread and the connection closes.
     FrontRequest request;
     request.bytes = c.in.substr(0, c.head.head_bytes);
@@ -128,6 +129,15 @@ bool Loop::read_head(Connection& c, Clock::time_point now) {
   set_phase(c, Phase::body, now);
   set_deadline(c, body_deadline(config.deadlines, now, length));
   return true;
+}
+
+// Screening's verdict from the head alone; a verdict that throws reads nothing.
+bool Loop::body_wanted(const RequestHead& head) {
+  try {
+    return screen(head);
+  } catch (...) {
+    return false;
+  }
 }
 
 void Loop::dispatch(Connection& c, FrontRequest request, Clock::time_point now) {

@@ -1,6 +1,6 @@
 // The connection front's event loop, shared by its two files: connection_front.cpp runs the loop
 // (accepting, deadlines, stopping, the counts it publishes) and front_exchange.cpp carries one
-// connection through a request and its answer (reading, framing, the body, handing the
+// connection through a request and its answer (reading, framing, screening, the body, handing the
 // request to a worker, writing, keep-alive or linger). Every member is the event thread's, except
 // the atomics, the published stats and what WorkerPool guards itself.
 #pragma once
@@ -57,11 +57,11 @@ struct ConnectionFront::Loop {
 
   static constexpr size_t read_chunk = 64 * 1024;
 
-  Loop(FrontConfig config, BodyLimit body_limit, Answer answer, Refusal refusal);
+  Loop(FrontConfig config, Screen screen, Answer answer, Refusal refusal);
   ~Loop();
 
   FrontConfig config;
-  BodyLimit body_limit;
+  Screen screen;
   Refusal refusal;
   Listener listener;
   WorkerPool workers;
@@ -108,6 +108,7 @@ struct ConnectionFront::Loop {
   void on_readable(Connection& c, FrontClock::time_point now);
   void advance(Connection& c, FrontClock::time_point now);
   bool read_head(Connection& c, FrontClock::time_point now);
+  bool body_wanted(const RequestHead& head);
   void dispatch(Connection& c, FrontRequest request, FrontClock::time_point now);
   void collect_answers(FrontClock::time_point now);
   void refuse(Connection& c, int status, std::string_view detail, bool close, FrontClock::time_point now);

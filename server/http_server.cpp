@@ -1,11 +1,12 @@
 // The HTTP service (see http_server.hpp). cpp-httplib 0.11.4 from Debian is a compiled library: its
 // CPPHTTPLIB_* macros change nothing here, and its thread-per-connection server lets one slow or idle
 // client hold a thread, so its listener is not used. Our connection front owns the sockets and parses
-// each head; each complete request then goes, as bytes, to httplib's request processing on an
-// in-memory stream (httplib_bridge.hpp), which parses it again: where its parse differs from the
-// front's the request is refused, so the handlers only ever see the request the front framed. A
-// request passes screen_request first (screening.hpp: route, method, access, Accept and body
-// framing, before any body byte is read), then dispatch() calls its route's handler; handlers just
+// each head; screening judges a head that announces a body from that parse, on the event thread,
+// before the body is read. Each complete request then goes, as bytes, to httplib's request
+// processing on an in-memory stream (httplib_bridge.hpp), which parses it again: where its parse
+// differs from the front's the request is refused, so the handlers only ever see the request the
+// front framed and screened. A request passes screen_request (screening.hpp: route, method, access,
+// Accept and body framing) once more there, then dispatch() calls its route's handler; handlers just
 // throw, and answer_exception turns whatever went wrong into problem+json. The logger, which httplib
 // calls after writing every response, writes the log line and the metrics (request_log.hpp).
 #include "server/http_server.hpp"
@@ -146,6 +147,17 @@ std::string front_refusal(ServiceState& state, int status, std::string_view deta
   return head + "\r\n" + body;
 }
 
+// Screening's verdict on a head that announces a body, from the front's parse, on the event thread:
+// true when the body is to be read. The refusal itself is answered by a worker from the head alone,
+// screened again there from httplib's parse, which agrees with this one.
+bool screen_head(const std::vector<Route>& routes, const ServiceState& state, const RequestHead& head) {
+  Request req = request_from_head(head);
+  Response res;
+  const bool pass = screen_request(routes, state, req, res);
+  request_context() = RequestContext{};  // the event thread's context belongs to no request
+  return pass;
+}
+
 FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontRequest& request) {
   FrontAnswer answer;
   const MemoryStream::Peer peer{request.remote_ip, request.local_ip, request.remote_port, request.local_port};
@@ -219,10 +231,7 @@ void Service::start() {
   RequestProcessor& processor = *server;
   ServiceState& state = *state_;
   front_ = std::make_unique<ConnectionFront>(
-      front_config(config_),
-      [routes, &state](std::string_view method, std::string_view target) {
-        return route_body_limit(*routes, state.config, method, target);
-      },
+      front_config(config_), [routes, &state](const RequestHead& head) { return screen_head(*routes, state, head); },
       [&processor, &state](FrontRequest& request) { return answer_request(processor, state, request); },
       [&state](int status, std::string_view detail, bool close) {
         return front_refusal(state, status, detail, close);
