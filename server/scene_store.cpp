@@ -10,12 +10,13 @@ namespace rr::server {
 namespace {
 
 // Approximate heap cost of an entry: the text, the parsed scene (about as large as its text, in
-// practice smaller), and the tessellation's arrays.
+// practice smaller), the tessellation's arrays and its hierarchy.
 size_t entry_bytes(const StoredScene& s) {
   size_t bytes = sizeof(StoredScene) + 2 * s.text.size();
   bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
   bytes += s.soup.polygons.capacity() * sizeof(Polygon) + s.soup.materials.capacity() * sizeof(Material);
   bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
+  if (s.hierarchy) bytes += s.hierarchy->bytes();
   return bytes;
 }
 
