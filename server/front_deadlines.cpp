@@ -2,6 +2,8 @@
 // second; the time granted for n bytes at rate r is n * 1000 / r milliseconds, rounded down.
 #include "server/front_deadlines.hpp"
 
+#include <algorithm>
+
 namespace rr::server {
 namespace {
 
@@ -11,8 +13,11 @@ std::chrono::milliseconds time_for(uint64_t bytes, uint64_t rate) {
 
 }  // namespace
 
-FrontClock::time_point body_deadline(const DeadlinePolicy& policy, FrontClock::time_point start, uint64_t declared) {
-  return start + policy.body_timeout + time_for(declared, policy.min_transfer_rate);
+FrontClock::time_point body_deadline(const DeadlinePolicy& policy, FrontClock::time_point start, uint64_t declared,
+                                     uint64_t received) {
+  std::chrono::milliseconds extra = time_for(declared, policy.min_transfer_rate);
+  if (policy.min_body_rate) extra = std::min(extra, time_for(std::min(received, declared), policy.min_body_rate));
+  return start + policy.body_timeout + extra;
 }
 
 FrontClock::time_point write_deadline(const DeadlinePolicy& policy, FrontClock::time_point start, uint64_t bytes) {
@@ -20,8 +25,12 @@ FrontClock::time_point write_deadline(const DeadlinePolicy& policy, FrontClock::
 }
 
 std::string late_body_detail(const DeadlinePolicy& policy) {
+  std::string earned = policy.min_body_rate ? " received, at most 1 s per " + std::to_string(policy.min_transfer_rate) +
+                                                  " bytes declared"
+                                            : "";
   return "The request body did not arrive in time (" + std::to_string(policy.body_timeout.count()) +
-         " ms plus 1 s per " + std::to_string(policy.min_transfer_rate) + " bytes).";
+         " ms plus 1 s per " + std::to_string(policy.min_body_rate ? policy.min_body_rate : policy.min_transfer_rate) +
+         " bytes" + earned + ").";
 }
 
 void Deadlines::move(uint64_t id, FrontClock::time_point& current, FrontClock::time_point next) {

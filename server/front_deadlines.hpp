@@ -1,7 +1,9 @@
 // The connection front's deadlines: how long each phase of a connection may take, and the ordered
 // set of running deadlines the event loop sleeps until. A phase's time is a total, never reset per
 // read: a client that sends one byte at a time gets no more time than one that sends nothing. A body
-// and an answer get their timeout plus their length at min_transfer_rate. Pure, no sockets.
+// and an answer get their timeout plus their length at min_transfer_rate; a body's extra time is
+// also earned only by bytes received, at min_body_rate, so a trickled body runs out by its timeout
+// whatever length it declares. Pure, no sockets.
 #pragma once
 
 #include <chrono>
@@ -20,10 +22,14 @@ struct DeadlinePolicy {
   std::chrono::milliseconds body_timeout{20000};
   std::chrono::milliseconds write_timeout{10000};
   uint64_t min_transfer_rate = 256u << 10;  // bytes per second granted per declared body or answer byte
+  uint64_t min_body_rate = 500;             // a body's bytes received earn 1 s per this many; 0: no minimum rate
 };
 
-// When a body whose head arrived at `start`, declaring `declared` bytes, is late.
-FrontClock::time_point body_deadline(const DeadlinePolicy& policy, FrontClock::time_point start, uint64_t declared);
+// When a body whose head arrived at `start`, declaring `declared` bytes of which `received` have
+// arrived, is late: body_timeout plus the lesser of declared / min_transfer_rate (the total) and
+// received / min_body_rate (what the bytes so far earned). The loop moves it as bytes arrive.
+FrontClock::time_point body_deadline(const DeadlinePolicy& policy, FrontClock::time_point start, uint64_t declared,
+                                     uint64_t received);
 // When an answer of `bytes` bytes started at `start` is late (write_timeout plus bytes at min_transfer_rate).
 FrontClock::time_point write_deadline(const DeadlinePolicy& policy, FrontClock::time_point start, uint64_t bytes);
 // The 408's detail for a late body, with its numbers.

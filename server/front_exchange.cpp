@@ -1,11 +1,11 @@
 // One connection's requests and answers in the connection front (see front_loop.hpp): bytes are
 // read into the connection's buffer and framed into a head; a head that announces a body is
 // screened before "100 Continue" is sent or a body byte is taken, and a refused one goes to a worker
-// alone, its body never read; a body is read under its deadline (front_deadlines.hpp), then the
-// whole request goes to a worker. The answer is written back without reading meanwhile;
-// then the connection waits for its next request, or shuts its write side and lingers: what the client still sends is
-// read and dropped for a moment, so closing with unread bytes does not reset the connection and destroy the answer
-// before the client has read it.
+// alone, its body never read; a body is read under its deadline (front_deadlines.hpp), which the
+// bytes received move on, then the whole request goes to a worker. The answer is written back
+// without reading meanwhile; then the connection waits for its next request, or shuts its write
+// side and lingers: what the client still sends is read and dropped for a moment, so closing with
+// unread bytes does not reset the connection and destroy the answer before the client has read it.
 #include "server/front_loop.hpp"
 
 #include <sys/epoll.h>
@@ -67,7 +67,11 @@ void Loop::advance(Connection& c, Clock::time_point now) {
   }
   if (c.phase == Phase::body) {
     const size_t need = c.head.head_bytes + c.head.content_length;
-    if (c.in.size() < need) return;
+    if (c.in.size() < need) {
+      // The bytes received so far earn the body more time, up to its total.
+      set_deadline(c, body_deadline(config.deadlines, c.since, c.head.content_length, c.in.size() - c.head.head_bytes));
+      return;
+    }
     FrontRequest request;
     request.bytes = c.in.substr(0, need);
     request.head = std::move(c.head);
@@ -127,7 +131,7 @@ bool Loop::read_head(Connection& c, Clock::time_point now) {
     if (!connections.count(id)) return false;  // the write failed and closed it
   }
   set_phase(c, Phase::body, now);
-  set_deadline(c, body_deadline(config.deadlines, now, length));
+  set_deadline(c, body_deadline(config.deadlines, now, length, c.in.size() - c.head.head_bytes));
   return true;
 }
 

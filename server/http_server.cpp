@@ -192,6 +192,7 @@ FrontConfig front_config(const ServerConfig& c) {
   f.deadlines.body_timeout = std::chrono::milliseconds(c.body_timeout_ms);
   f.deadlines.write_timeout = std::chrono::seconds(c.write_timeout_s);
   f.deadlines.min_transfer_rate = c.min_transfer_rate;
+  f.deadlines.min_body_rate = c.min_body_rate;
   f.max_buffered_body_bytes = c.max_buffered_body_bytes;
   f.max_requests_per_connection = c.keep_alive_max_requests;
   f.head_limits = {c.max_request_line_bytes, c.max_header_bytes, c.max_header_count};

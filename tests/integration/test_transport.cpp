@@ -1,8 +1,8 @@
 // The transport seam over real sockets. Screening decides from the head alone: a request it refuses
 // is answered before any of its body is read, and "100 Continue" comes only once the head passed
 // (a 415 for a wrong Content-Type and a 401 for a missing token, each with Expect and a 4 MiB body
-// declared and never sent), and a 50 MiB import at full speed is answered. Every read has a
-// deadline, so nothing here can hang.
+// declared and never sent); a body trickled at 1 byte/s gets 408 by its timeout, while a 50 MiB
+// import at full speed is answered. Every read has a deadline, so nothing here can hang.
 #include "server_fixture.hpp"
 
 #include <poll.h>
@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -151,6 +152,34 @@ TEST_F(TransportTest, AcceptedHeadWithExpectGets100ContinueThenItsAnswer) {
   ASSERT_TRUE(client.send(body));
   ASSERT_TRUE(client.read_until("image/png", Clock::now() + 10s)) << client.received().substr(0, 300);
   EXPECT_NE(client.received().find("HTTP/1.1 200 OK"), std::string::npos) << client.received().substr(0, 300);
+}
+
+// A body trickled at 1 byte/s earns 2 ms a byte (1 s per 500 bytes), so it gets 408 about 20 s after
+// its head, under the service's default deadlines; the declared 1 MiB would buy 24 s were the
+// deadline a total alone.
+TEST_F(TransportTest, BodyAtOneBytePerSecondGets408Within21Seconds) {
+  rr::server::ServerConfig config = test_server_config();
+  config.body_timeout_ms = 20'000;
+  config.min_transfer_rate = 256u << 10;
+  config.min_body_rate = 500;
+  TestServer server(config);
+  RawClient client(server.port());
+  ASSERT_TRUE(client.ok());
+  ASSERT_TRUE(client.send(head_with_declared_body("/v1/render", "Content-Type: application/json\r\n", 1u << 20)));
+  const auto start = Clock::now();
+  bool answered = false;
+  for (int second = 1; second <= 23 && !answered; ++second) {
+    client.send("{");  // fails once the server closed; the answer is read below
+    answered = client.read_until("\r\n\r\n", start + std::chrono::seconds(second));
+  }
+  const double after = std::chrono::duration<double>(Clock::now() - start).count();
+  ASSERT_TRUE(answered) << "no answer within 23 s";
+  EXPECT_TRUE(client.received().starts_with("HTTP/1.1 408 ")) << client.received().substr(0, 300);
+  EXPECT_NE(client.received().find("Connection: close"), std::string::npos) << client.received().substr(0, 300);
+  EXPECT_GE(after, 19.5) << "408 before the body's timeout";
+  EXPECT_LT(after, 21.0) << "the trickle kept the connection";
+  EXPECT_TRUE(client.read_until_closed(Clock::now() + 3s));
+  std::printf("1 byte/s body answered 408 after %.2f s\n", after);
 }
 
 // 50 MiB (the limit is 64 MiB) at loopback speed: received whole and answered, the minimum rate no
