@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer: builds every target (the
 # server binary that the integration, schema, browser, client and deploy suites start included) into
-# build-asan/ at -O1 with debug info, then runs ctest there. Exits non-zero when a test fails or when
-# any sanitizer report was written, by a test binary or by a server or CLI a test started (whose exit
-# status a test may not look at): every report goes to build-asan/sanitizer-reports/ and is printed.
+# build-asan/ at -O1 with line tables (-g1: a report names file and line; full -g doubled the compile
+# time), the test suites' own sources at -O0 (tests/CMakeLists.txt), then runs ctest there. Exits
+# non-zero when a test fails or when any sanitizer report was written, by a test binary or by a server
+# or CLI a test started (whose exit status a test may not look at): every report goes to
+# build-asan/sanitizer-reports/ and is printed.
 # Extra arguments go to ctest (e.g. -R unit); TARGETS="a b" builds only those targets (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="${JOBS:-$(nproc)}"
 # Warnings are not errors here: GCC 12 reports false -Wmaybe-uninitialized inside libstdc++'s
 # std::function/std::regex once ASan instruments them; the normal build (scripts/test.sh) keeps -Werror.
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
   -DROOMRENDER_SANITIZE=ON -DROOMRENDER_WERROR=OFF -DROOMRENDER_BENCH=OFF
 reports="$PWD/build-asan/sanitizer-reports"
 rm -rf "$reports"

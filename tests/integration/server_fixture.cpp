@@ -164,4 +164,14 @@ std::string base64_decode(const std::string& text) {
   return out;
 }
 
+nlohmann::json scene_with_box_at(double x) {
+  nlohmann::json scene = nlohmann::json::parse(small_request)["scene"];
+  scene["solids"][0]["center"] = {x, 0.0};
+  return scene;
+}
+
+httplib::Result post_scene(const TestServer& server, const nlohmann::json& scene, const httplib::Headers& headers) {
+  return server.client().Post("/v1/scenes", headers, scene.dump(), "application/json");
+}
+
 }  // namespace rr::testing

@@ -79,6 +79,10 @@ int connect_loopback(int port);
 
 // A small, quick request: a floor and a box, 64x48.
 extern const char* const small_request;
+// small_request's scene with its box moved to x (metres): a distinct scene id per x.
+nlohmann::json scene_with_box_at(double x);
+// POST /v1/scenes of `scene`.
+httplib::Result post_scene(const TestServer& server, const nlohmann::json& scene, const httplib::Headers& headers = {});
 
 std::string base64_decode(const std::string& text);
 

@@ -17,12 +17,6 @@ namespace fs = std::filesystem;
 
 json small_scene() { return json::parse(small_request)["scene"]; }
 
-json scene_with_box_at(double x) {
-  json scene = small_scene();
-  scene["solids"][0]["center"] = {x, 0.0};
-  return scene;
-}
-
 // Stores `scene`; returns the answer's body (id, location, ...).
 json store(const TestServer& server, const json& scene, int expected_status = 201) {
   auto res = server.client().Post("/v1/scenes", scene.dump(), "application/json");

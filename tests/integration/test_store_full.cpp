@@ -14,16 +14,6 @@ using nlohmann::json;
 using namespace rr::testing;
 namespace fs = std::filesystem;
 
-json scene_with_box_at(double x) {
-  json scene = json::parse(small_request)["scene"];
-  scene["solids"][0]["center"] = {x, 0.0};
-  return scene;
-}
-
-httplib::Result post_scene(const TestServer& server, const json& scene) {
-  return server.client().Post("/v1/scenes", scene.dump(), "application/json");
-}
-
 std::string store(const TestServer& server, const json& scene) {
   auto res = post_scene(server, scene);
   EXPECT_TRUE(res);
