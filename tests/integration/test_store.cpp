@@ -208,7 +208,7 @@ TEST_F(StoreTest, QueryParameterErrorsNameTheParameter) {
 
 TEST(StoreBounds, SceneLargerThanTheWholeBudgetIs413) {
   rr::server::ServerConfig config = test_server_config();
-  config.scene_store_bytes = 4096;
+  config.scene_store_bytes = small_scene().dump().size() - 1;  // the document's bytes, nothing prepared
   TestServer server(config);
   json problem = expect_problem(server.client().Post("/v1/scenes", small_scene().dump(), "application/json"), 413);
   EXPECT_EQ(problem["errors"][0]["pointer"], "");
