@@ -239,6 +239,28 @@ TEST(StorePersistence, StoredScenesSurviveARestart) {
   EXPECT_FALSE(fs::exists(dir / "scenes" / (id + ".json")));
 }
 
+// A server whose stored scenes will not outlive it says so once at start; one with a data directory
+// does not.
+TEST(StorePersistence, AServerWithoutADataDirSaysItsScenesLiveOnlyAsLongAsTheProcess) {
+  for (const bool with_dir : {false, true}) {
+    rr::server::ServerConfig config = test_server_config();
+    if (with_dir) config.data_dir = fresh_output_dir();
+    LogCapture log;
+    config.log_level = "warn";
+    config.log_sink = log.sink();
+    { TestServer server(config); }
+    size_t said = 0;
+    for (const json& line : log.lines()) {
+      if (line.value("event", "") != "store_in_memory") continue;
+      ++said;
+      EXPECT_EQ(line["level"], "warn");
+      EXPECT_NE(line.value("reason", "").find("only as long as this process"), std::string::npos) << line;
+      EXPECT_NE(line.value("reason", "").find("--data-dir"), std::string::npos) << line;
+    }
+    EXPECT_EQ(said, with_dir ? 0u : 1u) << (with_dir ? "with" : "without") << " a data directory";
+  }
+}
+
 // What a crash can leave: a temporary file from a write that never reached its rename (removed at
 // start), and a file whose content no longer hashes to its name (kept for a person, not served).
 TEST(StorePersistence, StartUpRemovesTornWritesAndSkipsMismatchedFiles) {
