@@ -58,7 +58,7 @@ nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchR
   // What render_frame spends outside every stage (allocating and clearing the frame's buffers),
   // per frame: medians of different stages do not add up, so the difference is taken first.
   auto other = [](const StageTimings& t) {
-    return t.total_ms - (t.shadow_ms + t.build_ms + t.sort_ms + t.traverse_ms + t.raster_ms + t.shade_ms);
+    return t.total_ms - (t.shadow_ms + t.build_ms + t.cull_ms + t.sort_ms + t.traverse_ms + t.raster_ms + t.shade_ms);
   };
   nlohmann::ordered_json j;
   j["frames"] = run.frames;
@@ -72,6 +72,7 @@ nlohmann::ordered_json bench_report_json(const BenchReport& report, const BenchR
   j["frame_ms_max"] = ms(*std::max_element(report.frame_ms.begin(), report.frame_ms.end()));
   j["stage_ms_median"] = {{"shadow", stage_median(field(&StageTimings::shadow_ms))},
                           {"build", stage_median(field(&StageTimings::build_ms))},
+                          {"cull", stage_median(field(&StageTimings::cull_ms))},
                           {"sort", stage_median(field(&StageTimings::sort_ms))},
                           {"traverse", stage_median(field(&StageTimings::traverse_ms))},
                           {"raster", stage_median(field(&StageTimings::raster_ms))},

@@ -13,7 +13,7 @@ namespace {
 using nlohmann::json;
 
 enum class Kind { vec3, number, integer, size, name, boolean, light };
-enum class Names { none, pipelines, shadings, png };
+enum class Names { none, pipelines, shadings, png, culling };
 
 struct RequestFlag {
   const char* name;
@@ -41,6 +41,8 @@ constexpr RequestFlag request_flag_rows[] = {
     {"--antialias", "/options/antialias", Kind::integer, "S", Names::none,
      "coverage sub-samples per pixel: 1, 4, 8 or 16"},
     {"--png", "/options/png/compression", Kind::name, nullptr, Names::png, "PNG encoder (none: stored, unfiltered)"},
+    {"--culling", "/options/culling", Kind::name, nullptr, Names::culling,
+     "occlusion culling (the same bytes either way; docs/culling.md)"},
     {"--light-dir", "/scene/lights", Kind::light, "x,y,z", Names::none, "one white light toward x,y,z, no others"},
 };
 
@@ -59,6 +61,9 @@ std::string value_names(Names names) {
       break;
     case Names::png:
       for (const auto& row : png_compression_names) add(row.name);
+      break;
+    case Names::culling:
+      for (const auto& row : culling_mode_names) add(row.name);
       break;
     case Names::none:
       break;

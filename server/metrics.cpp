@@ -173,8 +173,12 @@ void Metrics::record_request(std::string_view route, std::string_view method, in
   request_seconds_.try_emplace(std::string(route), duration_buckets).first->second.observe(seconds);
 }
 
-void Metrics::record_render(std::string_view pipeline, const StageTimings& timings) {
+void Metrics::record_render(std::string_view pipeline, const StageTimings& timings, const RenderStats& stats) {
   std::lock_guard lock(mutex_);
+  const std::string name(pipeline);
+  culling_[{name, "polygons_projected"}] += stats.polygons_projected;
+  culling_[{name, "objects_occluded"}] += stats.objects_occluded;
+  culling_[{name, "nodes_tested"}] += stats.nodes_tested;
   for (const StageField& stage : stage_table) {
     const double ms = timings.*stage.ms;
     if (ms <= 0.0) continue;
@@ -210,6 +214,13 @@ std::string Metrics::prometheus_text(const MetricsSnapshot& snapshot) const {
     for (const auto& [key, h] : stage_seconds_) {
       histogram_samples(out, "roomrender_render_stage_duration_seconds",
                         label("pipeline", key.first) + "," + label("stage", key.second), h);
+    }
+    header(out, "roomrender_render_culling_total", "counter",
+           "Occlusion culling's counts summed over renders, by pipeline and count: polygons_projected, "
+           "objects_occluded, nodes_tested (docs/culling.md).");
+    for (const auto& [key, count] : culling_) {
+      sample(out, "roomrender_render_culling_total", label("pipeline", key.first) + "," + label("count", key.second),
+             double(count));
     }
     header(out, "roomrender_renders_rejected_total", "counter",
            "Renders refused or stopped: saturated (queue full), expired (deadline while queued), "

@@ -47,8 +47,9 @@ struct MetricsSnapshot {
 class Metrics {
  public:
   void record_request(std::string_view route, std::string_view method, int status, double seconds);
-  // One render's stages, named by stage_table; stages that did not run (0 ms) are not observed.
-  void record_render(std::string_view pipeline, const StageTimings& timings);
+  // One render's stages, named by stage_table; stages that did not run (0 ms) are not observed. Its
+  // culling counts (polygons projected, objects occluded, nodes tested) are added to counters.
+  void record_render(std::string_view pipeline, const StageTimings& timings, const RenderStats& stats = {});
   void record_rejection(std::string_view reason);  // saturated, expired, deadline, draining
 
   // The whole exposition text, this object's series followed by the snapshot's.
@@ -60,6 +61,7 @@ class Metrics {
   std::map<std::string, Histogram> request_seconds_;                        // route
   std::map<std::pair<std::string, std::string>, Histogram> stage_seconds_;  // pipeline, stage
   std::map<std::string, uint64_t> rejections_;
+  std::map<std::pair<std::string, std::string>, uint64_t> culling_;  // pipeline, count
 };
 
 // Resident set size of this process in bytes (0 when /proc is unavailable).

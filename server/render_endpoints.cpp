@@ -92,7 +92,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
   const RenderReport& report = out.report;
 
   const char* pipeline = pipeline_info(report.pipeline).name;
-  state.metrics.record_render(pipeline, report.timings);
+  state.metrics.record_render(pipeline, report.timings, report.stats);
   RequestContext& log = request_context();
   log.pipeline = pipeline;
   log.cache = report.stats.bsp_cache;
@@ -235,6 +235,7 @@ constexpr QueryParam query_params[] = {
     {"shadow_fit", "/options/shadow/fit", ParamKind::text},
     {"png", "/options/png/compression", ParamKind::text},
     {"antialias", "/options/antialias", ParamKind::integer},
+    {"culling", "/options/culling", ParamKind::text},
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {

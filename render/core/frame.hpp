@@ -21,9 +21,10 @@ struct StageTimings {     // wall-clock milliseconds; a stage that did not run s
   double queue_ms = 0.0;  // waiting for a render slot (the service); not part of total
   double parse_ms = 0.0;
   double tessellate_ms = 0.0;
-  double build_ms = 0.0;     // BSP tree build (0 on a cache hit)
+  double build_ms = 0.0;     // BSP tree build (0 on a cache hit), the scene hierarchy when built for one frame
+  double cull_ms = 0.0;      // frustum culling of whole objects and the occlusion walk (occlusion.hpp)
   double sort_ms = 0.0;      // painter's depth sort (and Newell tests)
-  double traverse_ms = 0.0;  // BSP back-to-front walk
+  double traverse_ms = 0.0;  // BSP walk
   double shadow_ms = 0.0;    // shadow-map passes
   double raster_ms = 0.0;
   double shade_ms = 0.0;
@@ -37,11 +38,12 @@ struct StageField {
   const char* name;
   double StageTimings::*ms;
 };
-inline constexpr std::array<StageField, 11> stage_table = {{
+inline constexpr std::array<StageField, 12> stage_table = {{
     {"queue", &StageTimings::queue_ms},
     {"parse", &StageTimings::parse_ms},
     {"tessellate", &StageTimings::tessellate_ms},
     {"build", &StageTimings::build_ms},
+    {"cull", &StageTimings::cull_ms},
     {"sort", &StageTimings::sort_ms},
     {"traverse", &StageTimings::traverse_ms},
     {"shadow", &StageTimings::shadow_ms},
@@ -52,14 +54,18 @@ inline constexpr std::array<StageField, 11> stage_table = {{
 }};
 
 struct RenderStats {
-  size_t polygons = 0;                // in the tessellated scene
-  size_t polygons_culled = 0;         // skipped before rasterization (back-facing or outside the view)
-  size_t polygons_drawn = 0;          // reached the rasterizer
-  size_t triangles = 0;               // rasterized after clipping
-  size_t fragments = 0;               // pixels that passed coverage (before the depth test)
-  size_t lights_evaluated = 0;        // light-polygon (flat) or light-vertex/pixel evaluations
-  bool shadow_skipped = true;         // no shadow lookups (no light, shadows off, or nothing to cast)
-  size_t objects_culled = 0;          // solids (and walls, floor) wholly outside the view frustum
+  size_t polygons = 0;          // in the tessellated scene
+  size_t polygons_culled = 0;   // skipped before rasterization (back-facing or outside the view)
+  size_t polygons_drawn = 0;    // reached the rasterizer
+  size_t triangles = 0;         // rasterized after clipping
+  size_t fragments = 0;         // pixels that passed coverage (before the depth test)
+  size_t lights_evaluated = 0;  // light-polygon (flat) or light-vertex/pixel evaluations
+  bool shadow_skipped = true;   // no shadow lookups (no light, shadows off, or nothing to cast)
+  size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
+  // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
+  size_t objects_occluded = 0;        // objects in the frustum with a front face, none of it drawn: all hidden
+  size_t nodes_tested = 0;            // hierarchy (or BSP) nodes tested against the depth pyramid
+  size_t polygons_projected = 0;      // polygons the pipeline clipped and projected (every pipeline counts them)
   std::string shadow_cache = "none";  // "hit", "miss" (the pass ran), "none" (no maps wanted)
   size_t shadow_passes = 0;           // shadow passes run by this frame: 1 on a miss, 0 on a hit
   // Painter.
@@ -87,6 +93,8 @@ struct Frame {
   std::vector<uint8_t> shadow_mask = {};
 };
 
+struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
+class DepthPyramid;                              // occlusion.hpp: one frame's hierarchical depth
 struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
 using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
 struct ShadowMaps;                               // shadow.hpp: the shadow pass's depth maps for one frame
@@ -101,7 +109,12 @@ struct RenderContext {
   ShadowCache* shadow_cache = nullptr;  // null: every frame with shadows runs its own shadow pass
   bool shadow_mask = false;             // fill Frame::shadow_mask (error measures); off: no cost
   unsigned threads = 1;                 // threads drawing the tiles and encoding the PNG (output does not depend on it)
-  bool encode = true;                   // false: render() leaves the PNG empty (bench-render's frames)
+  // The hierarchy of `hierarchy_soup` (the prepared scene's soup; a frame of a selection of it maps
+  // its polygons by id). Null: a frame that culls occlusion builds a private one (timed as build).
+  const SceneHierarchy* hierarchy = nullptr;
+  const PolygonSoup* hierarchy_soup = nullptr;
+  int cull_eager = 0;  // tests only: the occlusion test made that many margins too eager (a mutation)
+  bool encode = true;  // false: render() leaves the PNG empty (bench-render's frames)
   // What the caller measured for this request before calling render(), carried into its report.
   // render() adds its own time to before_ms, so total = parse start -> encode end, less queue.
   double queue_ms = 0.0;       // waiting for a render slot
@@ -113,6 +126,10 @@ struct RenderContext {
 struct FrameInput {
   // Whether polygon `p` may be visible as far as its whole object goes (see objects_in_view).
   bool object_may_show(const Polygon& p) const { return !objects_in_view || (*objects_in_view)[p.object]; }
+  // Whether polygon `index` of `soup` may be visible as far as occlusion culling goes.
+  bool polygon_may_show(uint32_t index) const { return !polygons_shown || (*polygons_shown)[index]; }
+  // The same for a polygon (or a piece of one) by its id.
+  bool id_may_show(uint32_t id) const { return !polygons_shown_by_id || (*polygons_shown_by_id)[id]; }
 
   const Scene& scene;
   const PolygonSoup& soup;
@@ -123,6 +140,12 @@ struct FrameInput {
   // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
   // not computed (the bsp pipeline culls subtrees of its tree instead).
   const std::vector<uint8_t>* objects_in_view = nullptr;
+  // Per soup polygon, 0 when the occlusion walk found it hidden; null: no occlusion culling (off, or
+  // the pipeline's row does not use it). The pyramid the walk filled, for pipelines with their own
+  // tree (bsp tests its subtrees against it); null as well without occlusion culling.
+  const std::vector<uint8_t>* polygons_shown = nullptr;
+  const std::vector<uint8_t>* polygons_shown_by_id = nullptr;  // the same, indexed by Polygon::id
+  const DepthPyramid* occlusion = nullptr;
   size_t* lights_evaluated = nullptr;  // SurfaceShader adds its light evaluations here
   uint8_t* shadow_mask = nullptr;      // Frame::shadow_mask's pixels when requested, else null
 };

@@ -206,6 +206,10 @@ struct ShadowOptions {
 // view sees into the rooms), on draws every ceiling, off none.
 enum class CeilingMode { automatic, on, off };
 
+// Whether a frame skips what is hidden behind what it has drawn (docs/culling.md). It changes the
+// time only: the pipelines that use it give the same bytes either way; off is the check of that.
+enum class CullingMode { on, off };
+
 struct RenderOptions {
   int width = 640;
   int height = 480;
@@ -222,6 +226,7 @@ struct RenderOptions {
   // Coverage sub-samples per pixel (sample_pattern.hpp): 1 takes the polygon at the pixel centre;
   // 4, 8 or 16 resolve each pixel from the fragments visible in its sub-samples (docs/antialiasing.md).
   int antialias = 1;
+  CullingMode culling = CullingMode::on;
 };
 
 struct RenderRequest {

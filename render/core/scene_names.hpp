@@ -64,4 +64,10 @@ inline constexpr std::array<NameRow<CeilingMode>, 3> ceiling_mode_rows = {{
 }};
 inline constexpr NameTable<NameRow<CeilingMode>> ceiling_mode_names{ceiling_mode_rows};
 
+inline constexpr std::array<NameRow<CullingMode>, 2> culling_mode_rows = {{
+    {CullingMode::on, "on"},
+    {CullingMode::off, "off"},
+}};
+inline constexpr NameTable<NameRow<CullingMode>> culling_mode_names{culling_mode_rows};
+
 }  // namespace rr

@@ -5,6 +5,7 @@
 #include "render/pipelines/visibility.hpp"
 
 #include "render/core/draw.hpp"
+#include "render/core/occlusion.hpp"
 #include "render/core/parallel.hpp"
 
 #include <algorithm>
@@ -24,15 +25,47 @@ struct Chunk {
   std::vector<uint32_t> polygons;  // soup indices that projected
   std::vector<BinnedTriangle> triangles;
   std::vector<PixelRect> tiles;  // per triangle: its tile range, half-open
-  size_t triangles_drawn = 0;    // fan triangles after clipping, empty ones included (stats)
+  // With occlusion culling, per triangle: no_skip, or where its row-major flags over `tiles` start
+  // in `skip` (1: every pixel it could reach in that tile lies behind the depth pyramid).
+  std::vector<uint32_t> skip_first;
+  std::vector<uint8_t> skip;
+  size_t triangles_drawn = 0;  // fan triangles after clipping, empty ones included (stats)
 };
+constexpr uint32_t no_skip = 0xFFFFFFFFu;
+
+// Flags the tiles of triangle `t` (pixel bounds px0..px1, py0..py1, sub-sample margin included) in
+// which it lies wholly behind the frame's depth pyramid: inside a triangle 1/w is a blend of its
+// vertices', so the largest of those bounds all of it (docs/culling.md). Returns whether any is.
+bool flag_hidden_tiles(const FrameInput& input, const BinnedTriangle& t, int px0, int py0, int px1, int py1,
+                       const PixelRect& tiles, Chunk& out) {
+  const DepthPyramid& pyramid = *input.occlusion;
+  const double widen = 1.0 + occlusion_margin - 2.0 * double(input.context.cull_eager) * occlusion_margin;
+  const double near = std::max({t.inv_w[0], t.inv_w[1], t.inv_w[2]}) * widen;
+  const size_t first = out.skip.size();
+  bool any = false;
+  for (int ty = tiles.y0; ty < tiles.y1; ++ty) {
+    for (int tx = tiles.x0; tx < tiles.x1; ++tx) {
+      const int x0 = std::max(px0, tx * tile_size), x1 = std::min(px1 + 1, (tx + 1) * tile_size);
+      const int y0 = std::max(py0, ty * tile_size), y1 = std::min(py1 + 1, (ty + 1) * tile_size);
+      const bool hidden = pyramid.hidden(x0 - 1, y0 - 1, x1 + 1, y1 + 1, near);
+      out.skip.push_back(uint8_t(hidden));
+      any = any || hidden;
+    }
+  }
+  if (!any) out.skip.resize(first);
+  out.skip_first.push_back(any ? uint32_t(first) : no_skip);
+  return any;
+}
 
 void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, size_t begin, size_t end, int tiles_x,
                int tiles_y, Chunk& out) {
   out.polygons.clear();
   out.triangles.clear();
   out.tiles.clear();
+  out.skip_first.clear();
+  out.skip.clear();
   out.triangles_drawn = 0;
+  const bool occlusion = input.occlusion && !input.occlusion->empty();
   const int width = input.view.width, height = input.view.height;
   const int margin = input.options.antialias > 1 ? 1 : 0;
   thread_local DrawScratch scratch;
@@ -67,6 +100,10 @@ void bin_chunk(const FrameInput& input, const std::vector<uint32_t>& opaque, siz
       out.triangles.push_back(t);
       out.tiles.push_back({px0 / tile_size, py0 / tile_size, std::min(tiles_x, px1 / tile_size + 1),
                            std::min(tiles_y, py1 / tile_size + 1)});
+      // A triangle within one tile was tested with its hierarchy node; larger ones, tile by tile.
+      const PixelRect& r = out.tiles.back();
+      if (occlusion && (r.x1 - r.x0) * (r.y1 - r.y0) > 1) flag_hidden_tiles(input, t, px0, py0, px1, py1, r, out);
+      else if (occlusion) out.skip_first.push_back(no_skip);
     }
   }
 }
@@ -96,8 +133,12 @@ void append_chunk(const FrameInput& input, const Chunk& c, VisibilityInput& out,
     out.triangles.push_back(c.triangles[n]);
     out.triangles.back().slot += slot0;
     const PixelRect& r = c.tiles[n];
+    const uint8_t* skip = c.skip_first.empty() || c.skip_first[n] == no_skip ? nullptr : &c.skip[c.skip_first[n]];
     for (int ty = r.y0; ty < r.y1; ++ty) {
-      for (int tx = r.x0; tx < r.x1; ++tx) out.bins[size_t(ty * out.tiles_x + tx)].push_back(index);
+      for (int tx = r.x0; tx < r.x1; ++tx) {
+        if (skip && *skip++) continue;
+        out.bins[size_t(ty * out.tiles_x + tx)].push_back(index);
+      }
     }
   }
 }

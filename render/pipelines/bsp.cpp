@@ -3,6 +3,7 @@
 #include "render/pipelines/bsp.hpp"
 
 #include "render/core/draw.hpp"
+#include "render/core/occlusion.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/ordered_draw.hpp"
@@ -42,17 +43,31 @@ size_t subtree_polygons(const BspTree& tree, int32_t root) {
   return count;
 }
 
-std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform& view, size_t& culled) {
+bool bsp_node_occluded(const FrameInput& input, const BspNode& node, RenderStats& stats) {
+  if (!input.occlusion) return false;
+  bool tested = false;
+  const bool hidden = box_occluded(*input.occlusion, input.view, node.lo, node.hi, input.context.cull_eager, tested);
+  stats.nodes_tested += tested;
+  return hidden;
+}
+
+std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform& view, size_t& culled,
+                                        const FrameInput* occlusion, RenderStats* stats) {
   std::vector<uint32_t> order;
   const Frustum frustum(view);
   auto enter = [&](int32_t index, const BspNode& node) {
-    if (!frustum.outside(node.lo, node.hi)) return true;
+    const bool skip = frustum.outside(node.lo, node.hi) || (occlusion && bsp_node_occluded(*occlusion, node, *stats));
+    if (!skip) return true;
     culled += subtree_polygons(tree, index);  // what the skip saves
     return false;
   };
   walk_bsp(
       tree, view.eye, WalkOrder::back_to_front, enter,
       [&](uint32_t index) {
+        if (occlusion && !occlusion->id_may_show(tree.fragments.polygons[index].id)) {
+          ++culled;
+          return true;
+        }
         order.push_back(index);
         return true;
       },
@@ -90,7 +105,7 @@ void draw_bsp(const FrameInput& input, Frame& frame, RenderStats& stats, StageTi
     return;
   }
   size_t culled = 0;
-  std::vector<uint32_t> order = bsp_back_to_front(*tree, input.view, culled);
+  std::vector<uint32_t> order = bsp_back_to_front(*tree, input.view, culled, &input, &stats);
   timings.traverse_ms += clock.lap_ms();
 
   SurfaceShader shader(input, tree->fragments);
@@ -98,6 +113,7 @@ void draw_bsp(const FrameInput& input, Frame& frame, RenderStats& stats, StageTi
   timings.shade_ms += clock.lap_ms();
 
   const DrawSource source{&tree->fragments, &shader};
+  stats.polygons_projected += order.size();
   std::vector<OrderedItem> items(order.size());
   for (size_t k = 0; k < order.size(); ++k) items[k] = {order[k], 0};
   // Kept by this thread for its next frame, so their memory is not allocated again.

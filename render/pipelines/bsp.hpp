@@ -107,8 +107,15 @@ void walk_bsp(const BspTree& tree, Vec3 eye, WalkOrder order, Enter&& enter, Emi
 }
 
 // The tree's polygons back to front for the camera: subtrees whose bounds lie outside the view
-// frustum and back faces of closed solids are skipped (counted in `culled`).
-std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform& view, size_t& culled);
+// frustum and back faces of closed solids are skipped (counted in `culled`). With `occlusion` (a
+// frame that culls occlusion), so are subtrees behind its depth pyramid and pieces of polygons its
+// walk found hidden (counted in `culled` too, and the tests in stats->nodes_tested).
+std::vector<uint32_t> bsp_back_to_front(const BspTree& tree, const ViewTransform& view, size_t& culled,
+                                        const FrameInput* occlusion = nullptr, RenderStats* stats = nullptr);
+
+// Whether the frame's occlusion culling skips BSP node `node` (its box lies behind the frame's depth
+// pyramid); counts the test in stats.nodes_tested. False when the frame does not cull occlusion.
+bool bsp_node_occluded(const FrameInput& input, const BspNode& node, RenderStats& stats);
 
 // Draws the tree front to back, each pixel by the first polygon that reaches it, skipping subtrees
 // whose screen bounds are already covered and stopping when the screen is full; translucent

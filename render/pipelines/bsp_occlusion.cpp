@@ -175,9 +175,12 @@ class FrontToBack {
   }
 
   // A subtree is entered unless it is outside the frustum or its screen rectangle is all written.
+  // With occlusion culling, also unless it lies behind the frame's depth pyramid (bsp_node_occluded).
   bool enter(int32_t index, const BspNode& node) {
     const bool outside = frustum_.outside(node.lo, node.hi);
-    if (!outside && !box_hidden(coverage_, view_, node.lo, node.hi)) return true;
+    if (!outside && !box_hidden(coverage_, view_, node.lo, node.hi) && !bsp_node_occluded(input_, node, stats_)) {
+      return true;
+    }
     if (!outside) ++stats_.bsp_subtrees_occluded;
     culled_ += subtree_polygons(tree_, index);
     return false;
@@ -187,8 +190,12 @@ class FrontToBack {
   // screen is full and nothing later can show.
   bool emit(uint32_t index) {
     if ((seq_ & 4095) == 4095) check_cancel(input_.context.cancel);
-    const uint32_t position = seq_++;
     const Polygon& poly = soup_.polygons[index];
+    if (!input_.id_may_show(poly.id)) {  // a piece of a polygon the occlusion walk found hidden
+      ++culled_;
+      return true;
+    }
+    const uint32_t position = seq_++;
     id_of_.push_back(poly.id);
     if (poly.flags & polygon_translucent) {
       translucent_.push_back({index, position});
@@ -227,6 +234,7 @@ class FrontToBack {
   // is left to draw, or when `opaque` and every pixel it could write is written (a translucent one
   // still shows over those).
   bool project(uint32_t index, uint32_t position, bool opaque) {
+    ++stats_.polygons_projected;
     if (!project_polygon(view_, soup_, soup_.polygons[index], scratch_)) {
       ++culled_;
       return false;

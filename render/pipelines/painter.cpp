@@ -91,7 +91,12 @@ PainterOrder painter_order(const FrameInput& input, PainterKey key) {
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
     if ((i & 4095) == 4095) check_cancel(input.context.cancel);
     const Polygon& poly = soup.polygons[i];
-    if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly) || !builder.build(soup, i, false, item)) {
+    if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly)) {
+      ++order.culled;
+      continue;
+    }
+    ++order.projected;
+    if (!builder.build(soup, i, false, item)) {
       ++order.culled;
       continue;
     }
@@ -128,6 +133,7 @@ void draw_painter(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   Stopwatch clock;
   PainterOrder order = painter_order(input, input.options.painter_key);
   stats.polygons_culled = order.culled;
+  stats.polygons_projected += order.projected;
   stats.painter_pairs_tested = order.pairs_tested;
   stats.painter_splits = order.splits;
   stats.painter_budget_exhausted = order.budget_exhausted;

@@ -32,6 +32,7 @@ struct PainterOrder {
   PolygonSoup fragments;           // pieces cut by Newell splits; they keep their source's id
   std::vector<PainterItem> items;  // back to front: draw in this order
   size_t culled = 0;               // input polygons dropped: back faces of closed solids, outside the view
+  size_t projected = 0;            // input polygons clipped and projected
   size_t pairs_tested = 0;         // newell: pair tests that went beyond the depth-extent test
   size_t splits = 0;               // newell: polygons cut in two
   bool budget_exhausted = false;   // newell: a work bound was reached (docs/painter.md)

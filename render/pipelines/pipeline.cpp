@@ -2,12 +2,107 @@
 // table row (pipeline_table.cpp) names.
 #include "render/pipelines/pipeline.hpp"
 
+#include "render/core/draw.hpp"
 #include "render/core/frustum.hpp"
+#include "render/core/hierarchy.hpp"
+#include "render/core/occlusion.hpp"
 #include "render/core/shadow.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/shadow_cache.hpp"
 
+#include <algorithm>
+#include <memory>
+
 namespace rr {
+
+namespace {
+
+// What the cull stage hands the pipeline; it outlives the draw.
+struct CullState {
+  ObjectsInView objects;
+  std::unique_ptr<SceneHierarchy> private_hierarchy;
+  std::vector<uint32_t> frame_of;  // hierarchy-soup polygon -> frame polygon (empty: the same soup)
+  std::vector<uint8_t> drawn, opaque;
+  OcclusionResult occlusion;
+  std::vector<uint8_t> shown_by_id;  // when some polygon's id is not its index
+};
+
+// The hierarchy of `soup`: the context's when it was built on this soup or on the soup this one was
+// selected from (polygon ids are indices there), else a private one built now (timed as build).
+const SceneHierarchy& frame_hierarchy(const PolygonSoup& soup, const RenderContext& context, CullState& state,
+                                      StageTimings& timings) {
+  if (context.hierarchy && context.hierarchy_soup == &soup) return *context.hierarchy;
+  if (context.hierarchy && context.hierarchy_soup) {
+    const std::vector<Polygon>& all = context.hierarchy_soup->polygons;
+    state.frame_of.assign(all.size(), no_frame_polygon);
+    bool mapped = true;
+    for (uint32_t j = 0; j < soup.polygons.size() && mapped; ++j) {
+      const uint32_t id = soup.polygons[j].id;
+      mapped = id < all.size() && all[id].id == id && state.frame_of[id] == no_frame_polygon;
+      if (mapped) state.frame_of[id] = j;
+    }
+    if (mapped) return *context.hierarchy;
+    state.frame_of.clear();
+  }
+  Stopwatch build_clock;
+  state.private_hierarchy = std::make_unique<SceneHierarchy>(build_hierarchy(soup, context.cancel));
+  timings.build_ms += build_clock.elapsed_ms();
+  return *state.private_hierarchy;
+}
+
+// The cull stage: whole objects outside the frustum (rows that cull objects), then the occlusion
+// walk (rows that use it, with options.culling on). Timed as cull.
+void cull(const PipelineInfo& pipeline, FrameInput& input, CullState& state, RenderStats& stats,
+          StageTimings& timings) {
+  Stopwatch clock;
+  const PolygonSoup& soup = input.soup;
+  if (pipeline.culls_objects) {
+    state.objects = objects_in_view(soup, input.view);
+    input.objects_in_view = &state.objects.visible;
+    stats.objects_culled = state.objects.culled;
+  }
+  if (!pipeline.occlusion_culling || input.options.culling != CullingMode::on) {
+    timings.cull_ms += clock.elapsed_ms();
+    return;
+  }
+  const double before = timings.build_ms;
+  const SceneHierarchy& hierarchy = frame_hierarchy(soup, input.context, state, timings);
+  const double built = timings.build_ms - before;
+  const size_t n = soup.polygons.size();
+  state.drawn.resize(n);
+  state.opaque.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Polygon& p = soup.polygons[i];
+    state.drawn[i] = !is_back_facing(p, input.view.eye) && input.object_may_show(p);
+    state.opaque[i] = !(p.flags & polygon_translucent);
+  }
+  walk_occlusion(hierarchy, soup, state.frame_of, {state.drawn, state.opaque}, input.view, input.context.cull_eager,
+                 state.occlusion);
+  input.polygons_shown = &state.occlusion.shown;
+  input.polygons_shown_by_id = &state.occlusion.shown;
+  uint32_t ids = 0;
+  bool same = true;
+  for (size_t i = 0; i < n; ++i) {
+    ids = std::max(ids, soup.polygons[i].id + 1);
+    same = same && soup.polygons[i].id == i;
+  }
+  if (!same) {
+    state.shown_by_id.assign(ids, 0);
+    for (size_t i = 0; i < n; ++i) state.shown_by_id[soup.polygons[i].id] |= state.occlusion.shown[i];
+    input.polygons_shown_by_id = &state.shown_by_id;
+  }
+  input.occlusion = &state.occlusion.pyramid;
+  stats.nodes_tested = state.occlusion.nodes_tested;
+  // An object counts as occluded when it has a polygon the pipeline would draw and the walk showed none.
+  std::vector<uint8_t> object_state(soup.objects.size(), 0);  // bit 0: drawn; bit 1: shown
+  for (size_t i = 0; i < n; ++i) {
+    if (state.drawn[i]) object_state[soup.polygons[i].object] |= uint8_t(1 | (state.occlusion.shown[i] << 1));
+  }
+  for (uint8_t s : object_state) stats.objects_occluded += s == 1;
+  timings.cull_ms += clock.elapsed_ms() - built;
+}
+
+}  // namespace
 
 RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Camera& camera,
                           const RenderOptions& options, const RenderContext& context) {
@@ -24,6 +119,7 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   check_cancel(context.cancel);
   // The shadow pass runs at most once, before any pipeline draws, and not at all when the shadow
   // cache holds this frame's maps; with no light or shadows off it does not run (shadow_ms stays 0).
+  // It comes before culling and reads none of it: the maps are the same with culling on or off.
   std::shared_ptr<const ShadowMaps> shadow_maps;
   if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps) {
     Stopwatch shadow_clock;
@@ -32,15 +128,15 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
     if (!shadow_maps->empty()) input.shadows = shadow_maps.get();
   }
   result.stats.shadow_skipped = input.shadows == nullptr;
-  // Whole objects outside the frustum are skipped before any per-polygon work (timed as traverse).
-  ObjectsInView objects;
-  if (pipeline.culls_objects) {
-    Stopwatch cull_clock;
-    objects = objects_in_view(soup, view);
-    input.objects_in_view = &objects.visible;
-    result.stats.objects_culled = objects.culled;
-    result.timings.traverse_ms += cull_clock.elapsed_ms();
-  }
+  // Whole objects outside the frustum, and what lies behind what is drawn first, are skipped before
+  // any per-polygon work of the pipeline.
+  // Kept by this thread for its next frame, so the buffers' memory is not allocated again.
+  thread_local CullState kept_cull_state;
+  CullState& culled = kept_cull_state;
+  culled.private_hierarchy.reset();
+  culled.frame_of.clear();
+  cull(pipeline, input, culled, result.stats, result.timings);
+  check_cancel(context.cancel);
   input.lights_evaluated = &result.stats.lights_evaluated;
   pipeline.draw(input, result.frame, result.stats, result.timings);
   result.timings.total_ms = clock.elapsed_ms();

@@ -22,7 +22,8 @@ constexpr auto pipelines = std::to_array<PipelineInfo>({
     {.name = "zbuffer",
      .summary = "Rasterization with a depth buffer (1/w, float); translucent polygons blended back to front.",
      .draw = draw_zbuffer,
-     .culls_objects = true},
+     .culls_objects = true,
+     .occlusion_culling = true},
     {.name = "painter",
      .summary = "Painter's algorithm: polygons sorted back to front by view depth (painter.key mean, min or max), "
                 "or ordered exactly by the Newell-Newell-Sancha tests with splitting (newell); no depth buffer.",
@@ -33,7 +34,8 @@ constexpr auto pipelines = std::to_array<PipelineInfo>({
      .summary = "A BSP tree of the static scene (built once, cached by scene id), walked front to back with a "
                 "coverage buffer that skips hidden subtrees (bsp.traversal back_to_front: the classic "
                 "back-to-front walk), with frustum and back-face culling; no depth buffer.",
-     .draw = draw_bsp},
+     .draw = draw_bsp,
+     .occlusion_culling = true},
     {.name = "reference",
      .summary = "Exact reference: one double-precision ray per pixel centre through a BVH, per-pixel lighting "
                 "with exact shadow rays; the ground truth the others are measured against (slow).",

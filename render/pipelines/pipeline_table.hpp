@@ -1,8 +1,9 @@
 // The table of pipelines: one row per pipeline holds every fact about it (name, summary, draw
-// function) and what it supports, one column per capability (object culling, shadow maps, the
-// A-buffer, exact visibility, being the reference). RenderOptions::pipeline is a PipelineId, an index
-// into this table; validation, GET /v1/pipelines, the tests, the benchmarks and the fuzz harness
-// iterate the table and pick rows by its columns, so a new row is tested for what it says it does.
+// function) and what it supports, one column per capability (object culling, shadow maps, occlusion
+// culling, the A-buffer, exact visibility, being the reference). RenderOptions::pipeline is a
+// PipelineId, an index into this table; validation, GET /v1/pipelines, the tests, the benchmarks and
+// the fuzz harness iterate the table and pick rows by its columns, so a new row is tested for what it
+// says it does.
 #pragma once
 
 #include "render/core/frame.hpp"
@@ -22,6 +23,11 @@ struct PipelineInfo {
   // for pipelines that cull on their own (bsp walks its tree; reference casts rays through a BVH).
   bool culls_objects = false;
   bool shadow_maps = true;  // render_frame runs the shadow-map pass for it (when shadows are on)
+  // With options.culling on, render_frame walks the scene's hierarchy against a depth pyramid first
+  // (occlusion.hpp) and the pipeline skips what it found hidden, with byte-identical output. Off for
+  // painter (its keys and Newell's budget depend on which polygons it is given) and the reference
+  // (the exhaustive oracle).
+  bool occlusion_culling = false;
   // options.antialias > 1 resolves its sub-samples through the A-buffer (docs/antialiasing.md); off
   // for the reference, which casts a ray per sub-sample and has goldens of its own.
   bool abuffer = true;

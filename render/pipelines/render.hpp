@@ -6,8 +6,10 @@
 #pragma once
 
 #include "render/core/frame.hpp"
+#include "render/core/hierarchy.hpp"
 #include "render/core/placement.hpp"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,10 +21,12 @@ struct PreparedScene {
   PolygonSoup soup;       // world space, metres
   std::string static_id;  // scene_id(scene.geometry): X-Scene-Id and cache key
   std::vector<PlacementWarning> warnings;
-  double tessellate_ms = 0.0;  // the time tessellation took
+  // The pipelines' hierarchy of `soup` (occlusion culling reads it; every view of the scene shares it).
+  std::shared_ptr<const SceneHierarchy> hierarchy;
+  double tessellate_ms = 0.0;  // the time tessellation took, with the hierarchy's build
 };
 
-// Tessellates `scene` and computes its id and placement warnings.
+// Tessellates `scene`, builds its hierarchy and computes its id and placement warnings.
 PreparedScene prepare_scene(Scene scene);
 
 struct RenderReport {

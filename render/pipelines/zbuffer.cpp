@@ -34,7 +34,7 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
     meter.add(1);
     const Polygon& poly = soup.polygons[i];
-    if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly)) continue;
+    if (is_back_facing(poly, input.view.eye) || !input.object_may_show(poly) || !input.polygon_may_show(i)) continue;
     shader.prepare(i);
     (poly.flags & polygon_translucent ? translucent : opaque).push_back(i);
   }
@@ -46,6 +46,7 @@ void draw_zbuffer(const FrameInput& input, Frame& frame, RenderStats& stats, Sta
   for (size_t n = 0; n < order.size(); ++n) translucent[n] = order[n].second;
   // Kept by this thread for its next frame, so the bins' memory is not allocated again.
   thread_local VisibilityInput vis;
+  stats.polygons_projected += opaque.size() + translucent.size();
   bin_polygons(input, opaque, translucent, vis, stats);
   stats.polygons_culled = soup.polygons.size() - stats.polygons_drawn;  // back-facing or off-view
   timings.raster_ms += clock.lap_ms();

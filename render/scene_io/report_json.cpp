@@ -23,7 +23,10 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
                  {"fragments", s.fragments},
                  {"lights_evaluated", s.lights_evaluated},
                  {"shadow_passes", s.shadow_passes},
-                 {"objects_culled", s.objects_culled}};
+                 {"objects_culled", s.objects_culled},
+                 {"objects_occluded", s.objects_occluded},
+                 {"nodes_tested", s.nodes_tested},
+                 {"polygons_projected", s.polygons_projected}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits || s.painter_budget_exhausted) {

@@ -71,7 +71,7 @@ TEST_F(ApiTest, PngByDefaultWithEveryRenderHeader) {
   EXPECT_EQ(png_size(res->body).width, 64u);
   std::string timing = res->get_header_value("Server-Timing");
   for (const char* stage :
-       {"parse", "tessellate", "build", "sort", "traverse", "shadow", "raster", "shade", "encode", "total"}) {
+       {"parse", "tessellate", "build", "cull", "sort", "traverse", "shadow", "raster", "shade", "encode", "total"}) {
     EXPECT_NE(timing.find(std::string(stage) + ";dur="), std::string::npos) << stage << " in " << timing;
   }
   EXPECT_EQ(res->get_header_value("X-Scene-Id").size(), 16u);
@@ -237,6 +237,9 @@ TEST_F(ApiTest, MetricsCountRequestsByRouteTemplateAndStatus) {
   EXPECT_GE(eventually("roomrender_http_request_duration_seconds_count", {"route=\"/v1/render\""}, 2.0), 2.0);
   EXPECT_GE(
       server_->metric("roomrender_render_stage_duration_seconds_count", {"pipeline=\"zbuffer\"", "stage=\"raster\""}),
+      1.0);
+  EXPECT_GE(
+      server_->metric("roomrender_render_culling_total", {"pipeline=\"zbuffer\"", "count=\"polygons_projected\""}),
       1.0);
   EXPECT_EQ(server_->metric("roomrender_renders_in_flight"), 0.0);
   EXPECT_EQ(server_->metric("roomrender_renders_queued"), 0.0);

@@ -85,7 +85,7 @@ TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
   // the frame median (1 µs: both are rounded to microseconds); stages sum to at most the total.
   const json& st = j["stage_ms_median"];
   // "other" is a difference of clock readings rounded to 1 µs, hence the tolerance.
-  for (const char* stage : {"shadow", "build", "sort", "traverse", "raster", "shade", "other", "total"}) {
+  for (const char* stage : {"shadow", "build", "cull", "sort", "traverse", "raster", "shade", "other", "total"}) {
     ASSERT_TRUE(st[stage].is_number()) << stage << " in " << j;
     EXPECT_GE(st[stage].get<double>(), -0.001) << stage;
   }

@@ -118,7 +118,8 @@ TEST(BspOcclusion, AFullScreenEndsTheWalk) {
                    {{"walls", json::array({{{"start", {-5, 0}}, {"end", {5, 0}}, {"height", 3}}})},
                     {"solids", json::array({{{"type", "box"}, {"center", {0, -3}}, {"size", {1, 1, 1}}}})}}},
                   {"camera", {{"position", {0, 1.5, 1.0}}, {"target", {0, 1.5, 0}}}},
-                  {"options", {{"width", 64}, {"height", 48}, {"pipeline", "bsp"}}}};
+                  // Without occlusion culling, which would skip the box in both walks.
+                  {"options", {{"width", 64}, {"height", 48}, {"pipeline", "bsp"}, {"culling", "off"}}}};
   Pair p = render_both(request);
   expect_identical(p);
   EXPECT_TRUE(p.front_to_back.stats.bsp_screen_full);

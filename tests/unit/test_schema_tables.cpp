@@ -59,6 +59,7 @@ TEST(SchemaTables, RequestEnumsEqualTheTables) {
   EXPECT_EQ(strings(options["shadow"]["properties"]["fit"]["enum"]), names_of(shadow_fit_names));
   EXPECT_EQ(strings(options["png"]["properties"]["compression"]["enum"]), names_of(png_compression_names));
   EXPECT_EQ(strings(options["ceilings"]["enum"]), names_of(ceiling_mode_names));
+  EXPECT_EQ(strings(options["culling"]["enum"]), names_of(culling_mode_names));
 }
 
 TEST(SchemaTables, SceneTypesEqualTheTables) {
@@ -186,7 +187,7 @@ std::string dump(const RenderRequest& r) {
   const RenderOptions& o = r.options;
   d("width", o.width)("height", o.height)("pipeline", o.pipeline)("shading", o.shading)("painter_key", o.painter_key)(
       "shadows", o.shadows)("png", o.png_compression);
-  d("levels_given", o.levels_given)("levels", o.levels)("ceilings", o.ceilings);
+  d("levels_given", o.levels_given)("levels", o.levels)("ceilings", o.ceilings)("culling", o.culling);
   d("bsp.w1", o.bsp.w1)("bsp.w2", o.bsp.w2)("bsp.w3", o.bsp.w3)("bsp.epsilon", o.bsp.epsilon)(
       "bsp.max_candidates", o.bsp.max_candidates)("bsp.traversal", o.bsp.traversal);
   d("shadow.size", o.shadow.size)("shadow.pcf", o.shadow.pcf)("shadow.bias", o.shadow.bias)(

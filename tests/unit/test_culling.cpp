@@ -1,0 +1,230 @@
+// Occlusion culling (render/core/occlusion.hpp, docs/culling.md): the depth pyramid's bounds hold for
+// the rasterizer; options.culling on and off give byte-identical images and id buffers for every
+// pipeline whose row uses it, on the examples, homes imported with their furniture models, R2V plans
+// and the fireplace room, from their own and seeded cameras, flat and Phong with shadows, at 1 and 4
+// samples; a test made one margin too eager is caught; the counters do not depend on the thread count.
+// The seed is printed; ROOMRENDER_CULLING_SEED replays another. bench/culling.cpp runs the full matrix.
+#include "render/core/draw.hpp"
+#include "render/core/occlusion.hpp"
+#include "render/pipelines/pipeline_table.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/pipelines/shadow_cache.hpp"
+#include "support/culling_cases.hpp"
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <iostream>
+#include <random>
+
+namespace rr {
+namespace {
+
+using testing::CullingScene;
+using testing::SeededCamera;
+
+uint64_t culling_seed() {
+  const char* text = std::getenv("ROOMRENDER_CULLING_SEED");
+  const uint64_t seed = text ? std::strtoull(text, nullptr, 10) : 20291;
+  std::cout << "culling seed " << seed << " (ROOMRENDER_CULLING_SEED=" << seed << " replays it)\n";
+  return seed;
+}
+
+// One view drawn with culling off and on (`eager` margins too eager): where they differ, or "".
+struct Matrix {
+  BspCache bsp_cache{size_t(2) << 30};
+  ShadowCache shadow_cache{size_t(1) << 30};  // its key ignores the pipeline and culling: shared by all
+  int width = 320, height = 180;
+  size_t compared = 0;
+
+  RenderOutcome draw(const RenderRequest& base, const PreparedScene& scene, const Camera& camera, PipelineId pipeline,
+                     int antialias, bool phong, CullingMode culling, int eager, unsigned threads = 2) {
+    RenderRequest r = base;
+    r.camera = camera;
+    r.options.width = width, r.options.height = height;
+    r.options.pipeline = pipeline;
+    r.options.antialias = antialias;
+    r.options.shading = phong ? ShadingMode::phong : ShadingMode::flat;
+    r.options.shadows = phong;
+    r.options.culling = culling;
+    RenderContext context;
+    context.encode = false;
+    context.threads = threads;
+    context.bsp_cache = &bsp_cache;
+    context.shadow_cache = &shadow_cache;
+    context.cull_eager = eager;
+    return render(r, scene, context);
+  }
+
+  // Every culling pipeline at 1 and 4 samples, flat and Phong with shadows; the first difference.
+  std::string compare(const CullingScene& s, const PreparedScene& scene, const SeededCamera& cam, int eager) {
+    for (const PipelineInfo& row : pipeline_table()) {
+      if (!row.occlusion_culling) continue;
+      for (int antialias : {1, 4}) {
+        for (bool phong : {false, true}) {
+          const PipelineId p = pipeline_id(row);
+          const RenderOutcome off = draw(s.request, scene, cam.camera, p, antialias, phong, CullingMode::off, 0);
+          const RenderOutcome on = draw(s.request, scene, cam.camera, p, antialias, phong, CullingMode::on, eager);
+          ++compared;
+          const bool same_image = off.frame.image.rgb == on.frame.image.rgb;
+          const bool same_ids = off.frame.ids.ids == on.frame.ids.ids;
+          if (same_image && same_ids) continue;
+          return s.name + " camera " + cam.kind + " " + row.name + " S=" + std::to_string(antialias) +
+                 (phong ? " phong+shadows" : " flat") + (same_image ? "" : ": image differs") +
+                 (same_ids ? "" : ": ids differ");
+        }
+      }
+    }
+    return "";
+  }
+};
+
+// The identity check over `scenes`, one seeded camera of each kind per scene (plus its own).
+void expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed) {
+  if (scenes.empty()) GTEST_SKIP() << "no scenes (../shared/data absent)";
+  Matrix m;
+  for (const CullingScene& s : scenes) {
+    const PreparedScene scene = prepare_scene(s.request.scene);
+    for (const SeededCamera& cam : testing::seeded_cameras(s.request, scene.soup, seed, 1)) {
+      EXPECT_EQ(m.compare(s, scene, cam, 0), "") << "seed " << seed;
+    }
+  }
+  std::cout << m.compared << " on/off pairs compared\n";
+}
+
+TEST(Culling, IdenticalOnAndOffExamples) {
+  expect_identical(testing::culling_scenes("examples", testing::source_dir(), testing::shared_data_dir()),
+                   culling_seed());
+}
+
+TEST(Culling, IdenticalOnAndOffHomesWithModels) {
+  expect_identical(testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(),
+                                           {"Studio", "3BedroomApartment", "2BedroomHouseWithBasement"}),
+                   culling_seed());
+}
+
+TEST(Culling, IdenticalOnAndOffPlansAndFireplaceRoom) {
+  std::vector<CullingScene> scenes = testing::culling_scenes("r2v", testing::source_dir(), testing::shared_data_dir());
+  if (scenes.size() > 2) scenes.resize(2);
+  for (CullingScene& s : testing::culling_scenes("fireplace", testing::source_dir(), testing::shared_data_dir()))
+    scenes.push_back(std::move(s));
+  expect_identical(scenes, culling_seed());
+}
+
+// The mutation the identity tests exist for: the occlusion test made one margin too eager (a node
+// counts as hidden when its nearest point is up to one margin in front of the pyramid) must show.
+TEST(Culling, OneMarginTooEagerIsCaught) {
+  const uint64_t seed = culling_seed();
+  std::vector<CullingScene> scenes =
+      testing::culling_scenes("examples", testing::source_dir(), testing::shared_data_dir());
+  for (CullingScene& s :
+       testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"Studio"}))
+    scenes.push_back(std::move(s));
+  Matrix m;
+  std::string first;
+  for (const CullingScene& s : scenes) {
+    const PreparedScene scene = prepare_scene(s.request.scene);
+    for (const SeededCamera& cam : testing::seeded_cameras(s.request, scene.soup, seed, 1)) {
+      first = m.compare(s, scene, cam, 1);
+      if (!first.empty()) break;
+    }
+    if (!first.empty()) break;
+  }
+  EXPECT_NE(first, "") << "an eager occlusion test went unnoticed over " << m.compared << " pairs";
+  std::cout << "eager test caught at: " << first << "\n";
+}
+
+// The counters and the image do not depend on the thread count; culling does skip work on a home.
+TEST(Culling, CountersAreTheSameForAnyThreadCount) {
+  std::vector<CullingScene> scenes =
+      testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"3BedroomApartment"});
+  if (scenes.empty()) GTEST_SKIP() << "no homes (../shared/data absent)";
+  const PreparedScene scene = prepare_scene(scenes[0].request.scene);
+  Matrix m;
+  for (const PipelineInfo& row : pipeline_table()) {
+    if (!row.occlusion_culling) continue;
+    const char* name = row.name;
+    const PipelineId p = pipeline_id(row);
+    const RenderOutcome one =
+        m.draw(scenes[0].request, scene, scenes[0].request.camera, p, 1, false, CullingMode::on, 0, 1);
+    const RenderOutcome three =
+        m.draw(scenes[0].request, scene, scenes[0].request.camera, p, 1, false, CullingMode::on, 0, 3);
+    const RenderOutcome off =
+        m.draw(scenes[0].request, scene, scenes[0].request.camera, p, 1, false, CullingMode::off, 0, 3);
+    const RenderStats &a = one.report.stats, &b = three.report.stats;
+    EXPECT_EQ(a.objects_occluded, b.objects_occluded) << name;
+    EXPECT_EQ(a.nodes_tested, b.nodes_tested) << name;
+    EXPECT_EQ(a.polygons_projected, b.polygons_projected) << name;
+    EXPECT_EQ(one.frame.image.rgb, three.frame.image.rgb) << name;
+    EXPECT_GT(a.objects_occluded, 0u) << name << ": the observer sees one room of the apartment";
+    EXPECT_GT(a.nodes_tested, 0u) << name;
+    EXPECT_LT(a.polygons_projected, off.report.stats.polygons_projected) << name;
+    EXPECT_EQ(off.report.stats.nodes_tested, 0u) << name;
+    EXPECT_EQ(off.report.stats.objects_occluded, 0u) << name;
+  }
+}
+
+// Painter and the reference do not use it: their counts are the same either way.
+TEST(Culling, PainterAndReferenceDoNotUseIt) {
+  const RenderRequest request = request_from_json(testing::example_request("apartment", 96, 72));
+  const PreparedScene scene = prepare_scene(request.scene);
+  Matrix m;
+  m.width = 96, m.height = 72;
+  for (const PipelineInfo& row : pipeline_table()) {
+    if (row.occlusion_culling) continue;
+    const RenderOutcome on = m.draw(request, scene, request.camera, pipeline_id(row), 1, false, CullingMode::on, 0);
+    const RenderOutcome off = m.draw(request, scene, request.camera, pipeline_id(row), 1, false, CullingMode::off, 0);
+    EXPECT_EQ(on.frame.image.rgb, off.frame.image.rgb) << row.name;
+    EXPECT_EQ(on.report.stats.polygons_projected, off.report.stats.polygons_projected) << row.name;
+    EXPECT_EQ(on.report.stats.nodes_tested, 0u) << row.name;
+  }
+}
+
+// The pyramid's promise, checked against the rasterizer itself: every pixel centre of a raised block
+// is covered by the polygon that raised it, at a 1/w no smaller than the block's bound.
+TEST(Culling, PyramidBoundsHoldForTheRasterizer) {
+  const uint64_t seed = culling_seed();
+  std::mt19937_64 rng(seed);
+  auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  Camera camera;
+  camera.position = Vec3(0.0, 0.0, 5.0), camera.target = Vec3(0.0), camera.near = 0.1;
+  const ViewTransform view = make_view(camera, 160, 120);
+  size_t raised_total = 0;
+  for (int n = 0; n < 300; ++n) {
+    PolygonSoup soup;
+    const Vec3 c(uniform(-2.0, 2.0), uniform(-1.5, 1.5), uniform(-4.0, 4.0));
+    const Vec3 u = glm::normalize(Vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)));
+    const Vec3 v = glm::normalize(glm::cross(u, Vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1))));
+    const double r = uniform(0.2, 3.0);
+    const int corners = 3 + int(rng() % 6);
+    for (int k = 0; k < corners; ++k) {
+      const double a = 6.283185307179586 * (k + uniform(0.0, 0.3)) / corners;
+      soup.positions.push_back(c + r * (std::cos(a) * u + std::sin(a) * glm::cross(v, u)));
+      soup.normals.push_back(glm::vec3(v));
+    }
+    Polygon p;
+    p.vertex_count = uint32_t(corners);
+    soup.polygons.push_back(p);
+    DrawScratch scratch;
+    if (!project_polygon(view, soup, soup.polygons[0], scratch)) continue;
+    DepthPyramid pyramid(view.width, view.height);
+    raised_total += pyramid.add_polygon(scratch.screen);
+    std::vector<double> depth(size_t(view.width) * size_t(view.height), 0.0);
+    rasterize_convex(scratch.screen, PixelRect{0, 0, view.width, view.height}, [&](const Fragment& f, size_t) {
+      depth[size_t(f.y) * size_t(view.width) + size_t(f.x)] = f.inv_w;
+    });
+    for (int y = 0; y < view.height; ++y) {
+      for (int x = 0; x < view.width; ++x) {
+        const double bound = pyramid.block(x / occlusion_block, y / occlusion_block);
+        if (bound == 0.0) continue;
+        ASSERT_GE(depth[size_t(y) * size_t(view.width) + size_t(x)], bound)
+            << "seed " << seed << " polygon " << n << " pixel " << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(raised_total, 100u) << "the random polygons raised blocks";
+}
+
+}  // namespace
+}  // namespace rr
