@@ -18,8 +18,7 @@ std::shared_ptr<const StoredScene> read_prepared(const std::string& text, const 
                                                  const StoredScene*) {
   return read_stored_scene(text, limits);
 }
-std::shared_ptr<const StoredMesh> read_prepared(const std::string& text, const ParseLimits& limits,
-                                                const StoredMesh*) {
+std::shared_ptr<const StoredMesh> read_prepared(const std::string& text, const ParseLimits& limits, const StoredMesh*) {
   return read_stored_mesh(text, limits);
 }
 

@@ -40,7 +40,8 @@ std::string draw_home(httplib::Client& client, const StoredHome& home, int width
   auto res = client.Post((home.location + "/render").c_str(), view.dump(), "application/json");
   if (!res || res->status != 200) {
     ADD_FAILURE() << home.name << " " << home.location << ": "
-                  << (res ? std::to_string(res->status) + " " + res->body.substr(0, 300) : httplib::to_string(res.error()));
+                  << (res ? std::to_string(res->status) + " " + res->body.substr(0, 300)
+                          : httplib::to_string(res.error()));
     return "";
   }
   const PngSize size = png_size(res->body);

@@ -15,10 +15,10 @@
 namespace rr::testing {
 
 struct StoredHome {
-  std::string name;        // DistinctHome::name
-  std::string location;    // /v1/scenes/{id}
-  int status = 0;          // the import's answer: 201 when stored now
-  nlohmann::json camera;   // the home's observer camera, from the answer
+  std::string name;       // DistinctHome::name
+  std::string location;   // /v1/scenes/{id}
+  int status = 0;         // the import's answer: 201 when stored now
+  nlohmann::json camera;  // the home's observer camera, from the answer
 };
 
 // Imports distinct_sweet_home(i) with store=1; ADD_FAILUREs unless the answer is 201.

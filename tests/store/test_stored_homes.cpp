@@ -67,9 +67,9 @@ TEST(StoredHomes, EvictionIsInvisible) {
   EXPECT_EQ(builds, 2.0 * count);
   EXPECT_GE(evictions, double(count));
   EXPECT_LE(server.metric("roomrender_cache_bytes", {"cache=\"all\""}), double(config.cache_bytes));
-  std::printf("[ evict ] cache of %zu B (two of the largest home): %.0f rebuilds, %.0f scenes and %.0f meshes evicted\n",
-              config.cache_bytes, builds, evictions,
-              server.metric("roomrender_cache_evictions_total", {"cache=\"meshes\""}));
+  std::printf(
+      "[ evict ] cache of %zu B (two of the largest home): %.0f rebuilds, %.0f scenes and %.0f meshes evicted\n",
+      config.cache_bytes, builds, evictions, server.metric("roomrender_cache_evictions_total", {"cache=\"meshes\""}));
 }
 
 }  // namespace
