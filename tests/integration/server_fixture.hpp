@@ -10,6 +10,9 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/types.h>
+
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -71,6 +74,15 @@ struct PngSize {
 };
 // The PNG signature, then the IHDR chunk's big-endian width and height (PNG spec section 11.2.2).
 PngSize png_size(const std::string& png);
+
+// `roomrender serve ARGS` (the built binary) in a process of its own, its stdout read through `out`,
+// and the port its "listening" line names (0 when it printed none: it failed to start).
+struct ServerProcess {
+  pid_t pid = -1;
+  std::FILE* out = nullptr;
+  int port = 0;
+};
+ServerProcess start_server_process(const std::vector<std::string>& args);
 
 // Sends raw bytes and reads until the server closes the connection (or 10 s pass).
 std::string raw_exchange(int port, const std::string& request);
