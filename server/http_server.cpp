@@ -215,6 +215,12 @@ void Service::start() {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
   }
+  if (config_.store_url.empty() && config_.data_dir.empty()) {  // said, so nobody trusts a restart with them
+    state_->log("warn", {{"event", "store_in_memory"},
+                         {"reason",
+                          "no --data-dir: stored scenes and meshes live only as long as this process; "
+                          "give --data-dir DIR (ROOMRENDER_DATA_DIR) to keep them"}});
+  }
   if (!config_.store_url.empty() && !config_.data_dir.empty()) {  // said, so nobody backs up an empty directory
     state_->log("warn",
                 {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});
