@@ -66,9 +66,10 @@ struct ServerConfig {
   size_t keep_alive_max_requests = 100;
   int header_timeout_ms = 10'000;         // the whole request head, from accept or from its first byte; then 408
   int body_timeout_ms = 20'000;           // the whole body: this plus Content-Length / min_transfer_rate; then 408
+  size_t min_body_rate = 500;             // ... but only 1 s more per this many bytes received; 0: no minimum
   int write_timeout_s = 10;               // the whole answer: this plus its size / min_transfer_rate; then closed
   size_t min_transfer_rate = 256u << 10;  // bytes per second granted on top of the body and write timeouts
-  size_t max_request_line_bytes = 8192;   // longer: 414; also the cap on one header line (431)
+  size_t max_request_line_bytes = 8190;   // longer: 414; also the cap on one header line (431); httplib's limit
   size_t max_header_bytes = 64u << 10;    // the whole head; larger: 431
   size_t max_header_count = 100;          // more header fields: 431
   int max_pending_requests = -1;          // complete requests waiting for a worker; -1: request_workers

@@ -5,6 +5,7 @@
 #include "server/settings.hpp"
 
 #include "server/open_stores.hpp"
+#include "server/request_head.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -237,8 +238,10 @@ const std::vector<ServerSetting>& server_settings() {
      "seconds to write a whole answer, plus its size / min-transfer-rate"},
     {"--min-transfer-rate", integer(&C::min_transfer_rate, 1, big), "bytes/s",
      "bytes per second granted to bodies and answers on top of their timeouts"},
-    {"--max-request-line-bytes", integer(&C::max_request_line_bytes, 64, 1 << 20), "bytes",
-     "longest request line (414) and header line (431)"},
+    {"--min-body-rate", integer(&C::min_body_rate, 0, big), "bytes/s",
+     "a body earns time beyond body-timeout-ms only as it arrives, 1 s per this many bytes; 0: no minimum"},
+    {"--max-request-line-bytes", integer(&C::max_request_line_bytes, 64, httplib_max_line_bytes), "bytes",
+     "longest request line (414) and header line (431); httplib reads no longer ones"},
     {"--max-header-bytes", integer(&C::max_header_bytes, 256, 16 << 20), "bytes", "largest request head, then 431"},
     {"--max-header-count", integer(&C::max_header_count, 1, 100000), "", "most header fields in a request, then 431"},
     {"--max-pending-requests", integer(&C::max_pending_requests, -1, 1000000).reported_as(max_pending_requests), "",

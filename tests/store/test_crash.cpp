@@ -6,9 +6,9 @@
 // acknowledged is (a write touches no other document's files, so earlier ones are checked once
 // more at the end rather than after every kill). Seeded (ROOMRENDER_TEST_SEED replays a run's kill
 // moments; where they fall among the writes is the machine's timing).
+#include "integration/server_fixture.hpp"
 #include "render/core/hash.hpp"
 #include "server/mesh_store.hpp"
-#include "integration/server_fixture.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -100,7 +100,8 @@ size_t count_lost(int port, const std::map<std::string, std::string>& documents)
     auto res = client.Get(location.c_str());
     if (!res || res->status != 200 || res->body != text) {
       ++lost;
-      ADD_FAILURE() << location << ": " << (res ? std::to_string(res->status) + " " + res->body.substr(0, 200) : "no answer");
+      ADD_FAILURE() << location << ": "
+                    << (res ? std::to_string(res->status) + " " + res->body.substr(0, 200) : "no answer");
     }
   }
   return lost;
@@ -123,8 +124,8 @@ TEST(Crash, SigkillDuringConcurrentWritesLosesNoAcknowledgedDocument) {
   size_t lost = 0;
   for (int run = 0; run <= runs; ++run) {
     const bool tokens = run % 2 == 1;
-    std::vector<std::string> args = {"serve", "--port", "0", "--log-requests", "0", "--log-level", "error",
-                                     "--data-dir", dir.string()};
+    std::vector<std::string> args = {"serve",       "--port", "0",          "--log-requests", "0",
+                                     "--log-level", "error",  "--data-dir", dir.string()};
     if (tokens) args.insert(args.end(), {"--api-token-file", (dir / "tokens").string()});
     ServerProcess server = start_server_process(args);
     ASSERT_GT(server.port, 0) << "run " << run << " did not start (seed " << seed << ")";
@@ -146,8 +147,8 @@ TEST(Crash, SigkillDuringConcurrentWritesLosesNoAcknowledgedDocument) {
     std::fclose(server.out);
     for (std::thread& t : threads) t.join();
   }
-  std::printf("[ crash ] %d SIGKILLs during writes (seed %u): %zu scenes and %zu meshes acknowledged, %zu lost\n",
-              runs, seed, acked.scenes, acked.meshes, lost);
+  std::printf("[ crash ] %d SIGKILLs during writes (seed %u): %zu scenes and %zu meshes acknowledged, %zu lost\n", runs,
+              seed, acked.scenes, acked.meshes, lost);
   EXPECT_EQ(lost, 0u) << "seed " << seed;
   EXPECT_GT(acked.scenes, size_t(runs) * 10) << "too few writes to say anything";
 }
