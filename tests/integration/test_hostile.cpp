@@ -474,9 +474,10 @@ TEST(Hostile, IdleKeepAliveConnectionsBeyondTheIdleCapAreClosedOldestFirst) {
   EXPECT_FALSE(idle.back()->closed()) << "the newest idle connection was closed";
 }
 
-// 3. A body at 1 byte/s. The body's deadline is total (body_timeout_ms + Content-Length /
-// min_transfer_rate, here 1 s + 2 ms): each of 16 slow bodies gets 408 problem+json then, though a
-// byte arrives every second, and a render on a new connection is answered meanwhile.
+// 3. A body at 1 byte/s. The body's deadline is body_timeout_ms plus the lesser of Content-Length /
+// min_transfer_rate and the bytes received / min_body_rate (here 1 s + at most 2 ms): a byte every
+// second does not keep it open, each of 16 slow bodies gets 408 problem+json then, and a render on a
+// new connection is answered meanwhile.
 TEST(Hostile, BodyAtOneBytePerSecondGets408AtTheBodyDeadline) {
   FrontSettings front;
   front.body_timeout_ms = 1000;
