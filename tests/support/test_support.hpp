@@ -24,6 +24,12 @@ std::filesystem::path output_dir(const std::string& suite);  // build/test-outpu
 // parameterized name becomes '_'), removed and created anew.
 std::filesystem::path fresh_output_dir(const std::string& suite = "integration");
 
+// CPU milliseconds used so far by the calling thread / by the whole process. Tests that bound how
+// long work takes count CPU, not wall time: on a shared machine a process can wait for a core longer
+// than any work it does.
+double thread_cpu_ms();
+double process_cpu_ms();
+
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 
