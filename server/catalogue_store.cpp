@@ -5,15 +5,16 @@
 
 namespace rr::server {
 
-CatalogueMeshes::PutResult CatalogueMeshes::put(const std::shared_ptr<const StoredMesh>& item,
-                                                 const std::string& owner) {
-  if (catalogue_->meshes.contains(item->id)) return PutResult::existed;
-  return store_->put(item, owner);
+CatalogueMeshes::PutResult CatalogueMeshes::put(const StoredDocument& document, const std::string& owner) {
+  if (catalogue_->meshes.contains(document.id)) return PutResult::existed;
+  return store_->put(document, owner);
 }
 
-std::shared_ptr<const StoredMesh> CatalogueMeshes::find(const std::string& id) {
-  if (auto it = catalogue_->meshes.find(id); it != catalogue_->meshes.end()) return it->second;
-  return store_->find(id);
+std::optional<std::string> CatalogueMeshes::find(const std::string& id, bool with_text) {
+  if (auto it = catalogue_->meshes.find(id); it != catalogue_->meshes.end()) {
+    return with_text ? it->second->text : std::string();
+  }
+  return store_->find(id, with_text);
 }
 
 CatalogueMeshes::ReleaseResult CatalogueMeshes::release(const std::string& id,

@@ -4,7 +4,8 @@
 // content hash), never charged to a budget or an owner, never deleted (release: read_only), and
 // storing one again (POST /v1/meshes of the same mesh) answers "existed". Everything else goes to the
 // store behind. A stored scene placing them pins nothing: the refs resolve through the parse limits
-// (catalogue_limits) before the store is asked, and they are left out of a stored scene's mesh_refs.
+// (catalogue_limits) before the prepared cache is asked, and they are left out of a stored scene's
+// refs.
 #pragma once
 
 #include "server/catalogue.hpp"
@@ -21,8 +22,8 @@ class CatalogueMeshes final : public MeshDocuments {
       : store_(std::move(store)), catalogue_(std::move(catalogue)) {}
 
   size_t load() override { return store_->load(); }
-  PutResult put(const std::shared_ptr<const StoredMesh>& item, const std::string& owner) override;
-  std::shared_ptr<const StoredMesh> find(const std::string& id) override;
+  PutResult put(const StoredDocument& document, const std::string& owner) override;
+  std::optional<std::string> find(const std::string& id, bool with_text) override;
   ReleaseResult release(const std::string& id, const std::optional<std::string>& owner) override;
   Page list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor) override {
     return store_->list(owner, limit, cursor);
@@ -38,9 +39,9 @@ class CatalogueMeshes final : public MeshDocuments {
   std::shared_ptr<const Catalogue> catalogue_;
 };
 
-// `limits` whose mesh refs resolve to the catalogue's meshes first (the store's resolver, added by
-// resolving_meshes, asks the store after) and which name them as built in, so a stored scene does
-// not count them among the stored meshes it places.
+// `limits` whose mesh refs resolve to the catalogue's meshes first (the prepared cache's resolver
+// asks the store after) and which name them as built in, so a stored scene does not count them among
+// the stored meshes it places.
 ParseLimits catalogue_limits(ParseLimits limits, std::shared_ptr<const Catalogue> catalogue);
 
 // The same for a command-line tool: the catalogue in `dir` is read the first time a ref is resolved

@@ -82,13 +82,12 @@ ServiceState::ServiceState(const ServerConfig& c)
     : catalogue(load_catalogue(c.catalogue_dir, c.limits)),
       config(with_catalogue(c, catalogue)),
       gate(render_workers(c), render_queue_length(c)),
-      bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
-      shadow_cache(c.shadow_cache_bytes),
       stores(with_catalogue(
           open_stores(config,
                       [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
           catalogue)),
-      limits(resolving_meshes(config.limits, *stores.meshes)),
+      cache(config, stores),
+      limits(cache.limits()),
       access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 
 void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {
