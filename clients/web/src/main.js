@@ -273,8 +273,8 @@ const designer = new Designer(editor, {
   onSave: () => sharing.save(),
   onReplaced: () => sharing.replaced(),
   autosaveText: () => sharing.autosaveText(),
-  // A plan drag renders at reduced size, at most once a frame; a big scene would be stored each
-  // step, so it waits for the drop.
+  // A plan drag renders at reduced size, at most once a frame and once the last preview is drawn; a
+  // big scene would be stored each step, so it waits for the drop.
   // Frame all asks the server for its frame of the scene (a JSON render with "frame": "all").
   frameCamera: (request) => loading(async () => {
     const { up, fov_y, near, far } = request.camera || {};
@@ -288,10 +288,14 @@ const designer = new Designer(editor, {
       cancelAnimationFrame(app.planFrame);
       app.planFrame = 0;
     } else if (!app.planFrame) {
-      app.planFrame = requestAnimationFrame(() => {
-        app.planFrame = 0;
-        render({ preview: true, scene: app.planScene });
-      });
+      // One preview at a time: the server draws what it was sent even when the page gives up on it,
+      // so aborting one preview a frame would queue a render a frame (a second each on a furnished
+      // home) until the server refuses them all, the drop's render too.
+      const step = () => {
+        app.planFrame = app.inflight ? requestAnimationFrame(step) : 0;
+        if (!app.planFrame && app.planScene) render({ preview: true, scene: app.planScene });
+      };
+      app.planFrame = requestAnimationFrame(step);
     }
   },
 });
