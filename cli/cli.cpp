@@ -69,8 +69,8 @@ void write_number(std::string& out, double value) {
 
 ParseLimits request_limits() {
   const char* dir = std::getenv("ROOMRENDER_CATALOGUE_DIR");
-  return server::lazy_catalogue_limits(ParseLimits{}, dir && *dir ? std::filesystem::path(dir)
-                                                                   : server::default_server_config().catalogue_dir);
+  return server::lazy_catalogue_limits(
+      ParseLimits{}, dir && *dir ? std::filesystem::path(dir) : server::default_server_config().catalogue_dir);
 }
 
 std::string usage_text() {

@@ -52,10 +52,11 @@ CatalogueItem read_item(const json& entry, const fs::path& dir, const ParseLimit
     catalogue.meshes.emplace(mesh->id, std::move(mesh));
   }
   for (json& part : furniture.parts) part["ref"] = stored_ids.at(part["ref"].get<std::string>());
-  item.piece = {{"type", "piece"},
-                {"size", {rounded(item.width_cm / 100.0), rounded(item.height_cm / 100.0), rounded(item.depth_cm / 100.0)}},
-                {"base", rounded(item.elevation_cm / 100.0)},
-                {"parts", std::move(furniture.parts)}};
+  item.piece = {
+      {"type", "piece"},
+      {"size", {rounded(item.width_cm / 100.0), rounded(item.height_cm / 100.0), rounded(item.depth_cm / 100.0)}},
+      {"base", rounded(item.elevation_cm / 100.0)},
+      {"parts", std::move(furniture.parts)}};
   return item;
 }
 

@@ -18,7 +18,7 @@ std::optional<std::string> CatalogueMeshes::find(const std::string& id, bool wit
 }
 
 CatalogueMeshes::ReleaseResult CatalogueMeshes::release(const std::string& id,
-                                                         const std::optional<std::string>& owner) {
+                                                        const std::optional<std::string>& owner) {
   if (catalogue_->meshes.contains(id)) return ReleaseResult::read_only;
   return store_->release(id, owner);
 }

@@ -28,7 +28,9 @@ class CatalogueMeshes final : public MeshDocuments {
   Page list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor) override {
     return store_->list(owner, limit, cursor);
   }
-  std::vector<std::string> pinned_by(const std::string& id, size_t most) override { return store_->pinned_by(id, most); }
+  std::vector<std::string> pinned_by(const std::string& id, size_t most) override {
+    return store_->pinned_by(id, most);
+  }
   std::optional<Clock::time_point> expiry_from_now() const override { return store_->expiry_from_now(); }
   CacheStats stats() override { return store_->stats(); }
   size_t max_bytes() const override { return store_->max_bytes(); }

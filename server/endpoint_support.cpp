@@ -82,10 +82,10 @@ ServiceState::ServiceState(const ServerConfig& c)
     : catalogue(load_catalogue(c.catalogue_dir, c.limits)),
       config(with_catalogue(c, catalogue)),
       gate(render_workers(c), render_queue_length(c)),
-      stores(with_catalogue(
-          open_stores(config,
-                      [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
-          catalogue)),
+      stores(
+          with_catalogue(open_stores(config, [this](const std::string& level,
+                                                    nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
+                         catalogue)),
       cache(config, stores),
       limits(cache.limits()),
       access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}

@@ -100,7 +100,8 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
       // A piece is picked whole; the part under the pixel is a detail of the answer.
       if (const int part = polygon_part(scene.soup, id); part >= 0) {
         const PiecePart& p = scene.scene.geometry.solids[element.index].parts[size_t(part)];
-        body["part"] = {{"index", part}, {"pointer", body["pointer"].get<std::string>() + "/parts/" + std::to_string(part)},
+        body["part"] = {{"index", part},
+                        {"pointer", body["pointer"].get<std::string>() + "/parts/" + std::to_string(part)},
                         {"name", p.name}};
       }
       body["polygon"] = id;

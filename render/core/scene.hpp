@@ -63,7 +63,7 @@ enum class SolidType { box, cylinder, pyramid, prism, mesh, piece };
 // One part of a piece: a mesh (inline or stored) with its own colour and material, placed in the
 // piece's unit box [-0.5, 0.5]^3 by `transform` (identity when `transformed` is false).
 struct PiecePart {
-  std::string name;  // labels the part (a pick names it); draws nothing
+  std::string name;                      // labels the part (a pick names it); draws nothing
   std::shared_ptr<const MeshData> mesh;  // never null once read
   std::string mesh_ref;                  // the stored mesh's id when placed by "ref"; empty when inline
   Color color{0.7f, 0.7f, 0.7f};

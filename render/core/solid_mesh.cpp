@@ -1,7 +1,8 @@
 // Solid type "mesh": a shared MeshData (object space) placed by scale, then rotation_y, then
 // position, through add_placed_mesh, which a piece's parts share. Closed and smooth only when the
-// request says so (or gives per-vertex normals). The per-mesh work (face areas, convexity, ear clipping, smooth-normal sums) is a MeshPlan made once per
-// MeshData; each placement only transforms vertices and normals and emits the planned pieces.
+// request says so (or gives per-vertex normals). The per-mesh work (face areas, convexity, ear clipping, smooth-normal
+// sums) is a MeshPlan made once per MeshData; each placement only transforms vertices and normals and emits the planned
+// pieces.
 #include "render/core/solids.hpp"
 #include "render/core/tessellate_detail.hpp"
 
@@ -99,8 +100,8 @@ size_t estimate_mesh(const Solid& s) { return estimate_mesh_polygons(*s.mesh); }
 
 }  // namespace
 
-void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement& place, bool smooth,
-                     uint32_t material, uint32_t object) {
+void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement& place, bool smooth, uint32_t material,
+                     uint32_t object) {
   const MeshPlan& plan = plan_of(mesh);
   const Placed placed(place);
   std::vector<Vec3> world(mesh.vertices.size());

@@ -26,7 +26,9 @@ class SoupBuilder {
                    std::span<const glm::vec3> shading = {});
 
   // The polygons added to `object` from now on belong to its next part (a piece's).
-  void begin_part(uint32_t object) { soup_.objects[object].part_first_polygon.push_back(uint32_t(soup_.polygons.size())); }
+  void begin_part(uint32_t object) {
+    soup_.objects[object].part_first_polygon.push_back(uint32_t(soup_.polygons.size()));
+  }
 
   // Tags `object` as a room's ceiling: the views that leave ceilings out skip its polygons.
   void mark_ceiling(uint32_t object) { soup_.objects[object].ceiling = true; }
@@ -82,8 +84,8 @@ struct MeshPlacement {
 
 // Emits a mesh's faces placed by `place` (solid_mesh.cpp): the given normals, else the averaged ones
 // when `smooth`, else faceted. The per-mesh work is planned once per MeshData and reused.
-void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement& place, bool smooth,
-                     uint32_t material, uint32_t object);
+void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement& place, bool smooth, uint32_t material,
+                     uint32_t object);
 // A face of k >= 3 vertices becomes at most k - 2 triangles.
 size_t estimate_mesh_polygons(const MeshData& mesh);
 

@@ -235,7 +235,7 @@ void for_each_mesh_holder(nlohmann::json& solids, const std::function<void(nlohm
 }
 
 FurnitureModel import_furniture_model(std::string_view obj_text, const std::string& name, const ImportOptions& options,
-                               std::string_view model_rotation_text) {
+                                      std::string_view model_rotation_text) {
   using namespace import_detail;
   Sh3dModel model;
   model.obj = parse_obj(obj_text);
@@ -246,7 +246,8 @@ FurnitureModel import_furniture_model(std::string_view obj_text, const std::stri
   }
   if (model.obj.positions.empty()) throw InputError(Kind::invalid, "", "the model has no vertices");
   Sh3dModelCache cache;
-  const Sh3dModelVariant& variant = model_variant(name, model, model_rotation_matrix(model_rotation_text), false, cache);
+  const Sh3dModelVariant& variant =
+      model_variant(name, model, model_rotation_matrix(model_rotation_text), false, cache);
   FurnitureModel out;
   out.parts = variant_parts(&model, variant, {}, std::nullopt);
   if (out.parts.empty()) throw InputError(Kind::invalid, "", "the model has no faces to draw");

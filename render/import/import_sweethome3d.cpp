@@ -2,8 +2,9 @@
 // not viewable, so not drawn by default) with its elements tagged, walls and openings
 // (import_sh3d_walls.cpp), rooms as rooms (floor and ceiling), each top-level piece of furniture, lamp
 // or furniture group as one piece of its models' parts (import_sh3d_models.cpp; a box of its size
-// without models), each light source as a point light, and the observer camera as the camera. Centimetres -> metres; the plan's x and y are our x and z; Sweet Home 3D angles turn
-// clockwise on the plan, ours counter-clockwise, so rotation_y = -angle.
+// without models), each light source as a point light, and the observer camera as the camera. Centimetres -> metres;
+// the plan's x and y are our x and z; Sweet Home 3D angles turn clockwise on the plan, ours counter-clockwise, so
+// rotation_y = -angle.
 #include "render/import/import.hpp"
 #include "render/import/import_sh3d.hpp"
 #include "render/scene_io/scene_checks.hpp"

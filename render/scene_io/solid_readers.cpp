@@ -163,9 +163,9 @@ PiecePart read_part(const json& value, const std::string& pointer, const Solid& 
 }
 
 void read_piece(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors,
-                 {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "size", "mirrored",
-                  "parts"});
+  ObjectReader r(
+      value, pointer, b.errors,
+      {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "size", "mirrored", "parts"});
   read_common(r, s);
   read_footprint(r, s, b);
   s.size = r.vec3("size", b.length);
@@ -176,9 +176,8 @@ void read_piece(const json& value, const std::string& pointer, Solid& s, const B
     if (parts.size() > max_piece_parts) {
       throw_too_large(r.at("parts"), "must hold at most " + std::to_string(max_piece_parts) + " parts");
     }
-    for_each_element(parts, r.at("parts"), b.errors, [&](const json& part, const std::string& at) {
-      s.parts.push_back(read_part(part, at, s, b));
-    });
+    for_each_element(parts, r.at("parts"), b.errors,
+                     [&](const json& part, const std::string& at) { s.parts.push_back(read_part(part, at, s, b)); });
   });
 }
 

@@ -41,7 +41,8 @@ class Catalogue : public SharedServerTest<Catalogue> {
             {"lights", {{{"type", "directional"}, {"direction", {-0.3, -1, -0.4}}}}}};
   }
   static json view() {
-    return {{"camera", {{"position", {1.2, 1.4, 1.8}}, {"target", {0, 0.4, 0}}}}, {"options", {{"width", 96}, {"height", 72}}}};
+    return {{"camera", {{"position", {1.2, 1.4, 1.8}}, {"target", {0, 0.4, 0}}}},
+            {"options", {{"width", 96}, {"height", 72}}}};
   }
 };
 
@@ -65,7 +66,8 @@ TEST_F(Catalogue, ListsTheShippedEntriesWithTheirRealSizesAndIcons) {
     for (const json& part : i["piece"]["parts"]) EXPECT_EQ(part["ref"].get<std::string>().size(), 16u);
   }
   EXPECT_EQ(ids.size(), 37u);
-  EXPECT_EQ(categories, (std::set<std::string>{"Bathroom", "Bedroom", "Kitchen", "Lights", "Living room", "Miscellaneous"}));
+  EXPECT_EQ(categories,
+            (std::set<std::string>{"Bathroom", "Bedroom", "Kitchen", "Lights", "Living room", "Miscellaneous"}));
   const json chair = item("chair");
   EXPECT_EQ(chair["name"], "Chair");
   EXPECT_EQ(chair["size_cm"], json({{"width", 40.0}, {"depth", 42.0}, {"height", 90.0}}));

@@ -137,14 +137,26 @@ json furnished_room(const json& catalogue) {
       solids.push_back(piece);
     }
   }
-  const json cube = {{"vertices", {{-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {-0.5, 0.5, -0.5}, {0.5, 0.5, -0.5},
-                                   {-0.5, -0.5, 0.5}, {0.5, -0.5, 0.5}, {-0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}}},
+  const json cube = {{"vertices",
+                      {{-0.5, -0.5, -0.5},
+                       {0.5, -0.5, -0.5},
+                       {-0.5, 0.5, -0.5},
+                       {0.5, 0.5, -0.5},
+                       {-0.5, -0.5, 0.5},
+                       {0.5, -0.5, 0.5},
+                       {-0.5, 0.5, 0.5},
+                       {0.5, 0.5, 0.5}}},
                      {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
   json lid = cube;
   lid["color"] = "#c04040";
   lid["transform"] = {{1, 0, 0.2, 0}, {0, 0.2, 0, 0.4}, {0, 0, 0.8, 0.1}};
-  solids.push_back({{"type", "piece"}, {"id", "chest"}, {"center", {1.2, 0.8}}, {"size", {0.6, 0.5, 0.4}},
-                    {"rotation_y", 30}, {"mirrored", true}, {"parts", {cube, lid}}});
+  solids.push_back({{"type", "piece"},
+                    {"id", "chest"},
+                    {"center", {1.2, 0.8}},
+                    {"size", {0.6, 0.5, 0.4}},
+                    {"rotation_y", 30},
+                    {"mirrored", true},
+                    {"parts", {cube, lid}}});
   return {{"scene",
            {{"floor", {{"cells", {4, 4}}, {"origin", {-2, -2}}}},
             {"walls", {{{"start", {-2, -2}}, {"end", {2, -2}}}}},
@@ -155,10 +167,10 @@ json furnished_room(const json& catalogue) {
 }
 
 json case_request(const RenderCase& c, const json& furnished) {
-  json request = c.example == "furnished_room"
-                     ? furnished
-                     : json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" /
-                                                          (c.example + ".json")));
+  json request =
+      c.example == "furnished_room"
+          ? furnished
+          : json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" / (c.example + ".json")));
   json& options = request["options"];
   if (options.is_null()) options = json::object();
   options["width"] = frame_width;

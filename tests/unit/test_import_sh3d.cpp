@@ -266,9 +266,11 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
 // Models name materials without an .mtl: Sweet Home 3D's default library colours them (with its
 // specular terms); a name it does not have stays grey.
 TEST(ImportSh3d, MaterialsWithoutAnMtlComeFromTheDefaultLibrary) {
-  const std::string model = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
-                            "usemtl white\nf 1 2 3 4\nusemtl flblonde\nf 1 5 6 2\nusemtl no_such\nf 1 4 5\n";
-  const char* home = R"(<home><pieceOfFurniture name='A' model='a.obj' x='0' y='0' width='10' depth='10' height='10'/></home>)";
+  const std::string model =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+      "usemtl white\nf 1 2 3 4\nusemtl flblonde\nf 1 5 6 2\nusemtl no_such\nf 1 4 5\n";
+  const char* home =
+      R"(<home><pieceOfFurniture name='A' model='a.obj' x='0' y='0' width='10' depth='10' height='10'/></home>)";
   rr::ImportOptions options;
   options.furniture_models = true;
   options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
@@ -287,13 +289,16 @@ TEST(ImportSh3d, MaterialsWithoutAnMtlComeFromTheDefaultLibrary) {
 // A furniture group is one piece in the group's box: each member's model is a part placed by its
 // transform, and the piece draws the points the members would draw placed one by one.
 TEST(ImportSh3d, AFurnitureGroupIsOnePieceOfItsMembers) {
-  const std::string model = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
-                            "usemtl red\nf 2 3 7 6\nusemtl plain\nf 1 5 8 4\n";
+  const std::string model =
+      "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
+      "usemtl red\nf 2 3 7 6\nusemtl plain\nf 1 5 8 4\n";
   const char* members = R"(
       <pieceOfFurniture name='A' model='thing.obj' x='100' y='100' angle='0.3' width='100' depth='50' height='200'/>
       <pieceOfFurniture name='B' model='thing.obj' x='260' y='140' elevation='20' angle='2.1' width='60' depth='30' height='80'/>)";
-  const std::string grouped = std::string("<home><furnitureGroup name='G' x='180' y='120' angle='0.5' width='260' "
-                                          "depth='190' height='220'>") + members + "</furnitureGroup></home>";
+  const std::string grouped = std::string(
+                                  "<home><furnitureGroup name='G' x='180' y='120' angle='0.5' width='260' "
+                                  "depth='190' height='220'>") +
+                              members + "</furnitureGroup></home>";
   const std::string separate = std::string("<home>") + members + "</home>";
   rr::ImportOptions options;
   options.furniture_models = true;
@@ -480,7 +485,8 @@ std::vector<std::string> top_level_furniture(const std::string& xml) {
     for (pugi::xml_node m : group.children()) {
       if (!m.attribute("visible").as_bool(true)) continue;
       const std::string kind = m.name();
-      if (kind == "pieceOfFurniture" || kind == "light" || (kind == "furnitureGroup" && holds_furniture(m))) return true;
+      if (kind == "pieceOfFurniture" || kind == "light" || (kind == "furnitureGroup" && holds_furniture(m)))
+        return true;
     }
     return false;
   };
