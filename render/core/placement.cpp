@@ -1,10 +1,12 @@
 // Placement checks (see placement.hpp). Walls and solids become plan footprints (convex hull of their
 // tessellated vertices, plus a height range); pairs whose bounding boxes overlap are found by a sweep
 // along x and tested with separating axes. An overlap must exceed the tolerance on every axis and in
-// height to count, so elements that merely touch are quiet. A pair whose hulls overlap is then
-// tested polygon against polygon (surface_contact.hpp): it warns when some faces of the two cross,
-// or when one lies inside the other and that one is closed; so a chair tucked under a table
-// (hulls overlapping, no face through another) is quiet.
+// height to count, so elements that merely touch are quiet. A pair with a piece of furniture in it
+// whose hulls overlap is then tested polygon against polygon (surface_contact.hpp): it warns when
+// some faces of the two cross, or when a face of the piece lies inside the other element, closed and
+// convex; so a chair tucked under a table (hulls overlapping, no face through another) is quiet.
+// Pairs without a piece keep the hull test: their solids are closed, and two boxes overlapping with
+// flush sides cross no face.
 #include "render/core/placement.hpp"
 
 #include "render/core/surface_contact.hpp"
@@ -21,6 +23,7 @@ namespace {
 struct Footprint {
   ElementRef element;           // a wall or a solid
   bool closed = false;          // its faces bound a volume (SceneObject::closed)
+  bool piece = false;           // a piece of furniture: a model's parts, which need not bound a volume
   std::vector<Vec2> hull = {};  // counter-clockwise in (x, z); fewer than 3 points: no area in plan
   Vec2 lo{std::numeric_limits<double>::max()}, hi{std::numeric_limits<double>::lowest()};
   double y0 = std::numeric_limits<double>::max(), y1 = std::numeric_limits<double>::lowest();
@@ -50,28 +53,36 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
 
 bool is_wall(const Footprint& f) { return f.element.kind == ElementKind::wall; }
 
-// `outer` is closed and the middle of `inner`'s box lies inside its hull by more than `tol`: with no
-// faces crossing, `inner` is inside `outer` (or, as the same solid twice, in the same place).
-bool holds(const Footprint& outer, const Footprint& inner, double tol) {
-  if (!outer.closed || inner.hull.empty() || outer.hull.size() < 3) return false;
-  const Vec2 p = 0.5 * (inner.lo + inner.hi);
-  const double y = 0.5 * (inner.y0 + inner.y1);
-  if (!(y > outer.y0 + tol && y < outer.y1 - tol)) return false;
-  for (size_t i = 0; i < outer.hull.size(); ++i) {
-    const Vec2 a = outer.hull[i], b = outer.hull[(i + 1) % outer.hull.size()];
-    if (!(cross(a, b, p) > tol * glm::length(b - a))) return false;
+// A face of `inner` lies inside `outer`, which is closed: the middle of one of its polygons is behind
+// every plane of outer's polygons by more than `tol`. Exact for a convex `outer` (boxes, cylinders,
+// pyramids); a concave one (an L-shaped prism, a wall with openings) may hold a piece unnoticed.
+bool holds(const PolygonSoup& soup, const Footprint& outer, const Footprint& inner, double tol, size_t& work) {
+  if (!outer.closed || outer.polygons.empty()) return false;
+  for (uint32_t i : inner.polygons) {
+    Vec3 middle{0.0};
+    const std::span<const Vec3> points = soup.points(soup.polygons[i]);
+    for (const Vec3& q : points) middle += q;
+    middle /= double(points.size());
+    work += outer.polygons.size();
+    const bool inside = std::all_of(outer.polygons.begin(), outer.polygons.end(), [&](uint32_t o) {
+      const Polygon& face = soup.polygons[o];
+      return glm::dot(face.normal, middle) - face.offset < -tol;
+    });
+    if (inside) return true;
   }
-  return true;
+  return false;
 }
 
-std::vector<Footprint> make_footprints(const PolygonSoup& soup) {
+std::vector<Footprint> make_footprints(const Scene& scene, const PolygonSoup& soup) {
   std::vector<Footprint> out;
   std::vector<std::optional<size_t>> slot(soup.objects.size());  // object -> footprint
   for (size_t o = 0; o < soup.objects.size(); ++o) {
     const ElementRef element = soup.objects[o].element;
     if (element.kind == ElementKind::wall || element.kind == ElementKind::solid) {
       slot[o] = out.size();
-      out.push_back(Footprint{element, soup.objects[o].closed});
+      const bool piece =
+          element.kind == ElementKind::solid && scene.geometry.solids[element.index].type == SolidType::piece;
+      out.push_back(Footprint{element, soup.objects[o].closed, piece});
     }
   }
   std::vector<std::vector<Vec2>> points(out.size());
@@ -168,8 +179,8 @@ void check_openings(const Scene& scene, const PlacementLimits& limits, WarningLi
       if (n > 0) {
         const Opening& previous = wall.openings[order[n - 1]];
         if (double gap = std::max(o.offset - (previous.offset + previous.width), 0.0); gap < clearance) {
-          out.add({PlacementIssue::openings_too_close, opening, ElementRef::opening_of(w, order[n - 1]), gap,
-                   clearance, 0, clearance - gap});
+          out.add({PlacementIssue::openings_too_close, opening, ElementRef::opening_of(w, order[n - 1]), gap, clearance,
+                   0, clearance - gap});
         }
       }
     }
@@ -220,9 +231,11 @@ bool check_intersections(const std::vector<Footprint>& footprints, const Polygon
       if (work > limits.max_pair_work) return false;
       const double depth = plan_penetration(a.hull, b.hull, tol, work);
       if (depth <= tol) continue;
-      const ContactResult contact = surfaces_cross(soup, a.polygons, b.polygons, tol, work, limits.max_pair_work);
-      if (contact == ContactResult::out_of_work) return false;
-      if (contact == ContactResult::apart && !holds(a, b, tol) && !holds(b, a, tol)) continue;
+      if (a.piece || b.piece) {
+        const ContactResult contact = surfaces_cross(soup, a.polygons, b.polygons, tol, work, limits.max_pair_work);
+        if (contact == ContactResult::out_of_work) return false;
+        if (contact == ContactResult::apart && !holds(soup, a, b, tol, work) && !holds(soup, b, a, tol, work)) continue;
+      }
       auto [first, second] = std::minmax(order[n], order[m]);
       hits.push_back({first, second, std::min(depth, height_overlap)});
     }
@@ -244,7 +257,7 @@ std::vector<PlacementWarning> placement_warnings(const Scene& scene, const Polyg
                                                  const PlacementLimits& limits) {
   WarningList out(limits.max_warnings);
   check_openings(scene, limits, out);
-  std::vector<Footprint> footprints = make_footprints(soup);
+  std::vector<Footprint> footprints = make_footprints(scene, soup);
   check_floor(scene, footprints, limits, out);
   bool complete = check_intersections(footprints, soup, limits, out);
   return out.finish(!complete);

@@ -37,6 +37,9 @@ std::pair<double, double> extent(std::span<const Vec3> points, Vec3 axis) {
   return {lo, hi};
 }
 
+// A polygon's extent along an axis up to this (metres) is rounding: it lies flat across the axis.
+constexpr double flat_m = 1e-9;
+
 // `points` reach more than `t` beyond the plane (normal, offset) on both of its sides.
 bool straddles(std::span<const Vec3> points, Vec3 normal, double offset, double t) {
   auto [lo, hi] = extent(points, normal);
@@ -58,7 +61,11 @@ bool polygons_cross(const PolygonSoup& soup, const Polygon& p, const Polygon& q,
       work += a.size() + b.size();
       auto [a_lo, a_hi] = extent(a, axis / length);
       auto [b_lo, b_hi] = extent(b, axis / length);
-      if (std::min(a_hi, b_hi) - std::max(a_lo, b_lo) <= 0.0) return false;
+      // A polygon lying flat across the axis projects to a point (up to rounding): within the
+      // other's span it is not apart (a table top's face through the side of another's top).
+      const double overlap = std::min(a_hi, b_hi) - std::max(a_lo, b_lo);
+      const bool flat = a_hi - a_lo <= flat_m || b_hi - b_lo <= flat_m;
+      if (flat ? overlap < -flat_m : overlap <= 0.0) return false;
     }
   }
   return true;

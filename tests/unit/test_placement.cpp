@@ -91,7 +91,8 @@ TEST(Placement, PointersFollowTheDocumentThatHoldsTheScene) {
   EXPECT_EQ(typed[0].other, rr::ElementRef::wall(0));
   rr::WarningText stored = rr::describe(typed[0], request.scene, "");
   EXPECT_EQ(stored.pointer, "/solids/0");
-  EXPECT_EQ(stored.detail, "solid intersects wall /walls/0 (\"north\") by 0.075 m");
+  // The wall's whole 0.15 m thickness lies inside the box's depth.
+  EXPECT_EQ(stored.detail, "solid intersects wall /walls/0 (\"north\") by 0.15 m");
   EXPECT_EQ(stored.other, "/walls/0");
 }
 
