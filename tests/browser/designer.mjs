@@ -18,12 +18,12 @@ const scenarios = {
     await drawRoom(page);
 
     // A door in the south wall, a window in the east one.
-    await page.click('[data-tool="door"]');
+    await page.click('button[data-tool="door"]');
     await clickPlan(page, 2.5, 0);
     let r = await request(page);
     const door = r.scene.walls[0].openings?.[0];
     assert(door && door.type === "door" && Math.abs(door.offset - 2.05) < 1e-6 && door.width === 0.9, `a door at 2.5 m: ${JSON.stringify(door)}`);
-    await page.click('[data-tool="window"]');
+    await page.click('button[data-tool="window"]');
     await clickPlan(page, 5, 2);
     r = await request(page);
     const win = r.scene.walls[1].openings?.[0];
@@ -41,13 +41,13 @@ const scenarios = {
     await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 1.5, 2);
     r = await request(page);
-    assert(r.scene.solids.length === 2, `two solids: ${r.scene.solids.length}`);
+    assert(r.scene.solids.length === 2, `two solids: ${JSON.stringify(r.scene.solids.map((s) => [s.id, s.center]))}`);
     assert(r.scene.solids[0].id === "table-1" && r.scene.solids[0].type === "piece" && near(r.scene.solids[0].center, [2.5, 2]),
       `the table at (2.5, 2): ${r.scene.solids[0].center}`);
     assert(r.scene.solids[1].id === "chair-1" && near(r.scene.solids[1].center, [1.5, 2]), `the chair at (1.5, 2): ${r.scene.solids[1].center}`);
 
     // Move the chair by dragging it 1 m toward +Z, then rotate it.
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await dragPlan(page, [1.5, 2], [1.5, 3]);
     r = await request(page);
     assert(near(r.scene.solids[1].center, [1.5, 3], 0.051), `the chair moved to (1.5, 3): ${r.scene.solids[1].center}`);
@@ -96,7 +96,7 @@ const scenarios = {
   async designer_panel({ page, server }) {
     await openEmpty(page, server);
     await drawRoom(page);
-    await page.click('[data-tool="door"]');
+    await page.click('button[data-tool="door"]');
     await clickPlan(page, 2.5, 0);
     assert(await hooks(page, "selection") === "/scene/walls/0/openings/0", "the new door is selected");
     await page.fill('#properties input[data-field="width"]', "1.2");
@@ -118,7 +118,7 @@ const scenarios = {
     await page.keyboard.press("Control+A");
     await page.keyboard.insertText(JSON.stringify(edited, null, 2));
     await page.waitForSelector('[data-testid="plan"] [data-pointer="/scene/solids/0"]');
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     const p = await hooks(page, "worldToPlan", 4, 3);
     await page.mouse.click(p.x, p.y);  // the plan takes the keyboard
     await page.keyboard.press("Control+z");
@@ -129,7 +129,7 @@ const scenarios = {
     assert(r.scene.walls[0].openings[0].width === 0.9, "and then the panel's edit");
 
     // A point light by a click; Shift+click aims the sun; Ctrl+D duplicates the selected light.
-    await page.click('[data-tool="light"]');
+    await page.click('button[data-tool="light"]');
     await clickPlan(page, 2.5, 2);
     r = await request(page);
     const light = r.scene.lights[r.scene.lights.length - 1];
@@ -141,7 +141,7 @@ const scenarios = {
     r = await request(page);
     const sun = r.scene.lights.find((l) => l.type === "directional").direction;
     assert(!near(sun, sunBefore) && sun[1] === -1, `Shift+click turned the sun: ${sunBefore} -> ${sun}: ${JSON.stringify(r.scene.lights)}`);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await clickPlan(page, 2.5, 2);
     assert(/^\/scene\/lights\/\d+$/.test(await hooks(page, "selection")), "a click selects the light");
     const count = r.scene.lights.length;
@@ -154,7 +154,7 @@ const scenarios = {
     await page.fill('#properties input[data-field="thickness"]', "0.25");
     await page.press('#properties input[data-field="thickness"]', "Enter");
     assert((await request(page)).scene.walls[3].thickness === 0.25, "the panel set its thickness");
-    await page.click('[data-tool="wall"]');
+    await page.click('button[data-tool="wall"]');
     await clickPlan(page, 1.5, 0);
     await clickPlan(page, 1.5, 4);
     await page.keyboard.press("Escape");
@@ -165,7 +165,7 @@ const scenarios = {
 
     // Dragging the (selected) new wall moves it; dragging one of its ends moves that end only.
     await page.evaluate(() => window.scrollTo(0, 0));  // typing in the panel scrolled the page
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await dragPlan(page, [1.5, 2], [1, 2]);
     r = await request(page);
     assert(near(r.scene.walls[4].start, [1, 0]) && near(r.scene.walls[4].end, [1, 4]), `the wall moved 0.5 m: ${JSON.stringify(r.scene.walls[4])}`);
@@ -207,7 +207,7 @@ const scenarios = {
     await openEmpty(page, server);
     await drawRoom(page);
     await idle(page);
-    await page.click('[data-tool="walk"]');
+    await page.click('button[data-tool="walk"]');
     await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
     await idle(page);
     const before = (await request(page)).camera;
@@ -252,7 +252,7 @@ const scenarios = {
     await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 2, 2);
     await idle(page);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     const sizes = [];
     const isRender = (req) => req.url().endsWith("/v1/render");
     page.on("request", (req) => {
@@ -294,9 +294,9 @@ const scenarios = {
 async function screenshot({ page, server }) {
   await openEmpty(page, server);
   await drawRoom(page);
-  await page.click('[data-tool="door"]');
+  await page.click('button[data-tool="door"]');
   await clickPlan(page, 1.2, 4);
-  await page.click('[data-tool="window"]');
+  await page.click('button[data-tool="window"]');
   await clickPlan(page, 5, 2);
   await clickPlan(page, 2.5, 0);
   for (const [category, item, x, z] of [["Bedroom", "bed140x190", 1.1, 1.3], ["Living room", "table", 3.5, 2.6],
@@ -305,9 +305,9 @@ async function screenshot({ page, server }) {
     await clickPlan(page, x, z);
   }
   await page.keyboard.press("r");
-  await page.click('[data-tool="light"]');
+  await page.click('button[data-tool="light"]');
   await clickPlan(page, 2.5, 2);
-  await page.click('[data-tool="select"]');
+  await page.click('button[data-tool="select"]');
   await clickPlan(page, 3.5, 3.3);
   await page.click('[data-action="frame"]');
   await idle(page);

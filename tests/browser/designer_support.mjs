@@ -11,7 +11,7 @@ export const near = (a, b, tol = 1e-6) => a.length === b.length && a.every((v, i
 // Chooses a piece of furniture as a person would: the Furniture tool, then the catalogue's
 // category in its selector and the model's button (a block or cylinder: its button).
 export async function chooseItem(page, category, item) {
-  await page.click('[data-tool="furniture"]');
+  await page.click('button[data-tool="furniture"]');
   if (category) await page.selectOption("#catalogue-category", category);
   await page.click(`[data-item="${item}"]`);
 }
@@ -47,7 +47,7 @@ export async function openEmpty(page, server) {
 export const room = [[0, 0], [5, 0], [5, 4], [0, 4]];
 
 export async function drawRoom(page) {
-  await page.click('[data-tool="wall"]');
+  await page.click('button[data-tool="wall"]');
   await clickPlan(page, ...room[0]);
   for (let i = 1; i <= 4; i++) {
     await clickPlan(page, ...room[i % 4]);

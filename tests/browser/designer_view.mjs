@@ -97,7 +97,7 @@ const scenarios = {
     await openEmpty(page, server);
     await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 2, 2);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await idle(page);
     const before = await request(page);
     const full = { width: before.options.width, height: before.options.height };

@@ -107,7 +107,7 @@ const scenarios = {
     assert(await page.$('[data-testid="plan"] g.clash'), "a warning's pair is joined in the plan");
 
     // Drag it 1 m along x in the plan: the piece moves whole, one undo restores it.
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     const from = [...sofa.center];
     assert(hitTest(home.scene, from, 0.05) === pointer, `the sofa is on top at its centre: ${hitTest(home.scene, from, 0.05)}`);
     seq = await renderSeq(page);
@@ -178,7 +178,7 @@ const scenarios = {
     assert(chair && chair.category === "Living room", "the catalogue has Sweet Home 3D's chair");
 
     // The catalogue shows icons by category; the chair's button names it with its real size.
-    await page.click('[data-tool="furniture"]');
+    await page.click('button[data-tool="furniture"]');
     await page.selectOption("#catalogue-category", "Living room");
     const title = await page.getAttribute('#catalogue-items [data-item="chair"]', "title");
     assert(/Chair, 40 × 42 cm, 90 cm high/.test(title), `the button says what it is: ${title}`);
@@ -194,7 +194,7 @@ const scenarios = {
     assert(JSON.stringify(placed.parts) === JSON.stringify(chair.piece.parts), "its parts are the catalogue's");
 
     // Walk in through the south wall to look at it: K, seven steps of 1 m, Escape.
-    await page.click('[data-tool="walk"]');
+    await page.click('button[data-tool="walk"]');
     await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
     for (let i = 0; i < 7; i++) await page.keyboard.press("Shift+ArrowUp");
     await page.keyboard.press("Escape");

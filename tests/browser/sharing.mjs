@@ -154,7 +154,7 @@ const scenarios = {
     renders.length = 0;
     const b = r.scene.solids.map((s) => s.vertices).flat();
     const mid = [0, 2].map((k) => (Math.min(...b.map((v) => v[k])) + Math.max(...b.map((v) => v[k]))) / 2);
-    await page.click('[data-tool="light"]');
+    await page.click('button[data-tool="light"]');
     await clickPlan(page, mid[0], mid[1]);
     await waitForNewRender(page, seq);
     const lit = await request(page);
@@ -201,7 +201,7 @@ const scenarios = {
     assert(i >= 0, "a piece can be picked in the plan");
     const from = solidAnchor(r.scene.solids[i]);
     seq = await renderSeq(page);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await dragPlan(page, from, [from[0] + 0.3, from[1]]);
     await waitForNewRender(page, seq);
     const moved = (await request(page)).scene.solids[i];
