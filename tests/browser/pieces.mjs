@@ -182,7 +182,12 @@ const scenarios = {
     await page.selectOption("#catalogue-category", "Living room");
     const title = await page.getAttribute('#catalogue-items [data-item="chair"]', "title");
     assert(/Chair, 40 × 42 cm, 90 cm high/.test(title), `the button says what it is: ${title}`);
-    assert(await page.$eval('#catalogue-items [data-item="chair"] img', (img) => img.complete && img.naturalWidth > 0), "with its icon");
+    // With its icon, once the image has loaded (GET /v1/catalogue/chair/icon.png).
+    const icon = await page.waitForFunction(() => {
+      const img = document.querySelector('#catalogue-items [data-item="chair"] img');
+      return img && img.complete && img.naturalWidth > 0;
+    }, null, { timeout: 10000 }).then(() => true, () => false);
+    assert(icon, "with its icon");
     let seq = await renderSeq(page);
     await page.click('#catalogue-items [data-item="chair"]');
     await clickPlan(page, 2.5, 1);
