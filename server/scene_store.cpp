@@ -10,13 +10,14 @@ namespace rr::server {
 namespace {
 
 // Approximate heap cost of an entry: the text, the parsed scene (about as large as its text, in
-// practice smaller), the tessellation's arrays and its hierarchy.
+// practice smaller), the tessellation's arrays, its hierarchy and its cells.
 size_t entry_bytes(const StoredScene& s) {
   size_t bytes = sizeof(StoredScene) + 2 * s.text.size();
   bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
   bytes += s.soup.polygons.capacity() * sizeof(Polygon) + s.soup.materials.capacity() * sizeof(Material);
   bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
   if (s.hierarchy) bytes += s.hierarchy->bytes();
+  if (s.cells) bytes += s.cells->bytes();
   return bytes;
 }
 
