@@ -147,9 +147,10 @@ result = {
         "wrk": json.loads(soak),
         "peak_rss_mib": round(max(s[2] for s in samples) / 1024, 1),
         "rss_mib": {"t10": rss_at(10), "t30": rss_at(30), "t60": rss_at(60), "t90": rss_at(90), "end": rss_at(end)},
-        "scene_store_evictions": metric("roomrender_cache_evictions_total", 'cache="scenes"'),
-        "scene_store_bytes": metric("roomrender_cache_bytes", 'cache="scenes"'),
-        "scene_store_budget_bytes": metric("roomrender_cache_budget_bytes", 'cache="scenes"'),
+        "scene_cache_evictions": metric("roomrender_cache_evictions_total", 'cache="scenes"'),
+        "scene_cache_bytes": metric("roomrender_cache_bytes", 'cache="scenes"'),
+        "scene_store_bytes": metric("roomrender_store_bytes", 'store="scenes"'),
+        "scene_store_budget_bytes": metric("roomrender_store_budget_bytes", 'store="scenes"'),
         "rejected_renders": metric("roomrender_renders_rejected_total"),
     },
 }

@@ -2,11 +2,15 @@
 // connection, every read and write, and every deadline and cap; a fixed pool of worker threads gets
 // only complete requests (head and whole body, as bytes) and gives back complete answers (bytes).
 // A slow or idle client therefore holds a connection record of a few hundred bytes, never a thread.
-// What a request means is not decided here: the `answer` callback (cpp-httplib on an in-memory
-// stream, server/http_server.cpp) parses, routes and answers; `refusal` formats the answers the
-// front gives itself (408, 414, 431, 503).
+// The front parses each head (request_head.hpp) and asks `screen` whether the body is to be read at
+// all, so a refused request's body never is; what a request means is not decided here: the `answer`
+// callback (cpp-httplib on an in-memory stream, server/http_server.cpp) routes and answers, and
+// `refusal` formats the answers the front gives itself (408, 414, 431, 501, 503).
+// The parts: front_listener (the listening socket), front_deadlines (how long each phase may take),
+// front_workers (the pool), and the event loop over connections in connection_front.cpp.
 #pragma once
 
+#include "server/front_deadlines.hpp"
 #include "server/request_head.hpp"
 
 #include <atomic>
@@ -28,11 +32,7 @@ struct FrontConfig {
   size_t max_pending = 8;  // complete requests waiting for a worker; beyond: 503
   size_t max_connections = 4096;
   size_t max_idle_connections = 512;
-  std::chrono::milliseconds keep_alive_timeout{5000};
-  std::chrono::milliseconds header_timeout{10000};
-  std::chrono::milliseconds body_timeout{20000};   // plus length / min_transfer_rate
-  std::chrono::milliseconds write_timeout{10000};  // plus length / min_transfer_rate
-  uint64_t min_transfer_rate = 256u << 10;         // bytes per second
+  DeadlinePolicy deadlines;
   uint64_t max_buffered_body_bytes = 512ull << 20;
   size_t max_requests_per_connection = 100;
   HeadLimits head_limits;
@@ -41,10 +41,12 @@ struct FrontConfig {
 // A complete request handed to a worker.
 struct FrontRequest {
   std::string bytes;  // head and body; with head_only, the head alone
-  // The body was not read: the head already rules the request out (too large, chunked). The answer
-  // must come from the head alone, and the connection closes after it.
+  RequestHead head;   // the front's parse of the head in `bytes`
+  // The body was not read: the head already rules the request out (screening refused it, or it is
+  // chunked). The answer must come from the head alone, and the connection closes after it.
   bool head_only = false;
-  bool last = false;  // the connection closes after this answer (draining, request count)
+  // The connection closes after this answer (the client asked, draining, the request count).
+  bool last = false;
   std::string remote_ip, local_ip;
   int remote_port = 0, local_port = 0;
 };
@@ -79,14 +81,14 @@ struct FrontStats {
 
 class ConnectionFront {
  public:
-  using BodyLimit = std::function<uint64_t(std::string_view method, std::string_view target)>;
+  // Screening's verdict on a head that announces a body: true when the body is to be read. Runs on
+  // the event thread. False: the head goes to `answer` alone and the connection closes after it.
+  using Screen = std::function<bool(const RequestHead& head)>;
   using Answer = std::function<FrontAnswer(FrontRequest&)>;
   // The whole response for a refusal the front makes itself; `close` says the connection closes.
   using Refusal = std::function<std::string(int status, std::string_view detail, bool close)>;
 
-  // `body_limit` gives the largest body the request's route takes (0: none); a larger announced
-  // body is not read, the head goes to `answer` alone.
-  ConnectionFront(FrontConfig config, BodyLimit body_limit, Answer answer, Refusal refusal);
+  ConnectionFront(FrontConfig config, Screen screen, Answer answer, Refusal refusal);
   ~ConnectionFront();
   ConnectionFront(const ConnectionFront&) = delete;
   ConnectionFront& operator=(const ConnectionFront&) = delete;
@@ -104,8 +106,9 @@ class ConnectionFront {
   void finish(std::chrono::steady_clock::time_point until);
   FrontStats stats() const;
 
+  struct Loop;  // the event loop's state (front_loop.hpp), shared by the front's own files only
+
  private:
-  struct Loop;
   std::unique_ptr<Loop> loop_;
 };
 

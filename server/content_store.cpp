@@ -3,7 +3,6 @@
 // rename and of the directory after it, which iostreams cannot express.
 #include "server/content_store.hpp"
 
-#include "server/http_util.hpp"
 #include "server/mesh_store.hpp"
 #include "server/scene_store.hpp"
 
@@ -48,6 +47,16 @@ void fsync_path(const fs::path& path, int flags) {
 
 std::string read_whole(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  return text.str();
+}
+
+// The file's content, or nullopt when there is no such file (removed by a writer meanwhile).
+std::optional<std::string> read_if_there(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
   std::ostringstream text;
   text << in.rdbuf();
   if (!in) throw std::runtime_error("cannot read " + path.string());
@@ -108,9 +117,15 @@ void ContentStore<T>::remove_files(const std::string& id) const {
 }
 
 template <class T>
-bool ContentStore<T>::expired(const Entry& entry, Clock::time_point now) const {
+bool ContentStore<T>::expired(const std::string& id, const Entry& entry, Clock::time_point now) const {
   if (config_.ttl.count() == 0 || now - entry.last_access < config_.ttl) return false;
-  return !(config_.pinned && config_.pinned(entry.item->id));  // a pinned entry outlives its ttl
+  return !(config_.pinned && config_.pinned(id));  // a pinned entry outlives its ttl
+}
+
+template <class T>
+std::optional<std::string> ContentStore<T>::read_text(const Entry& entry, const std::string& id) const {
+  if (entry.text) return *entry.text;
+  return read_if_there(file_for(id));
 }
 
 template <class T>
@@ -126,23 +141,22 @@ template <class T>
 void ContentStore<T>::expire(Clock::time_point now, bool force) {
   if (config_.ttl.count() == 0 || (!force && now - last_sweep_ < std::chrono::seconds(1))) return;
   last_sweep_ = now;
-  std::vector<std::shared_ptr<const T>> gone;
+  std::vector<std::pair<std::string, std::vector<std::string>>> gone;  // id, refs
   {
     std::lock_guard lock(mutex_);
     for (auto it = entries_.begin(); it != entries_.end();) {
-      if (!expired(it->second, now)) {
+      if (!expired(it->first, it->second, now)) {
         ++it;
         continue;
       }
-      gone.push_back(it->second.item);
-      bytes_ -= it->second.item->bytes;
+      gone.emplace_back(it->first, std::move(it->second.refs));
+      bytes_ -= it->second.bytes;
       it = entries_.erase(it);
     }
   }
-  for (const std::shared_ptr<const T>& item : gone) {
-    const std::string& id = item->id;
+  for (const auto& [id, refs] : gone) {
     remove_files(id);
-    if (config_.on_change) config_.on_change(*item, false);
+    if (config_.on_change) config_.on_change(id, refs, false);
     log_("info", {{"event", config_.kind + "_expired"}, {config_.kind, id}});
   }
 }
@@ -198,110 +212,119 @@ size_t ContentStore<T>::load() {
   return loaded;
 }
 
-// One item file and its metadata (a file without metadata predates owners: it belongs to "", the
-// owner of a server without tokens, and was created when last written).
+// One document file and its metadata (a file without metadata predates owners: it belongs to "",
+// the owner of a server without tokens, and was created when last written). Only its index entry
+// stays in memory; what is prepared from it is built when first wanted (prepared_cache.hpp).
 template <class T>
 bool ContentStore<T>::load_one(const fs::path& path, Clock::time_point modified) {
-  auto item = config_.read(read_whole(path));
-  if (item->id != path.stem().string()) {
-    throw std::runtime_error("content hashes to " + item->id + ", not to its file name");
-  }
-  Entry entry{item, {""}, 0, modified, modified};
+  const std::string text = read_whole(path);
+  StoredDocument document = config_.read(text);
+  const std::string id = path.stem().string();
+  if (document.id != id) throw std::runtime_error("content hashes to " + document.id + ", not to its file name");
+  Entry entry{text.size(), std::move(document.refs), nullptr, {""}, 0, modified, modified};
   entry.created_us = std::chrono::duration_cast<std::chrono::microseconds>(modified.time_since_epoch()).count();
-  if (fs::exists(meta_for(item->id))) {
-    nlohmann::json meta = nlohmann::json::parse(read_whole(meta_for(item->id)));
+  if (fs::exists(meta_for(id))) {
+    nlohmann::json meta = nlohmann::json::parse(read_whole(meta_for(id)));
     entry.created_us = meta.at("created_us").get<int64_t>();
     entry.owners = meta.at("owners").get<std::set<std::string>>();
   }
   // What pins an entry may load after it (scenes after their meshes): a later sweep decides.
-  if (!config_.pinned && expired(entry, Clock::now())) {
-    remove_files(item->id);
-    log_("info", {{"event", config_.kind + "_expired"}, {config_.kind, item->id}});
+  if (!config_.pinned && expired(id, entry, Clock::now())) {
+    remove_files(id);
+    log_("info", {{"event", config_.kind + "_expired"}, {config_.kind, id}});
     return false;
   }
   std::lock_guard lock(mutex_);
   last_created_us_ = std::max(last_created_us_, entry.created_us);
-  if (!entries_.emplace(item->id, std::move(entry)).second) return false;
-  bytes_ += item->bytes;
-  if (config_.on_change) config_.on_change(*item, true);
+  const size_t bytes = entry.bytes;
+  auto [it, added] = entries_.emplace(id, std::move(entry));
+  if (!added) return false;
+  bytes_ += bytes;
+  if (config_.on_change) config_.on_change(id, it->second.refs, true);
   return true;
 }
 
 template <class T>
-typename ContentStore<T>::PutResult ContentStore<T>::put(const std::shared_ptr<const T>& item,
-                                                         const std::string& owner) {
+typename ContentStore<T>::PutResult ContentStore<T>::put(const StoredDocument& document, const std::string& owner) {
+  const std::string& id = document.id;
+  const size_t bytes = document.bytes();
   std::lock_guard write(mutation_);
   const Clock::time_point now = Clock::now();
   expire(now, false);
   std::unique_lock lock(mutex_);
-  auto it = entries_.find(item->id);
-  if (it != entries_.end() && expired(it->second, now)) {  // gone, though not swept yet
+  auto it = entries_.find(id);
+  if (it != entries_.end() && expired(id, it->second, now)) {  // gone, though not swept yet
     lock.unlock();
     expire(now, true);
     lock.lock();
-    it = entries_.find(item->id);
+    it = entries_.find(id);
   }
   if (it != entries_.end()) {
     Entry& held = it->second;  // stays put: only writers erase, and this is the writer
-    if (held.item->text != item->text) return PutResult::conflict;
+    lock.unlock();
+    // Sizes first: the text (a file read with a data directory) only when they agree.
+    if (held.bytes != bytes || read_text(held, id) != document.text) return PutResult::conflict;
+    lock.lock();
     held.last_access = now;
     lock.unlock();
     if (!held.owners.contains(owner)) {
       std::set<std::string> owners = held.owners;
       owners.insert(owner);
-      if (!config_.data_dir.empty()) write_meta(item->id, held.created_us, owners);
+      if (!config_.data_dir.empty()) write_meta(id, held.created_us, owners);
       held.owners = std::move(owners);
     }
     return PutResult::existed;
   }
-  if (item->bytes > config_.max_bytes) return PutResult::too_large;
-  auto fits = [&] { return entries_.size() < config_.max_entries && bytes_ + item->bytes <= config_.max_bytes; };
+  if (bytes > config_.max_bytes) return PutResult::too_large;
+  auto fits = [&] { return entries_.size() < config_.max_entries && bytes_ + bytes <= config_.max_bytes; };
   if (!fits()) {
     lock.unlock();
     expire(now, true);
     lock.lock();
     if (!fits()) return PutResult::full;
   }
-  Entry entry{item, {owner}, next_created_us(now), now, now};
+  Entry entry{bytes, document.refs, nullptr, {owner}, next_created_us(now), now, now};
   lock.unlock();
-  // Metadata first: an item file is never there without its owners. An item of a server without
-  // tokens or retention needs none (no file means owner "" created at the file's time), which
-  // keeps such a store at one file, and half the fsyncs, per item.
+  // Metadata first: a document file is never there without its owners. A document of a server
+  // without tokens or retention needs none (no file means owner "" created at the file's time),
+  // which keeps such a store at one file, and half the fsyncs, per document.
   const bool with_meta = !owner.empty() || config_.ttl.count() > 0;
-  if (!config_.data_dir.empty()) {
-    if (with_meta) write_meta(item->id, entry.created_us, entry.owners);
+  if (config_.data_dir.empty()) {
+    entry.text = std::make_shared<const std::string>(document.text);
+  } else {
+    if (with_meta) write_meta(id, entry.created_us, entry.owners);
     try {
-      write_atomically(file_for(item->id), item->text);
+      write_atomically(file_for(id), document.text);
     } catch (...) {
       std::error_code ec;
-      if (with_meta) fs::remove(meta_for(item->id), ec);
+      if (with_meta) fs::remove(meta_for(id), ec);
       throw;
     }
   }
   lock.lock();
-  bytes_ += item->bytes;
-  entries_.emplace(item->id, std::move(entry));
+  bytes_ += bytes;
+  entries_.emplace(id, std::move(entry));
   lock.unlock();
-  if (config_.on_change) config_.on_change(*item, true);
+  if (config_.on_change) config_.on_change(id, document.refs, true);
   return PutResult::created;
 }
 
 template <class T>
-std::shared_ptr<const T> ContentStore<T>::find(const std::string& id) {
+std::optional<std::string> ContentStore<T>::find(const std::string& id, bool with_text) {
   const Clock::time_point now = Clock::now();
-  std::shared_ptr<const T> item;
+  std::shared_ptr<const std::string> text;
   bool persist_access = false;
   {
     std::lock_guard lock(mutex_);
     auto it = entries_.find(id);
-    if (it == entries_.end() || expired(it->second, now)) {
+    if (it == entries_.end() || expired(id, it->second, now)) {
       ++stats_.misses;
-      return nullptr;
+      return std::nullopt;
     }
     ++stats_.hits;
     Entry& entry = it->second;
     entry.last_access = now;
-    item = entry.item;
+    text = entry.text;
     // The file's time is the access a restart resumes retention from; moved on now and then, not
     // on every read (an eighth of the retention, at most a minute, late is close enough).
     auto interval = std::min<Clock::duration>(std::chrono::minutes(1), Clock::duration(config_.ttl) / 8);
@@ -314,7 +337,11 @@ std::shared_ptr<const T> ContentStore<T>::find(const std::string& id) {
     std::error_code ec;  // a file removed meanwhile has no time to keep
     fs::last_write_time(file_for(id), std::chrono::file_clock::from_sys(now), ec);
   }
-  return item;
+  if (!with_text) return std::string();
+  if (text) return *text;
+  // Read outside the locks, so a slow disk holds up no other reader; a file a writer removed
+  // meanwhile is a document no longer stored.
+  return read_if_there(file_for(id));
 }
 
 template <class T>
@@ -327,7 +354,7 @@ typename ContentStore<T>::ReleaseResult ContentStore<T>::release(const std::stri
   {
     std::lock_guard lock(mutex_);
     auto it = entries_.find(id);
-    if (it == entries_.end() || expired(it->second, now)) return ReleaseResult::not_found;
+    if (it == entries_.end() || expired(id, it->second, now)) return ReleaseResult::not_found;
     entry = &it->second;
   }
   if (owner && !entry->owners.contains(*owner)) return ReleaseResult::not_owner;
@@ -339,14 +366,15 @@ typename ContentStore<T>::ReleaseResult ContentStore<T>::release(const std::stri
     return ReleaseResult::reference_dropped;
   }
   if (config_.pinned && config_.pinned(id)) return ReleaseResult::pinned;
-  const std::shared_ptr<const T> item = entry->item;
+  std::vector<std::string> refs;
   {
     std::lock_guard lock(mutex_);
-    bytes_ -= item->bytes;
+    refs = std::move(entry->refs);
+    bytes_ -= entry->bytes;
     entries_.erase(id);
   }
   remove_files(id);
-  if (config_.on_change) config_.on_change(*item, false);
+  if (config_.on_change) config_.on_change(id, refs, false);
   return ReleaseResult::removed;
 }
 
@@ -371,11 +399,11 @@ typename ContentStore<T>::Page ContentStore<T>::list(const std::optional<std::st
   {
     std::lock_guard lock(mutex_);
     for (const auto& [id, entry] : entries_) {
-      if (expired(entry, now) || (owner && !entry.owners.contains(*owner))) continue;
+      if (expired(id, entry, now) || (owner && !entry.owners.contains(*owner))) continue;
       if (std::pair(entry.created_us, id) >= after && !cursor.empty()) continue;
       std::optional<Clock::time_point> expires;
       if (config_.ttl.count() > 0) expires = entry.last_access + config_.ttl;
-      all.push_back({id, entry.created_us, expires, entry.item->bytes});
+      all.push_back({id, entry.created_us, expires, entry.bytes});
     }
   }
   std::sort(all.begin(), all.end(), [](const Listed& a, const Listed& b) {

@@ -1,9 +1,11 @@
 // What the handlers need of a store of content-addressed documents (stored scenes, stored meshes):
-// T has `id` (the hash of `text`), `text` (the canonical document, served byte for byte) and `bytes`
-// (charged against the budget). Two implementations: ContentStore (embedded: memory and files under
-// --data-dir) and PostgresStore (one database shared by every replica, --store postgresql://...).
-// Both keep the same promises: stored means kept (507 when full, never eviction), owners hold one
-// reference each, retention counts from the last access, a pinned entry is neither deleted nor expired.
+// each a StoredDocument, its canonical text charged against the store's budget of document bytes
+// and entries. T (StoredScene or StoredMesh) names the kind; what is prepared from a document lives
+// in the service's prepared cache (prepared_cache.hpp), never here. Two implementations:
+// ContentStore (embedded: memory, or files under --data-dir) and PostgresStore (one database
+// shared by every replica, --store postgresql://...). Both keep the same promises: stored means
+// kept (507 when full, never eviction), owners hold one reference each, retention counts from the
+// last access, a pinned entry is neither deleted nor expired.
 #pragma once
 
 #include "render/core/lru_cache.hpp"  // CacheStats
@@ -28,6 +30,14 @@ class StoreUnavailable : public std::runtime_error {
 
  private:
   int retry_after_s_;
+};
+
+// One stored document as a store keeps it.
+struct StoredDocument {
+  std::string id;                 // the content id: hash_hex(text) for scenes, the mesh's content id for meshes
+  std::string text;               // the canonical document, served byte for byte
+  std::vector<std::string> refs;  // the stored meshes it places (scenes), each once, sorted
+  size_t bytes() const { return text.size(); }  // what it costs against the store's budget
 };
 
 template <class T>
@@ -60,10 +70,12 @@ class DocumentStore {
   // Prepares the store at start-up (reads the data directory; creates or migrates the schema).
   // Returns how many entries it loaded into memory.
   virtual size_t load() = 0;
-  // Stores `item` with `owner` holding a reference; storing it again adds the owner's reference.
-  virtual PutResult put(const std::shared_ptr<const T>& item, const std::string& owner) = 0;
-  // The entry, counting as an access (it restarts the retention clock); null when not stored.
-  virtual std::shared_ptr<const T> find(const std::string& id) = 0;
+  // Stores `document` with `owner` holding a reference; storing it again adds the owner's reference.
+  virtual PutResult put(const StoredDocument& document, const std::string& owner) = 0;
+  // Whether `id` is stored, counting as an access (it restarts the retention clock): nullopt when
+  // not, else its text when `with_text` (read from memory, the data directory or the database),
+  // else "".
+  virtual std::optional<std::string> find(const std::string& id, bool with_text) = 0;
   // Drops `owner`'s reference; nullopt (a server without tokens) drops every reference.
   virtual ReleaseResult release(const std::string& id, const std::optional<std::string>& owner) = 0;
   // Entries newest first, those `owner` holds a reference to (nullopt: all), after `cursor` (from
@@ -73,7 +85,7 @@ class DocumentStore {
   virtual std::vector<std::string> pinned_by(const std::string& id, size_t most) = 0;
   // When an entry accessed now expires (nullopt: no retention is set).
   virtual std::optional<Clock::time_point> expiry_from_now() const = 0;
-  // Fill (entries, bytes and their budgets) and find()'s hits and misses.
+  // Fill (entries, document bytes and their budgets) and find()'s hits (stored) and misses.
   virtual CacheStats stats() = 0;
   virtual size_t max_bytes() const = 0;
   // Empty when the store can answer now, else why not (readiness).

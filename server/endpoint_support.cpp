@@ -66,11 +66,10 @@ std::string rfc3339(std::chrono::system_clock::time_point t) {
 ServiceState::ServiceState(const ServerConfig& c)
     : config(c),
       gate(render_workers(c), render_queue_length(c)),
-      bsp_cache(c.bsp_cache_bytes, c.bsp_cache_entries),
-      shadow_cache(c.shadow_cache_bytes),
       stores(open_stores(
           c, [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); })),
-      limits(resolving_meshes(c.limits, *stores.meshes)),
+      cache(c, stores),
+      limits(cache.limits()),
       access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 
 void ServiceState::log(const std::string& level, nlohmann::ordered_json fields) const {

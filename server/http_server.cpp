@@ -1,15 +1,18 @@
-// The HTTP service (see http_server.hpp) and its bridge to httplib. cpp-httplib 0.11.4 from Debian
-// is a compiled library: its CPPHTTPLIB_* macros change nothing here, and its thread-per-connection
-// server lets one slow or idle client hold a thread, so its listener is not used. Our connection
-// front owns the sockets and hands each complete request, as bytes, to httplib's request processing
-// on an in-memory stream (Server::process_request, reached through a subclass). A request passes
-// screen_request first (screening.hpp: route, method, access, Accept and body framing, before any
-// body byte is read), then dispatch() calls its route's handler; handlers just throw, and
-// answer_exception turns whatever went wrong into problem+json. The logger, which httplib calls after
-// writing every response, writes the log line and the metrics (request_log.hpp).
+// The HTTP service (see http_server.hpp). cpp-httplib 0.11.4 from Debian is a compiled library: its
+// CPPHTTPLIB_* macros change nothing here, and its thread-per-connection server lets one slow or idle
+// client hold a thread, so its listener is not used. Our connection front owns the sockets and parses
+// each head; screening judges a head that announces a body from that parse, on the event thread,
+// before the body is read. Each complete request then goes, as bytes, to httplib's request
+// processing on an in-memory stream (httplib_bridge.hpp), which parses it again: where its parse
+// differs from the front's the request is refused, so the handlers only ever see the request the
+// front framed and screened. A request passes screen_request (screening.hpp: route, method, access,
+// Accept and body framing) once more there, then dispatch() calls its route's handler; handlers just
+// throw, and answer_exception turns whatever went wrong into problem+json. The logger, which httplib
+// calls after writing every response, writes the log line and the metrics (request_log.hpp).
 #include "server/http_server.hpp"
 
 #include "server/connection_front.hpp"
+#include "server/httplib_bridge.hpp"
 #include "server/problem.hpp"
 #include "server/request_log.hpp"
 #include "server/routes.hpp"
@@ -24,8 +27,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
-#include <regex>
 #include <stdexcept>
 
 namespace rr::server {
@@ -39,6 +40,10 @@ using Clock = std::chrono::steady_clock;
 // Set by the logger when a request's work was large; the worker trims the heap once the answer has
 // been handed to the front, so the trim delays no answer.
 thread_local bool heap_trim_pending = false;
+
+// Where httplib's parse of the request in process differs from the front's ("" when it does not),
+// set by answer_request before httplib screens the request.
+thread_local std::string parse_mismatch;
 
 // Requests at least this large return their freed heap to the OS after the answer, like long renders.
 constexpr size_t large_request_bytes = 1u << 20;
@@ -69,47 +74,6 @@ HandlerResponse fill_error_body(const Request&, Response& res) {
   return HandlerResponse::Handled;
 }
 
-// httplib's request processing, reachable: process_request is protected in 0.11.
-class RequestProcessor : public httplib::Server {
- public:
-  bool process(httplib::Stream& stream, bool close_connection, bool& connection_closed) {
-    return process_request(stream, close_connection, connection_closed, nullptr);
-  }
-};
-
-// One complete request as httplib's input, its answer collected as bytes. Reading past the request
-// gives 0 (end of stream), so a handler never waits for a client.
-class MemoryStream final : public httplib::Stream {
- public:
-  MemoryStream(const FrontRequest& request, std::string& out) : request_(request), out_(out) {}
-  bool is_readable() const override { return true; }
-  bool is_writable() const override { return true; }
-  ssize_t read(char* ptr, size_t size) override {
-    size_t n = std::min(size, request_.bytes.size() - offset_);
-    std::memcpy(ptr, request_.bytes.data() + offset_, n);
-    offset_ += n;
-    return ssize_t(n);
-  }
-  ssize_t write(const char* ptr, size_t size) override {
-    out_.append(ptr, size);
-    return ssize_t(size);
-  }
-  void get_remote_ip_and_port(std::string& ip, int& port) const override {
-    ip = request_.remote_ip;
-    port = request_.remote_port;
-  }
-  void get_local_ip_and_port(std::string& ip, int& port) const override {
-    ip = request_.local_ip;
-    port = request_.local_port;
-  }
-  socket_t socket() const override { return INVALID_SOCKET; }
-
- private:
-  const FrontRequest& request_;
-  std::string& out_;
-  size_t offset_ = 0;
-};
-
 void configure_limits(httplib::Server& server, const ServerConfig& config) {
   // Backstop only: the front and screen_request refuse large bodies before they are read.
   server.set_payload_max_length(std::max(config.max_body_bytes, config.max_import_bytes));
@@ -117,6 +81,15 @@ void configure_limits(httplib::Server& server, const ServerConfig& config) {
   server.set_keep_alive_timeout(config.keep_alive_timeout_s);
   server.set_keep_alive_max_count(config.keep_alive_max_requests);
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
+}
+
+// A request the two parsers read differently is not answered as either reads it (request_head.hpp
+// keeps them from differing; this is the net under that): 400, the connection closed, and the
+// difference logged for the operator.
+void refuse_mismatch(ServiceState& state, const Request& req, Response& res) {
+  state.log("error", {{"event", "parse_mismatch"}, {"method", req.method}, {"detail", parse_mismatch}});
+  send_problem(res, {400, make_problem(400, "", "The request head is ambiguous: it cannot be read one way only."), {}});
+  res.set_header("Connection", "close");
 }
 
 std::shared_ptr<std::vector<Route>> make_routes(const ServerConfig& config) {
@@ -136,6 +109,10 @@ std::unique_ptr<RequestProcessor> make_server(ServiceState& state, std::shared_p
   server->Put(".*", dispatch);
   server->Delete(".*", dispatch);
   auto screen = [routes, &state](const Request& req, Response& res) {
+    if (!parse_mismatch.empty()) {
+      refuse_mismatch(state, req, res);
+      return HandlerResponse::Handled;
+    }
     return screen_request(*routes, state, req, res) ? HandlerResponse::Unhandled : HandlerResponse::Handled;
   };
   server->set_pre_routing_handler(screen);
@@ -156,7 +133,7 @@ std::unique_ptr<RequestProcessor> make_server(ServiceState& state, std::shared_p
   return server;
 }
 
-// The answers the front gives without a worker (408, 414, 431, 503), as whole HTTP responses.
+// The answers the front gives without a worker (408, 414, 431, 501, 503), as whole HTTP responses.
 std::string front_refusal(ServiceState& state, int status, std::string_view detail, bool close) {
   std::string body = make_problem(status, "", detail);
   std::string head = "HTTP/1.1 " + std::to_string(status) + " " + std::string(status_title(status)) + "\r\n" +
@@ -170,17 +147,26 @@ std::string front_refusal(ServiceState& state, int status, std::string_view deta
   return head + "\r\n" + body;
 }
 
-// True when the answer's head says "Connection: close" (close_after_response, or httplib's own).
-bool answer_closes(std::string_view answer) {
-  std::string_view head = answer.substr(0, answer.find("\r\n\r\n"));
-  return head.find("\r\nConnection: close\r\n") != std::string_view::npos || head.ends_with("\r\nConnection: close");
+// Screening's verdict on a head that announces a body, from the front's parse, on the event thread:
+// true when the body is to be read. The refusal itself is answered by a worker from the head alone,
+// screened again there from httplib's parse, which agrees with this one.
+bool screen_head(const std::vector<Route>& routes, const ServiceState& state, const RequestHead& head) {
+  Request req = request_from_head(head);
+  Response res;
+  const bool pass = screen_request(routes, state, req, res);
+  request_context() = RequestContext{};  // the event thread's context belongs to no request
+  return pass;
 }
 
 FrontAnswer answer_request(RequestProcessor& server, ServiceState& state, FrontRequest& request) {
   FrontAnswer answer;
-  MemoryStream stream(request, answer.bytes);
+  const MemoryStream::Peer peer{request.remote_ip, request.local_ip, request.remote_port, request.local_port};
+  MemoryStream stream(request.bytes, answer.bytes, peer);
   bool client_closes = false;
-  bool whole = server.process(stream, request.last, client_closes);
+  // `last` carries the front's keep-alive decision: httplib then says "Connection: close" itself.
+  bool whole = server.process(stream, request.last, client_closes,
+                              [&request](Request& parsed) { parse_mismatch = parse_difference(request.head, parsed); });
+  parse_mismatch.clear();
   if (answer.bytes.empty()) {  // httplib gave up before writing anything (no request line at all)
     answer.bytes = front_refusal(state, 400, "The request could not be read.", true);
     whole = false;
@@ -201,11 +187,12 @@ FrontConfig front_config(const ServerConfig& c) {
   f.max_pending = max_pending_requests(c);
   f.max_connections = c.max_connections;
   f.max_idle_connections = c.max_idle_connections;
-  f.keep_alive_timeout = std::chrono::seconds(c.keep_alive_timeout_s);
-  f.header_timeout = std::chrono::milliseconds(c.header_timeout_ms);
-  f.body_timeout = std::chrono::milliseconds(c.body_timeout_ms);
-  f.write_timeout = std::chrono::seconds(c.write_timeout_s);
-  f.min_transfer_rate = c.min_transfer_rate;
+  f.deadlines.keep_alive_timeout = std::chrono::seconds(c.keep_alive_timeout_s);
+  f.deadlines.header_timeout = std::chrono::milliseconds(c.header_timeout_ms);
+  f.deadlines.body_timeout = std::chrono::milliseconds(c.body_timeout_ms);
+  f.deadlines.write_timeout = std::chrono::seconds(c.write_timeout_s);
+  f.deadlines.min_transfer_rate = c.min_transfer_rate;
+  f.deadlines.min_body_rate = c.min_body_rate;
   f.max_buffered_body_bytes = c.max_buffered_body_bytes;
   f.max_requests_per_connection = c.keep_alive_max_requests;
   f.head_limits = {c.max_request_line_bytes, c.max_header_bytes, c.max_header_count};
@@ -228,6 +215,12 @@ void Service::start() {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
   }
+  if (config_.store_url.empty() && config_.data_dir.empty()) {  // said, so nobody trusts a restart with them
+    state_->log("warn", {{"event", "store_in_memory"},
+                         {"reason",
+                          "no --data-dir: stored scenes and meshes live only as long as this process; "
+                          "give --data-dir DIR (ROOMRENDER_DATA_DIR) to keep them"}});
+  }
   if (!config_.store_url.empty() && !config_.data_dir.empty()) {  // said, so nobody backs up an empty directory
     state_->log("warn",
                 {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});
@@ -245,10 +238,7 @@ void Service::start() {
   RequestProcessor& processor = *server;
   ServiceState& state = *state_;
   front_ = std::make_unique<ConnectionFront>(
-      front_config(config_),
-      [routes, &state](std::string_view method, std::string_view target) {
-        return route_body_limit(*routes, state.config, method, target);
-      },
+      front_config(config_), [routes, &state](const RequestHead& head) { return screen_head(*routes, state, head); },
       [&processor, &state](FrontRequest& request) { return answer_request(processor, state, request); },
       [&state](int status, std::string_view detail, bool close) {
         return front_refusal(state, status, detail, close);

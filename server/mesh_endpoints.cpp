@@ -53,9 +53,10 @@ void handle_post_mesh(ServiceState& state, const Request& req, Response& res, co
 }
 
 void handle_get_mesh(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto mesh = state.stores.meshes->find(match.params.at(0));
-  if (!mesh) throw HttpError(404, "There is no stored mesh " + match.params[0] + ".");
-  send_stored_document(req, res, mesh->id, mesh->text);
+  const std::string& id = match.params.at(0);
+  std::optional<std::string> text = state.cache.text<StoredMesh>(id);
+  if (!text) throw HttpError(404, "There is no stored mesh " + id + ".");
+  send_stored_document(req, res, id, *text);
 }
 
 // With tokens, a delete drops the caller's reference only; the mesh goes with the last one, unless
@@ -63,7 +64,9 @@ void handle_get_mesh(ServiceState& state, const Request& req, Response& res, con
 void handle_delete_mesh(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  switch (state.stores.meshes->release(id, owner)) {
+  const MeshDocuments::ReleaseResult released = state.stores.meshes->release(id, owner);
+  if (released == MeshDocuments::ReleaseResult::removed) state.cache.forget<StoredMesh>(id);
+  switch (released) {
     case MeshDocuments::ReleaseResult::not_found:
       throw HttpError(404, "There is no stored mesh " + id + ".");
     case MeshDocuments::ReleaseResult::not_owner:

@@ -1,8 +1,8 @@
-// StoredMesh, the mesh resolver and MeshPins (mesh_store.hpp); the store itself is content_store.cpp.
+// StoredMesh, its documents and MeshPins (mesh_store.hpp); the stores themselves are content_store.cpp
+// and postgres_store.cpp.
 #include "server/mesh_store.hpp"
 
 #include "render/scene_io/mesh_json.hpp"
-#include "server/scene_store.hpp"
 
 namespace rr::server {
 
@@ -20,21 +20,19 @@ std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, cons
   return prepare_mesh(mesh_from_json(parse_json_text(text, limits), limits));
 }
 
-ParseLimits resolving_meshes(ParseLimits limits, MeshDocuments& meshes) {
-  limits.resolve_mesh = [&meshes](const std::string& id) -> std::shared_ptr<const MeshData> {
-    auto stored = meshes.find(id);
-    return stored ? stored->mesh : nullptr;
-  };
-  return limits;
+StoredDocument mesh_document(const StoredMesh& mesh) { return {mesh.id, mesh.text, {}}; }
+
+StoredDocument read_mesh_document(const std::string& text, const ParseLimits& limits) {
+  return mesh_document(*read_stored_mesh(text, limits));
 }
 
-void MeshPins::change(const StoredScene& scene, bool added) {
+void MeshPins::change(const std::string& scene_id, const std::vector<std::string>& mesh_ids, bool added) {
   std::lock_guard lock(mutex_);
-  for (const std::string& mesh : scene.mesh_refs) {
+  for (const std::string& mesh : mesh_ids) {
     if (added) {
-      scenes_[mesh].insert(scene.id);
+      scenes_[mesh].insert(scene_id);
     } else if (auto it = scenes_.find(mesh); it != scenes_.end()) {
-      it->second.erase(scene.id);
+      it->second.erase(scene_id);
       if (it->second.empty()) scenes_.erase(it);
     }
   }

@@ -1,7 +1,8 @@
-// Stored meshes (a ContentStore, content_store.hpp): a MeshData kept as its canonical JSON mesh
-// document, its id the mesh's content id (mesh_data.hpp), so one mesh sent as OBJ or as JSON is one
-// entry. MeshPins records which stored scenes place which stored meshes: a mesh is pinned (neither
-// deleted nor expired) while a stored scene places it.
+// Stored meshes: a MeshData stored as its canonical JSON mesh document (in a DocumentStore), its id
+// the mesh's content id (mesh_data.hpp), so one mesh sent as OBJ or as JSON is one document. The
+// parsed mesh is a StoredMesh, kept in the prepared cache (prepared_cache.hpp) and read again from
+// the text when evicted. MeshPins records which stored scenes place which stored meshes: a mesh is
+// pinned (neither deleted nor expired) while a stored scene places it.
 #pragma once
 
 #include "render/core/mesh_data.hpp"
@@ -24,24 +25,26 @@ struct StoredMesh {
   static constexpr const char* plural = "meshes";
   std::string id;    // mesh->content_id
   std::string text;  // canonical JSON mesh document (mesh_to_json)
-  size_t bytes = 0;  // charged against the store's budget
+  size_t bytes = 0;  // what it costs in memory: charged against the prepared cache's budget
   std::shared_ptr<const MeshData> mesh;
 };
 
 std::shared_ptr<const StoredMesh> prepare_mesh(std::shared_ptr<const MeshData> mesh);
-// A stored mesh file's text (load()). Throws when it does not read.
+// A stored mesh's text -> its StoredMesh. Throws when it does not read.
 std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, const ParseLimits& limits);
+// What a store keeps of a mesh.
+StoredDocument mesh_document(const StoredMesh& mesh);
+// A stored mesh file's text -> its document (start-up): parsed, so that its id is its content's.
+StoredDocument read_mesh_document(const std::string& text, const ParseLimits& limits);
 
 using MeshStoreConfig = ContentStoreConfig<StoredMesh>;
 using MeshStore = ContentStore<StoredMesh>;       // the embedded store
 using MeshDocuments = DocumentStore<StoredMesh>;  // either store, as the handlers see it
 
-// `limits` whose mesh references ("ref") resolve to the meshes stored in `meshes`.
-ParseLimits resolving_meshes(ParseLimits limits, MeshDocuments& meshes);
-
 class MeshPins {
  public:
-  void change(const StoredScene& scene, bool added);  // a SceneStore's on_change
+  // A SceneStore's on_change: the scene `scene_id` placing the meshes `mesh_ids` was added or removed.
+  void change(const std::string& scene_id, const std::vector<std::string>& mesh_ids, bool added);
   bool pinned(const std::string& mesh_id) const;
   // Up to `most` stored scenes placing the mesh, in id order.
   std::vector<std::string> scenes_placing(const std::string& mesh_id, size_t most) const;

@@ -79,13 +79,16 @@ void handle_readyz(ServiceState& state, const Request&, Response& res, const Rou
 void handle_metrics(ServiceState& state, const Request&, Response& res, const RouteMatch&) {
   no_store(res);
   MetricsSnapshot snapshot{state.gate.load(),
-                           state.bsp_cache.stats(),
-                           state.shadow_cache.stats(),
+                           state.cache.bsp.stats(),
+                           state.cache.shadow.stats(),
+                           state.cache.scene_stats(),
+                           state.cache.mesh_stats(),
+                           state.cache.all_stats(),
                            state.stores.scenes->stats(),
+                           state.stores.meshes->stats(),
                            resident_bytes(),
                            std::string(version()),
-                           state.front_stats ? state.front_stats() : FrontStats{},
-                           state.stores.meshes->stats()};
+                           state.front_stats ? state.front_stats() : FrontStats{}};
   res.set_content(state.metrics.prometheus_text(snapshot), "text/plain; version=0.0.4; charset=utf-8");
 }
 

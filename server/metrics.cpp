@@ -72,6 +72,8 @@ const CacheFamily cache_families[] = {
     {"roomrender_cache_hits_total", "counter", "Cache lookups that found their value.", &CacheStats::hits},
     {"roomrender_cache_misses_total", "counter", "Cache lookups that did not.", &CacheStats::misses},
     {"roomrender_cache_evictions_total", "counter", "Entries evicted to stay within budget.", &CacheStats::evictions},
+    {"roomrender_cache_builds_total", "counter", "Values built on a miss (once per key however many waited).",
+     &CacheStats::builds},
     {"roomrender_cache_bytes", "gauge", "Bytes held (approximate).", &CacheStats::bytes},
     {"roomrender_cache_budget_bytes", "gauge", "Byte budget.", &CacheStats::budget_bytes},
     {"roomrender_cache_entries", "gauge", "Entries held.", &CacheStats::entries},
@@ -80,12 +82,36 @@ const CacheFamily cache_families[] = {
 void cache_samples(std::string& out, const MetricsSnapshot& snap) {
   const std::pair<const char*, const CacheStats*> caches[] = {{"bsp", &snap.bsp_cache},
                                                               {"shadow", &snap.shadow_cache},
-                                                              {"scenes", &snap.scene_store},
-                                                              {"meshes", &snap.mesh_store}};
+                                                              {"scenes", &snap.scene_cache},
+                                                              {"meshes", &snap.mesh_cache},
+                                                              {"all", &snap.all_cache}};
   for (const CacheFamily& family : cache_families) {
     header(out, family.name, family.type, family.help);
     for (const auto& [cache, stats] : caches)
       sample(out, family.name, label("cache", cache), double(stats->*family.field));
+  }
+}
+
+// The document stores keep what they stored (507 when full), so their fill against both budgets is
+// what an operator watches; finds are every look at a stored id (renders of stored scenes included).
+const CacheFamily store_families[] = {
+    {"roomrender_store_entries", "gauge", "Documents stored.", &CacheStats::entries},
+    {"roomrender_store_max_entries", "gauge", "Most documents the store holds; beyond, storing answers 507.",
+     &CacheStats::max_entries},
+    {"roomrender_store_bytes", "gauge", "Bytes of the documents stored (their canonical text).", &CacheStats::bytes},
+    {"roomrender_store_budget_bytes", "gauge", "Most document bytes the store holds; beyond, storing answers 507.",
+     &CacheStats::budget_bytes},
+    {"roomrender_store_found_total", "counter", "Looks at a stored id that found it stored.", &CacheStats::hits},
+    {"roomrender_store_missing_total", "counter", "Looks at an id that is not stored.", &CacheStats::misses},
+};
+
+void store_samples(std::string& out, const MetricsSnapshot& snap) {
+  const std::pair<const char*, const CacheStats*> stores[] = {{"scenes", &snap.scene_store},
+                                                              {"meshes", &snap.mesh_store}};
+  for (const CacheFamily& family : store_families) {
+    header(out, family.name, family.type, family.help);
+    for (const auto& [store, stats] : stores)
+      sample(out, family.name, label("store", store), double(stats->*family.field));
   }
 }
 
@@ -117,14 +143,7 @@ void snapshot_samples(std::string& out, const MetricsSnapshot& snap) {
   sample(out, "roomrender_render_slots", label("kind", "concurrency"), double(snap.gate.concurrency));
   sample(out, "roomrender_render_slots", label("kind", "queue"), double(snap.gate.queue_limit));
   cache_samples(out, snap);
-  // The scene store keeps what it stored (507 when full), so its fill against both budgets matters;
-  // the byte budget is roomrender_cache_budget_bytes{cache="scenes"} above.
-  header(out, "roomrender_scene_store_max_entries", "gauge",
-         "Most scenes the store holds; beyond, storing answers 507.");
-  sample(out, "roomrender_scene_store_max_entries", "", double(snap.scene_store.max_entries));
-  header(out, "roomrender_mesh_store_max_entries", "gauge",
-         "Most meshes the store holds; beyond, storing answers 507.");
-  sample(out, "roomrender_mesh_store_max_entries", "", double(snap.mesh_store.max_entries));
+  store_samples(out, snap);
   connection_samples(out, snap.connections);
   header(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.");
   sample(out, "process_resident_memory_bytes", "", snap.resident_bytes);

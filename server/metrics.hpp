@@ -30,13 +30,18 @@ struct Histogram {
 // What /metrics reports besides the Metrics object's own counters.
 struct MetricsSnapshot {
   GateLoad gate;
+  // The prepared cache (server/prepared_cache.hpp) by part, and all of it.
   CacheStats bsp_cache;
   CacheStats shadow_cache;
+  CacheStats scene_cache;
+  CacheStats mesh_cache;
+  CacheStats all_cache;
+  // The document stores (server/document_store.hpp): fill against their budgets, finds.
   CacheStats scene_store;
+  CacheStats mesh_store;
   double resident_bytes = 0.0;  // this process's RSS, from /proc/self/statm
   std::string version;
   FrontStats connections;
-  CacheStats mesh_store;
 };
 
 class Metrics {

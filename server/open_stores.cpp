@@ -36,10 +36,10 @@ class PlacingScenes final : public SceneStore {
  public:
   PlacingScenes(SceneStoreConfig config, Log log, MeshPins& pins, MeshDocuments& meshes)
       : SceneStore(std::move(config), std::move(log)), pins_(pins), meshes_(meshes) {}
-  PutResult put(const std::shared_ptr<const StoredScene>& scene, const std::string& owner) override {
+  PutResult put(const StoredDocument& scene, const std::string& owner) override {
     std::lock_guard lock(pins_.writers());
-    for (const std::string& mesh : scene->mesh_refs) {
-      if (!meshes_.find(mesh)) return PutResult::missing_reference;
+    for (const std::string& mesh : scene.refs) {
+      if (!meshes_.find(mesh, false)) return PutResult::missing_reference;
     }
     return SceneStore::put(scene, owner);
   }
@@ -52,7 +52,7 @@ class PlacingScenes final : public SceneStore {
 // What every backend's store of T takes from the configuration: budgets, retention, names, reader.
 template <class T>
 ContentStoreConfig<T> store_config(const ServerConfig& c, size_t max_entries, size_t max_bytes,
-                                   std::function<std::shared_ptr<const T>(const std::string&)> read) {
+                                   std::function<StoredDocument(const std::string&)> read) {
   ContentStoreConfig<T> out;
   out.max_entries = max_entries;
   out.max_bytes = max_bytes;
@@ -66,15 +66,13 @@ ContentStoreConfig<T> store_config(const ServerConfig& c, size_t max_entries, si
 MeshStoreConfig mesh_config(const ServerConfig& c) {
   return store_config<StoredMesh>(
       c, c.mesh_store_entries, c.mesh_store_bytes,
-      [limits = c.limits](const std::string& text) { return read_stored_mesh(text, limits); });
+      [limits = c.limits](const std::string& text) { return read_mesh_document(text, limits); });
 }
 
-// A stored scene's text reads with its meshes resolved through `meshes`.
-SceneStoreConfig scene_config(const ServerConfig& c, MeshDocuments& meshes) {
-  return store_config<StoredScene>(c, c.scene_store_entries, c.scene_store_bytes,
-                                   [limits = resolving_meshes(c.limits, meshes)](const std::string& text) {
-                                     return prepare_scene(parse_json_text(text, limits), limits);
-                                   });
+SceneStoreConfig scene_config(const ServerConfig& c) {
+  return store_config<StoredScene>(
+      c, c.scene_store_entries, c.scene_store_bytes,
+      [limits = c.limits](const std::string& text) { return read_scene_document(text, limits); });
 }
 
 // Memory, and files under --data-dir; the pins between scenes and meshes are the two stores' shared part.
@@ -87,9 +85,11 @@ Stores open_embedded(const ServerConfig& c, const StoreLog& log) {
   meshes.pinned = [&pins = *pins](const std::string& id) { return pins.pinned(id); };
   meshes.pinned_by = [&pins = *pins](const std::string& id, size_t most) { return pins.scenes_placing(id, most); };
   out.meshes = std::make_unique<PinnedMeshes>(std::move(meshes), log, *pins);
-  SceneStoreConfig scenes = scene_config(c, *out.meshes);
+  SceneStoreConfig scenes = scene_config(c);
   scenes.data_dir = c.data_dir;
-  scenes.on_change = [&pins = *pins](const StoredScene& scene, bool added) { pins.change(scene, added); };
+  scenes.on_change = [&pins = *pins](const std::string& id, const std::vector<std::string>& refs, bool added) {
+    pins.change(id, refs, added);
+  };
   out.scenes = std::make_unique<PlacingScenes>(std::move(scenes), log, *pins, *out.meshes);
   return out;
 }
@@ -99,9 +99,8 @@ Stores open_postgresql(const ServerConfig& c, const StoreLog& log) {
   auto pool = std::make_shared<PostgresPool>(postgres_config(c), log);
   Stores out;
   out.shared = pool;
-  out.meshes = std::make_unique<PostgresStore<StoredMesh>>(pool, mesh_config(c), c.store_cache_bytes, log);
-  out.scenes =
-      std::make_unique<PostgresStore<StoredScene>>(pool, scene_config(c, *out.meshes), c.store_cache_bytes, log);
+  out.meshes = std::make_unique<PostgresStore<StoredMesh>>(pool, mesh_config(c), log);
+  out.scenes = std::make_unique<PostgresStore<StoredScene>>(pool, scene_config(c), log);
   return out;
 }
 

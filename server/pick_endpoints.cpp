@@ -76,7 +76,7 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
   const int x = pixel_coordinate(pixel.x, "x", view.options.width, "wide");
   const int y = pixel_coordinate(pixel.y, "y", view.options.height, "tall");
   {
-    RenderContext context{&state.bsp_cache, &token, scene.static_id, &state.shadow_cache};
+    RenderContext context{&state.cache.bsp, &token, scene.static_id, &state.cache.shadow};
     context.threads = render_threads(state.config);
     context.encode = false;
     const RenderOutcome out = render(view, scene, context);
@@ -115,19 +115,20 @@ void handle_pick(ServiceState& state, const Request& req, Response& res, const R
   });
 }
 
+// The scene is prepared holding the render slot: one the prepared cache evicted is rebuilt here.
 void handle_stored_pick(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   res.set_header("Cache-Control", "no-store");
-  auto scene = state.stores.scenes->find(match.params.at(0));
-  if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
-  request_context().scene_id = scene->static_id;
-  PixelRequest pixel = split_pixel(parse_body(state, req));
-  if (pixel.view.is_object() && pixel.view.contains("scene")) {
-    throw InputError(InputError::Kind::invalid, "/scene",
-                     "a stored scene is picked with only camera, options, x and y; the scene is not allowed here");
-  }
-  RenderRequest request = request_from_json(pixel.view, state.limits);
-  check_view_levels(request.options, scene->scene.geometry.levels);
   with_render_slot(state, [&](const CancelToken& token, SlotClock&) {
+    auto scene = state.cache.find<StoredScene>(match.params.at(0));
+    if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
+    request_context().scene_id = scene->static_id;
+    PixelRequest pixel = split_pixel(parse_body(state, req));
+    if (pixel.view.is_object() && pixel.view.contains("scene")) {
+      throw InputError(InputError::Kind::invalid, "/scene",
+                       "a stored scene is picked with only camera, options, x and y; the scene is not allowed here");
+    }
+    RenderRequest request = request_from_json(pixel.view, state.limits);
+    check_view_levels(request.options, scene->scene.geometry.levels);
     pick_and_answer(state, res, pixel, request, *scene, "", token);
   });
 }

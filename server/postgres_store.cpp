@@ -35,13 +35,10 @@ std::pair<int64_t, std::string> parse_cursor(const std::string& cursor) {
   return after;
 }
 
-// The stored meshes an entry places (scenes), none for meshes.
-template <class T>
-std::string references_array(const T& item) {
+// The stored meshes a document places (scenes; none for meshes) as a PostgreSQL array.
+std::string references_array(const StoredDocument& document) {
   std::string out = "{";
-  if constexpr (requires { item.mesh_refs; }) {
-    for (const std::string& id : item.mesh_refs) out += (out.size() > 1 ? "," : "") + id;  // hex ids: no quoting
-  }
+  for (const std::string& id : document.refs) out += (out.size() > 1 ? "," : "") + id;  // hex ids: no quoting
   return out + "}";
 }
 
@@ -52,9 +49,8 @@ PostgresConfig postgres_config(const ServerConfig& c) {
 }
 
 template <class T>
-PostgresStore<T>::PostgresStore(std::shared_ptr<PostgresPool> pool, ContentStoreConfig<T> config, size_t cache_bytes,
-                                Log log)
-    : pool_(std::move(pool)), config_(std::move(config)), log_(std::move(log)), cache_(cache_bytes) {
+PostgresStore<T>::PostgresStore(std::shared_ptr<PostgresPool> pool, ContentStoreConfig<T> config, Log log)
+    : pool_(std::move(pool)), config_(std::move(config)), log_(std::move(log)) {
   add_statements();
 }
 
@@ -134,9 +130,10 @@ void PostgresStore<T>::sweep(PostgresSession& session, bool force) {
 }
 
 template <class T>
-typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSession& s, const T& item,
+typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSession& s, const StoredDocument& item,
                                                                   const std::string& owner) {
   const PostgresParam id{item.id}, body{item.text, true};
+  const size_t bytes = item.bytes();
   // Storing what is stored needs only its row's lock; the fill row (which serialises every new
   // entry of this kind) is taken only to add one.
   PostgresRows held = s.run(statement("get"), {ttl_param(), id, body});
@@ -155,19 +152,19 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
     s.run(statement("add_owner"), {id, {owner}});
     return PutResult::existed;
   }
-  if (item.bytes > config_.max_bytes) return PutResult::too_large;
+  if (bytes > config_.max_bytes) return PutResult::too_large;
   PostgresRows fill = s.run(statement("usage"), {});
   auto fits = [&] {
     return size_t(to_int(fill.at(0, 0))) < config_.max_entries &&
-           size_t(to_int(fill.at(0, 1))) + item.bytes <= config_.max_bytes;
+           size_t(to_int(fill.at(0, 1))) + bytes <= config_.max_bytes;
   };
   if (!fits()) {
     sweep(s, true);
     fill = s.run(statement("usage"), {});
     if (!fits()) return PutResult::full;
   }
-  PostgresRows created = s.run(statement("reserve"), {{std::to_string(item.bytes)}});
-  s.run(statement("insert"), {id, body, {std::to_string(item.bytes)}, PostgresParam{created.at(0, 0)}});
+  PostgresRows created = s.run(statement("reserve"), {{std::to_string(bytes)}});
+  s.run(statement("insert"), {id, body, {std::to_string(bytes)}, PostgresParam{created.at(0, 0)}});
   s.run(statement("add_owner"), {id, {owner}});
   if (const std::string refs = references_array(item); refs != "{}") {
     try {
@@ -181,39 +178,25 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
 }
 
 template <class T>
-typename PostgresStore<T>::PutResult PostgresStore<T>::put(const std::shared_ptr<const T>& item,
-                                                           const std::string& owner) {
+typename PostgresStore<T>::PutResult PostgresStore<T>::put(const StoredDocument& document, const std::string& owner) {
   PutResult result = PutResult::full;
-  pool_->transaction([&](PostgresSession& s) { result = put_locked(s, *item, owner); });
-  if (result == PutResult::created || result == PutResult::existed) cache_.put(item->id, item, item->bytes);
+  pool_->transaction([&](PostgresSession& s) { result = put_locked(s, document, owner); });
   return result;
 }
 
 template <class T>
-std::shared_ptr<const T> PostgresStore<T>::find(const std::string& id) {
-  bool hit = false;
-  std::shared_ptr<const T> cached = cache_.find(id);
+std::optional<std::string> PostgresStore<T>::find(const std::string& id, bool with_text) {
   const double touch_every = std::min(60.0, double(config_.ttl.count()) / 8.0);
   PostgresRows rows;
   pool_->session([&](PostgresSession& s) {
-    rows = s.run(statement("find"), {ttl_param(), {id}, {std::to_string(touch_every)}, {cached ? "false" : "true"}});
+    rows = s.run(statement("find"), {ttl_param(), {id}, {std::to_string(touch_every)}, {with_text ? "true" : "false"}});
   });
-  std::shared_ptr<const T> out;
-  if (rows.size() == 0) {
-    cache_.erase(id);  // deleted, perhaps through another replica
-  } else if (cached) {
-    out = cached;
-    hit = true;
-  } else {
-    // Parsed outside the session: reading a scene resolves its meshes, which takes a connection too.
-    out = config_.read(bytes_value(rows.at(0, 0).value_or("")));
-    if (out->id != id) throw std::runtime_error("the stored " + config_.kind + " " + id + " hashes to " + out->id);
-    cache_.put(id, out, out->bytes);
-    hit = true;
+  {
+    std::lock_guard lock(stats_mutex_);
+    ++(rows.size() > 0 ? stats_.hits : stats_.misses);
   }
-  std::lock_guard lock(stats_mutex_);
-  ++(hit ? stats_.hits : stats_.misses);
-  return out;
+  if (rows.size() == 0) return std::nullopt;
+  return with_text ? bytes_value(rows.at(0, 0).value_or("")) : std::string();
 }
 
 template <class T>
@@ -243,7 +226,6 @@ typename PostgresStore<T>::ReleaseResult PostgresStore<T>::release(const std::st
                                                                    const std::optional<std::string>& owner) {
   ReleaseResult result = ReleaseResult::not_found;
   pool_->transaction([&](PostgresSession& s) { result = release_locked(s, id, owner); });
-  if (result == ReleaseResult::removed) cache_.erase(id);
   return result;
 }
 

@@ -2,9 +2,10 @@
 // every replica uses (--store postgresql://...). Rows hold the canonical bytes (reads are
 // byte-identical), owners and the stored scenes' placements of meshes; the budget (507), owners,
 // pins and retention are decided inside one transaction per write, under the row lock of the
-// kind's fill counter, so replicas never race on a read-modify-write. A small read-through cache
-// keeps parsed documents: ids are content hashes, so a cached document is never stale, and every
-// find() still asks the database whether the id is stored (a delete elsewhere is seen at once).
+// kind's fill counter, so replicas never race on a read-modify-write. Every find() asks the database
+// whether the id is stored (a delete through another replica is seen at once) and fetches the text
+// only when asked: what is prepared from it stays in the replica's prepared cache
+// (prepared_cache.hpp), which ids naming content keep from ever going stale.
 #pragma once
 
 #include "server/content_store.hpp"  // ContentStoreConfig: the budgets, retention and reader
@@ -26,14 +27,14 @@ class PostgresStore : public DocumentStore<T> {
   using typename Base::ReleaseResult;
   using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
 
-  // Uses config's max_entries, max_bytes, ttl, kind ("scene" or "mesh") and read; data_dir, pinned
+  // Uses config's max_entries, max_bytes, ttl and kind ("scene" or "mesh"); data_dir, read, pinned
   // and on_change belong to the embedded store (pins live in the database here). Adds its
-  // statements to `pool`. cache_bytes: the read-through cache's budget (0: none).
-  PostgresStore(std::shared_ptr<PostgresPool> pool, ContentStoreConfig<T> config, size_t cache_bytes, Log log);
+  // statements to `pool`.
+  PostgresStore(std::shared_ptr<PostgresPool> pool, ContentStoreConfig<T> config, Log log);
 
   size_t load() override;
-  PutResult put(const std::shared_ptr<const T>& item, const std::string& owner) override;
-  std::shared_ptr<const T> find(const std::string& id) override;
+  PutResult put(const StoredDocument& document, const std::string& owner) override;
+  std::optional<std::string> find(const std::string& id, bool with_text) override;
   ReleaseResult release(const std::string& id, const std::optional<std::string>& owner) override;
   Page list(const std::optional<std::string>& owner, size_t limit, const std::string& cursor) override;
   std::vector<std::string> pinned_by(const std::string& id, size_t most) override;
@@ -49,14 +50,13 @@ class PostgresStore : public DocumentStore<T> {
   // Deletes the entries whose retention ran out (and, for meshes, that no scene places); at most
   // once a second unless forced. Inside the caller's transaction, which holds the fill row.
   void sweep(PostgresSession& session, bool force);
-  PutResult put_locked(PostgresSession& session, const T& item, const std::string& owner);
+  PutResult put_locked(PostgresSession& session, const StoredDocument& document, const std::string& owner);
   ReleaseResult release_locked(PostgresSession& session, const std::string& id,
                                const std::optional<std::string>& owner);
 
   std::shared_ptr<PostgresPool> pool_;
   ContentStoreConfig<T> config_;
   Log log_;
-  SharedLruCache<T> cache_;
   std::mutex stats_mutex_;
   CacheStats stats_;  // find()'s hits and misses
   std::mutex sweep_mutex_;

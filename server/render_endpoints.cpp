@@ -39,7 +39,7 @@ struct FramePlan {
   std::string_view scene_pointer;  // where the scene sits in the client's document: "/scene" or ""
   std::string etag;
   double parse_ms = 0.0;
-  double tessellate_ms = 0.0;   // 0 for a stored scene: it was prepared when it was stored
+  double tessellate_ms = 0.0;   // for a stored scene 0, unless the prepared cache had to rebuild it
   double before_slot_ms = 0.0;  // spent on this request before it queued for a slot (parse start on)
 };
 
@@ -82,7 +82,7 @@ json warnings_json(const std::vector<PlacementWarning>& warnings, const Scene& s
 void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match, const FramePlan& plan,
                      const CancelToken& token, const SlotClock& clock) {
   check_cancel(&token);
-  RenderContext context{&state.bsp_cache, &token, plan.scene.static_id, &state.shadow_cache};
+  RenderContext context{&state.cache.bsp, &token, plan.scene.static_id, &state.cache.shadow};
   context.threads = render_threads(state.config);  // the server's setting, never the request's
   context.queue_ms = clock.queue_ms;
   context.parse_ms = plan.parse_ms;
@@ -139,11 +139,26 @@ void handle_render(ServiceState& state, const Request& req, Response& res, const
   });
 }
 
-std::shared_ptr<const StoredScene> require_scene(ServiceState& state, const RouteMatch& match) {
-  auto scene = state.stores.scenes->find(match.params.at(0));
-  if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
-  request_context().scene_id = scene->static_id;
-  return scene;
+// A stored scene ready to draw, and what preparing it cost this request (0 when it was held).
+struct StoredFrame {
+  std::shared_ptr<const StoredScene> scene;
+  double parse_ms = 0.0;       // reading the document, when it was rebuilt
+  double tessellate_ms = 0.0;  // its tessellation and hierarchy, when it was rebuilt
+};
+
+// The stored scene the route names, prepared; 404 when not stored. Called holding a render slot:
+// a scene the prepared cache evicted is rebuilt from its document here, which is a render's work.
+StoredFrame require_scene(ServiceState& state, const RouteMatch& match) {
+  Stopwatch clock;
+  bool built = false;
+  StoredFrame out{state.cache.find<StoredScene>(match.params.at(0), &built)};
+  if (!out.scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
+  request_context().scene_id = out.scene->static_id;
+  if (built) {
+    out.tessellate_ms = out.scene->tessellate_ms;
+    out.parse_ms = std::max(0.0, clock.elapsed_ms() - out.tessellate_ms);
+  }
+  return out;
 }
 
 // The camera and options of a stored-scene render (which must not carry a scene of its own),
@@ -163,21 +178,22 @@ std::optional<std::pair<RenderRequest, std::string>> read_view(const ServiceStat
   return std::pair{std::move(request), etag};
 }
 
-void draw_stored(ServiceState& state, Response& res, const RouteMatch& match, const StoredScene& scene,
-                 const std::pair<RenderRequest, std::string>& view, double parse_ms, double before_slot_ms,
-                 const CancelToken& token, const SlotClock& clock) {
-  FramePlan plan{scene, view.first, "", view.second, parse_ms, 0.0, before_slot_ms};
+// `view_parse_ms`: reading the view; the scene's rebuild, if any, is added to parse and tessellate.
+void draw_stored(ServiceState& state, Response& res, const RouteMatch& match, const StoredFrame& stored,
+                 const std::pair<RenderRequest, std::string>& view, double view_parse_ms, const CancelToken& token,
+                 const SlotClock& clock) {
+  FramePlan plan{*stored.scene, view.first, "", view.second, view_parse_ms + stored.parse_ms, stored.tessellate_ms};
   draw_and_answer(state, res, match, plan, token, clock);
 }
 
 void handle_stored_render(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   res.set_header("Cache-Control", "no-store");
   res.set_header("Vary", "Accept");
-  auto scene = require_scene(state, match);
   with_render_slot(state, [&](const CancelToken& token, SlotClock& clock) {
+    StoredFrame stored = require_scene(state, match);
     Stopwatch parse_clock;
-    auto view = read_view(state, req, res, match, *scene, parse_body(state, req));
-    if (view) draw_stored(state, res, match, *scene, *view, parse_clock.elapsed_ms(), 0.0, token, clock);
+    auto view = read_view(state, req, res, match, *stored.scene, parse_body(state, req));
+    if (view) draw_stored(state, res, match, stored, *view, parse_clock.elapsed_ms(), token, clock);
   });
 }
 
@@ -303,21 +319,19 @@ json view_from_query(const Request& req) {
 }
 
 void handle_render_png(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = require_scene(state, match);
   // Content-addressed scene + every parameter in the URL: the answer at this URL never changes
   // (until the renderer's version does, which changes the ETag).
   res.set_header("Cache-Control", "public, max-age=31536000, immutable");
-  std::optional<std::pair<RenderRequest, std::string>> view;
-  Stopwatch parse_clock;
-  try {  // the query is short (httplib bounds the request line), so this runs before admission
-    view = read_view(state, req, res, match, *scene, view_from_query(req));
-  } catch (const InputError& e) {
-    rethrow_for_query(e);
-  }
-  if (!view) return;  // 304
-  const double parse_ms = parse_clock.elapsed_ms();
   with_render_slot(state, [&](const CancelToken& token, SlotClock& clock) {
-    draw_stored(state, res, match, *scene, *view, parse_ms, parse_ms, token, clock);
+    StoredFrame stored = require_scene(state, match);
+    std::optional<std::pair<RenderRequest, std::string>> view;
+    Stopwatch parse_clock;
+    try {
+      view = read_view(state, req, res, match, *stored.scene, view_from_query(req));
+    } catch (const InputError& e) {
+      rethrow_for_query(e);
+    }
+    if (view) draw_stored(state, res, match, stored, *view, parse_clock.elapsed_ms(), token, clock);
   });
 }
 

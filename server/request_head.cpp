@@ -1,9 +1,12 @@
-// Request head framing (see request_head.hpp). The caps are checked on bytes, before a line is
+// Request head parsing (see request_head.hpp). The caps are checked on bytes, before a line is
 // complete, so a request line or header line that never ends is refused once it passes its cap,
-// not when the client stops sending.
+// not when the client stops sending. Where httplib 0.11 would read a head differently (a bare LF,
+// a header line it skips, a value it percent-decodes into a framing word), the head is refused here
+// instead, so the bytes httplib gets always mean to it what they meant to the front.
 #include "server/request_head.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 
@@ -25,15 +28,15 @@ bool is_token(std::string_view text) {
   });
 }
 
+bool is_control(char c) {
+  unsigned char u = static_cast<unsigned char>(c);
+  return u < 0x20 || u == 0x7f;
+}
+
 std::string_view trim_whitespace(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
   while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
   return text;
-}
-
-std::string_view without_cr(std::string_view line) {
-  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-  return line;
 }
 
 HeadScan refuse(HeadStatus status, std::string detail) {
@@ -43,22 +46,48 @@ HeadScan refuse(HeadStatus status, std::string detail) {
   return scan;
 }
 
-// "METHOD SP target SP HTTP/1.x"
-bool parse_request_line(std::string_view line, RequestHead& head) {
+// "METHOD SP target SP HTTP/1.x" with single spaces; the target in origin form ("/path?query") with
+// no white space or control byte (httplib would trim or cut at them), no '#' (a fragment is never
+// sent; httplib cuts the target there) and at most one '?' (httplib refuses some targets with more
+// and reads others differently).
+HeadStatus parse_request_line(std::string_view line, RequestHead& head, std::string& detail) {
   size_t first = line.find(' ');
   size_t last = line.rfind(' ');
-  if (first == std::string_view::npos || first == last) return false;
+  detail = "The request line is not 'METHOD /target HTTP/1.1'.";
+  if (first == std::string_view::npos || first == last) return HeadStatus::bad;
   std::string_view method = line.substr(0, first);
   std::string_view target = line.substr(first + 1, last - first - 1);
   std::string_view version = line.substr(last + 1);
-  if (!is_token(method) || target.empty() || target.find(' ') != std::string_view::npos) return false;
-  if (version != "HTTP/1.1" && version != "HTTP/1.0") return false;
+  if (!is_token(method) || target.empty() || target.front() != '/') return HeadStatus::bad;
+  if (std::any_of(target.begin(), target.end(), [](char c) { return c == ' ' || c == '#' || is_control(c); })) {
+    return HeadStatus::bad;
+  }
+  if (std::count(target.begin(), target.end(), '?') > 1) {
+    detail = "The request target has more than one '?'; percent-encode the others as %3F.";
+    return HeadStatus::bad;
+  }
+  if (version != "HTTP/1.1" && version != "HTTP/1.0") return HeadStatus::bad;
+  if (!is_known_method(method)) {
+    detail = "The method " + std::string(method) + " is not implemented here.";
+    return HeadStatus::unknown_method;
+  }
   head.method = std::string(method);
   head.target = std::string(target);
-  return true;
+  head.version = std::string(version);
+  return HeadStatus::complete;
 }
 
-// One header field; false when the line is not a field or its framing value is unusable.
+// True when the comma-separated list `value` holds `option` (case-insensitive, RFC 9110 section 7.6.1).
+bool has_option(std::string_view value, std::string_view option) {
+  for (size_t begin = 0; begin <= value.size();) {
+    size_t end = std::min(value.find(',', begin), value.size());
+    if (equals_ignoring_case(trim_whitespace(value.substr(begin, end - begin)), option)) return true;
+    begin = end + 1;
+  }
+  return false;
+}
+
+// One header field; false (with `detail`) when the line is not a field or a framing value is unusable.
 bool read_field(std::string_view line, size_t line_begin, size_t line_end, RequestHead& head, std::string& detail) {
   size_t colon = line.find(':');
   std::string_view name = colon == std::string_view::npos ? std::string_view() : line.substr(0, colon);
@@ -67,6 +96,16 @@ bool read_field(std::string_view line, size_t line_begin, size_t line_end, Reque
     return false;
   }
   std::string_view value = trim_whitespace(line.substr(colon + 1));
+  if (std::any_of(value.begin(), value.end(), [](char c) { return c != '\t' && is_control(c); })) {
+    detail = "The value of " + std::string(name) + " holds a control character.";
+    return false;
+  }
+  const bool connection = equals_ignoring_case(name, "Connection");
+  const bool expect = equals_ignoring_case(name, "Expect");
+  if ((connection || expect) && value.find('%') != std::string_view::npos) {
+    detail = "The value of " + std::string(name) + " is percent-encoded.";
+    return false;
+  }
   if (equals_ignoring_case(name, "Content-Length")) {
     uint64_t length = 0;
     auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), length);
@@ -82,12 +121,28 @@ bool read_field(std::string_view line, size_t line_begin, size_t line_end, Reque
     head.content_length = length;
   } else if (equals_ignoring_case(name, "Transfer-Encoding")) {
     head.has_transfer_encoding = true;
-  } else if (equals_ignoring_case(name, "Expect") && equals_ignoring_case(value, "100-continue")) {
-    head.expects_continue = true;
+  } else if (expect) {
+    if (head.expect_end != 0) {
+      detail = "The request has more than one Expect header.";
+      return false;
+    }
+    head.expects_continue = equals_ignoring_case(value, "100-continue");
     head.expect_begin = line_begin;
     head.expect_end = line_end;
+  } else if (connection && has_option(value, "close")) {
+    head.keep_alive = false;
   }
+  head.fields.push_back({std::string(name), std::string(value)});
   return true;
+}
+
+// An HTTP/1.0 connection persists only when its first Connection field is "Keep-Alive", the value
+// 1.0 clients send; httplib 0.11 compares it exactly.
+bool http10_keep_alive(const RequestHead& head) {
+  for (const HeaderField& f : head.fields) {
+    if (equals_ignoring_case(f.name, "Connection")) return f.value == "Keep-Alive";
+  }
+  return false;
 }
 
 }  // namespace
@@ -102,47 +157,49 @@ size_t leading_empty_lines(std::string_view bytes) {
 
 HeadScan scan_head(std::string_view bytes, const HeadLimits& limits) {
   const size_t max_line = limits.max_request_line_bytes;
-  size_t newline = bytes.find('\n');
-  // A line's length counts its bytes before CR LF.
-  if ((newline == std::string_view::npos && bytes.size() > max_line + 1) ||
-      (newline != std::string_view::npos && without_cr(bytes.substr(0, newline)).size() > max_line)) {
-    return refuse(HeadStatus::request_line_too_long,
-                  "The request line is longer than " + std::to_string(max_line) + " bytes.");
-  }
-  if (newline == std::string_view::npos) return {};
   HeadScan scan;
-  if (!parse_request_line(without_cr(bytes.substr(0, newline)), scan.head)) {
-    return refuse(HeadStatus::bad, "The request line is not 'METHOD target HTTP/1.1'.");
-  }
   size_t count = 0;
-  for (size_t begin = newline + 1;;) {
-    newline = bytes.find('\n', begin);
-    size_t end = newline == std::string_view::npos ? bytes.size() : newline + 1;
-    if (end > limits.max_header_bytes) {
-      return refuse(HeadStatus::header_too_large,
-                    "The request head is larger than " + std::to_string(limits.max_header_bytes) + " bytes.");
-    }
+  for (size_t begin = 0;;) {
+    const size_t newline = bytes.find('\n', begin);
+    const size_t end = newline == std::string_view::npos ? bytes.size() : newline + 1;
+    // A line's length counts its bytes before CR LF; an unfinished one may end in the CR of its CR LF.
     std::string_view line = bytes.substr(begin, end - begin);
-    if (newline != std::string_view::npos) line = without_cr(line.substr(0, line.size() - 1));
-    if (line.size() > max_line + (newline == std::string_view::npos ? 1 : 0)) {
+    const bool finished = newline != std::string_view::npos;
+    if (finished) line.remove_suffix(1);
+    const size_t length = !line.empty() && line.back() == '\r' ? line.size() - 1 : line.size();
+    if (length > max_line) {
+      if (begin == 0) {
+        return refuse(HeadStatus::request_line_too_long,
+                      "The request line is longer than " + std::to_string(max_line) + " bytes.");
+      }
       return refuse(HeadStatus::header_too_large,
                     "A header line is longer than " + std::to_string(max_line) + " bytes.");
     }
-    if (newline == std::string_view::npos) return {};
-    if (line.empty()) {
+    if (begin > 0 && end > limits.max_header_bytes) {
+      return refuse(HeadStatus::header_too_large,
+                    "The request head is larger than " + std::to_string(limits.max_header_bytes) + " bytes.");
+    }
+    if (!finished) return scan;  // incomplete
+    if (line.empty() || line.back() != '\r') return refuse(HeadStatus::bad, "Lines must end in CR LF.");
+    line.remove_suffix(1);
+    if (begin == 0) {
+      std::string detail;
+      HeadStatus status = parse_request_line(line, scan.head, detail);
+      if (status != HeadStatus::complete) return refuse(status, std::move(detail));
+    } else if (line.empty()) {
       scan.status = HeadStatus::complete;
       scan.head.head_bytes = end;
+      if (scan.head.version == "HTTP/1.0") scan.head.keep_alive = scan.head.keep_alive && http10_keep_alive(scan.head);
       return scan;
-    }
-    if (line.front() == ' ' || line.front() == '\t') {
+    } else if (line.front() == ' ' || line.front() == '\t') {
       return refuse(HeadStatus::bad, "Folded header lines (starting with white space) are not accepted.");
-    }
-    if (++count > limits.max_header_count) {
+    } else if (++count > limits.max_header_count) {
       return refuse(HeadStatus::header_too_large,
                     "The request has more than " + std::to_string(limits.max_header_count) + " header fields.");
+    } else {
+      std::string detail;
+      if (!read_field(line, begin, end, scan.head, detail)) return refuse(HeadStatus::bad, std::move(detail));
     }
-    std::string detail;
-    if (!read_field(line, begin, end, scan.head, detail)) return refuse(HeadStatus::bad, std::move(detail));
     begin = end;
   }
 }
@@ -155,9 +212,26 @@ int head_status_code(HeadStatus status) {
       return 414;
     case HeadStatus::header_too_large:
       return 431;
+    case HeadStatus::unknown_method:
+      return 501;
     default:
       return 0;
   }
+}
+
+bool is_known_method(std::string_view method) {
+  static constexpr std::array<std::string_view, 7> methods = {"GET",   "HEAD",   "POST",   "PUT",
+                                                              "PATCH", "DELETE", "OPTIONS"};
+  return std::find(methods.begin(), methods.end(), method) != methods.end();
+}
+
+void erase_expect_line(std::string& request, RequestHead& head) {
+  if (head.expect_end == 0) return;
+  request.erase(head.expect_begin, head.expect_end - head.expect_begin);
+  head.head_bytes -= head.expect_end - head.expect_begin;
+  std::erase_if(head.fields, [](const HeaderField& f) { return equals_ignoring_case(f.name, "Expect"); });
+  head.expects_continue = false;
+  head.expect_begin = head.expect_end = 0;
 }
 
 }  // namespace rr::server

@@ -12,6 +12,7 @@
 #include "server/http_server.hpp"
 #include "server/metrics.hpp"
 #include "server/open_stores.hpp"
+#include "server/prepared_cache.hpp"
 #include "server/render_gate.hpp"
 
 #include <nlohmann/json.hpp>
@@ -38,10 +39,9 @@ struct ServiceState {
 
   const ServerConfig config;
   RenderGate gate;
-  BspCache bsp_cache;
-  ShadowCache shadow_cache;
-  Stores stores;        // the stored scenes and meshes, in the store --store names (open_stores.hpp)
-  ParseLimits limits;   // config.limits with "ref" resolved through stores.meshes: parse requests with these
+  Stores stores;        // the stored scene and mesh documents, in the store --store names (open_stores.hpp)
+  PreparedCache cache;  // what is prepared from them, BSP trees and shadow maps: one budget (prepared_cache.hpp)
+  ParseLimits limits;   // config.limits with "ref" resolved through the cache: parse requests with these
   AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
   std::atomic<bool> draining{false};

@@ -74,19 +74,25 @@ void handle_put_scene(ServiceState& state, const Request& req, Response& res, co
   answer_stored(state, res, sent);
 }
 
+// The document as stored, byte for byte; reading it prepares nothing (its static id is parsed out
+// when the scene is not held prepared).
 void handle_get_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
-  auto scene = state.stores.scenes->find(match.params.at(0));
-  if (!scene) throw HttpError(404, "There is no stored scene " + match.params[0] + ".");
-  request_context().scene_id = scene->static_id;
-  res.set_header("X-Scene-Id", scene->static_id);
-  send_stored_document(req, res, scene->id, scene->text);
+  const std::string& id = match.params.at(0);
+  std::optional<std::string> text = state.cache.text<StoredScene>(id);
+  if (!text) throw HttpError(404, "There is no stored scene " + id + ".");
+  const std::string static_id = state.cache.static_id(id, *text);
+  request_context().scene_id = static_id;
+  res.set_header("X-Scene-Id", static_id);
+  send_stored_document(req, res, id, *text);
 }
 
 // With tokens, a delete drops the caller's reference only; the scene goes with the last one.
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
   const std::optional<std::string> owner = releasing_owner(state);
   const std::string& id = match.params.at(0);
-  switch (state.stores.scenes->release(id, owner)) {
+  const SceneDocuments::ReleaseResult released = state.stores.scenes->release(id, owner);
+  if (released == SceneDocuments::ReleaseResult::removed) state.cache.forget<StoredScene>(id);
+  switch (released) {
     case SceneDocuments::ReleaseResult::not_found:
       throw HttpError(404, "There is no stored scene " + id + ".");
     case SceneDocuments::ReleaseResult::not_owner:

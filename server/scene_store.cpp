@@ -1,16 +1,21 @@
-// Scene documents -> StoredScene (scene_store.hpp); the store itself is content_store.cpp.
+// Scene documents -> StoredScene and StoredDocument (scene_store.hpp); the stores themselves are
+// content_store.cpp and postgres_store.cpp.
 #include "server/scene_store.hpp"
 
 #include "render/core/hash.hpp"
+#include "render/core/scene_id.hpp"
 
+#include <map>
 #include <set>
 
 namespace rr::server {
 
 namespace {
 
-// Approximate heap cost of an entry: the text, the parsed scene (about as large as its text, in
-// practice smaller), the tessellation's arrays, its hierarchy and its cells.
+// Approximate heap cost of a prepared scene: the text, the parsed scene (about as large as its text,
+// in practice smaller), the tessellation's arrays, its hierarchy, its cells and the meshes it places
+// (counted with each scene that holds them, though the scenes placing one mesh share it: an overcount
+// keeps the cache's budget a bound on what it holds).
 size_t entry_bytes(const StoredScene& s) {
   size_t bytes = sizeof(StoredScene) + 2 * s.text.size();
   bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
@@ -18,7 +23,36 @@ size_t entry_bytes(const StoredScene& s) {
   bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
   if (s.hierarchy) bytes += s.hierarchy->bytes();
   if (s.cells) bytes += s.cells->bytes();
+  std::set<const MeshData*> meshes;
+  for (const Solid& solid : s.scene.geometry.solids) {
+    if (solid.mesh && meshes.insert(solid.mesh.get()).second) bytes += mesh_bytes(*solid.mesh);
+  }
   return bytes;
+}
+
+// The "ref" of every solid of a scene document, each once, sorted.
+std::vector<std::string> refs_of(const nlohmann::json& document) {
+  std::set<std::string> refs;
+  if (document.is_object() && document.contains("solids") && document["solids"].is_array()) {
+    for (const nlohmann::json& solid : document["solids"]) {
+      if (solid.is_object() && solid.contains("ref") && solid["ref"].is_string()) refs.insert(solid["ref"]);
+    }
+  }
+  return {refs.begin(), refs.end()};
+}
+
+// `limits` resolving each mesh once however many solids place it: a home places its few dozen
+// models hundreds of times, and with a shared store each resolution asks the database.
+ParseLimits resolving_each_mesh_once(const ParseLimits& limits) {
+  if (!limits.resolve_mesh) return limits;
+  ParseLimits out = limits;
+  auto resolved = std::make_shared<std::map<std::string, std::shared_ptr<const MeshData>>>();
+  out.resolve_mesh = [resolve = limits.resolve_mesh, resolved](const std::string& id) {
+    auto [it, added] = resolved->try_emplace(id);
+    if (added) it->second = resolve(id);
+    return it->second;
+  };
+  return out;
 }
 
 }  // namespace
@@ -32,7 +66,7 @@ std::string scene_document_pointer(const std::string& request_pointer) {
 std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document, const ParseLimits& limits) {
   RenderRequest parsed;
   try {
-    parsed = request_from_json(nlohmann::json{{"scene", document}}, limits);
+    parsed = request_from_json(nlohmann::json{{"scene", document}}, resolving_each_mesh_once(limits));
   } catch (const InputError& e) {
     throw e.with_pointers(scene_document_pointer);
   }
@@ -47,6 +81,22 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   }
   out->mesh_refs.assign(refs.begin(), refs.end());
   return out;
+}
+
+std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, const ParseLimits& limits) {
+  return prepare_scene(parse_json_text(text, limits), limits);
+}
+
+StoredDocument scene_document(const StoredScene& scene) { return {scene.id, scene.text, scene.mesh_refs}; }
+
+StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits) {
+  return {hash_hex(text), text, refs_of(parse_json_text(text, limits))};
+}
+
+std::string static_id_of(const std::string& text, const ParseLimits& limits) {
+  return scene_id(
+      request_from_json(nlohmann::json{{"scene", parse_json_text(text, limits)}}, resolving_each_mesh_once(limits))
+          .scene.geometry);
 }
 
 }  // namespace rr::server

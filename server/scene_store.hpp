@@ -1,8 +1,9 @@
-// Stored scenes, content-addressed (a ContentStore, content_store.hpp: budgets, owners, retention,
-// files): a scene document (the "scene" member of a render request) is kept as canonical JSON text
-// (keys sorted, no whitespace), and its id is hash_hex(text). Each entry also keeps the parsed scene,
-// its tessellation and its placement warnings, so rendering a stored scene skips both. Meshes placed
-// by "ref" are resolved through the limits' resolver (the mesh store) and pinned while it is stored.
+// Stored scenes: a scene document (the "scene" member of a render request) is stored as canonical
+// JSON text (keys sorted, no whitespace), its id hash_hex(text), in a DocumentStore (budgets,
+// owners, retention, files or rows: content_store.hpp, postgres_store.hpp). What is prepared from it
+// (the parsed scene, its tessellation, placement warnings and hierarchy) is a StoredScene, kept in
+// the prepared cache (prepared_cache.hpp) and rebuilt from the text when the cache evicted it. Meshes
+// placed by "ref" are resolved through the limits' resolver (the stored meshes).
 #pragma once
 
 #include "render/pipelines/render.hpp"
@@ -24,13 +25,25 @@ struct StoredScene : PreparedScene {
   static constexpr const char* plural = "scenes";
   std::string id;                      // hash_hex(text)
   std::string text;                    // canonical JSON of the scene document
-  size_t bytes = 0;                    // charged against the store's budget
+  size_t bytes = 0;                    // what it costs in memory: charged against the prepared cache's budget
   std::vector<std::string> mesh_refs;  // the stored meshes it places, each once, sorted
 };
 
 // Parses and validates one scene document (JSON already parsed with the limits' depth bound) into a
 // StoredScene. Throws InputError with pointers into the document ("" is the document itself).
 std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document, const ParseLimits& limits);
+
+// A stored scene's text -> its StoredScene (the prepared cache's rebuild). Throws InputError when
+// it no longer reads (a mesh it places is gone, a limit was lowered).
+std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, const ParseLimits& limits);
+
+// What a store keeps of a prepared scene.
+StoredDocument scene_document(const StoredScene& scene);
+// A stored scene file's text -> its document: the id it hashes to and the meshes it places, without
+// preparing it (start-up). Throws when it is not JSON.
+StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits);
+// The static id (X-Scene-Id) of a stored scene's text: parsed, its meshes resolved, not tessellated.
+std::string static_id_of(const std::string& text, const ParseLimits& limits);
 
 // "/scene/solids/2" -> "/solids/2": a request pointer made relative to the scene document.
 std::string scene_document_pointer(const std::string& request_pointer);

@@ -180,23 +180,6 @@ bool screen_access(const Route& route, const AccessPolicy& policy, const Request
   return false;
 }
 
-// The target's path, percent-decoded as httplib decodes it before routing.
-std::string decoded_path(std::string_view target) {
-  target = target.substr(0, target.find('?'));
-  std::string path;
-  for (size_t i = 0; i < target.size(); ++i) {
-    unsigned value = 0;
-    if (target[i] == '%' && i + 2 < target.size() &&
-        std::from_chars(target.data() + i + 1, target.data() + i + 3, value, 16).ptr == target.data() + i + 3) {
-      path += char(value);
-      i += 2;
-    } else {
-      path += target[i];
-    }
-  }
-  return path;
-}
-
 }  // namespace
 
 bool screen_request(const std::vector<Route>& routes, const ServiceState& state, const Request& req, Response& res) {
@@ -220,16 +203,6 @@ bool screen_request(const std::vector<Route>& routes, const ServiceState& state,
                          req.has_header("Transfer-Encoding");
   if (body_may_follow) close_after_response(res);
   return false;
-}
-
-uint64_t route_body_limit(const std::vector<Route>& routes, const ServerConfig& config, std::string_view method,
-                          std::string_view target) {
-  const std::string path = decoded_path(target);
-  for (const Route& r : routes) {
-    if (r.method != method || r.consumes.empty() || !std::regex_match(path, r.regex)) continue;
-    return r.max_body_bytes ? r.max_body_bytes : config.max_body_bytes;
-  }
-  return 0;
 }
 
 }  // namespace rr::server

@@ -32,24 +32,27 @@ struct ServerConfig {
   std::filesystem::path web_dir;        // holds index.html, served at GET /
   std::filesystem::path examples_dir;   // holds <name>.json, served under /examples/
   std::filesystem::path schemas_dir;    // holds *.schema.json and openapi.json
-  std::filesystem::path data_dir;       // stored scenes persist here; empty: memory only
+  std::filesystem::path data_dir;       // stored scenes and meshes persist here; empty: memory only
   size_t max_body_bytes = 8u << 20;     // larger bodies get 413 before they are read
   size_t max_import_bytes = 64u << 20;  // POST /v1/import/{format}: files of other tools (an OBJ interior)
   ParseLimits limits;                   // JSON depth, image size, polygons, ... (render/scene_io/scene_json.hpp)
-  size_t bsp_cache_bytes = 256u << 20;
-  size_t bsp_cache_entries = 1024;
-  size_t shadow_cache_bytes = 256u << 20;  // shadow maps of static scenes (render/pipelines/shadow_cache.hpp)
-  size_t scene_store_bytes = 256u << 20;
-  size_t scene_store_entries = 1000;
-  int scene_ttl_s = 0;                   // stored scenes go this long after their last access; 0: kept
-  size_t mesh_store_bytes = 512u << 20;  // stored meshes (POST /v1/meshes); their ttl is scene_ttl_s
-  size_t mesh_store_entries = 10000;
+  // The prepared cache (server/prepared_cache.hpp): what is prepared from stored documents and for
+  // static scenes (prepared scenes, parsed meshes, BSP trees, shadow maps), one LRU within this.
+  size_t cache_bytes = size_t{4} << 30;
+  size_t bsp_cache_entries = 1024;         // BSP trees in it at most
+  size_t shadow_cache_bytes = 256u << 20;  // its part that shadow maps may take; 0: none are kept
+  // The document stores (server/document_store.hpp): what is acknowledged, budgeted by document
+  // bytes (the canonical text; on disk with data_dir, in memory without).
+  size_t scene_store_bytes = size_t{4} << 30;
+  size_t scene_store_entries = 100'000;
+  int scene_ttl_s = 0;                        // stored scenes go this long after their last access; 0: kept
+  size_t mesh_store_bytes = size_t{4} << 30;  // stored meshes (POST /v1/meshes); their ttl is scene_ttl_s
+  size_t mesh_store_entries = 100'000;
   // The shared store (server/postgres_store.hpp): stored scenes and meshes in PostgreSQL, so any
   // replica answers any stored id. Empty: the embedded store (memory, and data_dir when given).
-  std::string store_url;                 // postgresql://user:password@host:port/database
-  size_t store_pool_size = 8;            // database connections per replica
-  int store_timeout_ms = 2000;           // connect, wait for a connection, each statement; then 503
-  size_t store_cache_bytes = 64u << 20;  // parsed stored documents a replica keeps (read-through)
+  std::string store_url;        // postgresql://user:password@host:port/database
+  size_t store_pool_size = 8;   // database connections per replica
+  int store_timeout_ms = 2000;  // connect, wait for a connection, each statement; then 503
   // Access (server/access.hpp). Reads are open to every origin; writes come from these origins (or
   // the server's own pages) only, and need a bearer token from this file when one is given.
   std::vector<std::string> cors_origins;
@@ -63,9 +66,10 @@ struct ServerConfig {
   size_t keep_alive_max_requests = 100;
   int header_timeout_ms = 10'000;         // the whole request head, from accept or from its first byte; then 408
   int body_timeout_ms = 20'000;           // the whole body: this plus Content-Length / min_transfer_rate; then 408
+  size_t min_body_rate = 500;             // ... but only 1 s more per this many bytes received; 0: no minimum
   int write_timeout_s = 10;               // the whole answer: this plus its size / min_transfer_rate; then closed
   size_t min_transfer_rate = 256u << 10;  // bytes per second granted on top of the body and write timeouts
-  size_t max_request_line_bytes = 8192;   // longer: 414; also the cap on one header line (431)
+  size_t max_request_line_bytes = 8190;   // longer: 414; also the cap on one header line (431); httplib's limit
   size_t max_header_bytes = 64u << 10;    // the whole head; larger: 431
   size_t max_header_count = 100;          // more header fields: 431
   int max_pending_requests = -1;          // complete requests waiting for a worker; -1: request_workers

@@ -5,6 +5,7 @@
 #include "server/settings.hpp"
 
 #include "server/open_stores.hpp"
+#include "server/request_head.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -194,14 +195,18 @@ const std::vector<ServerSetting>& server_settings() {
     {"--max-render-bytes", integer(&L::max_render_bytes, 1, big), "bytes",
      "a frame's buffer memory, the A-buffer of options.antialias included"},
     {"--max-polygons", integer(&L::max_polygons, 1, big), "", "most polygons after tessellation"},
-    {"--bsp-cache-bytes", integer(&C::bsp_cache_bytes, 0, big), "bytes", "BSP tree cache budget"},
-    {"--bsp-cache-entries", integer(&C::bsp_cache_entries, 0, big), "", "most BSP trees cached"},
-    {"--shadow-cache-bytes", integer(&C::shadow_cache_bytes, 0, big), "bytes", "shadow map cache budget; 0 keeps none"},
-    {"--scene-store-bytes", integer(&C::scene_store_bytes, 0, big), "bytes", "stored scenes budget"},
+    {"--cache-bytes", integer(&C::cache_bytes, 0, big), "bytes",
+     "memory for prepared scenes and meshes, BSP trees and shadow maps (one LRU cache, rebuilt on a miss)"},
+    {"--bsp-cache-entries", integer(&C::bsp_cache_entries, 0, big), "", "most BSP trees in that cache"},
+    {"--shadow-cache-bytes", integer(&C::shadow_cache_bytes, 0, big), "bytes",
+     "most of that cache shadow maps may take; 0 keeps none"},
+    {"--scene-store-bytes", integer(&C::scene_store_bytes, 0, big), "bytes",
+     "stored scene documents at most (their text); kept, 507 when full"},
     {"--scene-store-entries", integer(&C::scene_store_entries, 0, big), "", "most stored scenes"},
     {"--scene-ttl", integer(&C::scene_ttl_s, 0, int_max), "s",
      "seconds a stored scene (or mesh) is kept after its last access; 0: until deleted"},
-    {"--mesh-store-bytes", integer(&C::mesh_store_bytes, 0, big), "bytes", "stored meshes budget"},
+    {"--mesh-store-bytes", integer(&C::mesh_store_bytes, 0, big), "bytes",
+     "stored mesh documents at most (their text); kept, 507 when full"},
     {"--mesh-store-entries", integer(&C::mesh_store_entries, 0, big), "", "most stored meshes"},
     {"--cors-origins", origins(&C::cors_origins), "",
      "comma-separated origins (https://app.example.com) whose pages may write; * for any"},
@@ -214,9 +219,8 @@ const std::vector<ServerSetting>& server_settings() {
     {"--store-pool", integer(&C::store_pool_size, 1, 1000), "", "connections to the --store database per replica"},
     {"--store-timeout-ms", integer(&C::store_timeout_ms, 1, 3'600'000), "ms",
      "connect, wait for a connection and run each store statement within this, then 503"},
-    {"--store-cache-bytes", integer(&C::store_cache_bytes, 0, big), "bytes",
-     "parsed stored scenes and meshes kept per replica with --store"},
-    {"--data-dir", text(&C::data_dir), "", "directory where stored scenes and meshes persist; none: memory only"},
+    {"--data-dir", text(&C::data_dir), "",
+     "directory where stored scenes and meshes persist; none: memory only, gone when the process ends"},
     {"--web-dir", text(&C::web_dir, "the source tree's clients/web"), "", "directory holding index.html"},
     {"--examples-dir", text(&C::examples_dir, "the source tree's examples"), "", "directory of example requests"},
     {"--schemas-dir", text(&C::schemas_dir, "the source tree's schemas"), "", "directory of JSON Schemas and openapi.json"},
@@ -234,8 +238,10 @@ const std::vector<ServerSetting>& server_settings() {
      "seconds to write a whole answer, plus its size / min-transfer-rate"},
     {"--min-transfer-rate", integer(&C::min_transfer_rate, 1, big), "bytes/s",
      "bytes per second granted to bodies and answers on top of their timeouts"},
-    {"--max-request-line-bytes", integer(&C::max_request_line_bytes, 64, 1 << 20), "bytes",
-     "longest request line (414) and header line (431)"},
+    {"--min-body-rate", integer(&C::min_body_rate, 0, big), "bytes/s",
+     "a body earns time beyond body-timeout-ms only as it arrives, 1 s per this many bytes; 0: no minimum"},
+    {"--max-request-line-bytes", integer(&C::max_request_line_bytes, 64, httplib_max_line_bytes), "bytes",
+     "longest request line (414) and header line (431); httplib reads no longer ones"},
     {"--max-header-bytes", integer(&C::max_header_bytes, 256, 16 << 20), "bytes", "largest request head, then 431"},
     {"--max-header-count", integer(&C::max_header_count, 1, 100000), "", "most header fields in a request, then 431"},
     {"--max-pending-requests", integer(&C::max_pending_requests, -1, 1000000).reported_as(max_pending_requests), "",

@@ -1,8 +1,9 @@
 // Storing a document for a request and answering it (declared in routes.hpp), one template for
-// scenes and meshes: every DocumentStore::PutResult maps to its answer here (201 or 200 with
-// Location, 409, 413, 507, 422). What differs by kind is in the overloads below: a scene also names
-// its static scene id (X-Scene-Id, the log line) and its expiry, and only a scene places other
-// documents.
+// scenes and meshes: the document goes to its store, and what was prepared to check it to the
+// prepared cache, so the renders that follow find it ready. Every DocumentStore::PutResult maps to
+// its answer here (201 or 200 with Location, 409, 413, 507, 422). What differs by kind is in the
+// overloads below: a scene also names its static scene id (X-Scene-Id, the log line) and its
+// expiry, and only a scene places other documents.
 #include "server/problem.hpp"
 #include "server/routes.hpp"
 
@@ -24,7 +25,7 @@ void note_storing(const StoredMesh&) {}
 [[noreturn]] void throw_missing_reference(ServiceState& state, const StoredScene& scene) {
   std::string mesh = scene.mesh_refs.at(0);
   for (const std::string& id : scene.mesh_refs) {
-    if (!state.stores.meshes->find(id)) {
+    if (!state.stores.meshes->find(id, false)) {
       mesh = id;
       break;
     }
@@ -43,14 +44,17 @@ void add_answer_members(ServiceState& state, httplib::Response& res, const Store
 }
 void add_answer_members(ServiceState&, httplib::Response&, const StoredMesh&, json&) {}
 
+StoredDocument document_of(const StoredScene& scene) { return scene_document(scene); }
+StoredDocument document_of(const StoredMesh& mesh) { return mesh_document(mesh); }
+
 template <class T>
 [[noreturn]] void throw_store_full(DocumentStore<T>& store) {
   const std::string kind = T::kind, plural = T::plural;
   CacheStats fill = store.stats();
   throw HttpError(507,
                   "The " + kind + " store is full: it holds " + std::to_string(fill.entries) + " " + plural +
-                      " of at most " + std::to_string(fill.max_entries) + " and about " + std::to_string(fill.bytes) +
-                      " bytes of at most " + std::to_string(fill.budget_bytes) + ". Stored " + plural +
+                      " of at most " + std::to_string(fill.max_entries) + " and " + std::to_string(fill.bytes) +
+                      " bytes of documents of at most " + std::to_string(fill.budget_bytes) + ". Stored " + plural +
                       " are kept, not evicted: delete " + plural +
                       " you no longer need, or ask the operator to raise --" + kind + "-store-entries or --" + kind +
                       "-store-bytes.",
@@ -65,15 +69,18 @@ bool store_document(ServiceState& state, const std::shared_ptr<const T>& item) {
   note_storing(*item);
   DocumentStore<T>& store = state.stores.of<T>();
   using PutResult = typename DocumentStore<T>::PutResult;
-  switch (store.put(item, request_context().owner)) {
+  const StoredDocument document = document_of(*item);
+  const PutResult result = store.put(document, request_context().owner);
+  if (result == PutResult::created || result == PutResult::existed) state.cache.keep(item);
+  switch (result) {
     case PutResult::conflict:
       throw HttpError(409,
                       "A different " + kind + " with the id " + item->id + " is stored already (a hash collision).",
                       {{"", "content differs from the stored " + kind + " with this id"}});
     case PutResult::too_large:
       throw HttpError(413,
-                      "The stored form of this " + kind + " takes about " + std::to_string(item->bytes) +
-                          " bytes; the " + kind + " store holds at most " + std::to_string(store.max_bytes()) + ".",
+                      "This " + kind + "'s document takes " + std::to_string(document.bytes()) + " bytes; the " + kind +
+                          " store holds at most " + std::to_string(store.max_bytes()) + ".",
                       {{"", kind + " too large to store"}});
     case PutResult::full:
       throw_store_full(store);

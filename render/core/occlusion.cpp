@@ -194,6 +194,41 @@ size_t DepthPyramid::add_polygon(std::span<const RasterVertex> v) {
   return count;
 }
 
+template <class VisitEntry>
+bool DepthPyramid::find_entry(int bx0, int by0, int bx1, int by1, VisitEntry visit) const {
+  refresh();
+  int level = 0;
+  while (level + 1 < int(levels_.size()) &&
+         ((bx1 >> level) - (bx0 >> level) > 1 || (by1 >> level) - (by0 >> level) > 1)) {
+    ++level;
+  }
+  struct Entry {
+    int level, x, y;
+  };
+  Entry stack[64];
+  int top = 0;
+  for (int y = by0 >> level; y <= by1 >> level; ++y) {
+    for (int x = bx0 >> level; x <= bx1 >> level; ++x) stack[top++] = {level, x, y};
+  }
+  while (top > 0) {
+    const Entry en = stack[--top];
+    const Level& l = levels_[size_t(en.level)];
+    const Visit answer = visit(en.level, l, size_t(en.y) * size_t(l.w) + size_t(en.x));
+    if (answer == Visit::found) return true;
+    if (answer == Visit::skip) continue;
+    for (int dy = 1; dy >= 0; --dy) {
+      for (int dx = 1; dx >= 0; --dx) {
+        const int cx = 2 * en.x + dx, cy = 2 * en.y + dy, s = en.level - 1;
+        const Level& f = levels_[size_t(s)];
+        if (cx >= f.w || cy >= f.h) continue;
+        if (cx < (bx0 >> s) || cx > (bx1 >> s) || cy < (by0 >> s) || cy > (by1 >> s)) continue;
+        stack[top++] = {s, cx, cy};
+      }
+    }
+  }
+  return false;
+}
+
 bool DepthPyramid::hidden(int x0, int y0, int x1, int y1, double inv_w) const {
   x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, width_), y1 = std::min(y1, height_);
   if (x0 >= x1 || y0 >= y1 || levels_.empty()) return true;  // no pixel to show
@@ -209,40 +244,12 @@ bool DepthPyramid::hidden(int x0, int y0, int x1, int y1, double inv_w) const {
     }
     return true;
   }
-  refresh();
-  // Start at the level where the rectangle spans at most 2x2 entries, then descend only into the
-  // entries not already behind (Greene's hierarchical test).
-  int level = 0;
-  while (level + 1 < int(levels_.size()) &&
-         ((bx1 >> level) - (bx0 >> level) > 1 || (by1 >> level) - (by0 >> level) > 1)) {
-    ++level;
-  }
-  struct Entry {
-    int level, x, y;
-  };
-  Entry stack[64];
-  int top = 0;
-  for (int y = by0 >> level; y <= by1 >> level; ++y) {
-    for (int x = bx0 >> level; x <= bx1 >> level; ++x) stack[top++] = {level, x, y};
-  }
-  while (top > 0) {
-    const Entry en = stack[--top];
-    const Level& l = levels_[size_t(en.level)];
-    const size_t at = size_t(en.y) * size_t(l.w) + size_t(en.x);
-    if (l.min[at] > inv_w) continue;
-    // No block below lies behind `inv_w`: the ones inside the rectangle show it.
-    if (en.level == 0 || l.max[at] <= inv_w) return false;
-    for (int dy = 1; dy >= 0; --dy) {
-      for (int dx = 1; dx >= 0; --dx) {
-        const int cx = 2 * en.x + dx, cy = 2 * en.y + dy, s = en.level - 1;
-        const Level& f = levels_[size_t(s)];
-        if (cx >= f.w || cy >= f.h) continue;
-        if (cx < (bx0 >> s) || cx > (bx1 >> s) || cy < (by0 >> s) || cy > (by1 >> s)) continue;
-        stack[top++] = {s, cx, cy};
-      }
-    }
-  }
-  return true;
+  // An entry whose min is above inv_w has nothing behind; one whose max is at most inv_w (or a
+  // level-0 block not above it) shows a block inside the rectangle that is not behind.
+  return !find_entry(bx0, by0, bx1, by1, [inv_w](int level, const Level& l, size_t at) {
+    if (l.min[at] > inv_w) return Visit::skip;
+    return level == 0 || l.max[at] <= inv_w ? Visit::found : Visit::descend;
+  });
 }
 
 bool DepthPyramid::in_front(int x0, int y0, int x1, int y1, double inv_w) const {
@@ -251,38 +258,12 @@ bool DepthPyramid::in_front(int x0, int y0, int x1, int y1, double inv_w) const 
   if (x0 >= x1 || y0 >= y1) return true;
   const int bx0 = x0 / occlusion_block, by0 = y0 / occlusion_block;
   const int bx1 = (x1 - 1) / occlusion_block, by1 = (y1 - 1) / occlusion_block;
-  int level = 0;
-  while (level + 1 < int(levels_.size()) &&
-         ((bx1 >> level) - (bx0 >> level) > 1 || (by1 >> level) - (by0 >> level) > 1)) {
-    ++level;
-  }
-  refresh();
   // A coarse entry whose max is at most inv_w has no such block below it; one above may have it
   // outside the rectangle only, so descend.
-  struct Entry {
-    int level, x, y;
-  };
-  Entry stack[64];
-  int top = 0;
-  for (int y = by0 >> level; y <= by1 >> level; ++y) {
-    for (int x = bx0 >> level; x <= bx1 >> level; ++x) stack[top++] = {level, x, y};
-  }
-  while (top > 0) {
-    const Entry en = stack[--top];
-    const Level& l = levels_[size_t(en.level)];
-    if (l.max[size_t(en.y) * size_t(l.w) + size_t(en.x)] <= inv_w) continue;
-    if (en.level == 0) return false;
-    for (int dy = 1; dy >= 0; --dy) {
-      for (int dx = 1; dx >= 0; --dx) {
-        const int cx = 2 * en.x + dx, cy = 2 * en.y + dy, s = en.level - 1;
-        const Level& f = levels_[size_t(s)];
-        if (cx >= f.w || cy >= f.h) continue;
-        if (cx < (bx0 >> s) || cx > (bx1 >> s) || cy < (by0 >> s) || cy > (by1 >> s)) continue;
-        stack[top++] = {s, cx, cy};
-      }
-    }
-  }
-  return true;
+  return !find_entry(bx0, by0, bx1, by1, [inv_w](int level, const Level& l, size_t at) {
+    if (l.max[at] <= inv_w) return Visit::skip;
+    return level == 0 ? Visit::found : Visit::descend;
+  });
 }
 
 bool project_box(const ViewTransform& view, Vec3 lo, Vec3 hi, ScreenBox& out) {

@@ -59,6 +59,12 @@ class DepthPyramid {
     std::vector<double> min, max;  // over the level-0 blocks below each entry
   };
   void raise(int bx, int by, double inv_w);
+  // Greene's hierarchical walk over the level-0 blocks bx0..bx1 x by0..by1 (inclusive): from the
+  // level where they span at most 2x2 entries down, asking `visit(level, entry, index)` of each
+  // entry met; true as soon as it answers found, false once every entry was skipped.
+  enum class Visit { skip, found, descend };
+  template <class VisitEntry>
+  bool find_entry(int bx0, int by0, int bx1, int by1, VisitEntry visit) const;
   // The coarser levels are refreshed over the blocks raised since the last refresh only when a test
   // reads them: most tests read a few level-0 blocks, and most polygons are drawn between tests.
   void refresh() const;

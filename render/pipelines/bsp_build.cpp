@@ -220,6 +220,7 @@ std::vector<Part> build_deferred(const Part& top, const std::vector<Deferred>& d
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return deferred[a].polygons.size() > deferred[b].polygons.size(); });
   run_tasks(threads, deferred.size(), [&](size_t task) {
+    check_cancel(cancel);  // a cancelled build starts no more subtrees
     const size_t d = order[task];
     Part& part = parts[d];
     part.frags = make_fragment_soup(top.frags);

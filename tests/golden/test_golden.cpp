@@ -30,7 +30,7 @@ std::vector<GoldenCase> golden_cases() {
   return cases;
 }
 
-std::string case_name(const ::testing::TestParamInfo<GoldenCase>& info) {
+std::string golden_case_name(const ::testing::TestParamInfo<GoldenCase>& info) {
   return info.param.example + "_" + info.param.pipeline;
 }
 
@@ -44,7 +44,7 @@ TEST_P(Golden, MatchesCommittedImage) {
   testing::expect_matches_golden(c.example + "." + c.pipeline, render.png, render.result.frame.image);
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, Golden, ::testing::ValuesIn(golden_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Examples, Golden, ::testing::ValuesIn(golden_cases()), golden_case_name);
 
 }  // namespace
 }  // namespace rr

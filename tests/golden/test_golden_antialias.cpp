@@ -34,7 +34,7 @@ std::vector<AntialiasCase> antialias_cases() {
   return cases;
 }
 
-std::string case_name(const ::testing::TestParamInfo<AntialiasCase>& info) {
+std::string antialias_case_name(const ::testing::TestParamInfo<AntialiasCase>& info) {
   return info.param.example + "_" + info.param.pipeline;
 }
 
@@ -49,7 +49,7 @@ TEST_P(GoldenAntialias, MatchesCommittedImage) {
   testing::expect_matches_golden("antialias/" + c.example + "." + c.pipeline, render.png, render.result.frame.image);
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, GoldenAntialias, ::testing::ValuesIn(antialias_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Examples, GoldenAntialias, ::testing::ValuesIn(antialias_cases()), antialias_case_name);
 
 }  // namespace
 }  // namespace rr

@@ -50,7 +50,7 @@ std::vector<LightingCase> lighting_cases() {
   return cases;
 }
 
-std::string case_name(const ::testing::TestParamInfo<LightingCase>& info) {
+std::string lighting_case_name(const ::testing::TestParamInfo<LightingCase>& info) {
   std::string name = info.param.name();
   for (char& ch : name) {
     if (ch == '.' || ch == '-') ch = '_';
@@ -73,7 +73,7 @@ TEST_P(GoldenLighting, MatchesCommittedImage) {
   testing::expect_matches_golden("lighting/" + c.name(), render.png, render.result.frame.image);
 }
 
-INSTANTIATE_TEST_SUITE_P(Rooms, GoldenLighting, ::testing::ValuesIn(lighting_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Rooms, GoldenLighting, ::testing::ValuesIn(lighting_cases()), lighting_case_name);
 
 }  // namespace
 }  // namespace rr

@@ -20,6 +20,33 @@ const char* const small_request = R"({
   "options": {"width": 64, "height": 48}
 })";
 
+ServerProcess start_server_process(const std::vector<std::string>& args) {
+  int out_pipe[2];
+  ServerProcess child;
+  if (::pipe(out_pipe) != 0) return child;
+  child.pid = ::fork();
+  if (child.pid == 0) {
+    ::dup2(out_pipe[1], STDOUT_FILENO);
+    ::close(out_pipe[0]);
+    std::vector<char*> argv;
+    std::string binary = ROOMRENDER_BINARY_DIR "/roomrender";
+    argv.push_back(binary.data());
+    std::vector<std::string> copy = args;
+    for (std::string& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(binary.c_str(), argv.data());
+    ::_exit(127);
+  }
+  ::close(out_pipe[1]);
+  child.out = ::fdopen(out_pipe[0], "r");
+  char line[8192] = {};
+  if (std::fgets(line, sizeof line, child.out)) {
+    json listening = json::parse(line, nullptr, false);
+    if (listening.is_object() && listening.value("event", "") == "listening") child.port = listening.value("port", 0);
+  }
+  return child;
+}
+
 rr::server::ServerConfig test_server_config() {
   rr::server::ServerConfig config = rr::server::default_server_config();
   config.port = 0;
@@ -162,6 +189,16 @@ std::string base64_decode(const std::string& text) {
     }
   }
   return out;
+}
+
+nlohmann::json scene_with_box_at(double x) {
+  nlohmann::json scene = nlohmann::json::parse(small_request)["scene"];
+  scene["solids"][0]["center"] = {x, 0.0};
+  return scene;
+}
+
+httplib::Result post_scene(const TestServer& server, const nlohmann::json& scene, const httplib::Headers& headers) {
+  return server.client().Post("/v1/scenes", headers, scene.dump(), "application/json");
 }
 
 }  // namespace rr::testing

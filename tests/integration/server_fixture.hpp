@@ -10,6 +10,9 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/types.h>
+
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -72,6 +75,15 @@ struct PngSize {
 // The PNG signature, then the IHDR chunk's big-endian width and height (PNG spec section 11.2.2).
 PngSize png_size(const std::string& png);
 
+// `roomrender serve ARGS` (the built binary) in a process of its own, its stdout read through `out`,
+// and the port its "listening" line names (0 when it printed none: it failed to start).
+struct ServerProcess {
+  pid_t pid = -1;
+  std::FILE* out = nullptr;
+  int port = 0;
+};
+ServerProcess start_server_process(const std::vector<std::string>& args);
+
 // Sends raw bytes and reads until the server closes the connection (or 10 s pass).
 std::string raw_exchange(int port, const std::string& request);
 // A connected loopback TCP socket (or -1).
@@ -79,6 +91,10 @@ int connect_loopback(int port);
 
 // A small, quick request: a floor and a box, 64x48.
 extern const char* const small_request;
+// small_request's scene with its box moved to x (metres): a distinct scene id per x.
+nlohmann::json scene_with_box_at(double x);
+// POST /v1/scenes of `scene`.
+httplib::Result post_scene(const TestServer& server, const nlohmann::json& scene, const httplib::Headers& headers = {});
 
 std::string base64_decode(const std::string& text);
 

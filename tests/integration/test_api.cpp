@@ -196,12 +196,20 @@ TEST_F(ApiTest, XShadowCacheMissThenHitForASceneFittedMap) {
   EXPECT_EQ(none->get_header_value("X-Shadow-Cache"), "none");
 }
 
-TEST_F(ApiTest, CachesAreExportedWithTheirBudgets) {
+// One cache, one budget: each part's budget is the whole cache's, but shadow maps' (their own cap);
+// the document stores' budgets are their own.
+TEST_F(ApiTest, CachesAndStoresAreExportedWithTheirBudgets) {
   rr::server::ServerConfig config = server_->service().config();
-  EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"bsp\""}), double(config.bsp_cache_bytes));
-  EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"scenes\""}), double(config.scene_store_bytes));
+  for (const char* part : {"bsp", "scenes", "meshes", "all"}) {
+    EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"" + std::string(part) + "\""}),
+              double(config.cache_bytes))
+        << part;
+  }
   EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"shadow\""}), double(config.shadow_cache_bytes));
   EXPECT_GE(server_->metric("roomrender_cache_bytes", {"cache=\"bsp\""}), 0.0);
+  EXPECT_EQ(server_->metric("roomrender_store_budget_bytes", {"store=\"scenes\""}), double(config.scene_store_bytes));
+  EXPECT_EQ(server_->metric("roomrender_store_budget_bytes", {"store=\"meshes\""}), double(config.mesh_store_bytes));
+  EXPECT_EQ(server_->metric("roomrender_store_max_entries", {"store=\"scenes\""}), double(config.scene_store_entries));
 }
 
 TEST_F(ApiTest, MetricsCountRequestsByRouteTemplateAndStatus) {

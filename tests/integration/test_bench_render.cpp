@@ -21,19 +21,19 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-struct Outcome {
+struct BenchOutcome {
   int status = -1;
   json line;        // stdout parsed when it is one JSON line; null otherwise
   std::string err;  // stderr
 };
 
 // Runs `roomrender <args>` with `dir` as the working directory.
-Outcome roomrender(const fs::path& dir, const std::string& args) {
+BenchOutcome roomrender(const fs::path& dir, const std::string& args) {
   const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
   const std::string command =
       "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args + " >'" + out + "' 2>'" + err + "'";
   const int raw = std::system(command.c_str());
-  Outcome o;
+  BenchOutcome o;
   o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   o.line = json::parse(rr::testing::read_file(out), nullptr, /*allow_exceptions=*/false);
   if (o.line.is_discarded()) o.line = nullptr;
@@ -60,7 +60,7 @@ bool same_file(const fs::path& a, const fs::path& b) { return rr::testing::read_
 TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
   fs::path dir = rr::testing::fresh_output_dir();
   rr::testing::write_file(dir / "scene.json", json{{"scene", small_scene()}}.dump());
-  Outcome run = roomrender(dir, "bench-render --request scene.json --size 64x48 --frames 5 --warmup 2");
+  BenchOutcome run = roomrender(dir, "bench-render --request scene.json --size 64x48 --frames 5 --warmup 2");
   ASSERT_EQ(run.status, 0) << run.err;
   ASSERT_TRUE(run.line.is_object()) << "stdout must be exactly one JSON line";
   const json& j = run.line;
@@ -98,11 +98,11 @@ TEST(BenchRender, PrintsOneLineOfConsistentTimings) {
 TEST(BenchRender, OutAndIdsEqualANormalRender) {
   fs::path dir = rr::testing::fresh_output_dir();
   fs::path studio = rr::testing::examples_dir() / "studio.json";  // walls, openings, translucent panes
-  Outcome render =
+  BenchOutcome render =
       roomrender(dir, "render '" + studio.string() + "' -o render.png --ids render.ids --width 160 --height 120");
   ASSERT_EQ(render.status, 0) << render.err;
-  Outcome bench = roomrender(dir, "bench-render --request '" + studio.string() +
-                                      "' --size 160x120 --frames 2 --out bench.png --ids bench.ids");
+  BenchOutcome bench = roomrender(dir, "bench-render --request '" + studio.string() +
+                                           "' --size 160x120 --frames 2 --out bench.png --ids bench.ids");
   ASSERT_EQ(bench.status, 0) << bench.err;
   EXPECT_TRUE(same_file(dir / "render.ids", dir / "bench.ids"));
   rr::Image a = rr::decode_png(rr::testing::read_file(dir / "render.png"));
@@ -121,7 +121,7 @@ TEST(BenchRender, ObjIdsAreTheFaceLinesInOrder) {
                           "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -0.5 0.5 0\nv 0.5 0.5 0\nv 0 1.2 0\n"
                           "f 1 4 3 2\nf 5 6 7\n");
   const std::string camera = " --eye 0,3,4 --target 0,0.3,0 --up 0,1,0 --fovy 50 --near 0.1 --far 20 --size 80x60";
-  Outcome bench = roomrender(dir, "bench-render --obj two.obj" + camera + " --frames 2 --ids bench.ids");
+  BenchOutcome bench = roomrender(dir, "bench-render --obj two.obj" + camera + " --frames 2 --ids bench.ids");
   ASSERT_EQ(bench.status, 0) << bench.err;
   EXPECT_EQ(bench.line["source"], "obj");
   EXPECT_EQ(bench.line["polygons"], 2);
@@ -133,7 +133,7 @@ TEST(BenchRender, ObjIdsAreTheFaceLinesInOrder) {
   }
   EXPECT_GT(floor, 100u);    // the first f line, the quad
   EXPECT_GT(triangle, 50u);  // the second, the triangle in front of it
-  Outcome bad = roomrender(dir, "bench-render --obj missing.obj --frames 1");
+  BenchOutcome bad = roomrender(dir, "bench-render --obj missing.obj --frames 1");
   EXPECT_EQ(bad.status, 1);
 }
 
@@ -154,18 +154,18 @@ TEST(BenchRender, CameraAndLightFlagsMeanTheRequestsValues) {
   by_hand["scene"]["lights"] = {
       {{"type", "directional"}, {"direction", {-1, -2, 0.5}}}};  // travels away from the flag's
   rr::testing::write_file(dir / "by_hand.json", by_hand.dump());
-  Outcome render = roomrender(dir, "render by_hand.json -o render.png --ids render.ids");
+  BenchOutcome render = roomrender(dir, "render by_hand.json -o render.png --ids render.ids");
   ASSERT_EQ(render.status, 0) << render.err;
-  Outcome bench = roomrender(dir,
-                             "bench-render --request plain.json --eye 2.5,3,4 --target 0,0.25,0 --up 0,1,0.1 "
-                             "--fovy 45 --near 0.5 --far 20 --size 96x64 --light-dir 1,2,-0.5 --frames 1 "
-                             "--out bench.png --ids bench.ids");
+  BenchOutcome bench = roomrender(dir,
+                                  "bench-render --request plain.json --eye 2.5,3,4 --target 0,0.25,0 --up 0,1,0.1 "
+                                  "--fovy 45 --near 0.5 --far 20 --size 96x64 --light-dir 1,2,-0.5 --frames 1 "
+                                  "--out bench.png --ids bench.ids");
   ASSERT_EQ(bench.status, 0) << bench.err;
   EXPECT_TRUE(same_file(dir / "render.ids", dir / "bench.ids"));
   EXPECT_TRUE(rr::decode_png(rr::testing::read_file(dir / "render.png")).rgb ==
               rr::decode_png(rr::testing::read_file(dir / "bench.png")).rgb);
   // And the light flag matters: the opposite direction lights other faces.
-  Outcome flipped =
+  BenchOutcome flipped =
       roomrender(dir, "bench-render --request by_hand.json --light-dir -1,-2,0.5 --frames 1 --out flipped.png");
   ASSERT_EQ(flipped.status, 0) << flipped.err;
   EXPECT_FALSE(rr::decode_png(rr::testing::read_file(dir / "flipped.png")).rgb ==
@@ -174,7 +174,7 @@ TEST(BenchRender, CameraAndLightFlagsMeanTheRequestsValues) {
 
 TEST(BenchRender, ListNamesTheBuildsTables) {
   fs::path dir = rr::testing::fresh_output_dir();
-  Outcome list = roomrender(dir, "bench-render --list");
+  BenchOutcome list = roomrender(dir, "bench-render --list");
   ASSERT_EQ(list.status, 0) << list.err;
   std::vector<std::string> pipelines, shadings;
   for (const rr::PipelineInfo& p : rr::pipeline_table()) pipelines.push_back(p.name);
@@ -195,10 +195,10 @@ TEST(BenchRender, BadCommandLinesAndBadValues) {
     EXPECT_EQ(roomrender(dir, args).status, 2) << args;
   }
   // Values the request validator refuses are reported by JSON Pointer (exit 1).
-  Outcome fov = roomrender(dir, "bench-render --request scene.json --fovy 500");
+  BenchOutcome fov = roomrender(dir, "bench-render --request scene.json --fovy 500");
   EXPECT_EQ(fov.status, 1);
   EXPECT_EQ(json::parse(fov.err)["pointer"], "/camera/fov_y") << fov.err;
-  Outcome pipeline = roomrender(dir, "bench-render --request scene.json --pipeline raytrace");
+  BenchOutcome pipeline = roomrender(dir, "bench-render --request scene.json --pipeline raytrace");
   EXPECT_EQ(pipeline.status, 1);
   EXPECT_EQ(json::parse(pipeline.err)["pointer"], "/options/pipeline") << pipeline.err;
 }

@@ -25,25 +25,9 @@
 namespace {
 
 using nlohmann::json;
+using rr::testing::run_roomrender;
+using rr::testing::RunResult;
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-// Runs `roomrender <args>` in `dir` (args are passed to the shell as written).
-RunResult run_roomrender(const std::string& args, const fs::path& dir, const std::string& stdin_file = "") {
-  std::string command = "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args +
-                        (stdin_file.empty() ? "" : " <'" + stdin_file + "'") + " >stdout.txt 2>stderr.txt";
-  int status = std::system(command.c_str());
-  RunResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.out = rr::testing::read_file(dir / "stdout.txt");
-  result.err = rr::testing::read_file(dir / "stderr.txt");
-  return result;
-}
 
 // One closed mesh (a box) whose coordinates need all 17 digits, so OBJ round-tripping is tested;
 // identity placement, so world coordinates are the mesh's own. Faces wind outward.

@@ -19,24 +19,9 @@
 namespace {
 
 using nlohmann::json;
+using rr::testing::run_roomrender;
+using rr::testing::RunResult;
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out;  // raw bytes: a PNG with -o -
-  std::string err;
-};
-
-RunResult run_roomrender(const std::string& args, const fs::path& dir) {
-  std::string command =
-      "cd '" + dir.string() + "' && '" ROOMRENDER_BINARY_DIR "/roomrender' " + args + " >stdout.bin 2>stderr.txt";
-  int status = std::system(command.c_str());
-  RunResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.out = rr::testing::read_file(dir / "stdout.bin");
-  result.err = rr::testing::read_file(dir / "stderr.txt");
-  return result;
-}
 
 // The studio example, small, with every member a flag sets written out, so each flag below
 // replaces a value the file holds (precedence) rather than filling a default.

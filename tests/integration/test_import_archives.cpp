@@ -8,6 +8,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "server_fixture.hpp"
+#include "support/sweet_homes.hpp"
 #include "support/zip_builder.hpp"
 
 #include <sys/wait.h>
@@ -29,57 +30,11 @@ namespace fs = std::filesystem;
 
 fs::path home_dir() { return *rr::testing::shared_data_dir() / "floorplans/sweethome3d"; }
 
-std::vector<fs::path> homes() {
-  std::vector<fs::path> out;
-  auto dir = rr::testing::shared_data_dir();
-  if (!dir) return out;
-  for (const auto& e : fs::directory_iterator(*dir / "floorplans/sweethome3d")) {
-    if (e.path().extension() == ".xml") out.push_back(e.path());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-// Every `model` attribute of a home, in order of first appearance.
-std::vector<std::string> model_names(const std::string& xml) {
-  std::vector<std::string> names;
-  std::regex attribute(R"re(\bmodel=['"]([^'"]+)['"])re");
-  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), attribute); it != std::sregex_iterator(); ++it) {
-    if (std::find(names.begin(), names.end(), (*it)[1].str()) == names.end()) names.push_back((*it)[1].str());
-  }
-  return names;
-}
+std::vector<fs::path> homes() { return rr::testing::sweet_home_files(); }
 
 std::string base_name(const std::string& path) { return path.substr(path.rfind('/') + 1); }
 
-// The material libraries an OBJ names.
-std::vector<std::string> libraries_of(const std::string& obj) {
-  std::vector<std::string> out;
-  std::regex line(R"(^mtllib\s+(\S+))");
-  for (auto it = std::sregex_iterator(obj.begin(), obj.end(), line, std::regex_constants::match_default);
-       it != std::sregex_iterator(); ++it) {
-    out.push_back((*it)[1].str());
-  }
-  return out;
-}
-
-// The data set's layout: <Name>.xml and furniture/<model file> (+ its .mtl) for each model it names.
-std::string home_zip(const fs::path& home) {
-  const std::string xml = rr::testing::read_file(home);
-  std::vector<ZipEntry> entries{{home.filename().string(), xml}};
-  std::set<std::string> added;
-  for (const std::string& model : model_names(xml)) {
-    const fs::path file = home.parent_path() / "furniture" / base_name(model);
-    if (!fs::exists(file) || !added.insert(file.filename().string()).second) continue;
-    std::string obj = rr::testing::read_file(file);
-    for (const std::string& mtl : libraries_of(obj)) {
-      if (added.insert(mtl).second)
-        entries.push_back({"furniture/" + mtl, rr::testing::read_file(file.parent_path() / mtl)});
-    }
-    entries.push_back({"furniture/" + file.filename().string(), std::move(obj)});
-  }
-  return make_zip(entries);
-}
+std::string home_zip(const fs::path& home) { return rr::testing::sweet_home_zip(home); }
 
 // Sweet Home 3D's own layout: Home.xml naming each model by its entry, "0", "1", ... for a model of
 // one file, "N/name.obj" beside "N/name.mtl" for a model with a material library.
@@ -87,11 +42,11 @@ std::string sh3d_archive(const fs::path& home) {
   std::string xml = rr::testing::read_file(home);
   std::vector<ZipEntry> models;
   int next = 0;
-  for (const std::string& model : model_names(xml)) {
+  for (const std::string& model : rr::testing::sweet_home_model_names(xml)) {
     const fs::path file = home.parent_path() / "furniture" / base_name(model);
     if (!fs::exists(file)) continue;
     std::string obj = rr::testing::read_file(file);
-    std::vector<std::string> libraries = libraries_of(obj);
+    std::vector<std::string> libraries = rr::testing::obj_material_libraries(obj);
     std::string entry = std::to_string(next++);
     if (!libraries.empty()) {
       entry += '/';  // appended apart: GCC 12's -Wrestrict misfires on "/" + std::string here

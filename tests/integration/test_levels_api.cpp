@@ -8,7 +8,7 @@ namespace {
 using nlohmann::json;
 using namespace rr::testing;
 
-const json scene = json::parse(R"({
+const json two_level_scene = json::parse(R"({
   "levels": [{"id": "ground"}, {"id": "upper", "elevation": 3.0, "viewable": false}],
   "rooms": [{"points": [[0, 0], [4, 0], [4, 4], [0, 4]], "level": "ground"},
             {"points": [[0, 0], [4, 0], [4, 4], [0, 4]], "level": "upper"}],
@@ -16,27 +16,27 @@ const json scene = json::parse(R"({
   "solids": [{"type": "box", "center": [2, 2], "base": 3.0, "size": [1, 1, 1], "level": "upper"}]
 })");
 
-const json camera = {{"position", {2.0, 9.0, 8.0}}, {"target", {2.0, 0.0, 2.0}}};
+const json above_camera = {{"position", {2.0, 9.0, 8.0}}, {"target", {2.0, 0.0, 2.0}}};
 
 TEST(LevelsApi, UnknownLevelsAre422AtTheirPointer) {
   TestServer server;
-  json bad = scene;
+  json bad = two_level_scene;
   bad["rooms"][1]["level"] = "attic";
   json problem =
       expect_problem(server.client().Post("/v1/render", json({{"scene", bad}}).dump(), "application/json"), 422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/scene/rooms/1/level") << problem;
-  json view = {{"scene", scene}, {"options", {{"levels", {"ground", "attic"}}}}};
+  json view = {{"scene", two_level_scene}, {"options", {{"levels", {"ground", "attic"}}}}};
   problem = expect_problem(server.client().Post("/v1/render", view.dump(), "application/json"), 422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/options/levels/1") << problem;
-  auto stored = server.client().Post("/v1/scenes", scene.dump(), "application/json");
+  auto stored = server.client().Post("/v1/scenes", two_level_scene.dump(), "application/json");
   ASSERT_TRUE(stored);
   ASSERT_EQ(stored->status, 201) << stored->body;
   const std::string path = "/v1/scenes/" + json::parse(stored->body)["id"].get<std::string>() + "/render";
   problem = expect_problem(
       server.client().Post(path.c_str(), json({{"options", {{"levels", {"attic"}}}}}).dump(), "application/json"), 422);
   EXPECT_EQ(problem["errors"][0]["pointer"], "/options/levels/0") << problem;
-  auto ok = server.client().Post(path.c_str(), json({{"camera", camera}, {"options", {{"levels", {"upper"}}}}}).dump(),
-                                 "application/json");
+  auto ok = server.client().Post(
+      path.c_str(), json({{"camera", above_camera}, {"options", {{"levels", {"upper"}}}}}).dump(), "application/json");
   ASSERT_TRUE(ok);
   EXPECT_EQ(ok->status, 200) << ok->body;
 }
@@ -44,8 +44,8 @@ TEST(LevelsApi, UnknownLevelsAre422AtTheirPointer) {
 TEST(LevelsApi, EachSelectionHasItsOwnCachedTreeAndTheSceneIdStays) {
   TestServer server;
   auto draw = [&](const json& levels) {
-    json request = {{"scene", scene},
-                    {"camera", camera},
+    json request = {{"scene", two_level_scene},
+                    {"camera", above_camera},
                     {"options", {{"width", 32}, {"height", 24}, {"pipeline", "bsp"}, {"levels", levels}}}};
     auto res = server.client().Post("/v1/render", request.dump(), "application/json");
     EXPECT_TRUE(res);

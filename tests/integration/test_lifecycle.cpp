@@ -145,39 +145,6 @@ TEST(Lifecycle, DrainWaitsForRendersThatFinishInTime) {
   EXPECT_EQ(res->status, 200);
 }
 
-struct Child {
-  pid_t pid = -1;
-  std::FILE* out = nullptr;
-  int port = 0;
-};
-
-Child start_binary(const std::vector<std::string>& args) {
-  int out_pipe[2];
-  Child child;
-  if (::pipe(out_pipe) != 0) return child;
-  child.pid = ::fork();
-  if (child.pid == 0) {
-    ::dup2(out_pipe[1], STDOUT_FILENO);
-    ::close(out_pipe[0]);
-    std::vector<char*> argv;
-    std::string binary = ROOMRENDER_BINARY_DIR "/roomrender";
-    argv.push_back(binary.data());
-    std::vector<std::string> copy = args;
-    for (std::string& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(binary.c_str(), argv.data());
-    ::_exit(127);
-  }
-  ::close(out_pipe[1]);
-  child.out = ::fdopen(out_pipe[0], "r");
-  char line[8192] = {};
-  if (std::fgets(line, sizeof line, child.out)) {
-    json listening = json::parse(line, nullptr, false);
-    if (listening.is_object() && listening.value("event", "") == "listening") child.port = listening.value("port", 0);
-  }
-  return child;
-}
-
 double child_metric(int port, const std::string& name) {
   httplib::Client client("127.0.0.1", port);
   auto res = client.Get("/metrics");
@@ -191,7 +158,7 @@ double child_metric(int port, const std::string& name) {
 // reporting a complete drain.
 TEST(Lifecycle, SigtermDrainsInFlightRendersAndExitsZero) {
   // A generous drain bound: on a loaded machine the render may take several seconds.
-  Child child = start_binary(
+  ServerProcess child = start_server_process(
       {"serve", "--port", "0", "--log-requests", "0", "--render-workers", "1", "--drain-timeout-ms", "60000"});
   ASSERT_GT(child.pid, 0);
   ASSERT_GT(child.port, 0);

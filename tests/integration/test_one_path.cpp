@@ -25,7 +25,7 @@ using nlohmann::json;
 using rr::testing::TestServer;
 namespace fs = std::filesystem;
 
-constexpr int width = 96, height = 72;  // small: the reference pipeline casts one ray per pixel
+constexpr int frame_width = 96, frame_height = 72;  // small: the reference pipeline casts one ray per pixel
 
 std::vector<std::string> stage_names() {
   std::vector<std::string> names;
@@ -120,8 +120,8 @@ json case_request(const RenderCase& c) {
       json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" / (c.example + ".json")));
   json& options = request["options"];
   if (options.is_null()) options = json::object();
-  options["width"] = width;
-  options["height"] = height;
+  options["width"] = frame_width;
+  options["height"] = frame_height;
   options["pipeline"] = c.pipeline;
   options["shading"] = c.lit ? "phong" : "flat";
   options["shadows"] = c.lit;

@@ -17,12 +17,6 @@ namespace fs = std::filesystem;
 
 json small_scene() { return json::parse(small_request)["scene"]; }
 
-json scene_with_box_at(double x) {
-  json scene = small_scene();
-  scene["solids"][0]["center"] = {x, 0.0};
-  return scene;
-}
-
 // Stores `scene`; returns the answer's body (id, location, ...).
 json store(const TestServer& server, const json& scene, int expected_status = 201) {
   auto res = server.client().Post("/v1/scenes", scene.dump(), "application/json");
@@ -208,7 +202,7 @@ TEST_F(StoreTest, QueryParameterErrorsNameTheParameter) {
 
 TEST(StoreBounds, SceneLargerThanTheWholeBudgetIs413) {
   rr::server::ServerConfig config = test_server_config();
-  config.scene_store_bytes = 4096;
+  config.scene_store_bytes = small_scene().dump().size() - 1;  // the document's bytes, nothing prepared
   TestServer server(config);
   json problem = expect_problem(server.client().Post("/v1/scenes", small_scene().dump(), "application/json"), 413);
   EXPECT_EQ(problem["errors"][0]["pointer"], "");
@@ -237,6 +231,28 @@ TEST(StorePersistence, StoredScenesSurviveARestart) {
   ASSERT_TRUE(deleted);
   EXPECT_EQ(deleted->status, 204);
   EXPECT_FALSE(fs::exists(dir / "scenes" / (id + ".json")));
+}
+
+// A server whose stored scenes will not outlive it says so once at start; one with a data directory
+// does not.
+TEST(StorePersistence, AServerWithoutADataDirSaysItsScenesLiveOnlyAsLongAsTheProcess) {
+  for (const bool with_dir : {false, true}) {
+    rr::server::ServerConfig config = test_server_config();
+    if (with_dir) config.data_dir = fresh_output_dir();
+    LogCapture log;
+    config.log_level = "warn";
+    config.log_sink = log.sink();
+    { TestServer server(config); }
+    size_t said = 0;
+    for (const json& line : log.lines()) {
+      if (line.value("event", "") != "store_in_memory") continue;
+      ++said;
+      EXPECT_EQ(line["level"], "warn");
+      EXPECT_NE(line.value("reason", "").find("only as long as this process"), std::string::npos) << line;
+      EXPECT_NE(line.value("reason", "").find("--data-dir"), std::string::npos) << line;
+    }
+    EXPECT_EQ(said, with_dir ? 0u : 1u) << (with_dir ? "with" : "without") << " a data directory";
+  }
 }
 
 // What a crash can leave: a temporary file from a write that never reached its rename (removed at

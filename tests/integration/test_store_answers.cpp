@@ -76,12 +76,14 @@ TEST(StoreAnswers, FullAndTooSmallStoresNameTheirKindAndBudget) {
   TestServer server(full);
   httplib::Client client = server.client();
   expect_refusal(client.Post("/v1/scenes", scene_text(), "application/json"), 507,
-                 "The scene store is full: it holds 0 scenes of at most 0 and about 0 bytes of at most 268435456\\. "
+                 "The scene store is full: it holds 0 scenes of at most 0 and 0 bytes of documents of at most "
+                 "4294967296\\. "
                  "Stored scenes are kept, not evicted: delete scenes you no longer need, or ask the operator to "
                  "raise --scene-store-entries or --scene-store-bytes\\.",
                  "scene store full");
   expect_refusal(client.Post("/v1/meshes", tetrahedron_obj, "model/obj"), 507,
-                 "The mesh store is full: it holds 0 meshes of at most 0 and about 0 bytes of at most 536870912\\. "
+                 "The mesh store is full: it holds 0 meshes of at most 0 and 0 bytes of documents of at most "
+                 "4294967296\\. "
                  "Stored meshes are kept, not evicted: delete meshes you no longer need, or ask the operator to "
                  "raise --mesh-store-entries or --mesh-store-bytes\\.",
                  "mesh store full");
@@ -92,10 +94,10 @@ TEST(StoreAnswers, FullAndTooSmallStoresNameTheirKindAndBudget) {
   TestServer tiny(small);
   httplib::Client tiny_client = tiny.client();
   expect_refusal(tiny_client.Post("/v1/scenes", scene_text(), "application/json"), 413,
-                 "The stored form of this scene takes about \\d+ bytes; the scene store holds at most 100\\.",
+                 "This scene's document takes \\d+ bytes; the scene store holds at most 100\\.",
                  "scene too large to store");
   expect_refusal(tiny_client.Post("/v1/meshes", tetrahedron_obj, "model/obj"), 413,
-                 "The stored form of this mesh takes about \\d+ bytes; the mesh store holds at most 100\\.",
+                 "This mesh's document takes \\d+ bytes; the mesh store holds at most 100\\.",
                  "mesh too large to store");
 }
 

@@ -19,12 +19,6 @@ const std::string alice = "alice-0123456789abcdef";
 const std::string bob = "bob-fedcba9876543210XYZ";
 const std::string bare = "bare_token.0123456789+/==";
 
-json scene_with_box_at(double x) {
-  json scene = json::parse(small_request)["scene"];
-  scene["solids"][0]["center"] = {x, 0.0};
-  return scene;
-}
-
 httplib::Headers bearer(const std::string& token) { return {{"Authorization", "Bearer " + token}}; }
 
 fs::path token_file(const std::string& name) {
@@ -37,10 +31,6 @@ rr::server::ServerConfig token_config(const std::string& name) {
   rr::server::ServerConfig config = test_server_config();
   config.api_token_file = token_file(name + ".tokens");
   return config;
-}
-
-httplib::Result post_scene(const TestServer& server, const json& scene, const httplib::Headers& headers = {}) {
-  return server.client().Post("/v1/scenes", headers, scene.dump(), "application/json");
 }
 
 std::string store_as(const TestServer& server, const std::string& token, const json& scene, int status = 201) {

@@ -48,7 +48,7 @@ json ambient_only(json request) {
   return request;
 }
 
-void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*make)(std::mt19937&)) {
+void check_resolved_scenes(const char* what, unsigned first_seed, unsigned count, json (*make)(std::mt19937&)) {
   const auto seeds = testing::test_seeds(first_seed, count);
   for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
     std::mt19937 rng(seed);
@@ -64,10 +64,12 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
   }
 }
 
-TEST(StressAntialias, RandomRoomsResolveAsTheReferenceAt16Samples) { check_scenes("rooms", 1800, 12, random_room); }
+TEST(StressAntialias, RandomRoomsResolveAsTheReferenceAt16Samples) {
+  check_resolved_scenes("rooms", 1800, 12, random_room);
+}
 
 TEST(StressAntialias, RandomIntersectingSoupsResolveAsTheReferenceAt16Samples) {
-  check_scenes("soups", 2800, 8, [](std::mt19937& rng) { return random_soup(rng, 40); });
+  check_resolved_scenes("soups", 2800, 8, [](std::mt19937& rng) { return random_soup(rng, 40); });
 }
 
 }  // namespace

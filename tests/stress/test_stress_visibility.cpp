@@ -39,7 +39,7 @@ size_t count_pinholes(const IdBuffer& truth, const IdBuffer& test) {
   return n;
 }
 
-void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*make)(std::mt19937&)) {
+void check_visible_scenes(const char* what, unsigned first_seed, unsigned count, json (*make)(std::mt19937&)) {
   const auto seeds = testing::test_seeds(first_seed, count);
   Tally mean, min;
   std::map<std::string, size_t> cracks;
@@ -72,10 +72,12 @@ void check_scenes(const char* what, unsigned first_seed, unsigned count, json (*
   }
 }
 
-TEST(StressVisibility, RandomRoomsMatchTheReferenceAwayFromEdges) { check_scenes("rooms", 1000, 48, random_room); }
+TEST(StressVisibility, RandomRoomsMatchTheReferenceAwayFromEdges) {
+  check_visible_scenes("rooms", 1000, 48, random_room);
+}
 
 TEST(StressVisibility, RandomIntersectingSoupsMatchTheReferenceAwayFromEdges) {
-  check_scenes("soups", 2000, 48, [](std::mt19937& rng) { return random_soup(rng, 40); });
+  check_visible_scenes("soups", 2000, 48, [](std::mt19937& rng) { return random_soup(rng, 40); });
 }
 
 TEST(StressVisibility, ZbufferResolvesOneMillimetreAtTenMetres) {

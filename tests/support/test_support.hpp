@@ -16,12 +16,19 @@ namespace rr::testing {
 
 std::filesystem::path source_dir();  // the repository root
 std::filesystem::path examples_dir();
-// ../shared/data beside the repository, or nullopt when absent.
+// ../shared/data beside the repository, or nullopt when absent (with ROOMRENDER_REQUIRE_SHARED set:
+// throws, so the test fails instead of skipping).
 std::optional<std::filesystem::path> shared_data_dir();
 std::filesystem::path output_dir(const std::string& suite);  // build/test-output/<suite>, created
 // An empty scratch directory of the running test: output_dir(suite)/<TestSuite>.<TestName> (a '/' of a
 // parameterized name becomes '_'), removed and created anew.
 std::filesystem::path fresh_output_dir(const std::string& suite = "integration");
+
+// CPU milliseconds used so far by the calling thread / by the whole process. Tests that bound how
+// long work takes count CPU, not wall time: on a shared machine a process can wait for a core longer
+// than any work it does.
+double thread_cpu_ms();
+double process_cpu_ms();
 
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
@@ -49,5 +56,15 @@ struct IdDiff {
 // Pixel-by-pixel comparison of two id buffers of one size. `edges_of_both`: also count as edge
 // pixels those on an id edge of `test` (split pieces snap to the sub-pixel grid on their own).
 IdDiff compare_ids(const IdBuffer& truth, const IdBuffer& test, bool edges_of_both = false);
+
+// What `roomrender <args>` did: its exit status and its two streams, as raw bytes.
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+// Runs the built `roomrender <args>` in `dir` (args go to the shell as written), with `stdin_file`
+// as its standard input when given; its streams are kept in dir/stdout.bin and dir/stderr.txt.
+RunResult run_roomrender(const std::string& args, const std::filesystem::path& dir, const std::string& stdin_file = "");
 
 }  // namespace rr::testing

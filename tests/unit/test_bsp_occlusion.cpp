@@ -18,7 +18,7 @@ namespace {
 
 using json = nlohmann::json;
 
-json example(const std::string& stem, int width = 320, int height = 240) {
+json bsp_example(const std::string& stem, int width = 320, int height = 240) {
   json r = testing::example_request(stem, width, height);
   r["options"]["pipeline"] = "bsp";
   return r;
@@ -51,7 +51,7 @@ TEST(BspOcclusion, EveryExampleEqualsTheBackToFrontWalk) {
   for (const auto& file : testing::example_files()) {
     for (const char* shading : {"flat", "phong"}) {
       SCOPED_TRACE(file.stem().string() + " " + shading);
-      json request = example(file.stem().string());
+      json request = bsp_example(file.stem().string());
       request["options"]["shading"] = shading;
       request["options"]["shadows"] = std::string(shading) == "phong";
       expect_identical(render_both(request));
@@ -62,7 +62,7 @@ TEST(BspOcclusion, EveryExampleEqualsTheBackToFrontWalk) {
 // Seeded random views inside the apartment (eye level, any direction): walls, doors and translucent
 // window panes hide each other in every order.
 TEST(BspOcclusion, SeededRandomViewsInsideTheApartmentEqualTheBackToFrontWalk) {
-  const json base = example("apartment", 160, 120);
+  const json base = bsp_example("apartment", 160, 120);
   for (uint32_t seed = 1; seed <= 30; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     std::mt19937 rng(seed);
@@ -95,7 +95,7 @@ TEST(BspOcclusion, SeededRandomTrianglesEqualTheBackToFrontWalk) {
 
 // Standing in a room looking through a door: the rooms beyond are mostly hidden by walls.
 TEST(BspOcclusion, EyeLevelApartmentDrawsFewerPolygonsAndFragments) {
-  json request = example("apartment", 640, 360);
+  json request = bsp_example("apartment", 640, 360);
   request["camera"]["position"] = {0.5, 1.6, 1.2};
   request["camera"]["target"] = {8.5, 1.1, 3.4};
   Pair p = render_both(request);

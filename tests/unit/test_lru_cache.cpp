@@ -1,5 +1,6 @@
 // SharedLruCache: LRU order under the byte budget and entry count, single-flight builds under
-// concurrency, failed builds that cache nothing, and an eviction listener that hears evictions only.
+// concurrency, failed builds that cache nothing, an eviction listener that hears evictions only, and
+// caches of different value types sharing one CachePool: one budget, one recency order, caps per part.
 #include "render/core/lru_cache.hpp"
 
 #include <gtest/gtest.h>
@@ -155,6 +156,86 @@ TEST(LruCacheEvictionListener, HearsEvictionsButNotErasesOrReplacements) {
       },
       hit);
   EXPECT_EQ(evicted, (std::vector<std::string>{"a", "c"}));
+}
+
+// Two parts of one pool: whichever part stores, the least recently used entry of either goes, and
+// each part counts its own evictions (the part that lost the entry, not the one that made room).
+TEST(CachePool, PartsShareOneBudgetAndOneRecencyOrder) {
+  auto pool = std::make_shared<CachePool>(30);
+  SharedLruCache<int> numbers(pool);
+  SharedLruCache<std::string> names(pool);
+  numbers.put("1", std::make_shared<const int>(1), 10);
+  names.put("one", std::make_shared<const std::string>("one"), 10);
+  numbers.put("2", std::make_shared<const int>(2), 10);
+  ASSERT_NE(numbers.find("1"), nullptr);  // order, least recent first: one, 2, 1
+  names.put("two", std::make_shared<const std::string>("two"), 10);
+  EXPECT_EQ(names.find("one"), nullptr);
+  numbers.put("3", std::make_shared<const int>(3), 10);  // evicts 2 (then: 1, two, 3)
+  EXPECT_EQ(numbers.find("2"), nullptr);
+  EXPECT_EQ(*numbers.find("1"), 1);
+  EXPECT_EQ(*names.find("two"), "two");
+  EXPECT_EQ(numbers.stats().evictions, 1u);
+  EXPECT_EQ(names.stats().evictions, 1u);
+  EXPECT_EQ(numbers.stats().bytes, 20u);
+  EXPECT_EQ(names.stats().bytes, 10u);
+  EXPECT_EQ(numbers.stats().budget_bytes, 30u);
+  const CacheStats all = pool->stats();
+  EXPECT_EQ(all.bytes, 30u);
+  EXPECT_EQ(all.entries, 3u);
+  EXPECT_EQ(all.evictions, 2u);
+  EXPECT_EQ(all.budget_bytes, 30u);
+}
+
+// A part's own caps make room among its own entries first, even when older entries of another part
+// would go before them by recency alone; a part capped at 0 bytes keeps nothing.
+TEST(CachePool, APartsCapsEvictItsOwnEntriesOnly) {
+  auto pool = std::make_shared<CachePool>(100);
+  SharedLruCache<int> big(pool);
+  SharedLruCache<int> capped(pool, 2, 25);
+  SharedLruCache<int> none(pool, CachePool::unbounded, 0);
+  big.put("old", std::make_shared<const int>(0), 10);
+  capped.put("a", std::make_shared<const int>(1), 10);
+  capped.put("b", std::make_shared<const int>(2), 10);
+  capped.put("c", std::make_shared<const int>(3), 10);  // the entry cap: a goes, old stays
+  EXPECT_EQ(capped.find("a"), nullptr);
+  EXPECT_NE(big.find("old"), nullptr);
+  capped.put("d", std::make_shared<const int>(4), 16);  // the entry cap takes b, the byte cap (25) c
+  EXPECT_EQ(capped.stats().entries, 1u);
+  EXPECT_EQ(capped.stats().bytes, 16u);
+  EXPECT_EQ(capped.stats().budget_bytes, 25u);
+  EXPECT_EQ(capped.stats().evictions, 3u);
+  EXPECT_EQ(big.stats().evictions, 0u);
+  EXPECT_FALSE(none.put("x", std::make_shared<const int>(5), 1));
+  EXPECT_EQ(none.stats().budget_bytes, 0u);
+  EXPECT_EQ(pool->stats().bytes, 26u);
+}
+
+// A build in one part may look up another part of the same pool (a scene's build reads its
+// meshes): the pool's lock is not held while building, and a build that passes the budget evicts
+// what the nested build stored.
+TEST(CachePool, ABuildMayUseAnotherPartOfItsPool) {
+  auto pool = std::make_shared<CachePool>(25);
+  SharedLruCache<int> meshes(pool);
+  SharedLruCache<int> scenes(pool);
+  bool hit = false;
+  auto scene = scenes.get_or_build(
+      "s",
+      [&] {
+        bool mesh_hit = false;
+        auto mesh = meshes.get_or_build(
+            "m",
+            [] {
+              return SharedLruCache<int>::Built{std::make_shared<const int>(2), 10};
+            },
+            mesh_hit);
+        return SharedLruCache<int>::Built{std::make_shared<const int>(*mesh * 10), 20};
+      },
+      hit);
+  EXPECT_EQ(*scene, 20);
+  EXPECT_FALSE(meshes.contains("m"));
+  EXPECT_TRUE(scenes.contains("s"));
+  EXPECT_EQ(meshes.stats().evictions, 1u);
+  EXPECT_EQ(pool->stats().builds, 2u);
 }
 
 }  // namespace

@@ -295,20 +295,19 @@ TEST(MeshStore, PinnedWhileAStoredScenePlacesIt) {
   server::MeshStore meshes(config, [](const std::string&, nlohmann::ordered_json) {});
   auto cube = server::prepare_mesh(make_mesh_data(cube_vertices, cube_faces, {}));
   EXPECT_EQ(server::read_stored_mesh(cube->text, {})->id, cube->id);
-  ASSERT_EQ(meshes.put(cube, "a"), server::MeshStore::PutResult::created);
-  ASSERT_EQ(meshes.put(cube, "b"), server::MeshStore::PutResult::existed);
-  server::StoredScene scene;
-  scene.id = "00000000000000aa";
-  scene.mesh_refs = {cube->id};
-  pins.change(scene, true);
-  EXPECT_EQ(pins.scenes_placing(cube->id, 5), std::vector<std::string>{scene.id});
+  EXPECT_EQ(server::read_mesh_document(cube->text, {}).id, cube->id);
+  ASSERT_EQ(meshes.put(server::mesh_document(*cube), "a"), server::MeshStore::PutResult::created);
+  ASSERT_EQ(meshes.put(server::mesh_document(*cube), "b"), server::MeshStore::PutResult::existed);
+  const std::string scene = "00000000000000aa";
+  pins.change(scene, {cube->id}, true);
+  EXPECT_EQ(pins.scenes_placing(cube->id, 5), std::vector<std::string>{scene});
   EXPECT_EQ(meshes.release(cube->id, "a"), server::MeshStore::ReleaseResult::reference_dropped);
   EXPECT_EQ(meshes.release(cube->id, "b"), server::MeshStore::ReleaseResult::pinned);
-  EXPECT_TRUE(meshes.find(cube->id));
-  pins.change(scene, false);
+  EXPECT_EQ(meshes.find(cube->id, true), cube->text);
+  pins.change(scene, {cube->id}, false);
   EXPECT_FALSE(pins.pinned(cube->id));
   EXPECT_EQ(meshes.release(cube->id, "b"), server::MeshStore::ReleaseResult::removed);
-  EXPECT_FALSE(meshes.find(cube->id));
+  EXPECT_FALSE(meshes.find(cube->id, false));
 }
 
 }  // namespace

@@ -79,28 +79,23 @@ TEST(OpenStores, AnUnknownSchemeOrABadUrlIsRefusedNamingTheFlag) {
   }
 }
 
-std::shared_ptr<const StoredScene> scene_placing(const std::string& id, const std::string& mesh) {
-  auto s = std::make_shared<StoredScene>();
-  s->id = id;
-  s->text = "{\"solids\":[{\"ref\":\"" + mesh + "\"}]}";
-  s->bytes = 100;
-  s->mesh_refs = {mesh};
-  return s;
+StoredDocument scene_placing(const std::string& id, const std::string& mesh) {
+  return {id, "{\"solids\":[{\"ref\":\"" + mesh + "\"}]}", {mesh}};
 }
 
 TEST(OpenStores, TheEmbeddedBackendHoldsScenesToTheMeshesTheyPlace) {
   Stores stores = open_stores(default_server_config(), quiet);
   auto mesh = prepare_mesh(rr::make_mesh_data({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
                                               {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, {}));
-  auto scene = scene_placing("00000000000000aa", mesh->id);
+  StoredDocument scene = scene_placing("00000000000000aa", mesh->id);
   EXPECT_EQ(stores.scenes->put(scene, ""), SceneDocuments::PutResult::missing_reference);
-  EXPECT_FALSE(stores.scenes->find(scene->id));
+  EXPECT_FALSE(stores.scenes->find(scene.id, false));
 
-  ASSERT_EQ(stores.meshes->put(mesh, ""), MeshDocuments::PutResult::created);
+  ASSERT_EQ(stores.meshes->put(mesh_document(*mesh), ""), MeshDocuments::PutResult::created);
   ASSERT_EQ(stores.scenes->put(scene, ""), SceneDocuments::PutResult::created);
   EXPECT_EQ(stores.meshes->release(mesh->id, std::nullopt), MeshDocuments::ReleaseResult::pinned);
-  EXPECT_EQ(stores.meshes->pinned_by(mesh->id, 5), std::vector<std::string>{scene->id});
-  EXPECT_EQ(stores.scenes->release(scene->id, std::nullopt), SceneDocuments::ReleaseResult::removed);
+  EXPECT_EQ(stores.meshes->pinned_by(mesh->id, 5), std::vector<std::string>{scene.id});
+  EXPECT_EQ(stores.scenes->release(scene.id, std::nullopt), SceneDocuments::ReleaseResult::removed);
   EXPECT_TRUE(stores.meshes->pinned_by(mesh->id, 5).empty());
   EXPECT_EQ(stores.meshes->release(mesh->id, std::nullopt), MeshDocuments::ReleaseResult::removed);
 }

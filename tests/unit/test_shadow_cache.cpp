@@ -55,7 +55,6 @@ TEST(ShadowCache, SceneFitServesASecondCameraWithNoShadowPass) {
     EXPECT_EQ(b.result.stats.shadow_cache, "hit");
     EXPECT_EQ(b.result.stats.shadow_passes, 0u);
     EXPECT_FALSE(b.result.stats.shadow_skipped) << "the reused maps are looked up";
-    EXPECT_LT(b.result.timings.shadow_ms, a.result.timings.shadow_ms);
     EXPECT_EQ(cache.stats().builds, 1u);
     EXPECT_GT(cache.stats().bytes, 0u);
     // A hit is byte for byte the frame that runs its own pass.

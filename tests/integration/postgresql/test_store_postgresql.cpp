@@ -21,12 +21,6 @@ const char* const cube_obj =
 
 httplib::Headers bearer(const std::string& token) { return {{"Authorization", "Bearer " + token}}; }
 
-json scene_with_box_at(double x) {
-  json scene = json::parse(small_request)["scene"];
-  scene["solids"][0]["center"] = {x, 0.0};
-  return scene;
-}
-
 json scene_placing(const std::string& mesh) {
   json scene = json::parse(small_request)["scene"];
   scene["solids"].push_back({{"type", "mesh"}, {"ref", mesh}, {"position", {1, 0, 0}}, {"color", "#40c040"}});
