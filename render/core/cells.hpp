@@ -9,6 +9,7 @@
 // Derivation is conservative: where closure is not certain, cells merge (at worst into one).
 #pragma once
 
+#include "render/core/camera.hpp"
 #include "render/core/hierarchy.hpp"
 #include "render/core/math.hpp"
 #include "render/core/scene.hpp"
@@ -28,8 +29,8 @@ enum class CellKind : uint8_t { outside, enclosed };
 
 struct Cell {
   CellKind kind = CellKind::outside;
-  int band = -1;  // index into SceneCells::bands; -1 for the outside
-  int room = -1;  // StaticGeometry::rooms index it was labelled with, -1: none
+  int band = -1;          // index into SceneCells::bands; -1 for the outside
+  int room = -1;          // StaticGeometry::rooms index it was labelled with, -1: none
   Vec3 lo{0.0}, hi{0.0};  // bounds of its region
 };
 
@@ -153,6 +154,11 @@ struct CellViewpoint {
   double margin_x = 0.0, margin_y = 0.0;
 };
 
+// The viewpoint of a camera's frame: the whole view plane, `reach` the distance to the near plane's
+// corners (nearer than them a wall may be cut away and seen through), and a margin of two pixels each
+// way (vertex snapping, and samples anywhere in a pixel).
+CellViewpoint cell_viewpoint(const ViewTransform& view);
+
 // Up to this many regions per cell: past it the two whose bounds grow least are merged.
 constexpr size_t cell_regions_max = 4;
 struct CellRegions {
@@ -161,11 +167,11 @@ struct CellRegions {
 };
 
 struct CellWalk {
-  std::vector<uint8_t> reached;       // per cell
+  std::vector<uint8_t> reached;      // per cell
   std::vector<CellRegions> regions;  // per cell: regions that hold every region it was reached with
-  size_t cells_visited = 0;         // cells reached
-  size_t portals_walked = 0;        // portal crossings that reached a cell with a new region
-  bool everything = false;          // the walk gave up (a viewpoint in a wall, too many steps): all reached
+  size_t cells_visited = 0;          // cells reached
+  size_t portals_walked = 0;         // portal crossings that reached a cell with a new region
+  bool everything = false;           // the walk gave up (a viewpoint in a wall, too many steps): all reached
 };
 
 // Walks the portals from the cells around `view.eye`, narrowing the region at each portal crossed:

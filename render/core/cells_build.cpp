@@ -1,7 +1,7 @@
 // build_cells, first half (see cells.hpp, docs/culling.md "Cells"): bands from the levels, a plan
 // grid, and per band each square classified: blocked (wholly inside a wall that spans the band, away
 // from its openings), a doorway zone (inside a wall's thickness at an opening), or free. Free squares
-// are flooded (8-connected); those that reach the grid's border are the outside, every other region
+// are flooded (4-connected); those that reach the grid's border are the outside, every other region
 // is enclosed, split into one cell per room that holds at least 1 m^2 of it (its other squares go to
 // the nearest room). Which squares a floor or a ceiling covers whole is noted for the vertical
 // portals. cells_portals.cpp makes the portals and assigns the polygons.
@@ -23,13 +23,16 @@ using detail::cell_height_tolerance_m;
 using detail::cell_solid_margin_m;
 using detail::CellsBuild;
 using detail::PlanGrid;
-using detail::Zone;
 using detail::wall_plan;
 using detail::WallPlan;
+using detail::Zone;
 
 constexpr uint32_t free_square = 0x7FFFFFFEu;  // during the build: not yet given a cell
 // Square side: a third of the thinnest barrier wall (3 cm or thicker), so that every barrier holds a
-// 4-connected run of blocked squares at any angle, within these bounds.
+// connected run of blocked squares at any angle, within these bounds. Free squares are flooded
+// 4-connected: two free squares that touch only at a corner, the other two squares there blocked,
+// meet at a point that lies inside a wall by the margin, so nothing passes between them there. (An
+// 8-connected flood leaks through the corner where two walls overlap end to end without a mitre.)
 constexpr double min_square_m = 0.01, max_square_m = 0.05, thin_wall_m = 0.03;
 constexpr double max_band_squares = 4.0 * 1024.0 * 1024.0;  // beyond it the squares grow (walls may then leak)
 constexpr double min_room_area_m2 = 1.0;
@@ -116,7 +119,8 @@ double signed_area(const Poly& p) {
 // the length of every opening, widened by the margin. Where the wall has no opening it is solid from
 // its base to its top, which spans the band.
 std::vector<SolidPiece> solid_pieces(const StaticGeometry& g, const PolygonSoup& soup,
-                                     const std::vector<std::vector<uint32_t>>& tops, const std::vector<uint32_t>& walls) {
+                                     const std::vector<std::vector<uint32_t>>& tops,
+                                     const std::vector<uint32_t>& walls) {
   std::vector<SolidPiece> out;
   const double m = cell_solid_margin_m;
   for (uint32_t wi : walls) {
@@ -342,7 +346,7 @@ void make_cells(const CellsBuild& b, int band_index, BandBuild& band, const Stat
       stack.pop_back();
       const int i = int(c % size_t(grid.nx)), j = int(c / size_t(grid.nx));
       if (i == 0 || j == 0 || i == grid.nx - 1 || j == grid.nz - 1) exterior.back() = 1;
-      for (int k = 0; k < 8; ++k) {
+      for (int k = 0; k < 4; ++k) {
         const int a = i + di[k], bj = j + dj[k];
         if (a < 0 || bj < 0 || a >= grid.nx || bj >= grid.nz) continue;
         const size_t t = grid.at(a, bj);
@@ -478,8 +482,11 @@ SceneCells build_cells(const StaticGeometry& g, const PolygonSoup& soup, const S
   objects.room_floor.assign(g.rooms.size(), no_object);
   objects.room_ceiling.assign(g.rooms.size(), no_object);
   {
-    std::vector<uint8_t> has_polygons(soup.objects.size(), 0);
-    for (const Polygon& p : soup.polygons) has_polygons[p.object] = 1;
+    std::vector<uint8_t> has_polygons(soup.objects.size(), 0), translucent(soup.objects.size(), 0);
+    for (const Polygon& p : soup.polygons) {
+      has_polygons[p.object] = 1;
+      if (p.flags & polygon_translucent) translucent[p.object] = 1;
+    }
     std::vector<uint32_t> wall_of(soup.objects.size(), no_object);
     for (uint32_t o = 0; o < soup.objects.size(); ++o) {
       const ElementRef& e = soup.objects[o].element;
@@ -504,12 +511,14 @@ SceneCells build_cells(const StaticGeometry& g, const PolygonSoup& soup, const S
         (obj.ceiling ? objects.room_ceiling : objects.room_floor)[e.index] = o;
       }
       if (e.kind == ElementKind::floor) objects.floor = o;
-      if (e.kind == ElementKind::opening && obj.closed && e.index < g.walls.size()) {
+      // A leaf hides what is behind it only when it is opaque (a translucent one is seen through).
+      if (e.kind == ElementKind::opening && obj.closed && !translucent[o] && e.index < g.walls.size()) {
         b.leaves.push_back({e.index, e.opening, o});
       }
     }
-    std::sort(b.leaves.begin(), b.leaves.end(),
-              [](const detail::Leaf& x, const detail::Leaf& y) { return std::tie(x.wall, x.opening) < std::tie(y.wall, y.opening); });
+    std::sort(b.leaves.begin(), b.leaves.end(), [](const detail::Leaf& x, const detail::Leaf& y) {
+      return std::tie(x.wall, x.opening) < std::tie(y.wall, y.opening);
+    });
     measure_leaves(g, soup, b.leaves);
   }
   b.bands = make_bands(g);
@@ -524,7 +533,8 @@ SceneCells build_cells(const StaticGeometry& g, const PolygonSoup& soup, const S
       if (!(glm::length(wall.end - wall.start) > 1e-9) || !(wall.thickness > 0.0)) continue;
       band.walls.push_back(w);
       if (wall.thickness >= thin_wall_m) thinnest = std::min(thinnest, wall.thickness);
-      for (Vec2 p : {wall.start, wall.end}) lo = glm::min(lo, p - wall.thickness), hi = glm::max(hi, p + wall.thickness);
+      for (Vec2 p : {wall.start, wall.end})
+        lo = glm::min(lo, p - wall.thickness), hi = glm::max(hi, p + wall.thickness);
     }
     for (uint32_t r = 0; r < g.rooms.size(); ++r) {
       if (on_band(band, g.rooms[r].level, g.rooms[r].elevation)) band.rooms.push_back(r);
@@ -561,9 +571,11 @@ SceneCells build_cells(const StaticGeometry& g, const PolygonSoup& soup, const S
     for (uint32_t w : band.walls) {
       Vec2 wlo(std::numeric_limits<double>::infinity()), whi(-std::numeric_limits<double>::infinity());
       for (uint32_t poly : tops[w]) {
-        for (const Vec3& q : soup.points(soup.polygons[poly])) wlo = glm::min(wlo, Vec2(q.x, q.z)), whi = glm::max(whi, Vec2(q.x, q.z));
+        for (const Vec3& q : soup.points(soup.polygons[poly]))
+          wlo = glm::min(wlo, Vec2(q.x, q.z)), whi = glm::max(whi, Vec2(q.x, q.z));
       }
-      if (!(wlo.x <= whi.x)) wlo = glm::min(g.walls[w].start, g.walls[w].end), whi = glm::max(g.walls[w].start, g.walls[w].end);
+      if (!(wlo.x <= whi.x))
+        wlo = glm::min(g.walls[w].start, g.walls[w].end), whi = glm::max(g.walls[w].start, g.walls[w].end);
       band.wall_lo.push_back(wlo), band.wall_hi.push_back(whi);
     }
     mark_zones(b, int(k), g, zones, zone_opening);

@@ -38,11 +38,11 @@ inline WallPlan wall_plan(const Wall& w) {
 
 struct BandBuild {
   double y0 = 0.0, y1 = 0.0;
-  std::vector<int> levels;      // the levels it was made of (none without levels)
-  std::vector<uint32_t> walls;  // walls spanning it: the barriers
-  std::vector<Vec2> wall_lo, wall_hi;  // per barrier: the plan bounds of its drawn top faces
-  std::vector<uint32_t> rooms;  // rooms whose floors lie on it
-  std::vector<uint32_t> value;  // per square: a cell, blocked_square or zone_bit | zone
+  std::vector<int> levels;                            // the levels it was made of (none without levels)
+  std::vector<uint32_t> walls;                        // walls spanning it: the barriers
+  std::vector<Vec2> wall_lo, wall_hi;                 // per barrier: the plan bounds of its drawn top faces
+  std::vector<uint32_t> rooms;                        // rooms whose floors lie on it
+  std::vector<uint32_t> value;                        // per square: a cell, blocked_square or zone_bit | zone
   std::vector<uint8_t> floor_sealed, ceiling_sealed;  // per square: a floor / a ceiling covers it whole
   std::vector<uint32_t> floor_objects, ceiling_objects;
 };

@@ -25,7 +25,8 @@ PortalShape quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d, bool horizontal = false) {
 
 PortalShape box(Vec3 lo, Vec3 hi) {
   PortalShape s;
-  for (int k = 0; k < 8; ++k) s.corners[size_t(k)] = Vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+  for (int k = 0; k < 8; ++k)
+    s.corners[size_t(k)] = Vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
   s.count = 8;
   return s;
 }
@@ -125,6 +126,9 @@ void boundary_portals(const CellsBuild& b, Pending& out) {
           if (a < 0 || a >= grid.nx || c >= grid.nz) continue;
           const uint32_t w = band.value[grid.at(a, c)];
           if (w == blocked_square || (w & zone_bit) || w == v) continue;
+          // Diagonal neighbours with both squares between them blocked meet inside a wall.
+          if (k >= 2 && band.value[grid.at(a, j)] == blocked_square && band.value[grid.at(i, c)] == blocked_square)
+            continue;
           const std::array<uint32_t, 4> key{std::min(v, w), std::max(v, w), uint32_t(i / cell_tile),
                                             uint32_t(j / cell_tile)};
           auto [it, fresh] = pieces.try_emplace(key, std::array<int, 4>{i, j, i, j});
@@ -296,7 +300,8 @@ void wall_cells(const CellsBuild& b, SceneCells& out) {
       const int i0 = std::max(0, grid.column(wc.lo.x) - 1), i1 = std::min(grid.nx - 1, grid.column(wc.hi.x) + 1);
       const int j0 = std::max(0, grid.row(wc.lo.y) - 1), j1 = std::min(grid.nz - 1, grid.row(wc.hi.y) + 1);
       for (int j = j0; j <= j1; ++j) {
-        for (int i = i0; i <= i1; ++i) for_square_cells(band, b.zones, grid.at(i, j), [&](uint32_t c) { list.push_back(c); });
+        for (int i = i0; i <= i1; ++i)
+          for_square_cells(band, b.zones, grid.at(i, j), [&](uint32_t c) { list.push_back(c); });
       }
       std::sort(list.begin(), list.end());
       list.erase(std::unique(list.begin(), list.end()), list.end());

@@ -132,6 +132,16 @@ std::vector<uint32_t> locate_cells(const SceneCells& cells, Vec3 point, double r
   return out;
 }
 
+CellViewpoint cell_viewpoint(const ViewTransform& view) {
+  CellViewpoint viewpoint;
+  viewpoint.eye = view.eye;
+  const double tan_y = 1.0 / view.clip_from_view[1][1], tan_x = 1.0 / view.clip_from_view[0][0];
+  viewpoint.reach = view.near * std::sqrt(1.0 + tan_x * tan_x + tan_y * tan_y);
+  viewpoint.clip_from_world = view.clip_from_world;
+  viewpoint.margin_x = 4.0 / double(view.width), viewpoint.margin_y = 4.0 / double(view.height);
+  return viewpoint;
+}
+
 CellConditions cell_conditions(const SceneCells& cells, std::vector<uint8_t> object_drawn) {
   CellConditions c;
   c.object_drawn = std::move(object_drawn);
@@ -160,6 +170,7 @@ void walk_cells(const SceneCells& cells, const CellConditions& conditions, const
     out.regions.assign(n, all);
     out.cells_visited = n;
   };
+  if (!cells.derived()) return reach_all();  // one cell: nothing to walk
   const std::vector<uint32_t> start = locate_cells(cells, view.eye, view.reach);
   if (start.empty()) return reach_all();
   // A sight line's later points lie above every horizontal portal it crossed going up, and below
@@ -277,10 +288,9 @@ void make_cell_filter(const SceneCells& cells, const CellWalk& walk, int width, 
     for (size_t k = 0; k < walk.regions[c].count; ++k) {
       const ViewRegion& v = walk.regions[c].region[k];
       // NDC -> pixels (y down), one pixel wider each way.
-      const std::array<int, 4> r{int(std::floor((v.x0 + 1.0) * 0.5 * width)) - 1,
-                                 int(std::floor((1.0 - v.y1) * 0.5 * height)) - 1,
-                                 int(std::ceil((v.x1 + 1.0) * 0.5 * width)) + 1,
-                                 int(std::ceil((1.0 - v.y0) * 0.5 * height)) + 1};
+      const std::array<int, 4> r{
+          int(std::floor((v.x0 + 1.0) * 0.5 * width)) - 1, int(std::floor((1.0 - v.y1) * 0.5 * height)) - 1,
+          int(std::ceil((v.x1 + 1.0) * 0.5 * width)) + 1, int(std::ceil((1.0 - v.y0) * 0.5 * height)) + 1};
       if (rects.count < cell_regions_max) {
         rects.rect[rects.count++] = r;
         continue;

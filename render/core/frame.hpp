@@ -63,9 +63,9 @@ struct RenderStats {
   bool shadow_skipped = true;   // no shadow lookups (no light, shadows off, or nothing to cast)
   size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
   // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
-  size_t objects_occluded = 0;        // objects in the frustum with a front face, none of it drawn: all hidden
-  size_t nodes_tested = 0;            // hierarchy (or BSP) nodes tested against the depth pyramid
-  size_t polygons_projected = 0;      // polygons the pipeline clipped and projected (every pipeline counts them)
+  size_t objects_occluded = 0;    // objects in the frustum with a front face, none of it drawn: all hidden
+  size_t nodes_tested = 0;        // hierarchy (or BSP) nodes tested against the depth pyramid
+  size_t polygons_projected = 0;  // polygons the pipeline clipped and projected (every pipeline counts them)
   // Cells and portals (cells.hpp; with occlusion culling): the scene's cells (1: none derived, 0: not
   // used), those the portal walk reached and the portal crossings it made.
   size_t cells = 0;
@@ -122,10 +122,10 @@ struct RenderContext {
   // The cells of `hierarchy_soup` with the hierarchy's node masks. Null with a hierarchy: no cells;
   // null without one: the frame derives them with its private hierarchy (timed as build).
   const SceneCells* cells = nullptr;
-  bool use_cells = true;  // benches only: false culls occlusion without the portal walk
-  int cull_eager = 0;     // tests only: the occlusion test made that many margins too eager (a mutation)
+  bool use_cells = true;               // benches only: false culls occlusion without the portal walk
+  int cull_eager = 0;                  // tests only: the occlusion test made that many margins too eager (a mutation)
   uint32_t drop_portal = 0xFFFFFFFFu;  // tests only: the portal walk ignores this portal (a mutation)
-  bool encode = true;  // false: render() leaves the PNG empty (bench-render's frames)
+  bool encode = true;                  // false: render() leaves the PNG empty (bench-render's frames)
   // What the caller measured for this request before calling render(), carried into its report.
   // render() adds its own time to before_ms, so total = parse start -> encode end, less queue.
   double queue_ms = 0.0;       // waiting for a render slot

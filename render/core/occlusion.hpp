@@ -97,9 +97,9 @@ constexpr uint32_t no_frame_polygon = 0xFFFFFFFFu;
 struct OcclusionResult {
   std::vector<uint8_t> shown;  // per frame polygon
   DepthPyramid pyramid;
-  size_t nodes_tested = 0;    // hierarchy nodes tested against the pyramid
-  size_t nodes_occluded = 0;  // of which hidden (their subtrees skipped)
-  size_t occluders = 0;       // polygons drawn into the pyramid
+  size_t nodes_tested = 0;         // hierarchy nodes tested against the pyramid
+  size_t nodes_occluded = 0;       // of which hidden (their subtrees skipped)
+  size_t occluders = 0;            // polygons drawn into the pyramid
   size_t nodes_outside_cells = 0;  // nodes skipped because no reached cell can show them
 };
 // Which frame polygons the pipeline draws, and which of those may raise the pyramid (opaque ones).

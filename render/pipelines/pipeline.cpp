@@ -12,7 +12,6 @@
 #include "render/pipelines/shadow_cache.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <memory>
 
 namespace rr {
@@ -78,17 +77,8 @@ const CellFilter* walk_portals(const SceneCells& cells, const FrameInput& input,
   CellConditions conditions = cell_conditions(cells, state.object_present);
   conditions.dropped_pair = input.context.drop_portal;
   if (!conditions.valid) return nullptr;
-  const ViewTransform& view = input.view;
-  CellViewpoint viewpoint;
-  viewpoint.eye = view.eye;
-  // The near plane's corners: nearer than them a wall may be cut away and seen through.
-  const double tan_y = 1.0 / view.clip_from_view[1][1], tan_x = 1.0 / view.clip_from_view[0][0];
-  viewpoint.reach = view.near * std::sqrt(1.0 + tan_x * tan_x + tan_y * tan_y);
-  viewpoint.clip_from_world = view.clip_from_world;
-  // Two pixels each way: vertex snapping, and samples anywhere in a pixel.
-  viewpoint.margin_x = 4.0 / double(view.width), viewpoint.margin_y = 4.0 / double(view.height);
-  walk_cells(cells, conditions, viewpoint, state.cell_walk);
-  make_cell_filter(cells, state.cell_walk, view.width, view.height, state.cell_filter);
+  walk_cells(cells, conditions, cell_viewpoint(input.view), state.cell_walk);
+  make_cell_filter(cells, state.cell_walk, input.view.width, input.view.height, state.cell_filter);
   stats.cells_visited = state.cell_walk.cells_visited;
   stats.portals_walked = state.cell_walk.portals_walked;
   return &state.cell_filter;
