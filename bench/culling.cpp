@@ -3,12 +3,17 @@
 //   bench_culling frames --request R.json [--seed S] [--inside N] [--threads T] [--frames F] [--size WxH]
 //                        [--light-dir x,y,z] [--out FILE]
 // The request's own camera and N seeded inside cameras at eye height (tests/support/culling_cases.hpp),
-// zbuffer flat, each drawn with culling off and on, frame after frame interleaved so machine drift
-// cancels: per camera the median frame times, the polygons projected and the other counters, and the
-// camera itself (so a peer can be given the same view). --light-dir replaces the lights by one sun.
+// zbuffer flat, each drawn with culling off, on without the cells' portal walk (occlusion) and on,
+// frame after frame interleaved so machine drift cancels: per camera the median frame times, the
+// polygons projected and the other counters, and the camera itself (so a peer can be given the same
+// view). --light-dir replaces the lights by one sun.
 //
 //   bench_culling picture --request R.json --out-frame F.png --out-above A.png [--size WxH]
 // The picture of docs/culling.md (run_picture below).
+//
+//   bench_culling plan --request R.json --out-plan P.png [--eye x,y,z --target x,y,z] [--scale PX_PER_M]
+// The plan picture of docs/culling.md's cells: the scene's cells and portals per level, the camera,
+// and the cells its portal walk reached (run_plan below).
 //
 //   bench_culling identity [--root DIR] [--data DIR] [--cameras N] [--seed S] [--size WxH] [--threads T]
 //                          [--out FILE]
@@ -85,36 +90,43 @@ json run_frames(std::map<std::string, std::string>& a) {
   cameras[0].kind = "observer";
   json out = json::array();
   for (const testing::SeededCamera& cam : cameras) {
-    std::map<CullingMode, std::vector<double>> ms;
-    std::map<CullingMode, RenderReport> last;
+    // off: culling off; occlusion: culling on without the portal walk; on: culling on with it.
+    enum Mode { off, occlusion, on };
+    std::map<Mode, std::vector<double>> ms;
+    std::map<Mode, RenderReport> last;
     for (int f = -1; f < frames; ++f) {  // frame -1 warms the caches and the pages
-      for (CullingMode mode : {CullingMode::off, CullingMode::on}) {
+      for (Mode mode : {off, occlusion, on}) {
         RenderRequest r = request;
         r.camera = cam.camera;
-        r.options.culling = mode;
+        r.options.culling = mode == off ? CullingMode::off : CullingMode::on;
         RenderContext context;
         context.threads = threads;
         context.encode = false;
+        context.use_cells = mode == on;
         Stopwatch clock;
         RenderOutcome o = render(r, scene, context);
         if (f >= 0) ms[mode].push_back(clock.elapsed_ms());
         last[mode] = o.report;
       }
     }
-    auto counts = [&](CullingMode m) {
+    auto counts = [&](Mode m) {
       const RenderStats& s = last[m].stats;
       return json{{"frame_ms", median(ms[m])},
                   {"cull_ms", last[m].timings.cull_ms},
                   {"polygons_projected", s.polygons_projected},
                   {"objects_occluded", s.objects_occluded},
                   {"nodes_tested", s.nodes_tested},
+                  {"cells", s.cells},
+                  {"cells_visited", s.cells_visited},
+                  {"portals_walked", s.portals_walked},
                   {"fragments", s.fragments}};
     };
     out.push_back({{"kind", cam.kind},
                    {"camera", camera_json(cam.camera)},
                    {"polygons", scene.soup.polygons.size()},
-                   {"off", counts(CullingMode::off)},
-                   {"on", counts(CullingMode::on)}});
+                   {"off", counts(off)},
+                   {"occlusion", counts(occlusion)},
+                   {"on", counts(on)}});
   }
   return out;
 }
@@ -278,10 +290,10 @@ json run_picture(std::map<std::string, std::string>& a) {
           {"occluders", walk.occluders}};
 }
 
-// The plan picture of docs/culling.md: each band of the scene's cells seen from above (cells in
-// pastel colours, the ones the camera's portal walk reached saturated, the outside white, blocked
-// wall squares dark, doorway zones orange), the openings' portals as blue strokes, the boundaries
-// between cells of one region as magenta boxes, and the camera with its view's edges.
+// The plan picture of docs/culling.md: each band of the scene's cells seen from above (the cells the
+// camera's portal walk reached in colours, the others light grey, the outside white, blocked wall
+// squares dark, doorway zones orange), the openings' portals as blue strokes, the boundaries between
+// cells of one walled space as magenta boxes, and the camera with its view's edges.
 json run_plan(std::map<std::string, std::string>& a) {
   RenderRequest request = request_from_json(json::parse(std::ifstream(a["--request"])));
   int width = 1280, height = 720;
@@ -296,12 +308,7 @@ json run_plan(std::map<std::string, std::string>& a) {
   const SceneCells& cells = *scene.cells;
   const ViewTransform view = make_view(request.camera, width, height);
   CellWalk walk;
-  CellViewpoint viewpoint;
-  viewpoint.eye = view.eye, viewpoint.clip_from_world = view.clip_from_world;
-  viewpoint.margin_x = 4.0 / width, viewpoint.margin_y = 4.0 / height;
-  viewpoint.reach = view.near * std::sqrt(1.0 + 1.0 / (view.clip_from_view[0][0] * view.clip_from_view[0][0]) +
-                                          1.0 / (view.clip_from_view[1][1] * view.clip_from_view[1][1]));
-  walk_cells(cells, cell_conditions(cells, {}), viewpoint, walk);
+  walk_cells(cells, cell_conditions(cells, {}), cell_viewpoint(view), walk);
   RenderRequest r = request;
   r.options.width = width, r.options.height = height;
   RenderContext context;
@@ -325,85 +332,6 @@ json run_plan(std::map<std::string, std::string>& a) {
                     {"reached", bool(walk.reached[c])}});
   }
   out["cell_list"] = list;
-  if (a.count("--diff")) {  // where culling on and off differ: the polygons there and their cells
-    RenderRequest off = r;
-    off.options.culling = CullingMode::off;
-    const RenderOutcome other = render(off, scene, context);
-    json diffs = json::array();
-    for (size_t k = 0; k < other.frame.ids.ids.size() && diffs.size() < 20; ++k) {
-      const uint32_t a_id = other.frame.ids.ids[k], b_id = frame.frame.ids.ids[k];
-      if (a_id == b_id) continue;
-      auto describe = [&](uint32_t id) {
-        json cs = json::array();
-        if (id < scene.soup.polygons.size()) {
-          for (uint32_t c : cells.cells_of_polygon(id)) cs.push_back({c, bool(walk.reached[c])});
-        }
-        return json{{"id", id}, {"cells", cs}};
-      };
-      diffs.push_back({{"x", k % size_t(width)}, {"y", k / size_t(width)}, {"off", describe(a_id)}, {"on", describe(b_id)}});
-    }
-    out["diff"] = diffs;
-  }
-  if (a.count("--ascii")) {  // the squares of a plan rectangle x0,z0,x1,z1 of the first band
-    const Vec3 r3 = parse_vec3(a["--ascii"]);
-    double x0 = r3.x, z0 = r3.y, x1 = r3.z, z1 = std::stod(a["--ascii-z1"]);
-    for (int j = int((z0 - cells.origin.y) / cells.square); j <= int((z1 - cells.origin.y) / cells.square); ++j) {
-      std::string row;
-      for (int i = int((x0 - cells.origin.x) / cells.square); i <= int((x1 - cells.origin.x) / cells.square); ++i) {
-        if (i < 0 || j < 0 || i >= cells.nx || j >= cells.nz) { row += ' '; continue; }
-        const CellBand& band = cells.bands[size_t(std::stoi(a.count("--band") ? a["--band"] : "0"))];
-        const CellBand::Run* first = band.runs.data() + band.row_first[size_t(j)];
-        const CellBand::Run* last = band.runs.data() + band.row_first[size_t(j) + 1];
-        const uint32_t v = (std::upper_bound(first, last, uint32_t(i), [](uint32_t q, const CellBand::Run& r0) { return q < r0.x; }) - 1)->value;
-        row += v == blocked_square ? '#' : (v & zone_bit) ? 'z' : v == 0 ? '.' : char('0' + v % 10);
-      }
-      std::cerr << row << "\n";
-    }
-  }
-  if (a.count("--why")) {  // the objects with the most polygons projected, and how many of them show
-    const PolygonSoup& soup = scene.soup;
-    const ObjectsInView objects = objects_in_view(soup, view);
-    std::vector<uint8_t> drawn(soup.polygons.size()), opaque(soup.polygons.size());
-    for (size_t i = 0; i < soup.polygons.size(); ++i) {
-      const Polygon& p = soup.polygons[i];
-      drawn[i] = !is_back_facing(p, view.eye) && objects.visible[p.object];
-      opaque[i] = !(p.flags & polygon_translucent);
-    }
-    CellFilter filter;
-    make_cell_filter(cells, walk, width, height, filter);
-    OcclusionCandidates candidates{drawn, opaque};
-    candidates.cells = &filter;
-    OcclusionResult occ;
-    walk_occlusion(*scene.hierarchy, soup, {}, candidates, view, 0, occ);
-    std::vector<uint8_t> visible(soup.polygons.size(), 0);
-    for (uint32_t id : frame.frame.ids.ids) {
-      if (id < visible.size()) visible[id] = 1;
-    }
-    std::map<uint32_t, std::array<size_t, 3>> per_object;  // projected, visible, cells
-    for (size_t i = 0; i < soup.polygons.size(); ++i) {
-      if (!occ.shown[i]) continue;
-      auto& e = per_object[soup.polygons[i].object];
-      ++e[0];
-      e[1] += visible[i];
-      e[2] = cells.cells_of_polygon(uint32_t(i)).size() ? cells.cells_of_polygon(uint32_t(i))[0] : 999;
-    }
-    std::vector<std::pair<size_t, uint32_t>> order;
-    for (const auto& [o, e] : per_object) order.push_back({e[0], o});
-    std::sort(order.rbegin(), order.rend());
-    json why = json::array();
-    for (size_t k = 0; k < std::min<size_t>(25, order.size()); ++k) {
-      const uint32_t o = order[k].second;
-      const ElementRef& e = soup.objects[o].element;
-      std::string name = e.kind == ElementKind::solid ? request.scene.geometry.solids[e.index].id
-                         : e.kind == ElementKind::wall ? "wall " + std::to_string(e.index)
-                         : e.kind == ElementKind::room ? "room " + std::to_string(e.index)
-                                                       : "other";
-      why.push_back({{"object", name.substr(0, 40)}, {"projected", per_object[o][0]}, {"visible", per_object[o][1]},
-                     {"first_cell", per_object[o][2]}});
-    }
-    out["why"] = why;
-    out["walk_shown"] = std::count(occ.shown.begin(), occ.shown.end(), 1);
-  }
   if (!cells.derived() || !a.count("--out-plan")) return out;
   const double px_per_m = std::stod(a.count("--scale") ? a["--scale"] : "60");
   const int bw = int(cells.nx * cells.square * px_per_m), bh = int(cells.nz * cells.square * px_per_m);
@@ -414,12 +342,24 @@ json run_plan(std::map<std::string, std::string>& a) {
     const double f = h - std::floor(h);
     double rgb[3];
     switch (int(h)) {
-      case 0: rgb[0] = 1, rgb[1] = f, rgb[2] = 0; break;
-      case 1: rgb[0] = 1 - f, rgb[1] = 1, rgb[2] = 0; break;
-      case 2: rgb[0] = 0, rgb[1] = 1, rgb[2] = f; break;
-      case 3: rgb[0] = 0, rgb[1] = 1 - f, rgb[2] = 1; break;
-      case 4: rgb[0] = f, rgb[1] = 0, rgb[2] = 1; break;
-      default: rgb[0] = 1, rgb[1] = 0, rgb[2] = 1 - f; break;
+      case 0:
+        rgb[0] = 1, rgb[1] = f, rgb[2] = 0;
+        break;
+      case 1:
+        rgb[0] = 1 - f, rgb[1] = 1, rgb[2] = 0;
+        break;
+      case 2:
+        rgb[0] = 0, rgb[1] = 1, rgb[2] = f;
+        break;
+      case 3:
+        rgb[0] = 0, rgb[1] = 1 - f, rgb[2] = 1;
+        break;
+      case 4:
+        rgb[0] = f, rgb[1] = 0, rgb[2] = 1;
+        break;
+      default:
+        rgb[0] = 1, rgb[1] = 0, rgb[2] = 1 - f;
+        break;
     }
     const double mix = strong ? 0.35 : 0.8;
     return std::array<uint8_t, 3>{uint8_t(255 * (mix + (1 - mix) * rgb[0])), uint8_t(255 * (mix + (1 - mix) * rgb[1])),
@@ -457,13 +397,13 @@ json run_plan(std::map<std::string, std::string>& a) {
         std::array<uint8_t, 3> c{255, 255, 255};
         if (v == blocked_square) c = {70, 70, 70};
         else if (v & zone_bit) c = {240, 150, 40};
-        else if (v != 0) c = hue(v, walk.reached[v]);
+        else if (v != 0) c = walk.reached[v] ? hue(v, true) : std::array<uint8_t, 3>{215, 215, 215};
         put(int(b) * (bw + gap) + x, y, c);
       }
     }
   }
   for (const Portal& p : cells.portals) {
-    if (p.from > p.to || p.kind == PortalKind::floor || p.kind == PortalKind::ceiling) continue;
+    if (p.from > p.to || (p.kind != PortalKind::opening && p.kind != PortalKind::boundary)) continue;
     const int band = std::max(cells.cells[p.from].band, cells.cells[p.to].band);
     for (uint32_t s = p.first; s < p.first + p.count; ++s) {
       const PortalShape& shape = cells.shapes[s];
