@@ -39,9 +39,7 @@ void cells_rectangle(json& walls, double x0, double z0, double x1, double z1) {
   walls.push_back(cells_wall(x0, z1, x0, z0));
 }
 
-PreparedScene cells_scene(const json& scene) {
-  return prepare_scene(request_from_json({{"scene", scene}}).scene);
-}
+PreparedScene cells_scene(const json& scene) { return prepare_scene(request_from_json({{"scene", scene}}).scene); }
 
 // The cell labelled with the room `id`, or no_cell.
 uint32_t room_cell(const PreparedScene& s, const std::string& id) {
@@ -106,7 +104,8 @@ TEST(Cells, LShapedRoomWithOneDoorToACorridor) {
 TEST(Cells, TwoRoomsJoinedWhereNoWallPartsThem) {
   json walls = json::array();
   cells_rectangle(walls, 0, 0, 8, 4);
-  const json rooms = {cells_room("A", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}), cells_room("B", {{4, 0}, {8, 0}, {8, 4}, {4, 4}})};
+  const json rooms = {cells_room("A", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}),
+                      cells_room("B", {{4, 0}, {8, 0}, {8, 4}, {4, 4}})};
   const PreparedScene s = cells_scene({{"walls", walls}, {"rooms", rooms}});
   const SceneCells& cells = *s.cells;
   EXPECT_EQ(cells.cells.size(), 3u);
@@ -125,7 +124,8 @@ TEST(Cells, RoomsJoinedByAWindowOnly) {
   json walls = json::array();
   cells_rectangle(walls, 0, 0, 8, 4);
   walls.push_back(cells_wall(4, 0, 4, 4, {{{"type", "window"}, {"offset", 1.5}, {"width", 1.0}}}));
-  const json rooms = {cells_room("A", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}), cells_room("B", {{4, 0}, {8, 0}, {8, 4}, {4, 4}})};
+  const json rooms = {cells_room("A", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}),
+                      cells_room("B", {{4, 0}, {8, 0}, {8, 4}, {4, 4}})};
   const PreparedScene s = cells_scene({{"walls", walls}, {"rooms", rooms}});
   const SceneCells& cells = *s.cells;
   EXPECT_EQ(cells.cells.size(), 3u);
@@ -145,7 +145,7 @@ TEST(Cells, RoomsJoinedByAWindowOnly) {
       }
     }
   }
-  EXPECT_TRUE(cells_reached(cells, {1.0, 1.5, 2.0}, {7.0, 1.5, 2.0})[b]);  // through the window
+  EXPECT_TRUE(cells_reached(cells, {1.0, 1.5, 2.0}, {7.0, 1.5, 2.0})[b]);   // through the window
   EXPECT_FALSE(cells_reached(cells, {1.0, 1.5, 2.0}, {1.5, 1.5, 4.0})[b]);  // the window out of view
 }
 
@@ -159,7 +159,8 @@ TEST(Cells, TwoLevelsJoinedByAStairwell) {
   for (json& w : walls) w["level"] = "ground";
   for (json& w : upper) w["level"] = "upper", w["base"] = 2.7, walls.push_back(w);
   const std::vector<std::array<double, 2>> around = {{0, 0}, {4.5, 0}, {4.5, 1.5}, {6, 1.5}, {6, 4}, {0, 4}};
-  json ground_room = cells_room("ground", around), stairs = cells_room("stairs", {{4.5, 0}, {6, 0}, {6, 1.5}, {4.5, 1.5}});
+  json ground_room = cells_room("ground", around),
+       stairs = cells_room("stairs", {{4.5, 0}, {6, 0}, {6, 1.5}, {4.5, 1.5}});
   json upper_room = cells_room("upper", around);
   ground_room["level"] = "ground", stairs["level"] = "ground", stairs["ceiling"] = false;
   upper_room["level"] = "upper";
@@ -196,7 +197,8 @@ TEST(Cells, WallsThatDoNotCloseAreOneCell) {
   json walls = json::array();
   cells_rectangle(walls, 0, 0, 6, 4);
   walls.erase(walls.begin() + 2);  // a U: the inside reaches the outside
-  const PreparedScene open = cells_scene({{"walls", walls}, {"rooms", {cells_room("A", {{0, 0}, {6, 0}, {6, 4}, {0, 4}})}}});
+  const PreparedScene open =
+      cells_scene({{"walls", walls}, {"rooms", {cells_room("A", {{0, 0}, {6, 0}, {6, 4}, {0, 4}})}}});
   EXPECT_FALSE(open.cells->derived());
   EXPECT_EQ(open.cells->cells.size(), 1u);
   EXPECT_TRUE(open.cells->portals.empty());
@@ -221,12 +223,15 @@ struct HomeCells {
   const char* home;
   size_t room_elements, cells, rooms_labelled;
 };
-constexpr HomeCells nine_homes[] = {
-    {"1BedroomApartmentWithRoundWall", 3, 4, 3}, {"2BedroomApartment", 7, 10, 7},
-    {"2BedroomApartmentWithBowWindow", 8, 11, 8}, {"2BedroomHouseWithBasement", 13, 14, 11},
-    {"3BedroomApartment", 8, 10, 8},           {"3BedroomHouseWithAttic", 11, 11, 8},
-    {"3BedroomHouseWithMezzanine", 23, 10, 7},   {"4BedroomHouse", 11, 14, 10},
-    {"Studio", 5, 5, 4}};
+constexpr HomeCells nine_homes[] = {{"1BedroomApartmentWithRoundWall", 3, 4, 3},
+                                    {"2BedroomApartment", 7, 10, 7},
+                                    {"2BedroomApartmentWithBowWindow", 8, 11, 8},
+                                    {"2BedroomHouseWithBasement", 13, 14, 11},
+                                    {"3BedroomApartment", 8, 10, 8},
+                                    {"3BedroomHouseWithAttic", 11, 11, 8},
+                                    {"3BedroomHouseWithMezzanine", 23, 10, 7},
+                                    {"4BedroomHouse", 11, 14, 10},
+                                    {"Studio", 5, 5, 4}};
 
 TEST(Cells, NineHomesCellsAgainstTheirRooms) {
   const std::optional<std::filesystem::path> data = testing::shared_data_dir();
