@@ -205,7 +205,7 @@ TEST(Culling, OneDroppedPortalIsCaught) {
 // The counters and the image do not depend on the thread count; culling does skip work on a home.
 TEST(Culling, CountersAreTheSameForAnyThreadCount) {
   std::vector<CullingScene> scenes =
-      testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"Studio"});
+      testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"3BedroomApartment"});
   if (scenes.empty()) GTEST_SKIP() << "no homes (../shared/data absent)";
   const PreparedScene scene = prepare_scene(scenes[0].request.scene);
   Matrix m;
