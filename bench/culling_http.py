@@ -8,7 +8,7 @@ scripts/render-home.sh sends it) is imported with POST /v1/import/sh3d?store=1; 
 POST /v1/scenes/{id}/render from the receipt's camera at 1280x720, flat, zbuffer, one first render
 each way and --renders (default 5) interleaved renders each way. Per setting: the Server-Timing totals,
 their median, the last answer's stages, and whether the PNG bytes are identical on and off. Writes
-bench/results/culling_http.json (or --out). Standard library only; loopback only.
+bench/results/cells_http.json (or --out). Standard library only; loopback only.
 
 usage: bench/culling_http.py [--binary build/roomrender] [--home 3BedroomApartment] [--renders 5]
 """
@@ -48,7 +48,7 @@ def main():
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "roomrender"))
     ap.add_argument("--home", default="3BedroomApartment")
     ap.add_argument("--renders", type=int, default=5)
-    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "culling_http.json"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "cells_http.json"))
     a = ap.parse_args()
     path = os.path.join(SHARED, "data", "floorplans", "sweethome3d", a.home + ".xml")
     with open(path, encoding="utf-8") as f:
