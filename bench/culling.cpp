@@ -3,18 +3,24 @@
 //   bench_culling frames --request R.json [--seed S] [--inside N] [--threads T] [--frames F] [--size WxH]
 //                        [--light-dir x,y,z] [--out FILE]
 // The request's own camera and N seeded inside cameras at eye height (tests/support/culling_cases.hpp),
-// zbuffer flat, each drawn with culling off and on, frame after frame interleaved so machine drift
-// cancels: per camera the median frame times, the polygons projected and the other counters, and the
-// camera itself (so a peer can be given the same view). --light-dir replaces the lights by one sun.
+// zbuffer flat, each drawn with culling off, on without the cells' portal walk (occlusion) and on,
+// frame after frame interleaved so machine drift cancels: per camera the median frame times, the
+// polygons projected and the other counters, and the camera itself (so a peer can be given the same
+// view). --light-dir replaces the lights by one sun.
 //
 //   bench_culling picture --request R.json --out-frame F.png --out-above A.png [--size WxH]
 // The picture of docs/culling.md (run_picture below).
+//
+//   bench_culling plan --request R.json --out-plan P.png [--eye x,y,z --target x,y,z] [--scale PX_PER_M]
+// The plan picture of docs/culling.md's cells: the scene's cells and portals per level, the camera,
+// and the cells its portal walk reached (run_plan below).
 //
 //   bench_culling identity [--root DIR] [--data DIR] [--cameras N] [--seed S] [--size WxH] [--threads T]
 //                          [--out FILE]
 // The full identity matrix: every example, every home with its models, five R2V plans and the fireplace
 // room, from N seeded cameras each (and its own), zbuffer and bsp at 1 and 4 samples, flat and Phong
 // with shadows, culling on and off: counts the pairs and lists any that differ (there must be none).
+#include "render/core/cells.hpp"
 #include "render/core/draw.hpp"
 #include "render/core/frustum.hpp"
 #include "render/core/occlusion.hpp"
@@ -84,36 +90,43 @@ json run_frames(std::map<std::string, std::string>& a) {
   cameras[0].kind = "observer";
   json out = json::array();
   for (const testing::SeededCamera& cam : cameras) {
-    std::map<CullingMode, std::vector<double>> ms;
-    std::map<CullingMode, RenderReport> last;
+    // off: culling off; occlusion: culling on without the portal walk; on: culling on with it.
+    enum Mode { off, occlusion, on };
+    std::map<Mode, std::vector<double>> ms;
+    std::map<Mode, RenderReport> last;
     for (int f = -1; f < frames; ++f) {  // frame -1 warms the caches and the pages
-      for (CullingMode mode : {CullingMode::off, CullingMode::on}) {
+      for (Mode mode : {off, occlusion, on}) {
         RenderRequest r = request;
         r.camera = cam.camera;
-        r.options.culling = mode;
+        r.options.culling = mode == off ? CullingMode::off : CullingMode::on;
         RenderContext context;
         context.threads = threads;
         context.encode = false;
+        context.use_cells = mode == on;
         Stopwatch clock;
         RenderOutcome o = render(r, scene, context);
         if (f >= 0) ms[mode].push_back(clock.elapsed_ms());
         last[mode] = o.report;
       }
     }
-    auto counts = [&](CullingMode m) {
+    auto counts = [&](Mode m) {
       const RenderStats& s = last[m].stats;
       return json{{"frame_ms", median(ms[m])},
                   {"cull_ms", last[m].timings.cull_ms},
                   {"polygons_projected", s.polygons_projected},
                   {"objects_occluded", s.objects_occluded},
                   {"nodes_tested", s.nodes_tested},
+                  {"cells", s.cells},
+                  {"cells_visited", s.cells_visited},
+                  {"portals_walked", s.portals_walked},
                   {"fragments", s.fragments}};
     };
     out.push_back({{"kind", cam.kind},
                    {"camera", camera_json(cam.camera)},
                    {"polygons", scene.soup.polygons.size()},
-                   {"off", counts(CullingMode::off)},
-                   {"on", counts(CullingMode::on)}});
+                   {"off", counts(off)},
+                   {"occlusion", counts(occlusion)},
+                   {"on", counts(on)}});
   }
   return out;
 }
@@ -277,6 +290,159 @@ json run_picture(std::map<std::string, std::string>& a) {
           {"occluders", walk.occluders}};
 }
 
+// The plan picture of docs/culling.md: each band of the scene's cells seen from above (the cells the
+// camera's portal walk reached in colours, the others light grey, the outside white, blocked wall
+// squares dark, doorway zones orange), the openings' portals as blue strokes, the boundaries between
+// cells of one walled space as magenta boxes, and the camera with its view's edges.
+json run_plan(std::map<std::string, std::string>& a) {
+  RenderRequest request = request_from_json(json::parse(std::ifstream(a["--request"])));
+  int width = 1280, height = 720;
+  std::sscanf(a["--size"].c_str(), "%dx%d", &width, &height);
+  if (a.count("--eye")) request.camera.position = parse_vec3(a["--eye"]);
+  if (a.count("--target")) request.camera.target = parse_vec3(a["--target"]);
+  const PreparedScene scene = prepare_scene(request.scene);
+  if (a.count("--camera")) {  // one of the identity checks' seeded cameras (culling_cases.hpp)
+    const auto cams = testing::seeded_cameras(request, scene.soup, std::stoull(a["--seed"]), 1);
+    request.camera = cams[size_t(std::stoi(a["--camera"]))].camera;
+  }
+  const SceneCells& cells = *scene.cells;
+  const ViewTransform view = make_view(request.camera, width, height);
+  CellWalk walk;
+  walk_cells(cells, cell_conditions(cells, {}), cell_viewpoint(view), walk);
+  RenderRequest r = request;
+  r.options.width = width, r.options.height = height;
+  RenderContext context;
+  context.encode = false;
+  const RenderOutcome frame = render(r, scene, context);
+  json out = {{"camera", camera_json(request.camera)},
+              {"cells", cells.cells.size()},
+              {"portals", cells.undirected_portals},
+              {"square_m", cells.square},
+              {"bands", cells.bands.size()},
+              {"reached", walk.cells_visited},
+              {"portals_walked", walk.portals_walked},
+              {"polygons", scene.soup.polygons.size()},
+              {"polygons_projected", frame.report.stats.polygons_projected},
+              {"bytes", cells.bytes()}};
+  json list = json::array();
+  for (size_t c = 0; c < cells.cells.size(); ++c) {
+    const Cell& cell = cells.cells[c];
+    list.push_back({{"band", cell.band},
+                    {"room", cell.room >= 0 ? request.scene.geometry.rooms[size_t(cell.room)].id : ""},
+                    {"reached", bool(walk.reached[c])}});
+  }
+  out["cell_list"] = list;
+  if (!cells.derived() || !a.count("--out-plan")) return out;
+  const double px_per_m = std::stod(a.count("--scale") ? a["--scale"] : "60");
+  const int bw = int(cells.nx * cells.square * px_per_m), bh = int(cells.nz * cells.square * px_per_m);
+  const int gap = 20;
+  Image image(int(cells.bands.size()) * (bw + gap) - gap, bh, Color{1.0f, 1.0f, 1.0f});
+  auto hue = [](size_t c, bool strong) {
+    const double h = std::fmod(double(c) * 0.618033988749895, 1.0) * 6.0;
+    const double f = h - std::floor(h);
+    double rgb[3];
+    switch (int(h)) {
+      case 0:
+        rgb[0] = 1, rgb[1] = f, rgb[2] = 0;
+        break;
+      case 1:
+        rgb[0] = 1 - f, rgb[1] = 1, rgb[2] = 0;
+        break;
+      case 2:
+        rgb[0] = 0, rgb[1] = 1, rgb[2] = f;
+        break;
+      case 3:
+        rgb[0] = 0, rgb[1] = 1 - f, rgb[2] = 1;
+        break;
+      case 4:
+        rgb[0] = f, rgb[1] = 0, rgb[2] = 1;
+        break;
+      default:
+        rgb[0] = 1, rgb[1] = 0, rgb[2] = 1 - f;
+        break;
+    }
+    const double mix = strong ? 0.35 : 0.8;
+    return std::array<uint8_t, 3>{uint8_t(255 * (mix + (1 - mix) * rgb[0])), uint8_t(255 * (mix + (1 - mix) * rgb[1])),
+                                  uint8_t(255 * (mix + (1 - mix) * rgb[2]))};
+  };
+  auto put = [&](int x, int y, std::array<uint8_t, 3> c) {
+    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return;
+    uint8_t* p = image.pixel(x, y);
+    p[0] = c[0], p[1] = c[1], p[2] = c[2];
+  };
+  auto to_px = [&](size_t band, Vec2 plan) {
+    return Vec2(double(band) * (bw + gap) + (plan.x - cells.origin.x) * px_per_m, (plan.y - cells.origin.y) * px_per_m);
+  };
+  auto line = [&](size_t band, Vec2 p, Vec2 q, std::array<uint8_t, 3> c, int thick) {
+    const Vec2 from = to_px(band, p), to = to_px(band, q);
+    const int steps = int(std::max(1.0, glm::length(to - from)));
+    for (int k = 0; k <= steps; ++k) {
+      const Vec2 m = from + (to - from) * (double(k) / steps);
+      for (int dy = -thick / 2; dy <= thick / 2; ++dy) {
+        for (int dx = -thick / 2; dx <= thick / 2; ++dx) put(int(m.x) + dx, int(m.y) + dy, c);
+      }
+    }
+  };
+  for (size_t b = 0; b < cells.bands.size(); ++b) {
+    for (int y = 0; y < bh; ++y) {
+      for (int x = 0; x < bw; ++x) {
+        const int i = int(x / (cells.square * px_per_m)), j = int(y / (cells.square * px_per_m));
+        if (i >= cells.nx || j >= cells.nz) continue;
+        const CellBand& band = cells.bands[b];
+        const CellBand::Run* first = band.runs.data() + band.row_first[size_t(j)];
+        const CellBand::Run* last = band.runs.data() + band.row_first[size_t(j) + 1];
+        const CellBand::Run* run =
+            std::upper_bound(first, last, uint32_t(i), [](uint32_t v, const CellBand::Run& q) { return v < q.x; }) - 1;
+        const uint32_t v = run->value;
+        std::array<uint8_t, 3> c{255, 255, 255};
+        if (v == blocked_square) c = {70, 70, 70};
+        else if (v & zone_bit) c = {240, 150, 40};
+        else if (v != 0) c = walk.reached[v] ? hue(v, true) : std::array<uint8_t, 3>{215, 215, 215};
+        put(int(b) * (bw + gap) + x, y, c);
+      }
+    }
+  }
+  for (const Portal& p : cells.portals) {
+    if (p.from > p.to || (p.kind != PortalKind::opening && p.kind != PortalKind::boundary)) continue;
+    const int band = std::max(cells.cells[p.from].band, cells.cells[p.to].band);
+    for (uint32_t s = p.first; s < p.first + p.count; ++s) {
+      const PortalShape& shape = cells.shapes[s];
+      if (p.kind == PortalKind::opening) {
+        line(size_t(band), Vec2(shape.corners[0].x, shape.corners[0].z), Vec2(shape.corners[1].x, shape.corners[1].z),
+             {30, 60, 220}, 3);
+        continue;
+      }
+      const Vec2 lo(shape.corners[0].x, shape.corners[0].z), hi(shape.corners[7].x, shape.corners[7].z);
+      const std::array<uint8_t, 3> magenta{200, 0, 160};
+      line(size_t(band), lo, Vec2(hi.x, lo.y), magenta, 1);
+      line(size_t(band), Vec2(hi.x, lo.y), hi, magenta, 1);
+      line(size_t(band), hi, Vec2(lo.x, hi.y), magenta, 1);
+      line(size_t(band), Vec2(lo.x, hi.y), lo, magenta, 1);
+    }
+  }
+  // The camera: a black disc and the edges of its view, 3 m long, on the band it stands in.
+  size_t eye_band = 0;
+  for (size_t b = 0; b < cells.bands.size(); ++b) {
+    if (view.eye.y >= cells.bands[b].y0) eye_band = b;
+  }
+  const Vec2 eye(view.eye.x, view.eye.z);
+  const Mat4 world_from_clip = glm::inverse(view.clip_from_world);
+  for (double sx : {-1.0, 1.0}) {
+    const Vec4 far = world_from_clip * Vec4(sx, 0.0, 1.0, 1.0);
+    const Vec3 d = Vec3(far) / far.w - view.eye;
+    const Vec2 dir = glm::normalize(Vec2(d.x, d.z));
+    line(eye_band, eye, eye + 3.0 * dir, {0, 0, 0}, 2);
+  }
+  const Vec2 e = to_px(eye_band, eye);
+  for (int dy = -6; dy <= 6; ++dy) {
+    for (int dx = -6; dx <= 6; ++dx) {
+      if (dx * dx + dy * dy <= 36) put(int(e.x) + dx, int(e.y) + dy, {0, 0, 0});
+    }
+  }
+  std::ofstream(a["--out-plan"], std::ios::binary) << encode_png(image, PngCompression::small, 2);
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -294,7 +460,10 @@ int main(int argc, char** argv) {
                                           {"--root", ROOMRENDER_SOURCE_DIR},
                                           {"--data", std::string(ROOMRENDER_SOURCE_DIR) + "/../shared/data"}};
   for (int i = 2; i + 1 < argc; i += 2) a[argv[i]] = argv[i + 1];
-  const json result = mode == "frames" ? run_frames(a) : mode == "picture" ? run_picture(a) : run_identity(a);
+  const json result = mode == "frames"    ? run_frames(a)
+                      : mode == "picture" ? run_picture(a)
+                      : mode == "plan"    ? run_plan(a)
+                                          : run_identity(a);
   if (a.count("--out")) std::ofstream(a["--out"]) << result.dump(1) << "\n";
   std::cout << result.dump() << "\n";
   return 0;

@@ -179,6 +179,8 @@ void Metrics::record_render(std::string_view pipeline, const StageTimings& timin
   culling_[{name, "polygons_projected"}] += stats.polygons_projected;
   culling_[{name, "objects_occluded"}] += stats.objects_occluded;
   culling_[{name, "nodes_tested"}] += stats.nodes_tested;
+  culling_[{name, "cells_visited"}] += stats.cells_visited;
+  culling_[{name, "portals_walked"}] += stats.portals_walked;
   for (const StageField& stage : stage_table) {
     const double ms = timings.*stage.ms;
     if (ms <= 0.0) continue;
@@ -217,7 +219,7 @@ std::string Metrics::prometheus_text(const MetricsSnapshot& snapshot) const {
     }
     header(out, "roomrender_render_culling_total", "counter",
            "Occlusion culling's counts summed over renders, by pipeline and count: polygons_projected, "
-           "objects_occluded, nodes_tested (docs/culling.md).");
+           "objects_occluded, nodes_tested, cells_visited, portals_walked (docs/culling.md).");
     for (const auto& [key, count] : culling_) {
       sample(out, "roomrender_render_culling_total", label("pipeline", key.first) + "," + label("count", key.second),
              double(count));

@@ -13,15 +13,16 @@ namespace rr::server {
 namespace {
 
 // Approximate heap cost of a prepared scene: the text, the parsed scene (about as large as its text,
-// in practice smaller), the tessellation's arrays, its hierarchy and the meshes it places (counted
-// with each scene that holds them, though the scenes placing one mesh share it: an overcount keeps
-// the cache's budget a bound on what it holds).
+// in practice smaller), the tessellation's arrays, its hierarchy, its cells and the meshes it places
+// (counted with each scene that holds them, though the scenes placing one mesh share it: an overcount
+// keeps the cache's budget a bound on what it holds).
 size_t entry_bytes(const StoredScene& s) {
   size_t bytes = sizeof(StoredScene) + 2 * s.text.size();
   bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
   bytes += s.soup.polygons.capacity() * sizeof(Polygon) + s.soup.materials.capacity() * sizeof(Material);
   bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
   if (s.hierarchy) bytes += s.hierarchy->bytes();
+  if (s.cells) bytes += s.cells->bytes();
   std::set<const MeshData*> meshes;
   for (const Solid& solid : s.scene.geometry.solids) {
     if (solid.mesh && meshes.insert(solid.mesh.get()).second) bytes += mesh_bytes(*solid.mesh);

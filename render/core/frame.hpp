@@ -63,9 +63,14 @@ struct RenderStats {
   bool shadow_skipped = true;   // no shadow lookups (no light, shadows off, or nothing to cast)
   size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
   // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
-  size_t objects_occluded = 0;        // objects in the frustum with a front face, none of it drawn: all hidden
-  size_t nodes_tested = 0;            // hierarchy (or BSP) nodes tested against the depth pyramid
-  size_t polygons_projected = 0;      // polygons the pipeline clipped and projected (every pipeline counts them)
+  size_t objects_occluded = 0;    // objects in the frustum with a front face, none of it drawn: all hidden
+  size_t nodes_tested = 0;        // hierarchy (or BSP) nodes tested against the depth pyramid
+  size_t polygons_projected = 0;  // polygons the pipeline clipped and projected (every pipeline counts them)
+  // Cells and portals (cells.hpp; with occlusion culling): the scene's cells (1: none derived, 0: not
+  // used), those the portal walk reached and the portal crossings it made.
+  size_t cells = 0;
+  size_t cells_visited = 0;
+  size_t portals_walked = 0;
   std::string shadow_cache = "none";  // "hit", "miss" (the pass ran), "none" (no maps wanted)
   size_t shadow_passes = 0;           // shadow passes run by this frame: 1 on a miss, 0 on a hit
   // Painter.
@@ -94,6 +99,7 @@ struct Frame {
 };
 
 struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
+struct SceneCells;                               // cells.hpp: cells and portals of one static scene
 class DepthPyramid;                              // occlusion.hpp: one frame's hierarchical depth
 struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
 using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
@@ -113,8 +119,13 @@ struct RenderContext {
   // its polygons by id). Null: a frame that culls occlusion builds a private one (timed as build).
   const SceneHierarchy* hierarchy = nullptr;
   const PolygonSoup* hierarchy_soup = nullptr;
-  int cull_eager = 0;  // tests only: the occlusion test made that many margins too eager (a mutation)
-  bool encode = true;  // false: render() leaves the PNG empty (bench-render's frames)
+  // The cells of `hierarchy_soup` with the hierarchy's node masks. Null with a hierarchy: no cells;
+  // null without one: the frame derives them with its private hierarchy (timed as build).
+  const SceneCells* cells = nullptr;
+  bool use_cells = true;               // benches only: false culls occlusion without the portal walk
+  int cull_eager = 0;                  // tests only: the occlusion test made that many margins too eager (a mutation)
+  uint32_t drop_portal = 0xFFFFFFFFu;  // tests only: the portal walk ignores this portal (a mutation)
+  bool encode = true;                  // false: render() leaves the PNG empty (bench-render's frames)
   // What the caller measured for this request before calling render(), carried into its report.
   // render() adds its own time to before_ms, so total = parse start -> encode end, less queue.
   double queue_ms = 0.0;       // waiting for a render slot

@@ -306,7 +306,7 @@ void walk_occlusion(const SceneHierarchy& hierarchy, const PolygonSoup& frame_so
                     const OcclusionCandidates& candidates, const ViewTransform& view, int eager, OcclusionResult& out) {
   out.shown.assign(frame_soup.polygons.size(), 0);
   out.pyramid.reset(view.width, view.height);
-  out.nodes_tested = out.nodes_occluded = out.occluders = 0;
+  out.nodes_tested = out.nodes_occluded = out.occluders = out.nodes_outside_cells = 0;
   if (hierarchy.nodes.empty()) return;
   DepthPyramid& pyramid = out.pyramid;
   const Frustum frustum(view);
@@ -322,6 +322,7 @@ void walk_occlusion(const SceneHierarchy& hierarchy, const PolygonSoup& frame_so
       const uint32_t h = hierarchy.polygons[k];
       const uint32_t f = frame_of.empty() ? h : frame_of[h];
       if (f == no_frame_polygon || !candidates.drawn[f]) continue;
+      if (candidates.cells && !candidates.cells->polygon_reached(h)) continue;
       out.shown[f] = 1;
       if (!candidates.occluder[f]) continue;
       const PolygonSphere& s = hierarchy.spheres[h];
@@ -348,12 +349,18 @@ void walk_occlusion(const SceneHierarchy& hierarchy, const PolygonSoup& frame_so
   std::vector<uint32_t>& stack = kept_stack;
   stack.assign(1, 0);
   while (!stack.empty()) {
-    const HierarchyNode& node = hierarchy.nodes[stack.back()];
+    const uint32_t index = stack.back();
+    const HierarchyNode& node = hierarchy.nodes[index];
     stack.pop_back();
     const Vec3 lo(node.lo), hi(node.hi);
     if (frustum.outside(lo, hi)) continue;
     ScreenBox box;
-    const bool testable = !pyramid.empty() && project_box(view, lo, hi, box);
+    const bool projected = (candidates.cells || !pyramid.empty()) && project_box(view, lo, hi, box);
+    if (candidates.cells && !candidates.cells->node_reached(index, projected, box.x0, box.y0, box.x1, box.y1)) {
+      ++out.nodes_outside_cells;
+      continue;
+    }
+    const bool testable = !pyramid.empty() && projected;
     if (testable) {
       ++out.nodes_tested;
       if (pyramid.hidden(box.x0, box.y0, box.x1, box.y1, box.near_inv_w * widen)) {

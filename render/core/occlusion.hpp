@@ -12,6 +12,7 @@
 #pragma once
 
 #include "render/core/camera.hpp"
+#include "render/core/cells.hpp"
 #include "render/core/hierarchy.hpp"
 #include "render/core/raster.hpp"
 
@@ -96,14 +97,17 @@ constexpr uint32_t no_frame_polygon = 0xFFFFFFFFu;
 struct OcclusionResult {
   std::vector<uint8_t> shown;  // per frame polygon
   DepthPyramid pyramid;
-  size_t nodes_tested = 0;    // hierarchy nodes tested against the pyramid
-  size_t nodes_occluded = 0;  // of which hidden (their subtrees skipped)
-  size_t occluders = 0;       // polygons drawn into the pyramid
+  size_t nodes_tested = 0;         // hierarchy nodes tested against the pyramid
+  size_t nodes_occluded = 0;       // of which hidden (their subtrees skipped)
+  size_t occluders = 0;            // polygons drawn into the pyramid
+  size_t nodes_outside_cells = 0;  // nodes skipped because no reached cell can show them
 };
 // Which frame polygons the pipeline draws, and which of those may raise the pyramid (opaque ones).
+// With `cells`, nodes and polygons that no cell the portal walk reached can show are skipped first.
 struct OcclusionCandidates {
   std::span<const uint8_t> drawn;     // per frame polygon: not a back face, object in view
   std::span<const uint8_t> occluder;  // per frame polygon: opaque (only read where drawn)
+  const CellFilter* cells = nullptr;  // indexed by hierarchy node and hierarchy-soup polygon
 };
 // `eager` is for tests only: it widens the test the wrong way by that many margins (a mutation the
 // identity tests must catch); 0 in every render.

@@ -2,6 +2,7 @@
 // table row (pipeline_table.cpp) names.
 #include "render/pipelines/pipeline.hpp"
 
+#include "render/core/cells.hpp"
 #include "render/core/draw.hpp"
 #include "render/core/frustum.hpp"
 #include "render/core/hierarchy.hpp"
@@ -25,6 +26,10 @@ struct CullState {
   std::vector<uint8_t> drawn, opaque;
   OcclusionResult occlusion;
   std::vector<uint8_t> shown_by_id;  // when some polygon's id is not its index
+  std::unique_ptr<SceneCells> private_cells;
+  std::vector<uint8_t> object_present;  // per object: it has polygons in the frame's soup
+  CellWalk cell_walk;
+  CellFilter cell_filter;
 };
 
 // The hierarchy of `soup`: the context's when it was built on this soup or on the soup this one was
@@ -50,6 +55,35 @@ const SceneHierarchy& frame_hierarchy(const PolygonSoup& soup, const RenderConte
   return *state.private_hierarchy;
 }
 
+// The cells of the frame's hierarchy: the context's with its hierarchy, derived now with a private one
+// (timed as build), none when the context has a hierarchy without cells or the caller turned them off.
+const SceneCells* frame_cells(const FrameInput& input, const SceneHierarchy& hierarchy, CullState& state,
+                              StageTimings& timings) {
+  state.private_cells.reset();
+  if (!input.context.use_cells) return nullptr;
+  if (!state.private_hierarchy) return input.context.cells;
+  Stopwatch build_clock;
+  state.private_cells = std::make_unique<SceneCells>(build_cells(input.scene.geometry, input.soup, hierarchy));
+  timings.build_ms += build_clock.elapsed_ms();
+  return state.private_cells.get();
+}
+
+// The portal walk from the camera: the filter the occlusion walk applies, or null when the frame may
+// not skip cells (none derived, or a wall that bounds them is not drawn). Counts what it did.
+const CellFilter* walk_portals(const SceneCells& cells, const FrameInput& input, CullState& state, RenderStats& stats) {
+  stats.cells = cells.cells.size();
+  stats.cells_visited = cells.cells.size();
+  if (!cells.derived()) return nullptr;
+  CellConditions conditions = cell_conditions(cells, state.object_present);
+  conditions.dropped_pair = input.context.drop_portal;
+  if (!conditions.valid) return nullptr;
+  walk_cells(cells, conditions, cell_viewpoint(input.view), state.cell_walk);
+  make_cell_filter(cells, state.cell_walk, input.view.width, input.view.height, state.cell_filter);
+  stats.cells_visited = state.cell_walk.cells_visited;
+  stats.portals_walked = state.cell_walk.portals_walked;
+  return &state.cell_filter;
+}
+
 // The cull stage: whole objects outside the frustum (rows that cull objects), then the occlusion
 // walk (rows that use it, with options.culling on). Timed as cull.
 void cull(const PipelineInfo& pipeline, FrameInput& input, CullState& state, RenderStats& stats,
@@ -67,17 +101,22 @@ void cull(const PipelineInfo& pipeline, FrameInput& input, CullState& state, Ren
   }
   const double before = timings.build_ms;
   const SceneHierarchy& hierarchy = frame_hierarchy(soup, input.context, state, timings);
+  const SceneCells* cells = frame_cells(input, hierarchy, state, timings);
   const double built = timings.build_ms - before;
   const size_t n = soup.polygons.size();
   state.drawn.resize(n);
   state.opaque.resize(n);
+  const bool selection = !state.frame_of.empty();
+  state.object_present.assign(selection ? soup.objects.size() : 0, 0);
   for (size_t i = 0; i < n; ++i) {
     const Polygon& p = soup.polygons[i];
     state.drawn[i] = !is_back_facing(p, input.view.eye) && input.object_may_show(p);
     state.opaque[i] = !(p.flags & polygon_translucent);
+    if (selection) state.object_present[p.object] = 1;
   }
-  walk_occlusion(hierarchy, soup, state.frame_of, {state.drawn, state.opaque}, input.view, input.context.cull_eager,
-                 state.occlusion);
+  OcclusionCandidates candidates{state.drawn, state.opaque};
+  if (cells) candidates.cells = walk_portals(*cells, input, state, stats);
+  walk_occlusion(hierarchy, soup, state.frame_of, candidates, input.view, input.context.cull_eager, state.occlusion);
   input.polygons_shown = &state.occlusion.shown;
   input.polygons_shown_by_id = &state.occlusion.shown;
   uint32_t ids = 0;

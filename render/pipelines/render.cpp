@@ -20,6 +20,7 @@ PreparedScene prepare_scene(Scene scene) {
   out.soup = tessellate(out.scene.geometry);
   bound_objects(out.soup);
   out.hierarchy = std::make_shared<const SceneHierarchy>(build_hierarchy(out.soup));
+  out.cells = std::make_shared<const SceneCells>(build_cells(out.scene.geometry, out.soup, *out.hierarchy));
   out.tessellate_ms = clock.elapsed_ms();
   out.static_id = scene_id(out.scene.geometry);
   out.warnings = placement_warnings(out.scene, out.soup);
@@ -41,7 +42,10 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
   Stopwatch clock;
   RenderContext frame_context = context;
   if (frame_context.scene_id.empty()) frame_context.scene_id = scene.static_id;
-  if (scene.hierarchy) frame_context.hierarchy = scene.hierarchy.get(), frame_context.hierarchy_soup = &scene.soup;
+  if (scene.hierarchy) {
+    frame_context.hierarchy = scene.hierarchy.get(), frame_context.hierarchy_soup = &scene.soup;
+    frame_context.cells = scene.cells.get();
+  }
   const std::string static_id = frame_context.scene_id;
   // A view that leaves levels or ceilings out draws a copy without them, cached under its own keys.
   const Camera camera = view_camera(view.camera, view.options, scene.soup);

@@ -5,6 +5,7 @@
 // (scene_io/report_json.hpp). A render is a pure function of its inputs and the context's caches.
 #pragma once
 
+#include "render/core/cells.hpp"
 #include "render/core/frame.hpp"
 #include "render/core/hierarchy.hpp"
 #include "render/core/placement.hpp"
@@ -23,10 +24,12 @@ struct PreparedScene {
   std::vector<PlacementWarning> warnings;
   // The pipelines' hierarchy of `soup` (occlusion culling reads it; every view of the scene shares it).
   std::shared_ptr<const SceneHierarchy> hierarchy;
-  double tessellate_ms = 0.0;  // the time tessellation took, with the hierarchy's build
+  // Its cells and portals, with `hierarchy`'s node masks (the portal walk reads them; shared likewise).
+  std::shared_ptr<const SceneCells> cells;
+  double tessellate_ms = 0.0;  // the time tessellation took, with the hierarchy's and the cells' builds
 };
 
-// Tessellates `scene`, builds its hierarchy and computes its id and placement warnings.
+// Tessellates `scene`, builds its hierarchy and cells and computes its id and placement warnings.
 PreparedScene prepare_scene(Scene scene);
 
 struct RenderReport {

@@ -28,7 +28,10 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
                  {"objects_culled", s.objects_culled},
                  {"objects_occluded", s.objects_occluded},
                  {"nodes_tested", s.nodes_tested},
-                 {"polygons_projected", s.polygons_projected}};
+                 {"polygons_projected", s.polygons_projected},
+                 {"cells", s.cells},
+                 {"cells_visited", s.cells_visited},
+                 {"portals_walked", s.portals_walked}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits || s.painter_budget_exhausted) {
