@@ -7,28 +7,13 @@
 // pieces_home reads 3BedroomApartment.xml and its furniture/ from ROOMRENDER_SHARED (default:
 // ../shared next to the repository) and is skipped when that is absent.
 import fs from "node:fs";
-import os from "node:os";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
 import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, homesDir } from "./designer_support.mjs";
 import { hitTest } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
-const homesDir = path.join(process.env.ROOMRENDER_SHARED || path.resolve(repoRoot, "../shared"), "data/floorplans/sweethome3d");
-
-// A zip of the home's XML and the furniture/ folder beside it, as a person would zip a home.
-function homeZip(name) {
-  const zip = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "rr-home-")), `${name}.zip`);
-  execFileSync("python3", ["-c", `import sys, os, zipfile
-zip, home, name = sys.argv[1], sys.argv[2], sys.argv[3]
-with zipfile.ZipFile(zip, "w", zipfile.ZIP_DEFLATED) as z:
-    z.write(os.path.join(home, name + ".xml"), name + ".xml")
-    for f in sorted(os.listdir(os.path.join(home, "furniture"))):
-        z.write(os.path.join(home, "furniture", f), "furniture/" + f)`, zip, homesDir, name]);
-  return zip;
-}
-
 async function pick(server, body) {
   const res = await httpRequest(`${server.url}/v1/pick`, {
     method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body),
