@@ -183,10 +183,11 @@ const scenarios = {
       `a chair piece at (2.5, 1), 40 × 90 × 42 cm: ${JSON.stringify({ ...placed, parts: placed.parts.length })}`);
     assert(JSON.stringify(placed.parts) === JSON.stringify(chair.piece.parts), "its parts are the catalogue's");
 
-    // Walk in through the south wall to look at it: K, seven steps of 1 m, Escape.
+    // Look at it as a visitor: K (the visitor starts in the room, under the plan's centre, facing
+    // north as the camera did), a step of 1 m back, Escape.
     await page.click('button[data-tool="walk"]');
     await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
-    for (let i = 0; i < 7; i++) await page.keyboard.press("Shift+ArrowUp");
+    await page.keyboard.press("Shift+ArrowDown");
     await page.keyboard.press("Escape");
     await idle(page);
     r = await request(page);
