@@ -1,26 +1,33 @@
 // Interaction latency of the web page's designer (a benchmark, not a test): the time from one drag
 // step to the reduced-size (320×240) image of that step being on screen, for the apartment example
 // at 640×480, in real Chromium against the real server on loopback.
-//   node bench/designer_latency.mjs BUILD/roomrender [--steps 50] [--out bench/results/designer_latency.json]
+//   node bench/designer_latency.mjs BUILD/roomrender [--steps 50] [--home NAME] [--web-dir DIR] [--out bench/results/designer_latency.json]
+// (--web-dir serves another build of the page, e.g. the previous index.html, for a before/after.)
 // Three drags: orbit on the 3D view, moving chair_north in the plan (select tool, 10 cm a step), and
 // moving it on the 3D image (the press picks it through POST /v1/pick; 10 cm a step on the floor).
 // A step is one pointer move; the next step starts once the image of the previous one is shown, so
 // each step gets its own render (none is aborted by the next). The clock runs in the page: from the
 // pointermove event to the first animation frame after the new image was decoded and put in place.
+// Then a live orbit, as a hand drags: pointer moves every 16.7 ms for 2 s, not waiting for images,
+// on the apartment example and on a Sweet Home 3D home of ../shared imported with its furniture/
+// (--home, default 3BedroomApartment; skipped without ../shared): images shown a second while the
+// drag goes on, main-thread task time per camera step (Chromium's TaskDuration between two moves,
+// so it counts the answers' handling too), and the time from the release to the full-size image.
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { createRequire } from "node:module";
 import { startServer, chromiumPath, repoRoot } from "../tests/browser/support.mjs";
-import { worldToPage } from "../tests/browser/designer_support.mjs";
+import { worldToPage, homeZip, homesDir } from "../tests/browser/designer_support.mjs";
 
 const args = process.argv.slice(2);
 const binary = args[0];
 const option = (name, fallback) => (args.includes(name) ? args[args.indexOf(name) + 1] : fallback);
 const steps = Number(option("--steps", 50));
 const outPath = option("--out", path.join(repoRoot, "bench/results/designer_latency.json"));
+const homeName = option("--home", "3BedroomApartment");
 if (!binary) {
-  console.error("usage: designer_latency.mjs ROOMRENDER [--steps N] [--out FILE]");
+  console.error("usage: designer_latency.mjs ROOMRENDER [--steps N] [--home NAME] [--web-dir DIR] [--out FILE]");
   process.exit(2);
 }
 
@@ -68,10 +75,86 @@ async function measureDrag(page, points) {
   return page.evaluate(() => window.latencyClock.samples.slice());
 }
 
+const seqOf = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
+const sleep = (ms) => new Promise((done) => setTimeout(done, ms));
+
+// A pixel of the image where a press orbits: the nearest to the centre (on a 40 px grid) where the
+// server's pick finds no solid (a press on a solid would move it).
+async function orbitPixel(page, server) {
+  const request = await page.evaluate(() => window.roomrenderDesigner.request());
+  const { width, height } = request.options;
+  const candidates = [];
+  for (let y = 20; y < height; y += 40) for (let x = 20; x < width; x += 40) candidates.push([x, y]);
+  candidates.sort((a, b) => Math.hypot(a[0] - width / 2, a[1] - height / 2) - Math.hypot(b[0] - width / 2, b[1] - height / 2));
+  for (const [x, y] of candidates) {
+    const res = await fetch(`${server.url}/v1/pick`, { method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ ...request, x, y }) });
+    const hit = await res.json();
+    if (res.ok && !/^\/scene\/solids\//.test(hit.pointer || "")) return [x, y];
+  }
+  throw new Error("no pixel of the image is free of solids");
+}
+
+// The live orbit: `moves` pointer moves of 4 px, one every 16.7 ms from near the image's centre, the
+// button held (from a pixel where a press orbits rather than grabs a solid); the images of reduced
+// width shown meanwhile are counted. Chromium's TaskDuration
+// (main-thread task time) is read between two moves: its difference is one camera step's work. After
+// the release, the time to the full-size image on screen (the first frame after it is in place).
+async function measureLiveOrbit(page, cdp, server, moves = 120) {
+  const taskMs = async () => (await cdp.send("Performance.getMetrics")).metrics.find((m) => m.name === "TaskDuration").value * 1000;
+  await page.evaluate(() => window.roomrenderDesigner.idle());
+  const width = (await page.evaluate(() => window.roomrenderDesigner.request().options)).width;
+  await page.evaluate((w) => {
+    const live = { shown: 0, releasedAt: 0, fullAt: 0 };
+    window.liveClock = live;
+    document.addEventListener("pointerup", () => { live.releasedAt = performance.now(); }, { capture: true, once: true });
+    new MutationObserver(() => {
+      const n = document.getElementById("image").naturalWidth;
+      if (!live.releasedAt && n < w) live.shown++;
+      else if (live.releasedAt && !live.fullAt && n === w) requestAnimationFrame(() => { live.fullAt = performance.now(); });
+    }).observe(document.getElementById("views"), { attributes: true, attributeFilter: ["data-render-seq"] });
+  }, width);
+  const [u, v] = await orbitPixel(page, server);
+  const centre = await page.evaluate(([a, b]) => window.roomrenderDesigner.viewToPage(a, b), [u, v]);
+  // The moves, paced at 60 a second; the main-thread task time between two moves.
+  const paced = async () => {
+    const perMove = [];
+    const started = performance.now();
+    let before = await taskMs();
+    for (let i = 1; i <= moves; i++) {
+      await page.mouse.move(centre.x + 4 * (i <= moves / 2 ? i : moves - i), centre.y);
+      const due = started + i * (1000 / 60);
+      if (performance.now() < due) await sleep(due - performance.now());
+      const now = await taskMs();
+      perMove.push(now - before);
+      before = now;
+    }
+    return { perMove, seconds: (performance.now() - started) / 1000 };
+  };
+  // The same moves without the button: no camera step, what the harness and the browser cost alone.
+  await page.mouse.move(centre.x, centre.y);
+  const baseline = (await paced()).perMove;
+  await page.mouse.move(centre.x, centre.y);
+  await page.mouse.down();
+  const { perMove: perStep, seconds } = await paced();
+  const shown = await page.evaluate(() => window.liveClock.shown);
+  await page.mouse.up();
+  // A page that drew the full size during the drag (a step took longer than its rest delay) may
+  // draw none after the release: then null.
+  await page.waitForFunction(() => window.liveClock.fullAt > 0, null, { timeout: 20000 }).catch(() => {});
+  const release = await page.evaluate(() => (window.liveClock.fullAt ? window.liveClock.fullAt - window.liveClock.releasedAt : null));
+  await page.evaluate(() => window.roomrenderDesigner.idle());
+  return { moves, drag_seconds: round(seconds), images_shown: shown, images_per_second: round(shown / seconds),
+    main_thread_per_step: summary(perStep), full_size_after_release_ms: release === null ? null : round(release),
+    main_thread_busy_share: round(perStep.reduce((a, b) => a + b, 0) / (seconds * 1000)),
+    main_thread_per_move_without_button: summary(baseline) };
+}
+
 const require = createRequire(path.join(repoRoot, "clients/web/package.json"));
 const { chromium } = require("playwright-core");
 const loadBefore = os.loadavg();
-const server = await startServer(binary);
+const webDir = option("--web-dir", null);
+const server = await startServer(binary, webDir ? ["--web-dir", path.resolve(webDir)] : []);
 const browser = await chromium.launch({ executablePath: chromiumPath(), args: ["--no-sandbox"] });
 try {
   const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
@@ -104,6 +187,24 @@ try {
   const view = await measureDrag(page, viewPoints);
   const movedInView = (await page.evaluate(() => window.roomrenderDesigner.request())).scene.solids.find((s) => s.id === "chair_north");
 
+  // The live orbit on the apartment example, then on the imported home at 640×480.
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send("Performance.enable");
+  await page.goto(`${server.url}/?example=apartment`);
+  await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+  const liveApartment = await measureLiveOrbit(page, cdp, server);
+  let liveHome = null;
+  if (fs.existsSync(path.join(homesDir, `${homeName}.xml`))) {
+    const seq = await seqOf(page);
+    await page.setInputFiles("#file", homeZip(homeName));
+    await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s, seq, { timeout: 120000 });
+    await page.evaluate(() => window.roomrenderDesigner.idle());
+    await page.selectOption("#size", "640x480");
+    await page.evaluate(() => window.roomrenderDesigner.idle());
+    const chars = await page.evaluate(() => JSON.stringify(window.roomrenderDesigner.request()).length);
+    liveHome = { home: homeName, request_chars: chars, ...(await measureLiveOrbit(page, cdp, server)) };
+  }
+
   const result = {
     what: "time from one drag step (pointermove) to the 320×240 image of that step on screen (first frame after it is decoded); apartment example, 640×480, zbuffer, flat",
     machine: { cpus: os.cpus().length, load_average_before: loadBefore.map(round), load_average_after: os.loadavg().map(round),
@@ -113,15 +214,21 @@ try {
       "draws it, and the next step waits behind it: that is the slow mode of the orbit samples (~1 s). The plan drag asks " +
       "for no rest render while the button is held.",
     chromium: browser.version(),
+    web_dir: webDir,
     orbit: summary(orbit),
     plan_move_chair: { ...summary(plan), chair_back_at_start: Math.abs(moved.center[0] - chair.center[0]) < 1e-6 },
     view_move_chair: { ...summary(view), chair_back_at_start: Math.abs(movedInView.center[0] - chair.center[0]) < 0.051 },
+    live_orbit: { what: "pointer moves every 16.7 ms for 2 s, not paced by images; 4 px each (1.6° of azimuth); 640×480, the page's pipeline and options",
+      apartment: liveApartment, home: liveHome },
   };
   fs.mkdirSync(path.dirname(outPath), { recursive: true });
   fs.writeFileSync(outPath, JSON.stringify(result, null, 2) + "\n");
   console.log(`orbit: median ${result.orbit.median_ms} ms, p90 ${result.orbit.p90_ms} ms; ` +
     `plan (chair): median ${result.plan_move_chair.median_ms} ms, p90 ${result.plan_move_chair.p90_ms} ms; ` +
     `3D image (chair): median ${result.view_move_chair.median_ms} ms, p90 ${result.view_move_chair.p90_ms} ms; ` +
+    [["apartment", liveApartment], [homeName, liveHome]].filter(([, r]) => r).map(([n, r]) =>
+      `live orbit ${n}: ${r.images_per_second} images/s, main thread p90 ${r.main_thread_per_step.p90_ms} ms a step, ` +
+      `full size ${r.full_size_after_release_ms} ms after release; `).join("") +
     `load ${loadBefore[0].toFixed(1)} -> ${os.loadavg()[0].toFixed(1)}; wrote ${outPath}`);
 } finally {
   await browser.close();

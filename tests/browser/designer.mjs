@@ -211,12 +211,21 @@ const scenarios = {
     await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
     await idle(page);
     const before = (await request(page)).camera;
-    for (let i = 0; i < 8; i++) await page.keyboard.press("ArrowUp");
-    const after = (await request(page)).camera;
+    // "New" looks from outside the room: the visitor starts inside it (under the plan's centre).
+    const [x0, , z0] = before.position;
+    assert(x0 > 0.3 && x0 < 4.7 && z0 > 1.3 && z0 < 3.7, `the visitor starts inside the room: ${before.position}`);
+    assert(before.near > 0 && before.near <= 0.1, `with a near plane of centimetres: ${before.near}`);
+    for (let i = 0; i < 4; i++) await page.keyboard.press("ArrowUp");
+    let after = (await request(page)).camera;
     const moved = Math.hypot(after.position[0] - before.position[0], after.position[2] - before.position[2]);
-    assert(Math.abs(moved - 2) < 0.01 && after.position[1] === 1.6, `8 presses walked 2 m at eye height: ${before.position} -> ${after.position}`);
+    assert(Math.abs(moved - 1) < 0.01 && after.position[1] === 1.6, `4 presses walked 1 m at eye height: ${before.position} -> ${after.position}`);
     const targetMoved = after.target.map((v, i) => v - before.target[i]);
     assert(near(targetMoved, after.position.map((v, i) => v - before.position[i]), 0.002), "the target moved with the eye");
+    // On toward the wall at z = 0 (0.15 m thick): it stops the visitor's 0.2 m body in front of it.
+    for (let i = 0; i < 12; i++) await page.keyboard.press("ArrowUp");
+    after = (await request(page)).camera;
+    assert(after.position[2] >= 0.075 + 0.18 && after.position[2] < 0.5, `the wall stopped the visitor: ${after.position}`);
+    assert(/wall is in the way/i.test(await page.textContent("#visitor-note")), "the status says so");
     await page.keyboard.press("Shift+ArrowDown");
     const back = (await request(page)).camera;
     assert(Math.abs(Math.hypot(back.position[0] - after.position[0], back.position[2] - after.position[2]) - 1) < 0.01, "Shift walks 1 m");
@@ -225,7 +234,7 @@ const scenarios = {
     // Dragging the image looks around: the eye stays, the target turns; renders come back at half
     // size while the drag goes on, and the image is full size at rest.
     const sizes = [];
-    const isRender = (req) => req.url().endsWith("/v1/render");
+    const isRender = (req) => /\/v1\/(render|scenes\/[0-9a-f]+\/render)$/.test(req.url());
     page.on("request", (req) => {
       if (isRender(req)) sizes.push(JSON.parse(req.postData()).options?.width);
     });
@@ -254,7 +263,7 @@ const scenarios = {
     await idle(page);
     await page.click('button[data-tool="select"]');
     const sizes = [];
-    const isRender = (req) => req.url().endsWith("/v1/render");
+    const isRender = (req) => /\/v1\/(render|scenes\/[0-9a-f]+\/render)$/.test(req.url());
     page.on("request", (req) => {
       if (isRender(req)) sizes.push(JSON.parse(req.postData()).options?.width);
     });

@@ -1,7 +1,27 @@
 // Steps shared by the designer's browser tests (designer.mjs, designer_view.mjs, sharing.mjs,
-// pieces.mjs): the page's hooks (window.roomrenderDesigner), choosing furniture, clicks and drags in
+// pieces.mjs, visitor.mjs) and bench/designer_latency.mjs: a home of ../shared zipped with its
+// furniture/, the page's hooks (window.roomrenderDesigner), choosing furniture, clicks and drags in
 // the plan by world coordinates, and the empty 5 m × 4 m room drawn with the wall tool.
-import { assert } from "./support.mjs";
+import fs from "node:fs";
+import os from "node:os";
+import path from "node:path";
+import { execFileSync } from "node:child_process";
+import { assert, repoRoot } from "./support.mjs";
+
+// Sweet Home 3D homes of ../shared (ROOMRENDER_SHARED names another parent directory).
+export const homesDir = path.join(process.env.ROOMRENDER_SHARED || path.resolve(repoRoot, "../shared"), "data/floorplans/sweethome3d");
+
+// A zip of the home's XML and the furniture/ folder beside it, as a person would zip a home.
+export function homeZip(name) {
+  const zip = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "rr-home-")), `${name}.zip`);
+  execFileSync("python3", ["-c", `import sys, os, zipfile
+zip, home, name = sys.argv[1], sys.argv[2], sys.argv[3]
+with zipfile.ZipFile(zip, "w", zipfile.ZIP_DEFLATED) as z:
+    z.write(os.path.join(home, name + ".xml"), name + ".xml")
+    for f in sorted(os.listdir(os.path.join(home, "furniture"))):
+        z.write(os.path.join(home, "furniture", f), "furniture/" + f)`, zip, homesDir, name]);
+  return zip;
+}
 
 export const hooks = (page, name, ...args) => page.evaluate(([n, a]) => window.roomrenderDesigner[n](...a), [name, args]);
 export const idle = (page) => page.evaluate(() => window.roomrenderDesigner.idle());

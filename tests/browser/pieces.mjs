@@ -7,28 +7,13 @@
 // pieces_home reads 3BedroomApartment.xml and its furniture/ from ROOMRENDER_SHARED (default:
 // ../shared next to the repository) and is skipped when that is absent.
 import fs from "node:fs";
-import os from "node:os";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
 import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, homesDir } from "./designer_support.mjs";
 import { hitTest } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
-const homesDir = path.join(process.env.ROOMRENDER_SHARED || path.resolve(repoRoot, "../shared"), "data/floorplans/sweethome3d");
-
-// A zip of the home's XML and the furniture/ folder beside it, as a person would zip a home.
-function homeZip(name) {
-  const zip = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "rr-home-")), `${name}.zip`);
-  execFileSync("python3", ["-c", `import sys, os, zipfile
-zip, home, name = sys.argv[1], sys.argv[2], sys.argv[3]
-with zipfile.ZipFile(zip, "w", zipfile.ZIP_DEFLATED) as z:
-    z.write(os.path.join(home, name + ".xml"), name + ".xml")
-    for f in sorted(os.listdir(os.path.join(home, "furniture"))):
-        z.write(os.path.join(home, "furniture", f), "furniture/" + f)`, zip, homesDir, name]);
-  return zip;
-}
-
 async function pick(server, body) {
   const res = await httpRequest(`${server.url}/v1/pick`, {
     method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body),
@@ -198,10 +183,11 @@ const scenarios = {
       `a chair piece at (2.5, 1), 40 × 90 × 42 cm: ${JSON.stringify({ ...placed, parts: placed.parts.length })}`);
     assert(JSON.stringify(placed.parts) === JSON.stringify(chair.piece.parts), "its parts are the catalogue's");
 
-    // Walk in through the south wall to look at it: K, seven steps of 1 m, Escape.
+    // Look at it as a visitor: K (the visitor starts in the room, under the plan's centre, facing
+    // north as the camera did), a step of 1 m back, Escape.
     await page.click('button[data-tool="walk"]');
     await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
-    for (let i = 0; i < 7; i++) await page.keyboard.press("Shift+ArrowUp");
+    await page.keyboard.press("Shift+ArrowDown");
     await page.keyboard.press("Escape");
     await idle(page);
     r = await request(page);

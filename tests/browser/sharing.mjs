@@ -115,6 +115,30 @@ const scenarios = {
     assert(/\/walls\/0/.test(refusal) && /end/.test(refusal), `the refusal names the field: ${refusal}`);
   },
 
+  // A store of one scene (--scene-store-entries 1) holds the first Save; a second scene's Save gets
+  // 507, said in plain words with what to do, in the share panel and on no line of the editor; the
+  // camera still moves and renders (inline, as the page cannot store a working copy).
+  async designer_store_full({ page, server }) {
+    await page.goto(`${server.url}/?example=studio`);
+    await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+    await idle(page);
+    await page.click('[data-action="save"]');
+    await page.waitForFunction(() => /Stored as scene/.test(document.getElementById("status").textContent));
+    await page.click('[data-action="new"]');
+    await idle(page);
+    await page.click('[data-action="save"]');
+    await page.waitForFunction(() => /HTTP 507/.test(document.getElementById("share-message").textContent));
+    const message = await page.textContent("#share-message");
+    assert(/store is full/.test(message) && /Delete stored scenes/.test(message), `the 507 is said in plain words: ${message}`);
+    assert(!(await page.$(".cm-lintRange-error, .cm-inline-error")), "and marks no line of the editor");
+    const seq = await page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq));
+    await page.focus("#views");
+    await page.keyboard.press("ArrowLeft");
+    await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq) > s && !document.body.hasAttribute("data-busy"), seq);
+    await idle(page);
+    assert(/Rendered in/.test(await page.textContent("#status")), `the camera still renders: ${await page.textContent("#status")}`);
+  },
+
   // An OBJ interior (5.65 MB) goes through POST /v1/import/obj?store=1: the editor gets the scene
   // with its meshes kept out and a summary, renders go by id, and a light added in the plan renders.
   async designer_import_big({ page, server }) {
@@ -230,4 +254,5 @@ if (!binary || !outDir || !body) {
   console.error(`usage: sharing.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")})`);
   process.exit(2);
 }
-process.exit(await runScenario(scenario, { binary, outDir, precheck: prechecks[scenario] }, body));
+const serverArgs = { designer_store_full: ["--scene-store-entries", "1"] };
+process.exit(await runScenario(scenario, { binary, outDir, precheck: prechecks[scenario], serverArgs: serverArgs[scenario] }, body));

@@ -40,8 +40,10 @@ export function chromiumPath() {
 
 // Starts `roomrender serve --port 0` and resolves once it listens: {url, port, stop()}.
 export function startServer(binary, extraArgs = []) {
+  // extraArgs may name another --web-dir (a flag is given once).
+  const web = extraArgs.includes("--web-dir") ? [] : ["--web-dir", path.join(repoRoot, "clients/web")];
   const args = ["serve", "--port", "0", "--bind", "127.0.0.1", "--log-requests", "0",
-    "--web-dir", path.join(repoRoot, "clients/web"), "--examples-dir", path.join(repoRoot, "examples"), ...extraArgs];
+    ...web, "--examples-dir", path.join(repoRoot, "examples"), ...extraArgs];
   const child = spawn(binary, args, { stdio: ["ignore", "pipe", "pipe"] });
   let stderr = "";
   child.stderr.on("data", (d) => { stderr += d; });
@@ -98,7 +100,7 @@ export async function serverHas(server, apiPath, method = "post") {
 // Runs `body({page, server, browser})` with a fresh server and browser (after `precheck(server)`,
 // which may skip); on failure saves a screenshot and the page's console to outDir, and returns the
 // process exit code.
-export async function runScenario(name, { binary, outDir, precheck }, body) {
+export async function runScenario(name, { binary, outDir, precheck, serverArgs = [] }, body) {
   const started = Date.now();
   const { chromium } = loadPlaywright();
   let server = null;
@@ -106,7 +108,7 @@ export async function runScenario(name, { binary, outDir, precheck }, body) {
   let page = null;
   const consoleLines = [];
   try {
-    server = await startServer(binary);
+    server = await startServer(binary, serverArgs);
     if (precheck) await precheck(server);
     browser = await chromium.launch({ executablePath: chromiumPath(), args: ["--no-sandbox"] });
     const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });

@@ -66,10 +66,9 @@ function inlineMessages(page, kind) {
 
 const scenarios = {
   // Pick an example, see the image and the timings; drag, scroll and use keys to move the camera,
-  // and see each move produce a new image, with a stale render cancelled.
+  // and see each move produce a new image: while dragging, one render at a time, none cancelled, and
+  // the request text untouched until the camera rests.
   async render_and_orbit({ page, server }) {
-    const posted = [];
-    page.on("request", (r) => { if (r.method() === "POST" && r.url().endsWith("/v1/render")) posted.push(r); });
     let seq = await open(page, server, "studio");
     const studio = JSON.parse(fs.readFileSync(`${repoRoot}/examples/studio.json`, "utf8"));
     const loaded = await requestInPage(page);
@@ -82,31 +81,61 @@ const scenarios = {
     assert(bars.some((b) => b.stage === "raster" && b.ms > 0), "the chart has a raster bar");
     assert(/Rendered in/.test(await page.textContent("#status")), "the status says it rendered");
 
-    // Drag to orbit. The first render of the drag is held back by the network for 1.5 s: the page
-    // must cancel it when the next move starts a newer one, and never show it.
+    // Drag to orbit. The camera moves in the page, not in the text, and each image is the stored
+    // scene seen from it (POST /v1/scenes/{id}/render). The first image of the drag is held back by
+    // the network for 0.6 s: the page keeps it (no second image of the drag is asked for meanwhile),
+    // shows it, then asks for the newest camera.
+    const textBefore = await page.evaluate(() => window.roomrenderDesigner.text());
+    const views = [];  // {request, done, failed} of each POST /v1/scenes/{id}/render
+    const small = (v) => JSON.parse(v.request.postData()).options.width === 320;
+    let overlapping = 0;  // reduced-size renders asked for while another was on its way
+    page.on("request", (r) => {
+      if (r.method() !== "POST" || !/\/v1\/scenes\/[0-9a-f]+\/render$/.test(r.url())) return;
+      const view = { request: r };
+      if (small(view) && views.some((v) => small(v) && !v.done && !v.failed)) overlapping++;
+      views.push(view);
+    });
+    page.on("requestfinished", (r) => { const v = views.find((x) => x.request === r); if (v) v.done = true; });
+    page.on("requestfailed", (r) => { const v = views.find((x) => x.request === r); if (v) v.failed = true; });
     let held = null;
-    await page.route("**/v1/render", async (route) => {
+    let heldSeen = -1;  // views asked for while the held one was on its way
+    await page.route("**/v1/scenes/*/render", async (route) => {
       if (held) return route.continue();
       held = route.request();
-      await new Promise((r) => setTimeout(r, 1500));
+      await new Promise((r) => setTimeout(r, 600));
+      heldSeen = views.length;
       await route.continue().catch(() => {});
     });
-    const failed = [];
-    page.on("requestfailed", (r) => failed.push(r));
     const box = await page.locator("#image").boundingBox();
     const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
     await page.mouse.move(cx, cy);
     await page.mouse.down();
-    for (let i = 1; i <= 8; i++) {
+    let textDuring = null;
+    for (let i = 1; i <= 10; i++) {
       await page.mouse.move(cx + 15 * i, cy + 4 * i);
-      await page.waitForTimeout(60);
+      await page.waitForTimeout(150);
+      if (i === 5) textDuring = await page.evaluate(() => window.roomrenderDesigner.text());
     }
+    assert(textDuring === textBefore, "the request text stays as it was while the camera moves");
     await page.mouse.up();
     seq = await waitForRender(page, seq);
-    await page.waitForTimeout(1700);  // past the held render's release: it must not replace the image
-    assert(held && failed.includes(held), "the held render was cancelled when a newer one started");
-    assert(await shownSeq(page) === posted.length, `the image shown is the latest render (${await shownSeq(page)} of ${posted.length})`);
-    await page.unroute("**/v1/render");
+    await page.unroute("**/v1/scenes/*/render");
+    assert(held, "the drag rendered the stored scene by id");
+    assert(heldSeen === 1, `no other image was asked for while the first was on its way (${heldSeen} asked)`);
+    assert(!views.find((v) => v.request === held).failed, "the image in flight was not cancelled by the drag's next moves");
+    const dragViews = views.filter(small);
+    assert(dragViews.length >= 2, `the drag showed more than the held image: ${dragViews.length} reduced-size renders`);
+    assert(overlapping === 0, `one drag render at a time (${overlapping} asked for while another was on its way)`);
+    // The image on screen is the final camera's, as the server draws that request inline.
+    const final = await page.evaluate(() => window.roomrenderDesigner.request());
+    const inline = await httpRequest(`${server.url}/v1/render`, { method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify(final) });
+    const shownPng = Buffer.from(await page.evaluate(() => window.roomrenderDesigner.png()), "base64");
+    assert(inline.status === 200 && inline.body.equals(shownPng), "the image shown is the final camera's, byte for byte");
+    // The text catches up once the page rests, or at once when the editor is opened.
+    await page.waitForFunction((t) => window.roomrenderDesigner.text() !== t, textBefore, { timeout: 5000 });
+    const written = JSON.parse(await page.evaluate(() => window.roomrenderDesigner.text())).camera;
+    assert(JSON.stringify(written) === JSON.stringify(final.camera), "the text holds the camera shown once the page rests");
     const orbited = await requestInPage(page);
     assert(distance(orbited.camera.position, studio.camera.position) > 0.5, "dragging moved the camera");
     assert(JSON.stringify(orbited.camera.target) === JSON.stringify(studio.camera.target), "orbiting kept the target");
@@ -195,6 +224,10 @@ const scenarios = {
     assert(a.hash !== b.hash, "painter and zbuffer images differ on intersecting triangles");
     const diff = await page.$eval("#diff", (c) => ({ width: c.width, height: c.height }));
     assert(diff.width === a.width && diff.height === a.height, "the difference image has the same size");
+    // On screen too, the two images and their difference show at one size.
+    const boxes = await Promise.all(["#image", "#image-b", "#diff"].map((sel) => page.locator(sel).boundingBox()));
+    assert(boxes.every((b) => Math.abs(b.width - boxes[0].width) < 1 && Math.abs(b.height - boxes[0].height) < 1),
+      `the images show at one size: ${JSON.stringify(boxes.map((b) => [Math.round(b.width), Math.round(b.height)]))}`);
     const differ = await metrics();
     assert(differ.share > 0 && differ.share < 0.5, `a small share of pixels differs: ${differ.share}`);
     assert(Number.isFinite(differ.psnr) && differ.psnr > 5, `PSNR is finite: ${differ.psnr}`);

@@ -16,14 +16,31 @@ export class ApiError extends Error {
 
 async function problemOf(res) {
   const type = res.headers.get("Content-Type") || "";
+  const retryAfter = Number(res.headers.get("Retry-After")) || null;
   if (type.includes("json")) {
     try {
-      return await res.json();
+      return { ...(await res.json()), retryAfter };
     } catch {
       // fall through: a broken body still has a status
     }
   }
-  return { status: res.status, title: res.statusText, detail: `The server answered HTTP ${res.status}.` };
+  return { status: res.status, title: res.statusText, detail: `The server answered HTTP ${res.status}.`, retryAfter };
+}
+
+// What a refusal that is not about the request means, in plain words with what to do (null: the
+// answer's own errors say it, by pointer).
+export function plainWords(error) {
+  if (error?.status === 507) {
+    return "The server's scene store is full, so it did not keep this scene (it never throws stored scenes away " +
+      "to make room). Delete stored scenes you no longer need, or ask whoever runs the server for a larger store. " +
+      "Renders that need no storing still work.";
+  }
+  if (error?.status === 503) {
+    const wait = error.problem?.retryAfter ? `in ${error.problem.retryAfter} s` : "in a few seconds";
+    return "The server is too busy right now: every render slot is taken and its queue is full (or it is " +
+      `shutting down, or its store does not answer). Nothing is wrong with the scene: try again ${wait}.`;
+  }
+  return null;
 }
 
 async function ok(res) {
@@ -182,6 +199,12 @@ export class Api {
     });
     if (!res.ok) throw scopedError(res.status, await problemOf(res));
     return res.json();
+  }
+
+  // DELETE /v1/scenes/{id}.
+  async deleteScene(id, { signal } = {}) {
+    const res = await fetch(this.url(`/v1/scenes/${encodeURIComponent(id)}`), { method: "DELETE", signal });
+    if (!res.ok) throw new ApiError(res.status, await problemOf(res));
   }
 
   // GET /v1/scenes/{id}: the stored scene document as text (canonical JSON).

@@ -3,7 +3,9 @@
 // request editor (its text stays the one source of truth) and pointer/key events. Out: edits made by
 // JSON Pointer through the editor, one history step each. The history holds whole request texts;
 // a JSON text edit becomes one step once it has rested (or before the next designer action), and
-// camera moves are not steps: undo keeps the camera where it is. The plan's pointer tools are in
+// camera moves are not steps: undo keeps the camera where it is. A moving camera lives here
+// (`liveCamera`, over the text's) and reaches the text once the page is idle or the editor is
+// focused: a camera step parses, writes and checks no text. The plan's pointer tools are in
 // designer_tools.js; the commands on the selection, the camera and the keys in designer_commands.js.
 import { PlanView } from "./plan_view.js";
 import { renderProperties, fieldProblem } from "./properties.js";
@@ -12,10 +14,12 @@ import { tools, toolMethods } from "./designer_tools.js";
 import { commandMethods } from "./designer_commands.js";
 import { at, setAt, clone } from "./designer_util.js";
 import { catalogueEntries, categories } from "./catalogue.js";
+import { bodyRadiusM } from "./visitor.js";
 
 const $ = (id) => document.getElementById(id);
 const storageKey = "roomrender.designer.request";
 const textStepDelayMs = 600;
+const cameraTextDelayMs = 400;  // a camera at rest this long is written into the text
 
 export const newRequest = () => ({
   scene: {
@@ -32,7 +36,7 @@ export const newRequest = () => ({
 
 export class Designer {
   constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null,
-    onDragPreview = () => {}, frameCamera = async () => null }) {
+    onDragPreview = () => {}, frameCamera = async () => null, busy = () => false, onCameraMoved = onEdited }) {
     this.editor = editor;
     this.onEdited = onEdited;      // a designer edit was applied: render
     this.onStatus = onStatus;
@@ -41,6 +45,8 @@ export class Designer {
     this.autosaveText = autosaveText;  // what the browser keeps (null: not this text), default the text
     this.onDragPreview = onDragPreview;  // (scene) while a plan drag moves an element; null when it ends
     this.frameCamera = frameCamera;  // async (request) -> the server's frame of the scene, or null
+    this.onCameraMoved = onCameraMoved;  // the camera moved (walk, framing): render
+    this.busy = busy;              // true while a gesture goes on: the camera's text waits for its end
     this.plan = new PlanView($("plan"));
     this.tool = "select";
     this.item = "box";
@@ -53,8 +59,11 @@ export class Designer {
     this.clashes = [];             // [{from, to, detail}]: pairs of elements a warning names
     this.history = new History(editor.text());
     this.applying = false;
-    this.parsedText = null;
+    this.parsedDoc = null;
     this.parsedValue = null;
+    this.liveCamera = null;        // the camera shown when it is not yet the text's (null: the text's)
+    this.withCamera = null;        // parsedValue with liveCamera, built once per pair
+    this.cameraTimer = 0;
     this.redrawFrame = 0;
     this.textTimer = 0;
     this.saveTimer = 0;
@@ -67,15 +76,60 @@ export class Designer {
 
   // ---- the request ---------------------------------------------------------------------------
 
-  // The parsed request, kept while the text is the same: the plan redraws on every pointer move, and
-  // an imported home's text takes a while to parse. Callers treat it as read-only (edit() copies).
+  // The parsed request with the live camera, kept while the text is the same (the editor's document is
+  // immutable, so its identity tells): the plan redraws on every pointer move, and an imported home's
+  // text takes a while to parse. Callers treat it as read-only (edit() copies).
   request() {
-    const text = this.editor.text();
-    if (text !== this.parsedText) {
-      this.parsedText = text;
+    const doc = this.editor.doc();
+    if (doc !== this.parsedDoc) {
+      this.parsedDoc = doc;
       this.parsedValue = this.editor.parsed();
+      this.withCamera = null;
     }
-    return this.parsedValue;
+    const parsed = this.parsedValue;
+    if (!parsed || !this.liveCamera) return parsed;
+    if (this.withCamera?.camera !== this.liveCamera) this.withCamera = { ...parsed, camera: this.liveCamera };
+    return this.withCamera;
+  }
+
+  // A camera move: shown at once (the plan's camera mark, and the caller renders), written into the
+  // text later (syncCamera).
+  viewCamera(camera) {
+    this.liveCamera = camera;
+    this.plan.placeCamera(camera);
+    clearTimeout(this.cameraTimer);
+    const later = () => {
+      this.cameraTimer = setTimeout(() => {
+        this.cameraTimer = 0;
+        if (this.busy()) later();
+        else if (window.requestIdleCallback) this.cameraTimer = requestIdleCallback(() => this.syncCamera(), { timeout: 1000 });
+        else this.syncCamera();
+      }, cameraTextDelayMs);
+    };
+    later();
+  }
+
+  // True while the camera shown is not yet written into the text.
+  cameraPending() {
+    return this.liveCamera !== null;
+  }
+
+  // Writes the live camera into the text: the members that differ, by pointer (the rest of the text
+  // stays as typed), or the whole camera when its members differ.
+  syncCamera() {
+    clearTimeout(this.cameraTimer);
+    if (window.cancelIdleCallback) cancelIdleCallback(this.cameraTimer);
+    this.cameraTimer = 0;
+    const camera = this.liveCamera;
+    if (!camera) return;
+    this.liveCamera = null;
+    const written = this.request()?.camera;
+    const keys = (c) => Object.keys(c || {}).sort().join();
+    const entries = written && keys(written) === keys(camera)
+      ? Object.keys(camera).filter((k) => JSON.stringify(camera[k]) !== JSON.stringify(written[k]))
+        .map((k) => ({ pointer: `/camera/${k}`, value: camera[k] }))
+      : [{ pointer: "/camera", value: camera }];
+    if (entries.length) this.setCamera(entries);
   }
 
   // Writes `text` through the editor without it counting as a text edit.
@@ -169,6 +223,7 @@ export class Designer {
   // `step: false`: the new text stands in for the current one (the same scene, arrived in full).
   replaceAll(text, { render = true, step = true } = {}) {
     this.flushTextStep();
+    this.liveCamera = null;
     this.onReplaced();
     const before = this.editor.text();
     this.editor.serverNotes = [];
@@ -191,6 +246,7 @@ export class Designer {
   // A history step back (or forward); the camera stays where it is.
   step(back) {
     this.flushTextStep();
+    this.syncCamera();
     const camera = this.request()?.camera;
     const current = this.editor.text();
     const text = back ? this.history.back(current) : this.history.forward(current);
@@ -283,6 +339,8 @@ export class Designer {
     const previous = this.tool;
     if (tool !== previous) tools[previous].leave?.(this);
     this.tool = tool;
+    this.plan.visitor = tool === "walk" ? { radiusM: bodyRadiusM } : null;
+    $("visitor-panel").hidden = tool !== "walk";
     for (const b of document.querySelectorAll("[data-tool]")) b.setAttribute("aria-pressed", String(b.dataset.tool === tool));
     $("catalogue").classList.toggle("inactive", tool !== "furniture");
     document.body.dataset.tool = tool;
@@ -359,6 +417,7 @@ export class Designer {
         this.setTool("furniture");
       });
     }
+    $("eye-height").addEventListener("change", () => this.setEyeHeight());
     const actions = {
       new: () => this.replaceAll(JSON.stringify(newRequest(), null, 2)),
       undo: () => this.step(true),

@@ -4,11 +4,13 @@
 // are no steps. Mixed into Designer.prototype (designer.js), so `this` is the designer.
 import { moveSolid, solidAnchor, sceneBounds, wallsProblem } from "./plan_math.js";
 import { withDefaults, atEyeHeight, walkStep, frameBounds, roundVec } from "./camera.js";
+import { visitorStart, walkTo, bodyRadiusM } from "./visitor.js";
 import { at, setAt, clone } from "./designer_util.js";
 import { tools } from "./designer_tools.js";
 
 const $ = (id) => document.getElementById(id);
-const eyeHeightM = 1.6;
+const visitorNearM = 0.05;  // the visitor's near plane: a wall a step away is not cut off
+const placeTolPx = 12;       // a press this close to the visitor in the plan picks it up
 
 export const commandMethods = {
   // ---- commands on the selection -------------------------------------------------------------
@@ -87,20 +89,97 @@ export const commandMethods = {
   // ---- camera: walk mode and framing (camera.js does the geometry) --------------------------
 
   moveCamera({ position, target }) {
-    this.setCamera([{ pointer: "/camera/position", value: position }, { pointer: "/camera/target", value: target }]);
-    this.onEdited();
+    this.viewCamera({ ...(this.request()?.camera || {}), position, target });
+    this.onCameraMoved();
   },
 
+  // Walk mode: the camera becomes the visitor, at its eye height above the floor (y = 0), inside
+  // (visitor.js: the imported observer camera, or the room under the plan's centre), with a near
+  // plane of a few centimetres.
   startWalk() {
     const request = this.request();
     if (!request) return;
-    this.moveCamera(atEyeHeight(request.camera, eyeHeightM));
+    const c = withDefaults(request.camera);
+    const { w, h } = this.plan.size();
+    const rect = this.plan.svg.getBoundingClientRect();
+    const centre = this.plan.fromClient(rect.left + w / 2, rect.top + h / 2);
+    const start = visitorStart(request.scene || {}, [c.position[0], c.position[2]], centre) || [c.position[0], c.position[2]];
+    this.placeVisitor(start, null, { render: true });
     $("views").focus({ preventScroll: true });
   },
 
+  // The visitor at plan point `at`, looking toward plan point `toward` (null: as it looked), at the
+  // eye height of the field.
+  placeVisitor(at, toward, { render = true, preview = false } = {}) {
+    const request = this.request();
+    if (!request) return;
+    const c = withDefaults(request.camera);
+    const d = toward ? [toward[0] - at[0], toward[1] - at[1]] : [c.target[0] - c.position[0], c.target[2] - c.position[2]];
+    const len = Math.hypot(d[0], d[1]);
+    const reach = Math.max(1, Math.hypot(c.target[0] - c.position[0], c.target[2] - c.position[2]));
+    const dir = len > 1e-9 ? [d[0] / len, d[1] / len] : [0, 1];
+    const eyeY = this.eyeHeight();
+    const pitch = toward ? 0 : c.target[1] - c.position[1];
+    const moved = atEyeHeight({ ...c, position: [at[0], eyeY, at[1]],
+      target: [at[0] + dir[0] * reach, eyeY + pitch, at[1] + dir[1] * reach] }, eyeY);
+    $("visitor-note").textContent = "";
+    this.viewCamera({ ...(request.camera || {}), position: moved.position, target: moved.target, near: visitorNearM });
+    if (render) this.onCameraMoved({ preview });
+  },
+
+  eyeHeight() {
+    const v = Number($("eye-height")?.value);
+    return Number.isFinite(v) && v > 0 ? v : 1.6;
+  },
+
+  // The eye height field changed: the visitor stands where it stood, its eye at the new height.
+  setEyeHeight() {
+    const c = this.request()?.camera;
+    if (c) this.moveCamera(atEyeHeight(c, this.eyeHeight()));
+  },
+
+  // A step of the visitor: as far as the walls let it (visitor.js), the target along.
   walk(forward, right, metres) {
     const request = this.request();
-    if (request) this.moveCamera(walkStep(request.camera, forward, right, metres));
+    if (!request) return;
+    const c = withDefaults(request.camera);
+    const step = walkStep(c, forward, right, metres);
+    const from = [c.position[0], c.position[2]];
+    const to = [step.position[0], step.position[2]];
+    const reached = walkTo(request.scene || {}, from, to, c.position[1]);
+    const moved = [reached[0] - from[0], reached[1] - from[1]];
+    const stopped = Math.hypot(moved[0] - (to[0] - from[0]), moved[1] - (to[1] - from[1])) > 1e-6;
+    $("visitor-note").textContent = stopped ? "A wall is in the way." : "";
+    if (Math.hypot(...moved) < 1e-6) return;
+    this.moveCamera({ position: roundVec([c.position[0] + moved[0], c.position[1], c.position[2] + moved[1]]),
+      target: roundVec([c.target[0] + moved[0], c.target[1], c.target[2] + moved[1]]) });
+  },
+
+  // The walk tool in the plan: a press on the visitor picks it up (a drag moves it); a press
+  // elsewhere puts it there, and dragging from there turns it toward the pointer.
+  visitorDown(p, e) {
+    const c = withDefaults(this.request()?.camera);
+    const eye = [c.position[0], c.position[2]];
+    const near = Math.hypot(p[0] - eye[0], p[1] - eye[1]) * this.plan.s <= Math.max(placeTolPx, bodyRadiusM * this.plan.s);
+    this.visitorDrag = near ? { mode: "move", offset: [eye[0] - p[0], eye[1] - p[1]] } : { mode: "aim", at: p };
+    if (!near) this.placeVisitor(p, null, { preview: true });
+    this.plan.svg.setPointerCapture(e.pointerId);
+  },
+
+  visitorMove(p) {
+    const drag = this.visitorDrag;
+    if (!drag) return;
+    if (drag.mode === "move") {
+      this.placeVisitor([p[0] + drag.offset[0], p[1] + drag.offset[1]], null, { preview: true });
+    } else if (Math.hypot(p[0] - drag.at[0], p[1] - drag.at[1]) * this.plan.s >= placeTolPx) {
+      this.placeVisitor(drag.at, p, { preview: true });
+    }
+  },
+
+  visitorUp() {
+    if (!this.visitorDrag) return;
+    this.visitorDrag = null;
+    this.onCameraMoved({ preview: false });
   },
 
   // The walk tool's keys: arrows and WASD step 0.25 m (Shift: 1 m), Escape goes back to Select. True

@@ -35,7 +35,14 @@ export const tools = {
   window: { shortcut: "n", down: (d, p, e) => d.clickOpening(p, e) },
   furniture: { shortcut: "f", down: (d, p) => d.dropFurniture(p) },
   light: { shortcut: "l", down: (d, p, e) => d.clickLight(p, e) },
-  walk: { shortcut: "k", key: (d, key, e) => d.walkKey(key, e), enter: (d) => d.startWalk() },
+  walk: {
+    shortcut: "k",
+    key: (d, key, e) => d.walkKey(key, e),
+    enter: (d) => d.startWalk(),
+    down: (d, p, e) => d.visitorDown(p, e),
+    move: (d, p) => d.visitorMove(p),
+    up: (d) => d.visitorUp(),
+  },
 };
 
 export const toolMethods = {

@@ -107,6 +107,11 @@ export class RequestEditor {
     return this.view.state.doc.toString();
   }
 
+  // The document (immutable: a new one after each change), for caches keyed on the text.
+  doc() {
+    return this.view.state.doc;
+  }
+
   // Replaces the whole document (an example or an import), as one undoable step.
   setText(text) {
     this.serverNotes = [];

@@ -1,8 +1,10 @@
 // roomrender's web page: the request editor on the left, the rendered image (or two pipelines and
-// their difference) on the right. The editor's text is the one source of truth: the selectors and
-// camera gestures edit it by JSON Pointer, and every render sends it as it is. At most one render
-// (or compare pair) is in flight: a newer one aborts it.
-import { Api, ApiError } from "./api.js";
+// their difference) on the right. The editor's text is the one source of truth for the scene: the
+// selectors and the designer edit it by JSON Pointer. Camera gestures move the designer's live
+// camera, which reaches the text when the page is idle; they render the stored copy of the scene by
+// id (sharing.js). At most one render (or compare pair) is in flight: a newer one aborts it, except
+// while a drag goes on, when the newest camera waits for the answer in flight, so each is shown.
+import { Api, ApiError, plainWords } from "./api.js";
 import { RequestEditor } from "./editor.js";
 import { makeRequestChecker } from "./schema_check.js";
 import { withDefaults, orbit, pan, zoom, look } from "./camera.js";
@@ -34,6 +36,9 @@ const app = {
   restTimer: 0,         // full-size render due after a drag rests
   planFrame: 0,         // reduced-size render of a plan drag due at the next frame
   planScene: null,
+  inflightPreview: false,  // the render in flight is a drag's reduced-size one
+  queued: null,         // the options of a drag's render waiting for the one in flight
+  warnedScene: null,    // the scene whose warnings are shown: the same scene's answers repeat them
   loading: 0,           // examples, imports or the start-up being fetched: a render will follow
 };
 
@@ -79,7 +84,13 @@ function elementLabel(pointer) {
 }
 
 function showError(error) {
-  if (error instanceof ApiError) {
+  app.warnedScene = null;
+  const plain = plainWords(error);
+  if (plain) {
+    // About the server, not a field: no mark in the editor or the plan.
+    showProblemList([{ pointer: null, detail: plain }]);
+    setStatus(`HTTP ${error.status}: ${plain}`);
+  } else if (error instanceof ApiError) {
     editor.setServerNotes(error.errors.map((e) => ({ pointer: e.pointer, message: e.detail, severity: "error" })));
     showProblemList(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
     designer.setMarks(error.errors.map((e) => ({ ...e, severity: "error" })));
@@ -91,25 +102,42 @@ function showError(error) {
 }
 
 // `preview`: a reduced-size image while a drag goes on (the full size follows when it rests).
-// `scene`: the scene as a plan drag shows it, not yet in the editor.
-async function render({ preview = false, scene = null } = {}) {
+// `scene`: the scene as a plan drag shows it, not yet in the editor. `moved`: a camera move, which
+// renders a stored copy of the scene by id (storing the working copy when none holds this scene).
+function render(options = {}) {
   clearTimeout(app.restTimer);
   app.restTimer = 0;
   cancelAnimationFrame(app.planFrame);
   app.planFrame = 0;
-  const parsed = editor.parsed();
+  return launch(options);
+}
+
+async function launch({ preview = false, scene = null, moved = false } = {}) {
+  const parsed = designer.request();
   const request = parsed && scene ? { ...parsed, scene } : parsed;
   if (request === null) {
     showProblemList([{ pointer: null, detail: "The request is not valid JSON yet; the editor marks where." }]);
     return;
   }
+  // A drag's image waits for the one in flight rather than abort it: the server would draw the
+  // aborted one anyway, and a drag that aborts each image shows none.
+  if (preview && app.inflight && app.inflightPreview) {
+    app.queued = { preview, scene, moved };
+    return;
+  }
+  app.queued = null;
   if (app.inflight) app.inflight.abort();
   const controller = new AbortController();
   app.inflight = controller;
+  app.inflightPreview = preview;
   const seq = ++app.seq;
   const started = performance.now();
-  setBusy(true);
-  setStatus("Rendering…");
+  // A drag's images change neither the progress bar nor the status (each change would lay the page
+  // out again); the image itself shows the progress.
+  if (!preview) {
+    setBusy(true);
+    setStatus("Rendering…");
+  }
   const compareWith = controls.comparePipeline();
   try {
     const requests = [request];
@@ -123,12 +151,12 @@ async function render({ preview = false, scene = null } = {}) {
       return { ...r, options: { ...o, width: w, height: h } };
     };
     const results = await Promise.all(requests.map(async (r, i) =>
-      (await sharing.render(preview ? small(r) : r, { signal: controller.signal })) ??
-        api.render(preview ? small(r) : i === 0 && !scene ? editor.text() : r, { signal: controller.signal })));
+      (await sharing.render(preview ? small(r) : r, { signal: controller.signal, store: moved })) ??
+        api.render(preview ? small(r) : i === 0 && !scene && !designer.cameraPending() ? editor.text() : r, { signal: controller.signal })));
     if (seq !== app.seq) return;
-    await display(request, results, seq);
+    await display(request, results, seq, { preview });
     const server = results.map((r) => formatMs(r.timings.total)).join(" + ");
-    setStatus(`Rendered in ${formatMs(performance.now() - started)} (server: ${server}).`);
+    if (!preview) setStatus(`Rendered in ${formatMs(performance.now() - started)} (server: ${server}).`);
   } catch (error) {
     if (error.name === "AbortError" || seq !== app.seq) return;
     showError(error);
@@ -136,11 +164,12 @@ async function render({ preview = false, scene = null } = {}) {
     if (seq === app.seq) {
       app.inflight = null;
       setBusy(false);
+      if (app.queued) launch(app.queued);
     }
   }
 }
 
-async function display(request, [a, b], seq) {
+async function display(request, [a, b], seq, { preview = false } = {}) {
   const pipelineA = request.options?.pipeline || "zbuffer";
   const img = $("image");
   const url = replaceImage(img, app.shown, a.imageBlob);
@@ -158,46 +187,52 @@ async function display(request, [a, b], seq) {
   } else {
     clearComparison($("metrics"));
   }
-  drawTimingChart($("timings"), series);
-  showStats(a, showWarnings(a));
+  if (!preview) drawTimingChart($("timings"), series);
+  // The same scene has the same warnings: a camera move redraws neither the notes nor the plan.
+  if (request.scene !== app.warnedScene) {
+    app.warningCount = showWarnings(a);
+    app.warnedScene = request.scene;
+  }
+  if (!preview) showStats(a, app.warningCount);
   // Tests (and people) can tell a new image from the old one by this number.
   img.dataset.renderSeq = String(seq);
   $("views").dataset.renderSeq = String(seq);
-  sharing.showLinks(request);
+  if (!preview) sharing.showLinks(request);
 }
 
-// Camera gestures edit the request's camera, then render: reduced size while a drag goes on, full
-// size once it rests or ends. In walk mode a drag looks around (the eye stays).
+// Camera gestures move the designer's live camera (not the text), then render the stored scene from
+// it: reduced size while a drag goes on, full size once it rests or ends. In walk mode a drag looks
+// around (the eye stays).
 function moveCamera(kind, ...args) {
-  const request = editor.parsed();
+  const request = designer.request();
   if (request === null) return;
   const camera = withDefaults(request.camera);
   const walking = designer.tool === "walk";
   const moved = kind === "orbit" ? (walking ? look : orbit)(camera, ...args)
     : kind === "pan" ? pan(camera, ...args) : zoom(camera, ...args);
-  designer.setCamera([{ pointer: "/camera/position", value: moved.position }, { pointer: "/camera/target", value: moved.target }]);
+  designer.viewCamera({ ...(request.camera || {}), position: moved.position, target: moved.target });
   if ($("views").classList.contains("dragging")) {
-    render({ preview: true });
+    render({ preview: true, moved: true });
     // At rest, the full size; a reduced image still on its way is not aborted for it (on a slow
     // server the preview of each step would be, and the drag would show nothing).
     const rest = () => {
       app.restTimer = app.inflight ? setTimeout(rest, 50) : 0;
-      if (!app.restTimer) render();
+      if (!app.restTimer) render({ moved: true });
     };
     app.restTimer = setTimeout(rest, restMs);
   } else {
-    render();
+    render({ moved: true });
   }
 }
 
 function endDrag() {
-  if (app.restTimer) render();
+  if (app.restTimer) render({ moved: true });
 }
 
 function resetCamera() {
   if (!app.loadedCamera) return;
-  designer.setCamera([{ pointer: "/camera", value: app.loadedCamera }]);
-  render();
+  designer.viewCamera(app.loadedCamera);
+  render({ moved: true });
 }
 
 function loadExample(name) {
@@ -269,6 +304,8 @@ const editor = new RequestEditor($("editor"), {
 });
 const designer = new Designer(editor, {
   onEdited: () => render(),
+  onCameraMoved: ({ preview = false } = {}) => render({ moved: true, preview }),
+  busy: () => $("views").classList.contains("dragging") || Boolean(designer.drag),
   onStatus: setStatus,
   onSave: () => sharing.save(),
   onReplaced: () => sharing.replaced(),
@@ -334,12 +371,14 @@ window.roomrenderDesigner = {
   // The page point over the centre of pixel (u, v) of the full-size image, however large it is shown.
   viewToPage: (u, v) => {
     const r = $("image").getBoundingClientRect();
-    const o = editor.parsed()?.options || {};
+    const o = designer.request()?.options || {};
     const w = o.width ?? 640;
     const h = o.height ?? 480;
     return { x: r.left + ((u + 0.5) * r.width) / w, y: r.top + ((v + 0.5) * r.height) / h };
   },
-  request: () => editor.parsed(),
+  request: () => designer.request(),
+  // The editor's text as it is (the camera reaches it once the page rests).
+  text: () => editor.text(),
   selection: () => designer.selection,
   // The bytes of the PNG on screen, base64-encoded (null before the first render).
   png: async () => {
@@ -363,10 +402,13 @@ $("download-png").addEventListener("click", () => {
   if (app.shown) download(app.shown.blob, `${app.exampleName}-${app.shown.pipeline}.png`);
 });
 $("download-scene").addEventListener("click", () => {
+  designer.syncCamera();
   const request = sharing.isBig() ? editor.parsed() : null;
   const text = request ? JSON.stringify({ ...request, scene: sharing.fullScene(request.scene || {}) }) : editor.text();
   download(new Blob([text], { type: "application/json" }), `${app.exampleName}.json`);
 });
+// The text shows the camera on screen before the user reads or types into it.
+$("editor").addEventListener("focusin", () => designer.syncCamera());
 $("open-file").addEventListener("click", () => $("file").click());
 $("file").addEventListener("change", (e) => {
   if (e.target.files[0]) importFile(e.target.files[0]);

@@ -37,6 +37,7 @@ export class PlanView {
     this.s = 50;    // pixels per metre
     this.ox = 40;   // SVG pixel of plan x = 0
     this.oy = 40;   // SVG pixel of plan z = 0
+    this.visitor = null;  // {radiusM} in walk mode: the camera is drawn as the visitor
   }
 
   size() {
@@ -210,6 +211,14 @@ export class PlanView {
     el("title", {}, g).textContent = detail;
   }
 
+  // Moves the camera's mark alone (the rest of the plan stays as drawn).
+  placeCamera(c) {
+    for (const g of this.svg.querySelectorAll(":scope > g.camera")) g.remove();
+    const bar = this.svg.querySelector(":scope > g.scale-bar");
+    this.drawCamera(c);
+    if (bar) this.svg.append(bar);
+  }
+
   drawCamera(c) {
     const p = c.position || [0, 1.6, 5];
     const t = c.target || [0, 1, 0];
@@ -218,6 +227,19 @@ export class PlanView {
     const dx = t[0] - p[0];
     const dz = t[2] - p[2];
     const len = Math.hypot(dx, dz) || 1;
+    if (this.visitor) {
+      // The visitor: a body of its real size (at least 6 px) and the wedge it sees, 1.5 m long.
+      const g = el("g", { class: "camera visitor", "data-testid": "visitor" }, this.svg);
+      const half = (((c.fov_y ?? 60) / 2) * Math.PI) / 180 * 1.2;
+      const a = Math.atan2(dz, dx);
+      const r = 1.5 * this.s;
+      const wedge = [[ex, ey], [ex + r * Math.cos(a - half), ey + r * Math.sin(a - half)], [ex + r * Math.cos(a + half), ey + r * Math.sin(a + half)]];
+      el("polygon", { points: wedge.map((q) => q.map((v) => v.toFixed(1)).join(",")).join(" "), class: "view" }, g);
+      el("circle", { cx: ex, cy: ey, r: Math.max(6, this.visitor.radiusM * this.s), class: "body" }, g);
+      el("line", { x1: ex, y1: ey, x2: ex + (dx / len) * Math.max(10, 0.35 * this.s), y2: ey + (dz / len) * Math.max(10, 0.35 * this.s) }, g);
+      el("title", {}, g).textContent = `visitor at [${p.join(", ")}], eye ${p[1]} m`;
+      return;
+    }
     const g = el("g", { class: "camera" }, this.svg);
     el("line", { x1: ex, y1: ey, x2: ex + (dx / len) * 22, y2: ey + (dz / len) * 22 }, g);
     el("circle", { cx: ex, cy: ey, r: 5 }, g);

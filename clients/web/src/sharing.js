@@ -4,7 +4,12 @@
 // Api. Out: the editor's text (through the designer, as one step) and the share panel's links.
 // Invariant: while a big scene is loaded, `big.id` names a stored scene equal to the editor's scene
 // with its meshes put back, whenever `big.key` equals the editor's scene (re-stored on a change).
+// Camera moves render a stored copy by id (the server keeps it prepared): the saved or imported scene
+// when the editor's scene is still that, else the page's one working copy, stored when a camera move
+// finds the scene changed; storing a new working copy deletes the one before it when this page
+// created it. Edits render inline, so a session of edits leaves one working copy in the store.
 import { viewOf, permalink, imageUrl } from "./share.js";
+import { plainWords } from "./api.js";
 import { bigSceneChars, splitMeshes, joinMeshes, isStoredMesh, summarize } from "./big_scene.js";
 
 const $ = (id) => document.getElementById(id);
@@ -17,6 +22,10 @@ export class Sharing {
     this.onStatus = onStatus;
     this.big = null;      // {id, key, meshes, chars} while a big scene is loaded
     this.saved = null;    // {id, key} of the last Save: the links shown are for it
+    this.working = null;  // {id, key, created} of the working copy camera moves render
+    this.storing = null;  // {key, promise} of the working copy being stored
+    this.noWorking = false;  // set once the server would not store one
+    this.keys = new WeakMap();  // scene object -> its JSON (a parsed scene is read-only)
     $("copy-image-url").addEventListener("click", () => this.copyImageUrl());
   }
 
@@ -35,9 +44,18 @@ export class Sharing {
     return this.big ? joinMeshes(scene, this.big.meshes) : scene;
   }
 
+  keyOf(scene) {
+    let key = this.keys.get(scene);
+    if (key === undefined) {
+      key = JSON.stringify(scene);
+      this.keys.set(scene, key);
+    }
+    return key;
+  }
+
   // The id of the stored scene equal to `scene` (storing it when it changed since).
   async storedId(scene, { signal } = {}) {
-    const key = JSON.stringify(scene);
+    const key = this.keyOf(scene);
     if (this.big && this.big.key === key) return this.big.id;
     if (this.saved && this.saved.key === key) return this.saved.id;
     const receipt = await this.api.storeScene(this.fullScene(scene), { signal });
@@ -45,17 +63,50 @@ export class Sharing {
     return receipt.id;
   }
 
-  // A big scene renders by id; a small one inline as today (the caller's job: null here).
-  async render(request, { signal } = {}) {
-    if (!this.big) return null;
-    const id = await this.storedId(request.scene || {}, { signal });
-    return this.api.renderStored(id, viewOf(request), { signal });
+  // A big scene renders by id; a small one by id when a stored copy holds it (`store`: a camera move,
+  // which stores the working copy when none does), else inline (the caller's job: null here).
+  async render(request, { signal, store = false } = {}) {
+    const scene = request.scene || {};
+    const id = this.big ? await this.storedId(scene, { signal })
+      : this.copyOf(scene) ?? (store ? await this.storeWorking(scene) : null);
+    return id ? this.api.renderStored(id, viewOf(request), { signal }) : null;
+  }
+
+  // The id of a stored scene that is `scene` (saved, imported or the working copy), or null.
+  copyOf(scene) {
+    if (!this.saved && !this.working) return null;
+    const key = this.keyOf(scene);
+    if (this.saved?.key === key) return this.saved.id;
+    if (this.working?.key === key) return this.working.id;
+    return null;
+  }
+
+  // Stores `scene` as the working copy (null when the server will not: no store, a token needed, the
+  // store full; camera moves then render inline). The one before goes when this page created it.
+  async storeWorking(scene) {
+    if (this.noWorking || !this.api.has("/v1/scenes") || !this.api.has("/v1/scenes/{id}/render")) return null;
+    const key = this.keyOf(scene);
+    if (this.storing?.key !== key) {
+      const promise = this.api.storeScene(key).then((receipt) => {
+        const old = this.working;
+        this.working = { id: receipt.id, key, created: receipt.created };
+        if (old?.created && old.id !== receipt.id && old.id !== this.saved?.id) this.api.deleteScene(old.id).catch(() => {});
+        return receipt.id;
+      }, () => {
+        this.noWorking = true;
+        return null;
+      }).finally(() => {
+        if (this.storing?.promise === promise) this.storing = null;
+      });
+      this.storing = { key, promise };
+    }
+    return this.storing.promise;
   }
 
   // The element at pixel (x, y) of the request's image (api.pick): by stored id when the scene is
   // big, as it renders; inline otherwise.
   async pick(request, x, y, { signal } = {}) {
-    const storedId = this.big ? await this.storedId(request.scene || {}, { signal }) : null;
+    const storedId = this.big ? await this.storedId(request.scene || {}, { signal }) : this.copyOf(request.scene || {});
     return this.api.pick(request, x, y, { storedId, signal });
   }
 
@@ -65,6 +116,7 @@ export class Sharing {
     const scene = JSON.parse(sceneText);
     if (sceneText.length <= bigSceneChars) {
       this.designer.replaceAll(JSON.stringify({ scene, ...view }, null, 2), { render: false, step });
+      if (id) this.working = { id, key: JSON.stringify(scene), created: false };
       return;
     }
     const split = splitMeshes(scene);
@@ -82,6 +134,7 @@ export class Sharing {
     const text = await this.api.storedSceneText(id);
     this.load(text, id, view);
     this.saved = { id, key: JSON.stringify(this.editor.parsed()?.scene) };
+    if (this.working?.id === id) this.working.created = false;  // saved: it stays
   }
 
   // A file imported and stored by the server. A scene that arrives within `waitMs` fills the editor
@@ -108,7 +161,7 @@ export class Sharing {
         return;
       }
       if (JSON.stringify(this.editor.parsed()?.scene ?? {}) !== this.big.key) return;  // a scene was typed
-      this.load(text, receipt.id, viewOf(this.editor.parsed() || view), { step: false });
+      this.load(text, receipt.id, viewOf(this.designer.request() || view), { step: false });
       if (!this.big) $("big-summary").hidden = true;
     });
     return receipt;
@@ -116,17 +169,18 @@ export class Sharing {
 
   // Save: stores the editor's scene on the server and shows the links to it.
   async save() {
-    const request = this.editor.parsed();
+    const request = this.designer.request();
     if (request === null) return this.showError("Not saved on the server: the JSON has an error.");
     this.showError(null);
     this.onStatus("Storing the scene on the server…");
     try {
       const id = await this.storedId(request.scene || {});
       this.saved = { id, key: JSON.stringify(request.scene || {}) };
+      if (this.working?.id === id) this.working.created = false;  // saved: it stays
       this.showLinks(request);
       this.onStatus(`Stored as scene ${id} (also saved in this browser).`);
     } catch (error) {
-      const detail = error.errors?.map((e) => (e.pointer ? `${e.pointer}: ${e.detail}` : e.detail)).join("; ") || error.message;
+      const detail = plainWords(error) ?? (error.errors?.map((e) => (e.pointer ? `${e.pointer}: ${e.detail}` : e.detail)).join("; ") || error.message);
       this.showError(`The server did not store the scene (${error.status ? `HTTP ${error.status}` : "no answer"}): ${detail}`);
     }
     return this.saved?.id ?? null;
@@ -134,7 +188,7 @@ export class Sharing {
 
   // The links of the saved scene for the request's current camera and options; when the scene
   // changed since it was saved, they say so (Save again makes new ones).
-  showLinks(request = this.editor.parsed()) {
+  showLinks(request = this.designer.request()) {
     if (!this.saved || !request) return;
     const view = viewOf(request);
     const origin = location.origin;
@@ -185,7 +239,7 @@ export class Sharing {
   autosaveText() {
     if (!this.big) return this.editor.text();
     if (!this.big.id) return null;
-    return JSON.stringify({ stored_scene: this.big.id, view: viewOf(this.editor.parsed() || {}) });
+    return JSON.stringify({ stored_scene: this.big.id, view: viewOf(this.designer.request() || {}) });
   }
 }
 
