@@ -59,14 +59,21 @@ ShadingError shading_error(const Image& reference, const Image& test) {
   return e;
 }
 
-ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test) {
+ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test, size_t bytes_per_pixel) {
   if (reference.size() != test.size()) {
     throw std::invalid_argument("shadow mask sizes differ: " + std::to_string(reference.size()) + " and " +
-                                std::to_string(test.size()) + " pixels");
+                                std::to_string(test.size()) + " bytes");
+  }
+  if (bytes_per_pixel == 0 || reference.size() % bytes_per_pixel != 0) {
+    throw std::invalid_argument("shadow mask of " + std::to_string(reference.size()) + " bytes is not made of " +
+                                std::to_string(bytes_per_pixel) + "-byte pixels");
   }
   ShadowError e;
-  e.pixels = reference.size();
-  for (size_t i = 0; i < reference.size(); ++i) e.differing += reference[i] != test[i];
+  e.pixels = reference.size() / bytes_per_pixel;
+  for (size_t i = 0; i < reference.size(); i += bytes_per_pixel) {
+    e.differing += !std::equal(reference.begin() + ptrdiff_t(i), reference.begin() + ptrdiff_t(i + bytes_per_pixel),
+                               test.begin() + ptrdiff_t(i));
+  }
   return e;
 }
 
@@ -116,7 +123,11 @@ ErrorMeasures compare_frames(const Frame& reference, const Frame& test) {
   m.visibility = visibility_error(reference.ids, test.ids);
   m.shading = shading_error(reference.image, test.image);
   if (!reference.shadow_mask.empty() && !test.shadow_mask.empty()) {
-    m.shadow = shadow_error(reference.shadow_mask, test.shadow_mask);
+    if (reference.shadow_mask_bytes != test.shadow_mask_bytes) {
+      throw std::invalid_argument("shadow masks of " + std::to_string(reference.shadow_mask_bytes) + " and " +
+                                  std::to_string(test.shadow_mask_bytes) + " bytes a pixel");
+    }
+    m.shadow = shadow_error(reference.shadow_mask, test.shadow_mask, reference.shadow_mask_bytes);
   }
   return m;
 }

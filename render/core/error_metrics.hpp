@@ -39,13 +39,14 @@ struct ShadingError {
 };
 ShadingError shading_error(const Image& reference, const Image& test);
 
-// Frame::shadow_mask bytes compared whole: a pixel differs when any of its lights' lit state does.
+// Frame::shadow_mask compared a pixel (`bytes_per_pixel` bytes) at a time: a pixel differs when any
+// of its lights' lit state does.
 struct ShadowError {
   size_t pixels = 0;
   size_t differing = 0;
   double share() const { return pixels ? double(differing) / double(pixels) : 0.0; }
 };
-ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test);
+ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test, size_t bytes_per_pixel = 1);
 
 // An anti-aliasing edge pixel: its 3x3 neighbourhood (clipped to the image) in the reference's
 // centre-sample id buffer holds more than one id, background included. Every pixel that a straight

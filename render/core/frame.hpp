@@ -92,11 +92,17 @@ struct RenderStats {
 struct Frame {
   Image image;   // RGB8
   IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
-  // Only when RenderContext::shadow_mask asked for it (else empty): per pixel, bit l is set when
-  // scene light l (l < 8) reaches the visible surface there: the light is on its lit side and,
-  // with shadows on, the shadow lookup (visibility >= 0.5) or shadow ray finds it unblocked.
+  // Only when RenderContext::shadow_mask asked for it (else empty): per pixel, shadow_mask_bytes
+  // bytes (light_mask_bytes of the scene's lights); bit l % 8 of the pixel's byte l / 8 is set when
+  // scene light l reaches the visible surface there: the light is on its lit side and, with shadows
+  // on, the shadow lookup (visibility >= 0.5) or shadow ray finds it unblocked. With at most 8 lights
+  // it is one byte a pixel, bit l for light l.
   std::vector<uint8_t> shadow_mask = {};
+  size_t shadow_mask_bytes = 1;
 };
+
+// Bytes per pixel of a light mask for `lights` lights: one bit each, at least one byte.
+inline size_t light_mask_bytes(size_t lights) { return lights > 8 ? (lights + 7) / 8 : 1; }
 
 struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
 struct SceneCells;                               // cells.hpp: cells and portals of one static scene
@@ -159,6 +165,7 @@ struct FrameInput {
   const DepthPyramid* occlusion = nullptr;
   size_t* lights_evaluated = nullptr;  // SurfaceShader adds its light evaluations here
   uint8_t* shadow_mask = nullptr;      // Frame::shadow_mask's pixels when requested, else null
+  size_t shadow_mask_bytes = 1;        // Frame::shadow_mask_bytes: bytes per pixel of shadow_mask
 };
 
 using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings);

@@ -70,7 +70,8 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
       slots_(maps_ ? maps_->lights.size() : 0),
       term_begin_(mode_ == ShadingMode::phong ? 0 : soup.polygons.size(), 0),
       slot_sums_(slots_),
-      mask_(input.shadow_mask) {}
+      mask_(input.shadow_mask),
+      mask_bytes_(input.shadow_mask_bytes) {}
 
 SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evaluated)
     : input_(prepared.input_),
@@ -81,7 +82,8 @@ SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evalu
       mode_(prepared.mode_),
       slots_(prepared.slots_),
       slot_sums_(slots_),
-      mask_(prepared.mask_) {}
+      mask_(prepared.mask_),
+      mask_bytes_(prepared.mask_bytes_) {}
 
 SurfaceShader::~SurfaceShader() {
   if (lights_evaluated_) *lights_evaluated_ += evaluated_ + evaluated_per_pixel_;

@@ -177,10 +177,11 @@ class SurfaceShader {
   std::vector<glm::vec3> eye_to_p_, normal_;  // Phong: per clipped vertex
   size_t evaluated_ = 0;
   mutable size_t evaluated_per_pixel_ = 0;
-  // Frame::shadow_mask (null when not requested): the bound polygon's lights l < 8 that reach it,
-  // as (bit, index into shadowed_ or -1).
+  // Frame::shadow_mask (null when not requested), mask_bytes_ a pixel: the bound polygon's lights
+  // that reach it, as (light index, index into shadowed_ or -1).
   uint8_t* mask_ = nullptr;
-  std::vector<std::pair<uint8_t, int32_t>> mask_lights_;
+  size_t mask_bytes_ = 1;
+  std::vector<std::pair<uint32_t, int32_t>> mask_lights_;
 };
 
 }  // namespace rr

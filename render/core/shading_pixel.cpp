@@ -6,6 +6,7 @@
 
 #include "render/core/shading_detail.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rr {
@@ -33,7 +34,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
       shadowed_.push_back({&sl, make_shadow_receiver(*maps_, sl, poly.normal, poly.offset), slot});
       a.shadow = int32_t(shadowed_.size() - 1);
     }
-    if (mask_ && l < 8) mask_lights_.push_back({uint8_t(1u << l), a.shadow});
+    if (mask_) mask_lights_.push_back({l, a.shadow});
     if (mode_ != ShadingMode::phong) continue;
     const glm::vec3 radiance = light.color * light.intensity;
     a.point = light.type == LightType::point;
@@ -114,11 +115,11 @@ float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {
 
 // A light counts as reaching the pixel when at least half of its PCF taps see it.
 void SurfaceShader::write_mask(const Fragment& f, size_t k) const {
-  uint8_t bits = 0;
-  for (const auto& [bit, shadow] : mask_lights_) {
-    if (shadow < 0 || visibility(size_t(shadow), f, k) >= 0.5f) bits = uint8_t(bits | bit);
+  uint8_t* const bits = mask_ + (size_t(f.y) * size_t(input_.view.width) + size_t(f.x)) * mask_bytes_;
+  std::fill(bits, bits + mask_bytes_, uint8_t(0));
+  for (const auto& [light, shadow] : mask_lights_) {
+    if (shadow < 0 || visibility(size_t(shadow), f, k) >= 0.5f) bits[light / 8] |= uint8_t(1u << (light % 8));
   }
-  mask_[size_t(f.y) * size_t(input_.view.width) + size_t(f.x)] = bits;
 }
 
 Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {

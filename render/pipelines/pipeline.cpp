@@ -149,11 +149,17 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   RenderResult result;
   result.frame.image = Image(options.width, options.height, scene.background);
   result.frame.ids = IdBuffer(options.width, options.height);
-  if (context.shadow_mask) result.frame.shadow_mask.assign(result.frame.ids.ids.size(), 0);
+  if (context.shadow_mask) {
+    result.frame.shadow_mask_bytes = light_mask_bytes(scene.lights.size());
+    result.frame.shadow_mask.assign(result.frame.ids.ids.size() * result.frame.shadow_mask_bytes, 0);
+  }
   result.stats.polygons = soup.polygons.size();
   ViewTransform view = make_view(camera, options.width, options.height);
   FrameInput input{scene, soup, view, options, context};
-  if (context.shadow_mask) input.shadow_mask = result.frame.shadow_mask.data();
+  if (context.shadow_mask) {
+    input.shadow_mask = result.frame.shadow_mask.data();
+    input.shadow_mask_bytes = result.frame.shadow_mask_bytes;
+  }
   const PipelineInfo& pipeline = pipeline_info(options.pipeline);
   check_cancel(context.cancel);
   // The shadow pass runs at most once, before any pipeline draws, and not at all when the shadow

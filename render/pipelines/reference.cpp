@@ -178,16 +178,16 @@ struct RayPaint {
   uint8_t* rgb;
   uint32_t* id;
   uint8_t* mask;  // null: no shadow mask
+  size_t mask_bytes = 1;
 };
 
 bool paint_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>& translucent, const RayPaint& out) {
   const PolygonSoup& soup = rs.input.soup;
   const PixelHits px = cast_ray(rs, sx, sy, translucent);
   auto paint = [&](const Hit& hit, float alpha) {
-    uint8_t lit = 0;
+    const std::span<uint8_t> lit = out.mask ? std::span<uint8_t>(out.mask, out.mask_bytes) : std::span<uint8_t>();
     const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, lit);
     *out.id = soup.polygons[hit.polygon].id;
-    if (out.mask) *out.mask = lit;
     for (int ch = 0; ch < 3; ++ch) {
       out.rgb[ch] =
           alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(out.rgb[ch]) / 255.0f);
@@ -222,7 +222,8 @@ void draw_row(const ReferenceScene& rs, int y, Frame& frame, size_t& hits, std::
   for (int x = 0; x < frame.image.width; ++x) {
     const size_t i = size_t(y) * size_t(frame.image.width) + size_t(x);
     const RayPaint out{frame.image.rgb.data() + i * 3, &frame.ids.ids[i],
-                       frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i]};
+                       frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i * frame.shadow_mask_bytes],
+                       frame.shadow_mask_bytes};
     hits += samples == 1 ? paint_ray(rs, x + 0.5, y + 0.5, translucent, out)
                          : paint_supersampled(rs, x, y, pattern, translucent, out);
   }

@@ -90,6 +90,15 @@ TEST(ErrorMetrics, CompareFramesAndJson) {
   test.shadow_mask = {1, 1, 1, 1};
   j = error_measures_json(compare_frames(truth, test));
   EXPECT_DOUBLE_EQ(j["shadow"]["error"].get<double>(), 0.25);
+  // Two bytes a pixel (9 to 16 lights): a pixel differs when either of its bytes does.
+  truth.shadow_mask = {1, 0, 1, 0x80, 1, 1, 0, 0};
+  test.shadow_mask = {1, 0, 1, 0x00, 0, 1, 0, 0};
+  truth.shadow_mask_bytes = test.shadow_mask_bytes = 2;
+  const ShadowError e = compare_frames(truth, test).shadow.value();
+  EXPECT_EQ(e.pixels, 4u);
+  EXPECT_EQ(e.differing, 2u);
+  test.shadow_mask_bytes = 1;
+  EXPECT_THROW(compare_frames(truth, test), std::invalid_argument);
 }
 
 }  // namespace
