@@ -1,0 +1,104 @@
+// The pipelines' shadow-ray tree (render/core/shadow_rays.hpp) against the brute-force search over
+// every polygon: the same answer for every ray, since both end in the same exact polygon test and
+// the tree's padded float boxes must never lose a polygon the ray meets. Seeded random rooms (the
+// studio's walls, windows and door with random boxes and lights), rays from random points of random
+// polygons, and axis-aligned rays whose slab products meet 0 x infinity.
+#include "render/core/shadow_rays.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/scene_json.hpp"
+#include "support/soup_builder.hpp"
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <random>
+
+namespace rr {
+namespace {
+
+using nlohmann::json;
+
+PreparedScene random_room(std::mt19937& rng) {
+  json request = json::parse(testing::read_file(testing::examples_dir() / "studio.json"));
+  std::uniform_real_distribution<double> at(0.3, 5.7), size(0.1, 1.6), base(0.0, 1.5), height(0.3, 2.5);
+  json solids = json::array();
+  for (int i = 0, n = 4 + int(rng() % 12); i < n; ++i) {
+    solids.push_back({{"type", "box"},
+                      {"center", {at(rng), at(rng)}},
+                      {"base", base(rng)},
+                      {"size", {size(rng), size(rng), size(rng)}},
+                      {"color", "#a08060"}});
+  }
+  request["scene"]["solids"] = solids;
+  json lights = json::array();
+  for (int i = 0; i < 3; ++i) lights.push_back({{"type", "point"}, {"position", {at(rng), height(rng), at(rng)}}});
+  std::uniform_real_distribution<double> tilt(-1.0, 1.0);
+  lights.push_back({{"type", "directional"}, {"direction", {tilt(rng), -1.0, tilt(rng)}}});
+  lights.push_back({{"type", "directional"}, {"direction", {0.0, -1.0, 0.0}}});  // parallel to two slab pairs
+  lights.push_back({{"type", "directional"}, {"direction", {1.0, 0.0, 0.0}}});
+  request["scene"]["lights"] = lights;
+  return prepare_scene(request_from_json(request).scene);
+}
+
+Vec3 random_point_on(const PolygonSoup& soup, const Polygon& poly, std::mt19937& rng) {
+  const auto points = soup.points(poly);
+  const size_t k = rng() % (points.size() - 2);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double a = u(rng), b = u(rng);
+  if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+  return points[0] + a * (points[k + 1] - points[0]) + b * (points[k + 2] - points[0]);
+}
+
+TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
+  const auto seeds = testing::test_seeds(3101, 12);
+  size_t blocked = 0, open = 0;
+  for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
+    std::mt19937 rng(seed);
+    const PreparedScene prepared = random_room(rng);
+    const PolygonSoup& soup = prepared.soup;
+    const ShadowBvh bvh = build_shadow_bvh(soup, *prepared.hierarchy);
+    ASSERT_FALSE(bvh.nodes.empty());
+    EXPECT_EQ(bvh.ray_epsilon, shadow_ray_epsilon(soup));
+    std::uniform_real_distribution<double> anywhere(-0.5, 6.5), up(-0.2, 3.0);
+    for (int i = 0; i < 3000; ++i) {
+      // Two rays in three from a polygon's surface (itself excluded), the rest from anywhere.
+      const bool on_surface = i % 3 != 0;
+      const uint32_t self = on_surface ? uint32_t(rng() % soup.polygons.size()) : 0xFFFFFFFFu;
+      const Vec3 p = on_surface ? random_point_on(soup, soup.polygons[self], rng)
+                                : Vec3(anywhere(rng), up(rng), anywhere(rng));
+      for (const Light& light : prepared.scene.lights) {
+        const bool fast = shadow_ray_blocked(bvh, soup, self, p, light);
+        ASSERT_EQ(fast, shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, self, p, light))
+            << "ray " << i << " from " << p.x << "," << p.y << "," << p.z;
+        (fast ? blocked : open)++;
+      }
+    }
+  }
+  EXPECT_GT(blocked, 10000u);  // both answers are common: the comparison means something
+  EXPECT_GT(open, 10000u);
+}
+
+TEST(ShadowRays, TranslucentPanesCastNothingAndAnEmptySoupNothingAtAll) {
+  const PreparedScene empty = prepare_scene(Scene{});
+  const ShadowBvh none = build_shadow_bvh(empty.soup, *empty.hierarchy);
+  EXPECT_TRUE(none.nodes.empty());
+  Light sun;
+  sun.type = LightType::directional;
+  sun.direction = Vec3(0.0, -1.0, 0.0);
+  EXPECT_FALSE(shadow_ray_blocked(none, empty.soup, 0, Vec3(0.0), sun));
+  // The studio's windows are translucent: none of them is an item of the tree.
+  const PreparedScene studio =
+      prepare_scene(request_from_json(json::parse(testing::read_file(testing::examples_dir() / "studio.json"))).scene);
+  const ShadowBvh bvh = build_shadow_bvh(studio.soup, *studio.hierarchy);
+  size_t translucent = 0;
+  for (const Polygon& p : studio.soup.polygons) translucent += (p.flags & polygon_translucent) != 0;
+  ASSERT_GT(translucent, 0u);
+  EXPECT_EQ(bvh.items.size(), studio.soup.polygons.size() - translucent);
+  for (uint32_t j : bvh.items) EXPECT_FALSE(studio.soup.polygons[j].flags & polygon_translucent);
+  EXPECT_GT(bvh.bytes(), bvh.items.size() * sizeof(uint32_t));
+}
+
+}  // namespace
+}  // namespace rr
