@@ -106,6 +106,7 @@ inline size_t light_mask_bytes(size_t lights) { return lights > 8 ? (lights + 7)
 
 struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
 struct SceneCells;                               // cells.hpp: cells and portals of one static scene
+struct ShadowBvh;                                // shadow_rays.hpp: the shadow rays' tree of one static soup
 class DepthPyramid;                              // occlusion.hpp: one frame's hierarchical depth
 struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
 using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
@@ -128,6 +129,10 @@ struct RenderContext {
   // The cells of `hierarchy_soup` with the hierarchy's node masks. Null with a hierarchy: no cells;
   // null without one: the frame derives them with its private hierarchy (timed as build).
   const SceneCells* cells = nullptr;
+  // The shadow-ray tree of `shadow_bvh_soup` (the prepared scene's soup). Null: a frame that casts
+  // shadow rays over another soup (a view's selection) builds a private one.
+  const ShadowBvh* shadow_bvh = nullptr;
+  const PolygonSoup* shadow_bvh_soup = nullptr;
   bool use_cells = true;               // benches only: false culls occlusion without the portal walk
   int cull_eager = 0;                  // tests only: the occlusion test made that many margins too eager (a mutation)
   uint32_t drop_portal = 0xFFFFFFFFu;  // tests only: the portal walk ignores this portal (a mutation)

@@ -147,7 +147,8 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
       kids[best] = opened + 1, kids[count++] = hierarchy.nodes[opened].second;
     }
     ShadowBvhNode node;
-    for (int a = 0; a < 3; ++a) std::fill(node.lo[a], node.lo[a] + 4, inf_f), std::fill(node.hi[a], node.hi[a] + 4, -inf_f);
+    for (int a = 0; a < 3; ++a)
+      std::fill(node.lo[a], node.lo[a] + 4, inf_f), std::fill(node.hi[a], node.hi[a] + 4, -inf_f);
     std::fill(node.child, node.child + 4, -1);
     for (size_t i = 0, slot = 0; i < count; ++i) {
       const HierarchyNode& k = hierarchy.nodes[kids[i]];

@@ -25,12 +25,12 @@ struct alignas(16) ShadowBvhNode {
 };
 
 struct ShadowBvh {
-  std::vector<ShadowBvhNode> nodes;    // nodes[0] is the root; empty when the soup casts nothing
-  std::vector<uint32_t> leaf_begin;    // leaf l holds items[leaf_begin[l], leaf_begin[l + 1])
-  std::vector<uint32_t> items;         // soup polygon indices, casters only
-  double ray_epsilon = 0.0;            // shadow rays start this far from their surface point
-  size_t depth = 0;                    // levels of nodes (the traversal's stack holds 3 per level)
-  size_t bytes() const;                // what it costs against a cache budget
+  std::vector<ShadowBvhNode> nodes;  // nodes[0] is the root; empty when the soup casts nothing
+  std::vector<uint32_t> leaf_begin;  // leaf l holds items[leaf_begin[l], leaf_begin[l + 1])
+  std::vector<uint32_t> items;       // soup polygon indices, casters only
+  double ray_epsilon = 0.0;          // shadow rays start this far from their surface point
+  size_t depth = 0;                  // levels of nodes (the traversal's stack holds 3 per level)
+  size_t bytes() const;              // what it costs against a cache budget
 };
 
 // The casters' tree of `soup` from its hierarchy. Deterministic; linear in the hierarchy's size.

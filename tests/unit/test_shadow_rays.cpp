@@ -66,8 +66,8 @@ TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
       // Two rays in three from a polygon's surface (itself excluded), the rest from anywhere.
       const bool on_surface = i % 3 != 0;
       const uint32_t self = on_surface ? uint32_t(rng() % soup.polygons.size()) : 0xFFFFFFFFu;
-      const Vec3 p = on_surface ? random_point_on(soup, soup.polygons[self], rng)
-                                : Vec3(anywhere(rng), up(rng), anywhere(rng));
+      const Vec3 p =
+          on_surface ? random_point_on(soup, soup.polygons[self], rng) : Vec3(anywhere(rng), up(rng), anywhere(rng));
       for (const Light& light : prepared.scene.lights) {
         const bool fast = shadow_ray_blocked(bvh, soup, self, p, light);
         ASSERT_EQ(fast, shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, self, p, light))
@@ -98,6 +98,12 @@ TEST(ShadowRays, TranslucentPanesCastNothingAndAnEmptySoupNothingAtAll) {
   EXPECT_EQ(bvh.items.size(), studio.soup.polygons.size() - translucent);
   for (uint32_t j : bvh.items) EXPECT_FALSE(studio.soup.polygons[j].flags & polygon_translucent);
   EXPECT_GT(bvh.bytes(), bvh.items.size() * sizeof(uint32_t));
+  // The prepared scene holds the same tree (built once, shared by every view of it).
+  ASSERT_TRUE(studio.shadow_bvh);
+  EXPECT_EQ(studio.shadow_bvh->items, bvh.items);
+  EXPECT_EQ(studio.shadow_bvh->leaf_begin, bvh.leaf_begin);
+  EXPECT_EQ(studio.shadow_bvh->nodes.size(), bvh.nodes.size());
+  EXPECT_EQ(studio.shadow_bvh->ray_epsilon, bvh.ray_epsilon);
 }
 
 }  // namespace
