@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
                         {"blocked", blocked},
                         {"tree_nodes", bvh.nodes.size()},
                         {"tree_depth", bvh.depth},
+                        {"tree_leaves", bvh.leaf_begin.size() - 1},
                         {"tree_bytes", bvh.bytes()},
                         {"tree_build_ms", build_ms},
                         {"ours_ms", ours_ms},
