@@ -3,7 +3,7 @@
 #            runs the unit tests, so a broken build never yields an image (all but the one that holds
 #            docs/api.md to the settings table: .dockerignore keeps docs out of the context);
 #   runtime  only the binary, its shared libraries (from Debian's packages), the web page, the
-#            examples and the schemas, run as an unprivileged user (uid 10001) that owns the data
+#            examples, the schemas and the furniture catalogue (CC BY 3.0), run as an unprivileged user (uid 10001) that owns the data
 #            directory /var/lib/roomrender (a VOLUME: stored scenes survive restarts).
 # The build stage copies the whole build context, so a new source folder needs no change here;
 # .dockerignore keeps build trees, node_modules, .git and test outputs out of it.
@@ -33,12 +33,14 @@ COPY --from=build /src/build/roomrender /usr/local/bin/roomrender
 COPY --from=build /src/clients/web /usr/share/roomrender/web
 COPY --from=build /src/examples /usr/share/roomrender/examples
 COPY --from=build /src/schemas /usr/share/roomrender/schemas
+COPY --from=build /src/catalogue /usr/share/roomrender/catalogue
 COPY --from=build /src/LICENSE /usr/share/doc/roomrender/LICENSE
 ENV ROOMRENDER_PORT=8080 \
     ROOMRENDER_BIND=0.0.0.0 \
     ROOMRENDER_WEB_DIR=/usr/share/roomrender/web \
     ROOMRENDER_EXAMPLES_DIR=/usr/share/roomrender/examples \
     ROOMRENDER_SCHEMAS_DIR=/usr/share/roomrender/schemas \
+    ROOMRENDER_CATALOGUE_DIR=/usr/share/roomrender/catalogue \
     ROOMRENDER_DATA_DIR=/var/lib/roomrender
 # Declared after the directory is made and chowned: a new named volume mounted here starts as a copy
 # of it, so it belongs to uid 10001 too (Kubernetes gets the same from fsGroup: 10001).

@@ -146,7 +146,7 @@ int run_bench_render(std::span<const std::string> argv) {
         std::string input = from_obj ? *flag(args, "--obj") : *flag(args, "--request");
         std::string text =
             from_obj ? imported_request_text(input, ImportFormat::obj, import_options(args, patch)) : read_input(input);
-        RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch));
+        RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch), request_limits());
         const PreparedScene scene = prepare_scene(std::move(request.scene));
         BenchReport report = bench_frames(request, scene, run);
         if (auto out = flag(args, "--out")) {

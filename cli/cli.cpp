@@ -17,12 +17,15 @@
 #include "render/scene_io/measures_json.hpp"
 #include "render/scene_io/report_json.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "server/catalogue_store.hpp"
+#include "server/server_config.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <sstream>
 #include <thread>
@@ -64,6 +67,12 @@ void write_number(std::string& out, double value) {
 
 }  // namespace
 
+ParseLimits request_limits() {
+  const char* dir = std::getenv("ROOMRENDER_CATALOGUE_DIR");
+  return server::lazy_catalogue_limits(
+      ParseLimits{}, dir && *dir ? std::filesystem::path(dir) : server::default_server_config().catalogue_dir);
+}
+
 std::string usage_text() {
   return "roomrender " + std::string(version()) + ": a CPU room renderer served over HTTP\n\nusage:\n  " +
          render_synopsis + "\n  " + import_synopsis + "\n  " + export_synopsis + "\n  " + serve_synopsis + "\n  " +
@@ -103,7 +112,7 @@ int run_render(std::span<const std::string> argv) {
                                                : read_input(args.positional[0]);
         // total runs from here (parse) to the end of encoding, as the service's does.
         Stopwatch total, parse_clock;
-        RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch));
+        RenderRequest request = request_from_json(apply_request_patch(parse_json_text(text), patch), request_limits());
         if (auto samples = reference_samples(args)) {
           if (request.options.pipeline != pipeline_id("reference")) {
             throw std::runtime_error("--reference-samples needs the reference pipeline (--pipeline reference)");
@@ -250,7 +259,7 @@ int run_export(std::span<const std::string> argv) {
     return usage_failure(export_synopsis, e.what());
   }
   return run_reporting_errors([&] {
-    RenderRequest request = parse_request(read_input(args.positional[0]));
+    RenderRequest request = parse_request(read_input(args.positional[0]), request_limits());
     PolygonSoup soup = tessellate(request.scene.geometry);
     std::string id = scene_id(request.scene.geometry);
     std::string comment = "roomrender " + std::string(version()) + " export of scene " + id + ": " +

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "render/core/tessellate.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "server/serve_command.hpp"
 
 #include <functional>
@@ -21,6 +22,12 @@ using server::UsageError;
 using server::version;
 
 std::string usage_text();  // every subcommand with its options, for `roomrender help`
+
+// The limits requests are parsed with: the service's defaults, and "ref"s resolving to the meshes
+// of the furniture catalogue (ROOMRENDER_CATALOGUE_DIR, else the source tree's catalogue/), which is
+// read the first time a request places one. So a scene holding catalogue pieces renders here as it
+// does on the service.
+ParseLimits request_limits();
 
 int run_render(std::span<const std::string> args);
 // compare REFERENCE TEST: two id buffers (visibility error) or two PNGs (RMSE, PSNR) -> one JSON

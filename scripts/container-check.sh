@@ -7,7 +7,8 @@
 #   3. podman build --isolation chroot --pull=never, then the image's configuration (user, health
 #      check, schemas and data directories, volume);
 #   4. the image's server run with buildah (`podman run` needs cgroups this kind of machine lacks)
-#      with the image's own environment: a render, the web page, /openapi.json, a schema, an OBJ
+#      with the image's own environment: a render, the web page, /openapi.json, a schema, the
+#      furniture catalogue (its entries, an icon, a read-only catalogue mesh), an OBJ
 #      import stored with store=1, the stored scene rendered by id (also anti-aliased) and picked,
 #      /metrics, the health check;
 #   5. SIGTERM, a second start of the same container, and the stored scene still there (the data
@@ -194,6 +195,24 @@ if [ "${got%% *}" = 200 ] && [ -n "$(json_field "$work/out" '$schema')" ]; then
   pass "GET /v1/schemas/request.schema.json -> $got"
 else
   fail "GET /v1/schemas/request.schema.json -> $got"
+fi
+
+# The furniture catalogue from the image's copy: its entries, an icon, a catalogue mesh read-only.
+got=$(fetch /v1/catalogue)
+items=$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(len(d["items"]))' "$work/out" 2>/dev/null || echo 0)
+chair_ref=$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(next(i["piece"]["parts"][0]["ref"] for i in d["items"] if i["id"] == "chair"))' "$work/out" 2>/dev/null || true)
+if [ "${got%% *}" = 200 ] && [ "$items" -ge 30 ] && [[ "$chair_ref" =~ ^[0-9a-f]{16}$ ]]; then
+  pass "GET /v1/catalogue -> $got, $items entries"
+else
+  fail "GET /v1/catalogue -> $got: $(head -c 300 "$work/out")"
+fi
+got=$(fetch /v1/catalogue/chair/icon.png)
+[ "${got%% *}" = 200 ] && is_png "$work/out" && pass "GET /v1/catalogue/chair/icon.png -> $got, PNG" ||
+  fail "GET /v1/catalogue/chair/icon.png -> $got"
+if [ -n "$chair_ref" ]; then
+  got=$(fetch "/v1/meshes/$chair_ref" -X DELETE)
+  [ "${got%% *}" = 403 ] && pass "DELETE /v1/meshes/$chair_ref (a catalogue mesh) -> $got" ||
+    fail "DELETE /v1/meshes/$chair_ref -> $got"
 fi
 
 # A unit cube as a Wavefront OBJ, imported and stored in one request.

@@ -51,8 +51,9 @@ class DocumentStore {
   // meanwhile); each backend checks that itself (open_stores.hpp).
   enum class PutResult { created, existed, too_large, full, conflict, missing_reference };
   // not_owner: stored, but the caller holds no reference to it. pinned: the last reference, but
-  // something stored depends on it (a mesh that a stored scene places).
-  enum class ReleaseResult { removed, reference_dropped, not_found, not_owner, pinned };
+  // something stored depends on it (a mesh that a stored scene places). read_only: part of what the
+  // server ships (a catalogue mesh, catalogue_store.hpp), never deleted.
+  enum class ReleaseResult { removed, reference_dropped, not_found, not_owner, pinned, read_only };
 
   struct Listed {
     std::string id;

@@ -2,6 +2,7 @@
 // context, JSON answers and times, conditional requests, body parsing and render admission.
 #include "server/routes.hpp"
 
+#include "server/catalogue_store.hpp"
 #include "server/http_util.hpp"
 #include "server/problem.hpp"
 
@@ -63,12 +64,29 @@ std::string rfc3339(std::chrono::system_clock::time_point t) {
 
 }  // namespace
 
+namespace {
+
+ServerConfig with_catalogue(ServerConfig config, const std::shared_ptr<const Catalogue>& catalogue) {
+  config.limits = catalogue_limits(config.limits, catalogue);
+  return config;
+}
+
+Stores with_catalogue(Stores stores, const std::shared_ptr<const Catalogue>& catalogue) {
+  stores.meshes = std::make_unique<CatalogueMeshes>(std::move(stores.meshes), catalogue);
+  return stores;
+}
+
+}  // namespace
+
 ServiceState::ServiceState(const ServerConfig& c)
-    : config(c),
+    : catalogue(load_catalogue(c.catalogue_dir, c.limits)),
+      config(with_catalogue(c, catalogue)),
       gate(render_workers(c), render_queue_length(c)),
-      stores(open_stores(
-          c, [this](const std::string& level, nlohmann::ordered_json fields) { log(level, std::move(fields)); })),
-      cache(c, stores),
+      stores(
+          with_catalogue(open_stores(config, [this](const std::string& level,
+                                                    nlohmann::ordered_json fields) { log(level, std::move(fields)); }),
+                         catalogue)),
+      cache(config, stores),
       limits(cache.limits()),
       access{c.cors_origins, TokenTable::load(c.api_token_file), c.allow_listing} {}
 

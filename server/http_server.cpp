@@ -221,6 +221,9 @@ void Service::start() {
                           "no --data-dir: stored scenes and meshes live only as long as this process; "
                           "give --data-dir DIR (ROOMRENDER_DATA_DIR) to keep them"}});
   }
+  for (const std::string& problem : state_->catalogue->problems) {
+    state_->log("warn", {{"event", "catalogue_entry_left_out"}, {"detail", problem}});
+  }
   if (!config_.store_url.empty() && !config_.data_dir.empty()) {  // said, so nobody backs up an empty directory
     state_->log("warn",
                 {{"event", "data_dir_unused"}, {"reason", "--store keeps stored scenes and meshes in the database"}});

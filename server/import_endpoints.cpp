@@ -52,7 +52,7 @@ bool furniture_param(const Request& req, bool fallback) {
 }
 
 // Each distinct furniture mesh of `imported` stored once (as POST /v1/meshes stores it), and the
-// solids placing it rewritten to name its stored id.
+// solids and parts placing it rewritten to name its stored id.
 void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
   std::map<std::string, std::string> stored_ids;
   for (const auto& [key, mesh] : imported.meshes) {
@@ -65,10 +65,10 @@ void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
     store_document(state, stored);
     stored_ids[key] = stored->id;
   }
-  for (json& solid : imported.request["scene"]["solids"]) {
-    auto ref = solid.find("ref");
-    if (ref != solid.end()) *ref = stored_ids.at(ref->get<std::string>());
-  }
+  for_each_mesh_holder(imported.request["scene"]["solids"], [&](json& holder) {
+    auto ref = holder.find("ref");
+    if (ref != holder.end()) *ref = stored_ids.at(ref->get<std::string>());
+  });
   imported.meshes.clear();
 }
 

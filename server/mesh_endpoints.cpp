@@ -73,6 +73,10 @@ void handle_delete_mesh(ServiceState& state, const Request&, Response& res, cons
       throw HttpError(403, "The mesh " + id +
                                " is stored, but not by this token's owner; only an owner can "
                                "drop its reference.");
+    case MeshDocuments::ReleaseResult::read_only:
+      throw HttpError(403, "The mesh " + id +
+                               " is part of the server's furniture catalogue (GET /v1/catalogue): it is read-only and "
+                               "stays for every scene that places it.");
     case MeshDocuments::ReleaseResult::pinned: {
       std::vector<FieldError> errors;
       std::string list;

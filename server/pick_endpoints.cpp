@@ -1,7 +1,8 @@
 // Picking: POST /v1/pick ({scene, camera, options, x, y}) and POST /v1/scenes/{id}/pick ({camera,
 // options, x, y}) answer which element of the scene is visible at image pixel (x, y): the frame is
 // drawn as /v1/render would draw it (not encoded) and its id buffer names the polygon there, whose
-// object names the element as a JSON Pointer into the document the client sent (as warnings do).
+// object names the element as a JSON Pointer into the document the client sent (as warnings do): a
+// piece whole, with the part under the pixel as a detail.
 #include "server/routes.hpp"
 
 #include "render/core/camera.hpp"
@@ -85,6 +86,7 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
                  {"y", y},
                  {"scene_id", scene.static_id},
                  {"pointer", nullptr},
+                 {"part", nullptr},
                  {"polygon", nullptr},
                  {"point", nullptr},
                  {"depth", nullptr},
@@ -93,7 +95,15 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
       const Polygon& polygon = scene.soup.polygons[id];
       const Vec3 point = point_on_polygon(out.camera, view.options.width, view.options.height, x, y, polygon);
       const Vec3 forward = glm::normalize(out.camera.target - out.camera.position);
-      body["pointer"] = element_pointer(scene.soup.objects[polygon.object].element, scene_pointer);
+      const ElementRef element = scene.soup.objects[polygon.object].element;
+      body["pointer"] = element_pointer(element, scene_pointer);
+      // A piece is picked whole; the part under the pixel is a detail of the answer.
+      if (const int part = polygon_part(scene.soup, id); part >= 0) {
+        const PiecePart& p = scene.scene.geometry.solids[element.index].parts[size_t(part)];
+        body["part"] = {{"index", part},
+                        {"pointer", body["pointer"].get<std::string>() + "/parts/" + std::to_string(part)},
+                        {"name", p.name}};
+      }
       body["polygon"] = id;
       body["point"] = vec_json(point);
       body["depth"] = glm::dot(point - out.camera.position, forward);

@@ -32,7 +32,12 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
       limits_(c.limits),
       bsp(pool_, c.bsp_cache_entries),
       shadow(pool_, CachePool::unbounded, c.shadow_cache_bytes) {
-  limits_.resolve_mesh = [this](const std::string& id) -> std::shared_ptr<const MeshData> {
+  // The configuration's own resolver (the catalogue's meshes) first: what it holds is never stored.
+  limits_.resolve_mesh = [this,
+                          first = c.limits.resolve_mesh](const std::string& id) -> std::shared_ptr<const MeshData> {
+    if (first) {
+      if (auto mesh = first(id)) return mesh;
+    }
     auto stored = find<StoredMesh>(id);
     return stored ? stored->mesh : nullptr;
   };

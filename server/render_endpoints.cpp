@@ -69,16 +69,6 @@ std::string server_timing(const StageTimings& timings) {
   return header;
 }
 
-// Warnings name elements of the document the client sent: the request inline, the scene document
-// when the scene is stored.
-json warnings_json(const std::vector<PlacementWarning>& warnings, const Scene& scene, std::string_view scene_pointer) {
-  json list = json::array();
-  for (const WarningText& w : describe(warnings, scene, scene_pointer)) {
-    list.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
-  }
-  return list;
-}
-
 void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match, const FramePlan& plan,
                      const CancelToken& token, const SlotClock& clock) {
   check_cancel(&token);
@@ -100,7 +90,8 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
   res.set_header("Server-Timing", server_timing(report.timings));
   if (!report.stats.bsp_cache.empty()) res.set_header("X-Cache", report.stats.bsp_cache);
   res.set_header("X-Shadow-Cache", report.stats.shadow_cache);
-  res.set_header("X-Warning-Count", std::to_string(plan.scene.warnings.size()));
+  const size_t problems = placement_problem_count(plan.scene.warnings);
+  res.set_header("X-Warning-Count", std::to_string(problems));
   if (match.media_type == "application/json") {
     nlohmann::ordered_json body = report_json(report);
     body["scene_id"] = report.scene_id;
@@ -109,7 +100,10 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
     body["height"] = report.height;
     body["cache"] = report.stats.bsp_cache.empty() ? "none" : report.stats.bsp_cache;
     body["etag"] = plan.etag;
+    // Warnings name elements of the document the client sent: the request inline, the scene document
+    // when the scene is stored.
     body["warnings"] = warnings_json(plan.scene.warnings, plan.scene.scene, plan.scene_pointer);
+    body["warning_count"] = problems;
     if (plan.view.camera.frame_all) body["camera"] = camera_json(out.camera);  // the frame chosen, to continue from
     body["png_base64"] = base64_encode(out.png);
     res.set_content(body.dump(), "application/json");

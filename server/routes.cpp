@@ -22,7 +22,7 @@ struct Placeholder {
 constexpr Placeholder placeholders[] = {
     {"id", "[0-9a-f]{16}"},   // a stored scene's or mesh's id: 16 hex digits of its content hash
     {"format", "[a-z0-9]+"},  // an importer's name
-    {"name", "[a-z0-9_]+"},   // an example request's file stem
+    {"name", "[a-z0-9_]+"},   // an example request's file stem, a catalogue entry's id
 };
 
 std::string_view placeholder_pattern(std::string_view name, const std::string& path_template) {
@@ -57,7 +57,7 @@ std::string route_pattern(const Route& route) {
 std::vector<Route> service_routes(const ServerConfig& config) {
   std::vector<Route> routes;
   for (std::vector<Route> list : {render_routes(), scene_routes(), mesh_routes(config), import_routes(config),
-                                  meta_routes(config), page_routes(config), pick_routes()}) {
+                                  meta_routes(config), page_routes(config), pick_routes(), catalogue_routes()}) {
     routes.insert(routes.end(), list.begin(), list.end());
   }
   for (Route& r : routes) r.regex = std::regex(route_pattern(r));

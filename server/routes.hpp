@@ -9,6 +9,7 @@
 #include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "server/access.hpp"
+#include "server/catalogue.hpp"
 #include "server/http_server.hpp"
 #include "server/metrics.hpp"
 #include "server/open_stores.hpp"
@@ -37,11 +38,15 @@ struct ServiceState {
   explicit ServiceState(const ServerConfig& config);
   void log(const std::string& level, nlohmann::ordered_json fields) const;  // one JSON line
 
+  // Read before the rest: the configuration's limits resolve its meshes, and the mesh store answers for them.
+  std::shared_ptr<const Catalogue> catalogue;
   const ServerConfig config;
   RenderGate gate;
-  Stores stores;        // the stored scene and mesh documents, in the store --store names (open_stores.hpp)
+  Stores stores;        // the stored scene and mesh documents, in the store --store names (open_stores.hpp),
+                        // the catalogue's meshes in front (catalogue_store.hpp)
   PreparedCache cache;  // what is prepared from them, BSP trees and shadow maps: one budget (prepared_cache.hpp)
-  ParseLimits limits;   // config.limits with "ref" resolved through the cache: parse requests with these
+  ParseLimits limits;   // config.limits with "ref" resolved through the catalogue, then the cache: parse
+                        // requests with these
   AccessPolicy access;  // CORS origins and tokens; loading the token file may throw
   Metrics metrics;
   std::atomic<bool> draining{false};
@@ -96,6 +101,7 @@ std::vector<Route> mesh_routes(const ServerConfig& config);    // mesh_endpoints
 std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
 std::vector<Route> meta_routes(const ServerConfig& config);    // meta_endpoints.cpp
 std::vector<Route> pick_routes();                              // pick_endpoints.cpp
+std::vector<Route> catalogue_routes();                         // catalogue_endpoints.cpp
 // The web page's own routes (the page, the API page's assets, the example requests): served beside
 // the API but not part of it, so schemas/openapi.json leaves them out. meta_endpoints.cpp.
 std::vector<Route> page_routes(const ServerConfig& config);

@@ -7,7 +7,7 @@
 #include "server/routes.hpp"
 
 #include "render/core/timer.hpp"
-#include "render/scene_io/element_pointer.hpp"
+#include "render/scene_io/report_json.hpp"
 #include "server/problem.hpp"
 
 #include <httplib.h>
@@ -50,11 +50,9 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
 }
 
 void answer_stored(ServiceState& state, Response& res, const SceneBody& sent) {
-  json warnings = json::array();
-  for (const WarningText& w : describe(sent.scene->warnings, sent.scene->scene, sent.pointer)) {
-    warnings.push_back({{"pointer", w.pointer}, {"detail", w.detail}});
-  }
-  store_and_answer(state, res, sent.scene, {{"warnings", std::move(warnings)}});
+  store_and_answer(state, res, sent.scene,
+                   {{"warnings", warnings_json(sent.scene->warnings, sent.scene->scene, sent.pointer)},
+                    {"warning_count", placement_problem_count(sent.scene->warnings)}});
 }
 
 void handle_post_scene(ServiceState& state, const Request& req, Response& res, const RouteMatch&) {
@@ -99,7 +97,8 @@ void handle_delete_scene(ServiceState& state, const Request&, Response& res, con
       throw HttpError(403, "The scene " + id +
                                " is stored, but not by this token's owner; only an owner can "
                                "drop its reference.");
-    case SceneDocuments::ReleaseResult::pinned:  // scenes are never pinned
+    case SceneDocuments::ReleaseResult::pinned:  // scenes are never pinned nor read-only
+    case SceneDocuments::ReleaseResult::read_only:
     case SceneDocuments::ReleaseResult::removed:
     case SceneDocuments::ReleaseResult::reference_dropped:
       res.status = 204;

@@ -32,12 +32,26 @@ size_t entry_bytes(const StoredScene& s) {
   return bytes;
 }
 
-// The "ref" of every solid of a scene document, each once, sorted.
-std::vector<std::string> refs_of(const nlohmann::json& document) {
+// Whether a scene placing mesh `ref` depends on the store for it: the catalogue's meshes are always there.
+bool stored_ref(const std::string& ref, const ParseLimits& limits) {
+  return !ref.empty() && !(limits.builtin_mesh && limits.builtin_mesh(ref));
+}
+
+// The stored meshes a scene document places (a solid's "ref", a piece part's), each once, sorted.
+std::vector<std::string> refs_of(const nlohmann::json& document, const ParseLimits& limits) {
   std::set<std::string> refs;
+  auto place = [&](const nlohmann::json& holder) {
+    if (holder.is_object() && holder.contains("ref") && holder["ref"].is_string()) {
+      const std::string& ref = holder["ref"].get_ref<const std::string&>();
+      if (stored_ref(ref, limits)) refs.insert(ref);
+    }
+  };
   if (document.is_object() && document.contains("solids") && document["solids"].is_array()) {
     for (const nlohmann::json& solid : document["solids"]) {
-      if (solid.is_object() && solid.contains("ref") && solid["ref"].is_string()) refs.insert(solid["ref"]);
+      place(solid);
+      if (solid.is_object() && solid.contains("parts") && solid["parts"].is_array()) {
+        for (const nlohmann::json& part : solid["parts"]) place(part);
+      }
     }
   }
   return {refs.begin(), refs.end()};
@@ -77,9 +91,13 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   out->id = hash_hex(out->text);
   static_cast<PreparedScene&>(*out) = rr::prepare_scene(std::move(parsed.scene));
   out->bytes = entry_bytes(*out);
+  // The stored meshes it places: those that are always there (the catalogue's) it does not depend on.
   std::set<std::string> refs;
   for (const Solid& s : out->scene.geometry.solids) {
-    if (!s.mesh_ref.empty()) refs.insert(s.mesh_ref);
+    if (stored_ref(s.mesh_ref, limits)) refs.insert(s.mesh_ref);
+    for (const PiecePart& part : s.parts) {
+      if (stored_ref(part.mesh_ref, limits)) refs.insert(part.mesh_ref);
+    }
   }
   out->mesh_refs.assign(refs.begin(), refs.end());
   return out;
@@ -92,7 +110,7 @@ std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, co
 StoredDocument scene_document(const StoredScene& scene) { return {scene.id, scene.text, scene.mesh_refs}; }
 
 StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits) {
-  return {hash_hex(text), text, refs_of(parse_json_text(text, limits))};
+  return {hash_hex(text), text, refs_of(parse_json_text(text, limits), limits)};
 }
 
 std::string static_id_of(const std::string& text, const ParseLimits& limits) {

@@ -20,6 +20,7 @@ ServerConfig default_server_config() {
   ServerConfig config;
   config.web_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "clients" / "web";
   config.examples_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "examples";
+  config.catalogue_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "catalogue";
   config.schemas_dir = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "schemas";
   return config;
 }

@@ -32,6 +32,7 @@ struct ServerConfig {
   std::filesystem::path web_dir;        // holds index.html, served at GET /
   std::filesystem::path examples_dir;   // holds <name>.json, served under /examples/
   std::filesystem::path schemas_dir;    // holds *.schema.json and openapi.json
+  std::filesystem::path catalogue_dir;  // holds catalogue.json, models/ and icons/ (GET /v1/catalogue)
   std::filesystem::path data_dir;       // stored scenes and meshes persist here; empty: memory only
   size_t max_body_bytes = 8u << 20;     // larger bodies get 413 before they are read
   size_t max_import_bytes = 64u << 20;  // POST /v1/import/{format}: files of other tools (an OBJ interior)

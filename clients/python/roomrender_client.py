@@ -10,9 +10,13 @@ Standard library only (urllib, json, argparse). As a module:
     view = rr.render_stored(receipt["id"], camera={...}, options={"width": 320, "height": 240})
     smooth = rr.render(with_antialias(request, 8))                 # 8 coverage sub-samples per pixel
     rr.render_path(request, orbit_cameras(request["camera"], 36), "frames/")  # frame_0001.png ...
+    catalogue = rr.catalogue()                                      # the server's furniture models
+    chair = place_piece(catalogue["items"][0], center=[2, 1.5], rotation_y=90, id="chair-1")
+    request["scene"]["solids"].append(chair)                        # a piece of its real size
+    rr.pick(request, 320, 240)["pointer"]                           # "/scene/solids/3": the piece whole
 
 As a command (python3 roomrender_client.py --help): render, store, render-stored, import, orbit,
-pipelines. Server errors are RFC 9457 problem+json with JSON Pointers; they surface as RoomrenderError
+pipelines, catalogue. Server errors are RFC 9457 problem+json with JSON Pointers; they surface as RoomrenderError
 (and on the command line as "pointer: detail" lines and exit status 1). Endpoints newer than the
 first server (stored scenes, JSON answers, importers) are detected from GET /openapi.json; using one
 the server lacks raises EndpointMissing naming it.
@@ -211,6 +215,23 @@ class Client:
     def get_png(self, path: str) -> bytes:
         return self._send("GET", path, accept="image/png")[2]
 
+    def pick(self, request: dict, x: int, y: int) -> dict:
+        """POST /v1/pick: the element visible at pixel (x, y) of the request's image: {pointer, part,
+        polygon, point, depth, camera, ...}. A piece of furniture is named whole; `part` is the part
+        under the pixel ({index, pointer, name}), None for other elements and the background."""
+        self._require("/v1/pick")
+        return self._json("POST", "/v1/pick", {**request, "x": x, "y": y})[1]
+
+    def catalogue(self) -> dict:
+        """GET /v1/catalogue: {items: [{id, name, category, size_cm, elevation_cm, icon, piece}],
+        licence, attribution}. Place an item with place_piece()."""
+        self._require("/v1/catalogue", "get")
+        return self._json("GET", "/v1/catalogue")[1]
+
+    def catalogue_icon(self, item_id: str) -> bytes:
+        """The PNG icon of a catalogue entry."""
+        return self._send("GET", f"/v1/catalogue/{_segment(item_id)}/icon.png", accept="image/png")[2]
+
     def import_file(self, data: bytes, fmt: str = "sh3d", store: bool = False, **params: Any) -> dict:
         """POST /v1/import/{fmt} (sh3d: Sweet Home 3D Home.xml or .sh3d; r2v; obj): the complete render
         request the file describes, or with store=True the stored scene's receipt with its camera."""
@@ -258,9 +279,23 @@ class Client:
             answer = json.loads(raw)
             common.update(scene_id=answer.get("scene_id", common["scene_id"]),
                           cache=None if answer.get("cache") in (None, "none") else answer["cache"])
+            # The listed warnings are the deepest; warning_count is every problem the server found.
+            common["warning_count"] = answer.get("warning_count", common["warning_count"])
             return RenderResult(png=base64.b64decode(answer["png_base64"]), timings_ms=answer.get("timings_ms", {}),
                                 counts=answer.get("counts", {}), warnings=answer.get("warnings", []), **common)
         return RenderResult(png=raw, timings_ms=parse_server_timing(headers.get("Server-Timing", "")), **common)
+
+
+def place_piece(item: dict, center: list, rotation_y: float = 0, id: Optional[str] = None,
+                mirrored: bool = False) -> dict:
+    """A catalogue entry (an item of Client.catalogue()) placed as a piece solid at `center` [x, z]:
+    its real size, elevation and parts (read-only stored meshes), turned and optionally mirrored."""
+    piece = {**item["piece"], "center": list(center), "rotation_y": rotation_y}
+    if id is not None:
+        piece["id"] = id
+    if mirrored:
+        piece["mirrored"] = True
+    return piece
 
 
 def _encode(payload: Any) -> bytes:
@@ -391,6 +426,16 @@ def _cmd_pipelines(rr: Client, args) -> None:
     print("\n".join(rr.pipelines()))
 
 
+def _cmd_catalogue(rr: Client, args) -> None:
+    answer = rr.catalogue()
+    for item in answer["items"]:
+        if args.category and item["category"] != args.category:
+            continue
+        size = item["size_cm"]
+        print(f"{item['id']}\t{item['category']}\t{item['name']}\t{size['width']:g} x {size['depth']:g} x {size['height']:g} cm")
+    print(answer["attribution"], file=sys.stderr)
+
+
 def make_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="roomrender_client.py", description=__doc__.split("\n\n")[0])
     p.add_argument("--url", default=DEFAULT_URL, help="server base URL (env ROOMRENDER_URL; default %(default)s)")
@@ -437,6 +482,10 @@ def make_parser() -> argparse.ArgumentParser:
     o.add_argument("--antialias", type=int, choices=ANTIALIAS_SAMPLES, help="coverage sub-samples per pixel")
     o.add_argument("--inline", action="store_true", help="send the whole scene with every frame")
     o.set_defaults(run=_cmd_orbit)
+
+    c = sub.add_parser("catalogue", help="list the server's furniture catalogue: id, category, name, size")
+    c.add_argument("--category", help="only this category (Bedroom, Living room, Kitchen, ...)")
+    c.set_defaults(run=_cmd_catalogue)
 
     l = sub.add_parser("pipelines", help="list the server's pipelines")
     l.set_defaults(run=_cmd_pipelines)

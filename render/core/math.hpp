@@ -13,6 +13,7 @@ namespace rr {
 using Vec2 = glm::dvec2;
 using Vec3 = glm::dvec3;
 using Vec4 = glm::dvec4;
+using Mat3 = glm::dmat3;
 using Mat4 = glm::dmat4;
 using Color = glm::vec3;  // display values in [0, 1], no gamma
 

@@ -32,19 +32,28 @@ struct PlacementWarning {
   double distance_m = 0.0;
   double limit_m = 0.0;
   size_t count = 0;
+  // Its severity: how far the element reaches into the problem (an overlap's depth, the distance
+  // beyond the floor, what an opening lacks of its clearance). The list is sorted by it, deepest first.
+  double depth_m = 0.0;
 };
 
 struct PlacementLimits {
   double tolerance_m = 1e-3;  // overlaps up to 1 mm count as touching: furniture flush to a wall
   double opening_clearance_m = 0.05;
-  size_t max_warnings = 100;          // further problems are summarised in one last warning
+  size_t max_warnings = 100;          // the deepest are listed; the rest are counted in one last warning
   size_t max_pair_work = 50'000'000;  // vertex projections spent on pair tests before giving up
 };
 
 // Footprints are the convex hulls in plan (x, z) of each wall's and solid's polygons, extruded over
 // the element's height range, so a pyramid or an L-shaped prism is treated as its hull: the checks
-// may warn about a near miss, never stay silent about a real overlap of the hulls.
+// may warn about a near miss, never stay silent about a real overlap of the hulls. A piece is one
+// element (one object of the soup): its parts are one body, so a pair of pieces is one warning.
+// The warnings come sorted by depth_m, deepest first (ties in element order), at most
+// limits.max_warnings of them, then one more_problems (or stopped_early) warning counting the rest.
 std::vector<PlacementWarning> placement_warnings(const Scene& scene, const PolygonSoup& soup,
                                                  const PlacementLimits& limits = {});
+
+// How many problems a list from placement_warnings stands for: those listed and those counted.
+size_t placement_problem_count(const std::vector<PlacementWarning>& warnings);
 
 }  // namespace rr

@@ -58,18 +58,31 @@ struct Wall {
   int level = -1;
 };
 
-enum class SolidType { box, cylinder, pyramid, prism, mesh };
+enum class SolidType { box, cylinder, pyramid, prism, mesh, piece };
+
+// One part of a piece: a mesh (inline or stored) with its own colour and material, placed in the
+// piece's unit box [-0.5, 0.5]^3 by `transform` (identity when `transformed` is false).
+struct PiecePart {
+  std::string name;                      // labels the part (a pick names it); draws nothing
+  std::shared_ptr<const MeshData> mesh;  // never null once read
+  std::string mesh_ref;                  // the stored mesh's id when placed by "ref"; empty when inline
+  Color color{0.7f, 0.7f, 0.7f};
+  MaterialParams material;
+  bool transformed = false;
+  Mat3 linear{1.0};  // unit-box point = linear * mesh point + offset
+  Vec3 offset{0.0};
+};
 
 struct Solid {
   SolidType type = SolidType::box;
   std::string id;
   Color color{0.7f, 0.7f, 0.7f};
   MaterialParams material;
-  // Footprint solids (box, cylinder, pyramid).
+  // Footprint solids (box, cylinder, pyramid, piece).
   Vec2 center{0.0, 0.0};
   double base = 0.0;
   double rotation_y_deg = 0.0;  // counter-clockwise seen from above
-  Vec3 size{1.0, 1.0, 1.0};     // box and pyramid: (sx, height, sz)
+  Vec3 size{1.0, 1.0, 1.0};     // box, pyramid and piece: (sx, height, sz)
   // Cylinder.
   double radius = 0.5;
   double height = 1.0;  // cylinder and prism
@@ -85,6 +98,10 @@ struct Solid {
   Vec3 position{0.0, 0.0, 0.0};
   Vec3 scale{1.0, 1.0, 1.0};
   bool closed = false;  // mesh only; the other solids know whether they are closed
+  // Piece: its parts fill the unit box, which is stretched to `size` (mirrored across its width axis
+  // when `mirrored`), turned by rotation_y and stood on (center, base), as a box is placed.
+  std::vector<PiecePart> parts = {};
+  bool mirrored = false;
   int level = -1;
 };
 

@@ -46,6 +46,7 @@ void add(Fnv1a& h, const std::shared_ptr<const MeshData>& m) { h.add_bytes(m ? m
 void add(Fnv1a& h, const MaterialParams& m);
 void add(Fnv1a& h, const Opening& o);
 void add(Fnv1a& h, const Wall& w);
+void add(Fnv1a& h, const PiecePart& p);
 void add(Fnv1a& h, const Solid& s);
 void add(Fnv1a& h, const Level& l);
 void add(Fnv1a& h, const Room& r);
@@ -103,9 +104,25 @@ void add(Fnv1a& h, const Wall& w) {
   add(h, level);
 }
 
+void add(Fnv1a& h, const Mat3& m) {
+  for (int col = 0; col < 3; ++col) add(h, m[col]);
+}
+
+void add(Fnv1a& h, const PiecePart& p) {
+  const auto& [name, mesh, mesh_ref, color, material, transformed, linear, offset] = p;
+  (void)name;
+  (void)mesh_ref;  // names the mesh that `mesh` holds
+  add(h, mesh);
+  add(h, color);
+  add(h, material);
+  add(h, transformed);
+  add(h, linear);
+  add(h, offset);
+}
+
 void add(Fnv1a& h, const Solid& s) {
   const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments, smooth, caps,
-               points, mesh, mesh_ref, position, scale, closed, level] = s;
+               points, mesh, mesh_ref, position, scale, closed, parts, mirrored, level] = s;
   (void)id;
   (void)mesh_ref;  // names the mesh that `mesh` holds
   add(h, type);
@@ -125,6 +142,8 @@ void add(Fnv1a& h, const Solid& s) {
   add(h, position);
   add(h, scale);
   add(h, closed);
+  add(h, parts);
+  add(h, mirrored);
   add(h, level);
 }
 

@@ -1,7 +1,8 @@
 // Solid type "mesh": a shared MeshData (object space) placed by scale, then rotation_y, then
-// position. Closed and smooth only when the request says so (or gives per-vertex normals). The
-// per-mesh work (face areas, convexity, ear clipping, smooth-normal sums) is a MeshPlan made once per
-// MeshData; each placement only transforms vertices and normals and emits the planned pieces.
+// position, through add_placed_mesh, which a piece's parts share. Closed and smooth only when the
+// request says so (or gives per-vertex normals). The per-mesh work (face areas, convexity, ear clipping, smooth-normal
+// sums) is a MeshPlan made once per MeshData; each placement only transforms vertices and normals and emits the planned
+// pieces.
 #include "render/core/solids.hpp"
 #include "render/core/tessellate_detail.hpp"
 
@@ -46,47 +47,70 @@ const MeshPlan& plan_of(const MeshData& mesh) {
   return *mesh.plan;
 }
 
-// A normal in world space: the inverse transpose of scale, then rotation_y (not normalised). It
-// keeps the direction an area-weighted normal takes, so object-space sums transform as sums.
-Vec3 normal_to_world(const Solid& s, Vec3 n, double angle_rad) {
-  const Vec3 scaled = n / s.scale;
-  const Vec2 xz = rotate_plan({scaled.x, scaled.z}, angle_rad);
-  return Vec3(xz.x, scaled.y, xz.y);
-}
+// A placement's maps of points and of normals, object space -> world.
+class Placed {
+ public:
+  explicit Placed(const MeshPlacement& place) : place_(place) {
+    if (place.pre) normal_linear_ = glm::transpose(glm::inverse(place.pre->linear));
+  }
+
+  // Scale, then rotate_y, then translate (after the part's affine step, if any).
+  Vec3 point(Vec3 p) const {
+    if (place_.pre) p = place_.pre->linear * p + place_.pre->offset;
+    const Vec3 scaled = p * place_.scale;
+    const Vec2 xz = rotate_plan({scaled.x, scaled.z}, place_.rotation_y_rad);
+    return place_.position + Vec3(xz.x, scaled.y, xz.y);
+  }
+
+  // The inverse transpose of the same steps (not normalised). It keeps the direction an
+  // area-weighted normal takes, so object-space sums transform as sums.
+  Vec3 normal(Vec3 n) const {
+    if (place_.pre) n = normal_linear_ * n;
+    const Vec3 scaled = n / place_.scale;
+    const Vec2 xz = rotate_plan({scaled.x, scaled.z}, place_.rotation_y_rad);
+    return Vec3(xz.x, scaled.y, xz.y);
+  }
+
+ private:
+  const MeshPlacement& place_;
+  Mat3 normal_linear_{1.0};
+};
 
 // Per vertex shading normals of one placement: the given ones, or the smooth sums; zero where a
 // vertex has no sum (its faces then use their own normal). Empty when faceted.
-std::vector<glm::vec3> placed_shading(const Solid& s, const MeshPlan& plan, double angle_rad) {
-  const MeshData& mesh = *s.mesh;
-  const std::vector<Vec3>* source = !mesh.normals.empty() ? &mesh.normals : (s.smooth ? &plan.vertex_sum : nullptr);
+std::vector<glm::vec3> placed_shading(const MeshData& mesh, const MeshPlan& plan, const Placed& placed, bool smooth) {
+  const std::vector<Vec3>* source = !mesh.normals.empty() ? &mesh.normals : (smooth ? &plan.vertex_sum : nullptr);
   std::vector<glm::vec3> out;
   if (!source) return out;
   out.reserve(source->size());
   for (const Vec3& n : *source) {
-    const Vec3 w = normal_to_world(s, n, angle_rad);
+    const Vec3 w = placed.normal(n);
     const double len = glm::length(w);
     out.push_back(len > 0.0 ? glm::vec3(w / len) : glm::vec3(0.0f));
   }
   return out;
 }
 
-// Object space -> world: scale, then rotate_y, then translate. A mirroring scale needs no reversal:
-// add_polygon winds each piece to agree with the transformed outward normal.
 void add_mesh(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t object) {
-  const MeshData& mesh = *s.mesh;
+  const MeshPlacement place{s.position, radians(s.rotation_y_deg), s.scale, nullptr};
+  add_placed_mesh(out, *s.mesh, place, s.smooth, material, object);
+}
+
+size_t estimate_mesh(const Solid& s) { return estimate_mesh_polygons(*s.mesh); }
+
+}  // namespace
+
+void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement& place, bool smooth, uint32_t material,
+                     uint32_t object) {
   const MeshPlan& plan = plan_of(mesh);
-  const double a = radians(s.rotation_y_deg);
+  const Placed placed(place);
   std::vector<Vec3> world(mesh.vertices.size());
-  for (size_t i = 0; i < world.size(); ++i) {
-    const Vec3 scaled = mesh.vertices[i] * s.scale;
-    const Vec2 xz = rotate_plan({scaled.x, scaled.z}, a);
-    world[i] = s.position + Vec3(xz.x, scaled.y, xz.y);
-  }
-  const std::vector<glm::vec3> vertex_shading = placed_shading(s, plan, a);
+  for (size_t i = 0; i < world.size(); ++i) world[i] = placed.point(mesh.vertices[i]);
+  const std::vector<glm::vec3> vertex_shading = placed_shading(mesh, plan, placed, smooth);
   std::vector<Vec3> points;
   std::vector<glm::vec3> shading;
   for (const MeshPlan::Face& f : plan.faces) {
-    const Vec3 outward = normal_to_world(s, f.newell, a);
+    const Vec3 outward = placed.normal(f.newell);
     points.clear();
     shading.clear();
     for (uint32_t v : mesh.faces[f.face]) {
@@ -101,10 +125,7 @@ void add_mesh(SoupBuilder& out, const Solid& s, uint32_t material, uint32_t obje
   }
 }
 
-// A face of k >= 3 vertices becomes at most k - 2 triangles.
-size_t estimate_mesh(const Solid& s) { return s.mesh->index_count - 2 * s.mesh->faces.size(); }
-
-}  // namespace
+size_t estimate_mesh_polygons(const MeshData& mesh) { return mesh.index_count - 2 * mesh.faces.size(); }
 
 extern const SolidInfo mesh_solid = {SolidType::mesh,
                                      "mesh",

@@ -205,6 +205,12 @@ size_t estimate_polygon_count(const StaticGeometry& geometry) {
   return count;
 }
 
+int polygon_part(const PolygonSoup& soup, uint32_t id) {
+  const std::vector<uint32_t>& first = soup.objects[soup.polygons[id].object].part_first_polygon;
+  auto it = std::upper_bound(first.begin(), first.end(), id);
+  return it == first.begin() ? -1 : int(it - first.begin()) - 1;
+}
+
 double polygon_area(std::span<const Vec3> points) { return 0.5 * glm::length(detail::newell_vector(points)); }
 
 }  // namespace rr

@@ -28,6 +28,9 @@ struct SceneObject {
   bool smooth = false;   // shading normals are averaged across faces
   int level = -1;        // its element's level (StaticGeometry::levels), -1: on none
   bool ceiling = false;  // a room's ceiling: a view may leave it out (RenderOptions::ceilings)
+  // A piece: the id of the first polygon of each of its parts (parts emit their polygons in order,
+  // so a polygon's part is the last one starting at or before its id). Empty for other elements.
+  std::vector<uint32_t> part_first_polygon = {};
   // Axis-aligned bounds of its polygons, when `bounded`: bound_objects() fills them once a soup will
   // not change (prepare_scene), so a frame's object culling reads them instead of every vertex. A
   // soup made from another one's pieces keeps them: the pieces lie inside, so culling stays
@@ -65,6 +68,10 @@ struct PolygonSoup {
     return {normals.data() + p.first_vertex, p.vertex_count};
   }
 };
+
+// The part of a piece that polygon `id` belongs to (an index into its Solid::parts), or -1 when its
+// object is not a piece.
+int polygon_part(const PolygonSoup& soup, uint32_t id);
 
 // Fills every object's bounds from its polygons (an object with none gets lo > hi). Call it only on a
 // soup whose points will not move again.

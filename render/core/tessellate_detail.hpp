@@ -25,6 +25,11 @@ class SoupBuilder {
   bool add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material, uint32_t object,
                    std::span<const glm::vec3> shading = {});
 
+  // The polygons added to `object` from now on belong to its next part (a piece's).
+  void begin_part(uint32_t object) {
+    soup_.objects[object].part_first_polygon.push_back(uint32_t(soup_.polygons.size()));
+  }
+
   // Tags `object` as a room's ceiling: the views that leave ceilings out skip its polygons.
   void mark_ceiling(uint32_t object) { soup_.objects[object].ceiling = true; }
 
@@ -66,6 +71,23 @@ bool split_face(std::span<const Vec3> points, std::vector<std::array<uint32_t, 3
 void add_face_pieces(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
                      std::span<const std::array<uint32_t, 3>> triangles, Vec3 outward, uint32_t material,
                      uint32_t object);
+
+// Where a mesh's object space goes: p -> position + rotate_y(scale * (linear * p + offset)), the
+// affine step only when `pre` is set (a piece's part in its unit box). `scale` may be negative on an
+// axis (a mirrored piece): add_polygon winds each piece to agree with the transformed normal.
+struct MeshPlacement {
+  Vec3 position{0.0};
+  double rotation_y_rad = 0.0;
+  Vec3 scale{1.0};
+  const PiecePart* pre = nullptr;  // its linear and offset
+};
+
+// Emits a mesh's faces placed by `place` (solid_mesh.cpp): the given normals, else the averaged ones
+// when `smooth`, else faceted. The per-mesh work is planned once per MeshData and reused.
+void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement& place, bool smooth, uint32_t material,
+                     uint32_t object);
+// A face of k >= 3 vertices becomes at most k - 2 triangles.
+size_t estimate_mesh_polygons(const MeshData& mesh);
 
 // Walls with their joins, openings, door leaves and panes (tessellate_walls.cpp).
 void add_walls(SoupBuilder& out, const std::vector<Wall>& walls);

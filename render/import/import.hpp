@@ -7,6 +7,7 @@
 // Pure functions: no file access here; companion files (an OBJ's .mtl) come through a callback.
 #pragma once
 
+#include "render/core/math.hpp"
 #include "render/import/archive.hpp"
 #include "render/scene_io/errors.hpp"
 
@@ -62,12 +63,32 @@ struct ImportOptions {
 struct ImportResult {
   nlohmann::json request;             // {"scene", "camera", "options"}
   std::vector<std::string> warnings;  // what was repaired, approximated or skipped, one line each
-  // With ImportOptions::mesh_refs: the meshes the scene's {"type": "mesh", "ref": key} solids place,
+  // With ImportOptions::mesh_refs: the meshes the scene's solids and pieces' parts place by "ref": key,
   // by key, each in the mesh solid's form {"vertices", "faces"[, "normals"]}. Empty otherwise.
   std::map<std::string, nlohmann::json> meshes;
 };
 
-// Puts each mesh of `result.meshes` into the solids whose "ref" names it, and empties the map: the
+// A furniture model as the parts of a piece, made as the Sweet Home 3D importer makes a piece's:
+// the OBJ's positions turned by `model_rotation` (Sweet Home 3D's modelRotation: 9 numbers, a
+// row-major 3x3 matrix; identity when empty), centred on their box and divided by its extent (the
+// unit box a piece stretches to its size), one mesh per group with faces (faces repaired as for any
+// OBJ), each coloured by the model's .mtl (read through options.read_companion), else Sweet Home
+// 3D's default material library, else grey.
+struct FurnitureModel {
+  nlohmann::json parts;                          // [{"name", "ref": key, "color"[, "material"]}]
+  std::map<std::string, nlohmann::json> meshes;  // by key: {"vertices", "faces"[, "normals"]}
+  Vec3 extent{0.0};                              // of the turned model, in its file's units
+  std::vector<std::string> warnings;             // what was repaired
+};
+// Throws InputError when the OBJ cannot be read or has nothing to draw.
+FurnitureModel import_furniture_model(std::string_view obj_text, const std::string& name, const ImportOptions& options,
+                                      std::string_view model_rotation = "");
+
+// Calls `visit` on every object of `solids` that holds a mesh (inline or by "ref"): a mesh solid, and
+// each part of a piece.
+void for_each_mesh_holder(nlohmann::json& solids, const std::function<void(nlohmann::json&)>& visit);
+
+// Puts each mesh of `result.meshes` into the solids (and pieces' parts) whose "ref" names it, and empties the map: the
 // request then stands alone. A solid's placement (position, rotation_y, scale, colour) is kept.
 void inline_mesh_refs(ImportResult& result);
 

@@ -132,24 +132,61 @@ ObjData parse_obj(std::string_view text) {
   return obj;
 }
 
-// newmtl name -> Kd colour, from the text of one .mtl file.
-void parse_mtl(std::string_view text, std::map<std::string, Color>& colors) {
+void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materials) {
   std::string current;
   LineReader lines(text);
+  // The first three numbers after the keyword, each clamped to 0..1; nullopt when one is missing.
+  auto rgb = [](const std::vector<std::string_view>& fields) -> std::optional<Color> {
+    if (fields.size() < 4) return std::nullopt;
+    Color c{0.7f};
+    for (int k = 0; k < 3; ++k) {
+      if (auto v = parse_double(fields[size_t(k) + 1])) c[k] = float(std::clamp(*v, 0.0, 1.0));
+    }
+    return c;
+  };
   while (auto line = lines.next()) {
     std::vector<std::string_view> fields = split_fields(*line);
     if (fields.empty() || fields[0].front() == '#') continue;
     if (fields[0] == "newmtl") {
       current = rest_of_line(*line, "newmtl");
-      colors.try_emplace(current, Color{0.7f});
-    } else if (fields[0] == "Kd" && !current.empty() && fields.size() >= 4) {
-      Color c{0.7f};
-      for (int k = 0; k < 3; ++k) {
-        if (auto v = parse_double(fields[size_t(k) + 1])) c[k] = float(std::clamp(*v, 0.0, 1.0));
+      materials.try_emplace(current);
+      continue;
+    }
+    if (current.empty()) continue;
+    MtlMaterial& m = materials[current];
+    if (fields[0] == "Kd") {
+      if (auto c = rgb(fields)) m.diffuse = *c;
+    } else if (fields[0] == "Ks") {
+      if (auto c = rgb(fields)) {
+        const float strength = std::max({c->r, c->g, c->b});
+        m.params.specular = strength;
+        m.params.specular_color = strength > 0.0f ? *c / strength : Color{1.0f};
+        m.specular = true;
       }
-      colors[current] = c;
+    } else if (fields[0] == "Ns" && fields.size() >= 2) {
+      if (auto v = parse_double(fields[1])) {
+        m.params.shininess = float(std::clamp(*v, 1.0, 128.0));
+        m.specular = true;
+      }
     }
   }
+}
+
+nlohmann::json material_json(const MtlMaterial& m) {
+  if (!m.specular) return nullptr;
+  auto round3 = [](double v) { return std::round(v * 1000.0) / 1000.0; };
+  return {{"specular", round3(m.params.specular)},
+          {"specular_color", json_color(m.params.specular_color)},
+          {"shininess", round3(m.params.shininess)}};
+}
+
+const std::map<std::string, MtlMaterial>& default_materials() {
+  static const std::map<std::string, MtlMaterial> library = [] {
+    std::map<std::string, MtlMaterial> out;
+    parse_mtl(default_materials_mtl(), out);
+    return out;
+  }();
+  return library;
 }
 
 namespace {
@@ -270,7 +307,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   const double scale = resolve_scale(options, ImportFormat::obj);
   ObjData obj = parse_obj(text);
   ImportResult result;
-  std::map<std::string, Color> colors;
+  std::map<std::string, MtlMaterial> colors;
   for (const std::string& library : obj.libraries) {
     std::optional<std::string> mtl = options.read_companion ? options.read_companion(library) : std::nullopt;
     if (mtl) {
@@ -294,7 +331,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   for (const Group& g : obj.groups) {
     auto color = colors.find(g.material);
     json mesh = group_mesh(g, obj, obj.positions, obj.normals, false,
-                           color != colors.end() ? color->second : Color{0.7f}, repairs, box);
+                           color != colors.end() ? color->second.diffuse : Color{0.7f}, repairs, box);
     if (scale != 1.0) mesh["scale"] = scale;
     if (!mesh["faces"].empty()) solids.push_back(std::move(mesh));
   }

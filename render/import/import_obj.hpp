@@ -3,6 +3,7 @@
 // vertices the caller has already placed (file units for a plain OBJ, world metres for furniture).
 #pragma once
 
+#include "render/core/scene.hpp"
 #include "render/import/import_common.hpp"
 
 #include <map>
@@ -43,8 +44,26 @@ struct ObjData {
 // Throws InputError naming the line of a bad number, index or face.
 ObjData parse_obj(std::string_view text);
 
-// newmtl name -> Kd colour, from the text of one .mtl file (unknown lines are ignored).
-void parse_mtl(std::string_view text, std::map<std::string, Color>& colors);
+// A material of a .mtl file as we draw it: Kd as the colour; Ks as the specular strength (its
+// largest channel) and colour, Ns as the shininess (clamped to 1..128, as Java 3D does), when given.
+struct MtlMaterial {
+  Color diffuse{0.7f};
+  MaterialParams params;
+  bool specular = false;  // Ks or Ns was given: `params` holds them
+};
+
+// newmtl name -> material, from the text of one .mtl file (unknown lines are ignored; a material
+// without Kd keeps the grey).
+void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materials);
+
+// Sweet Home 3D's default material library, which it resolves models' material names from when they
+// have no .mtl of their own: catalogue/default-materials.mtl, compiled in (134 materials).
+const std::map<std::string, MtlMaterial>& default_materials();
+// That file's text (a source CMake generates from it: default_materials_mtl.cpp.in).
+std::string_view default_materials_mtl();
+
+// A material's "material" member ({specular, specular_color, shininess}), or null without specular.
+nlohmann::json material_json(const MtlMaterial& material);
 
 struct RepairCounts {
   size_t triangulated = 0;     // non-planar faces split into triangles

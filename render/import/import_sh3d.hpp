@@ -99,13 +99,21 @@ struct Sh3dModelCache {
   size_t polygons_repaired = 0;
 };
 
-// Appends a piece's model as mesh solids placed as Sweet Home 3D places it (the model's box, after
-// its modelRotation, scaled onto the piece's box; modelMirrored flips its width axis), coloured by the
-// piece's color, else its <material> colours by name, else the model's .mtl. Each solid names its
-// mesh in cache.meshes by "ref". False when the model is not available through
-// options.read_companion (its name as written, then furniture/<file name>).
-bool add_piece_model(const Sh3dElement& e, const PiecePlacement& place, const ImportOptions& options,
-                     Sh3dModelCache& cache, nlohmann::json& solids);
+// The parts of a piece's model, one per OBJ group with faces: {"name": its material, "ref": its mesh
+// in cache.meshes (the unit box form), "color"[, "material"]}, coloured by the piece's color, else its
+// <material> colours by name, else the model's .mtl, else Sweet Home 3D's default library (whose
+// materials bring their specular terms too), else grey. `extent` gets the model's extent after its modelRotation (0
+// on an axis where it is flat). nullopt when the model is not available through
+// options.read_companion (its name as written, then furniture/<file name>) or has no faces.
+std::optional<nlohmann::json> model_parts(const Sh3dElement& e, const ImportOptions& options, Sh3dModelCache& cache,
+                                          Vec3& extent);
+
+// Sweet Home 3D's modelRotation text (a row-major 3x3 matrix of 9 numbers), identity when absent or
+// malformed.
+glm::dmat3 model_rotation_matrix(std::string_view text);
+
+// The key in cache.meshes of the unit cube [-0.5, 0.5]^3 (a group's member without a model).
+std::string unit_box_mesh(Sh3dModelCache& cache);
 
 // The warnings about models that were missing, unreadable or repaired.
 void add_model_warnings(const Sh3dModelCache& cache, std::vector<std::string>& warnings);

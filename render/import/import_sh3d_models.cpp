@@ -1,9 +1,9 @@
-// Sweet Home 3D furniture drawn with its OBJ model (ImportOptions::furniture_models), as Sweet Home 3D
-// places it: modelRotation (a row-major 3x3 matrix) first, then the model's bounding box centred and
-// scaled onto the piece's width x height x depth, mirrored across its width axis when modelMirrored,
-// turned by the piece's angle and set on its bottom centre. Each distinct (model, modelRotation,
-// mirroring, group) is one mesh in the unit box, placed by a mesh solid's scale, rotation_y and
-// position, so a model placed N times is stored once. Faces are repaired as for any OBJ.
+// Sweet Home 3D furniture models (ImportOptions::furniture_models) as the parts of pieces, placed as
+// Sweet Home 3D places them: modelRotation (a row-major 3x3 matrix) first, then the model's bounding
+// box centred and scaled onto the piece's width x height x depth, mirrored across its width axis when
+// modelMirrored, turned by the piece's angle and set on its bottom centre. Each distinct (model,
+// modelRotation, mirroring, group) is one mesh in the unit box, which a piece stretches to its size,
+// so a model placed N times is stored once. Faces are repaired as for any OBJ.
 #include "render/import/import_obj.hpp"
 #include "render/import/import_sh3d.hpp"
 
@@ -16,7 +16,7 @@ using nlohmann::json;
 
 struct Sh3dModel {
   ObjData obj;
-  std::map<std::string, Color> mtl_colors;
+  std::map<std::string, MtlMaterial> mtl_materials;
 };
 
 namespace {
@@ -40,7 +40,7 @@ std::shared_ptr<Sh3dModel> read_model(const std::string& name, const std::string
     return nullptr;
   }
   for (const std::string& library : model->obj.libraries) {
-    if (auto mtl = options.read_companion(directory_of(path) + library)) parse_mtl(*mtl, model->mtl_colors);
+    if (auto mtl = options.read_companion(directory_of(path) + library)) parse_mtl(*mtl, model->mtl_materials);
   }
   return model;
 }
@@ -66,27 +66,15 @@ std::shared_ptr<const Sh3dModel> load_model(const std::string& name, const Impor
 
 // The 3x3 row-major matrix of modelRotation, identity when absent or malformed.
 glm::dmat3 model_rotation(const pugi::xml_node& node) {
-  glm::dmat3 m(1.0);
-  std::vector<std::string_view> fields = split_fields(node.attribute("modelRotation").as_string(""));
-  if (fields.size() != 9) return m;
-  for (int row = 0; row < 3; ++row) {
-    for (int col = 0; col < 3; ++col) {
-      auto v = parse_double(fields[size_t(row * 3 + col)]);
-      if (!v) return glm::dmat3(1.0);
-      m[col][row] = *v;  // glm is column-major
-    }
-  }
-  return m;
+  return model_rotation_matrix(node.attribute("modelRotation").as_string(""));
 }
 
 // The model as pieces with this modelRotation and mirroring use it, built once: positions turned by
 // modelRotation, centred on their box and divided by its extent (so any piece places it by scaling
 // with its own size), mirrored across x (faces reversed by group_mesh); normals by the inverse
 // transpose of the same map.
-const Sh3dModelVariant& model_variant(const std::string& name, const Sh3dModel& model, const pugi::xml_node& node,
-                                      Sh3dModelCache& cache) {
-  const glm::dmat3 rotation = model_rotation(node);
-  const bool mirrored = node.attribute("modelMirrored").as_bool(false);
+const Sh3dModelVariant& model_variant(const std::string& name, const Sh3dModel& model, const glm::dmat3& rotation,
+                                      bool mirrored, Sh3dModelCache& cache) {
   std::string key = name + (mirrored ? " mirrored" : "");
   for (int col = 0; col < 3; ++col) {
     for (int row = 0; row < 3; ++row) key.append(1, ' ').append(std::to_string(rotation[col][row]));
@@ -124,41 +112,75 @@ const Sh3dModelVariant& model_variant(const std::string& name, const Sh3dModel& 
   return variant;
 }
 
+// One part per group of `variant` with faces, coloured by `piece_color`, else `piece_materials` by
+// name, else the model's .mtl, else the default library, else grey.
+json variant_parts(const Sh3dModel* model, const Sh3dModelVariant& variant,
+                   const std::map<std::string, Color>& piece_materials, std::optional<Color> piece_color) {
+  json parts = json::array();
+  for (size_t g = 0; g < model->obj.groups.size(); ++g) {
+    if (variant.mesh_keys[g].empty()) continue;
+    const std::string& material_name = model->obj.groups[g].material;
+    MtlMaterial material;  // grey
+    const std::map<std::string, MtlMaterial>& library = default_materials();
+    if (auto it = library.find(material_name); it != library.end()) material = it->second;
+    if (auto it = model->mtl_materials.find(material_name); it != model->mtl_materials.end()) material = it->second;
+    if (auto it = piece_materials.find(material_name); it != piece_materials.end()) material = {it->second, {}, false};
+    if (piece_color) material = {*piece_color, {}, false};
+    json part = {{"name", material_name}, {"ref", variant.mesh_keys[g]}, {"color", json_color(material.diffuse)}};
+    if (json m = material_json(material); !m.is_null()) part["material"] = std::move(m);
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
 }  // namespace
 
-bool add_piece_model(const Sh3dElement& e, const PiecePlacement& place, const ImportOptions& options,
-                     Sh3dModelCache& cache, json& solids) {
+glm::dmat3 model_rotation_matrix(std::string_view text) {
+  glm::dmat3 m(1.0);
+  std::vector<std::string_view> fields = split_fields(text);
+  if (fields.size() != 9) return m;
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) {
+      auto v = parse_double(fields[size_t(row * 3 + col)]);
+      if (!v) return glm::dmat3(1.0);
+      m[col][row] = *v;  // glm is column-major
+    }
+  }
+  return m;
+}
+
+std::optional<json> model_parts(const Sh3dElement& e, const ImportOptions& options, Sh3dModelCache& cache,
+                                Vec3& extent) {
   const std::string name = e.node.attribute("model").as_string("");
-  if (name.empty()) return false;
+  if (name.empty()) return std::nullopt;
   std::shared_ptr<const Sh3dModel> model = load_model(name, options, cache);
-  if (!model || model->obj.positions.empty()) return false;
-  const Sh3dModelVariant& variant = model_variant(name, *model, e.node, cache);
-  // Scale, then rotation_y, then position (the mesh solid's order) puts the unit model on the piece's box.
-  Vec3 scale{1.0};
-  for (int k = 0; k < 3; ++k) scale[k] = variant.extent[k] > 1e-9 ? place.size[k] : 1.0;
-  const json position = json_vec3({place.centre.x, place.base + 0.5 * place.size.y, place.centre.y});
+  if (!model || model->obj.positions.empty()) return std::nullopt;
+  const bool mirrored = e.node.attribute("modelMirrored").as_bool(false);
+  const Sh3dModelVariant& variant = model_variant(name, *model, model_rotation(e.node), mirrored, cache);
+  extent = variant.extent;
   std::map<std::string, Color> piece_materials;
   for (pugi::xml_node m : e.node.children("material")) {
     if (auto color = color_attribute(m, "color")) piece_materials[m.attribute("name").as_string("")] = *color;
   }
-  const std::optional<Color> piece_color = color_attribute(e.node, "color");
-  const std::string id = std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")";
-  for (size_t g = 0; g < model->obj.groups.size(); ++g) {
-    if (variant.mesh_keys[g].empty()) continue;
-    const std::string& material = model->obj.groups[g].material;
-    Color color{0.7f};
-    if (auto it = model->mtl_colors.find(material); it != model->mtl_colors.end()) color = it->second;
-    if (auto it = piece_materials.find(material); it != piece_materials.end()) color = it->second;
-    if (piece_color) color = *piece_color;
-    solids.push_back({{"type", "mesh"},
-                      {"id", id + " " + material},
-                      {"ref", variant.mesh_keys[g]},
-                      {"position", position},
-                      {"rotation_y", -place.angle * 180.0 / pi},
-                      {"scale", json_vec3(scale)},
-                      {"color", json_color(color)}});
+  json parts = variant_parts(model.get(), variant, piece_materials, color_attribute(e.node, "color"));
+  if (parts.empty()) return std::nullopt;
+  return parts;
+}
+
+std::string unit_box_mesh(Sh3dModelCache& cache) {
+  const std::string key = "unit box";
+  if (!cache.meshes.contains(key)) {
+    json vertices = json::array();
+    for (double z : {-0.5, 0.5}) {
+      for (double y : {-0.5, 0.5}) {
+        for (double x : {-0.5, 0.5}) vertices.push_back({x, y, z});
+      }
+    }
+    // Corner index = x + 2y + 4z (each 0 or 1); every quad counter-clockwise seen from outside.
+    const json faces = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    cache.meshes[key] = {{"vertices", std::move(vertices)}, {"faces", faces}};
   }
-  return true;
+  return key;
 }
 
 void add_model_warnings(const Sh3dModelCache& cache, std::vector<std::string>& warnings) {
@@ -181,14 +203,14 @@ void add_model_warnings(const Sh3dModelCache& cache, std::vector<std::string>& w
 namespace {
 
 void inline_refs(std::map<std::string, json>& meshes, json& solids) {
-  for (json& solid : solids) {
-    auto ref = solid.find("ref");
-    if (ref == solid.end() || !ref->is_string()) continue;
+  for_each_mesh_holder(solids, [&](json& holder) {
+    auto ref = holder.find("ref");
+    if (ref == holder.end() || !ref->is_string()) return;
     auto mesh = meshes.find(ref->get<std::string>());
-    if (mesh == meshes.end()) continue;
-    solid.erase(ref);
-    for (auto& [field, value] : mesh->second.items()) solid[field] = value;
-  }
+    if (mesh == meshes.end()) return;
+    holder.erase(ref);
+    for (auto& [field, value] : mesh->second.items()) holder[field] = value;
+  });
   meshes.clear();
 }
 
@@ -197,6 +219,46 @@ void inline_refs(std::map<std::string, json>& meshes, json& solids) {
 }  // namespace rr::import_detail
 
 namespace rr {
+
+void for_each_mesh_holder(nlohmann::json& solids, const std::function<void(nlohmann::json&)>& visit) {
+  for (nlohmann::json& solid : solids) {
+    if (!solid.is_object()) continue;
+    auto parts = solid.find("parts");
+    if (parts == solid.end()) {
+      visit(solid);
+    } else if (parts->is_array()) {
+      for (nlohmann::json& part : *parts) {
+        if (part.is_object()) visit(part);
+      }
+    }
+  }
+}
+
+FurnitureModel import_furniture_model(std::string_view obj_text, const std::string& name, const ImportOptions& options,
+                                      std::string_view model_rotation_text) {
+  using namespace import_detail;
+  Sh3dModel model;
+  model.obj = parse_obj(obj_text);
+  for (const std::string& library : model.obj.libraries) {
+    if (auto mtl = options.read_companion ? options.read_companion(library) : std::nullopt) {
+      parse_mtl(*mtl, model.mtl_materials);
+    }
+  }
+  if (model.obj.positions.empty()) throw InputError(Kind::invalid, "", "the model has no vertices");
+  Sh3dModelCache cache;
+  const Sh3dModelVariant& variant =
+      model_variant(name, model, model_rotation_matrix(model_rotation_text), false, cache);
+  FurnitureModel out;
+  out.parts = variant_parts(&model, variant, {}, std::nullopt);
+  if (out.parts.empty()) throw InputError(Kind::invalid, "", "the model has no faces to draw");
+  out.meshes = std::move(cache.meshes);
+  out.extent = variant.extent;
+  if (cache.polygons_repaired) {
+    out.warnings.push_back(std::to_string(cache.polygons_repaired) +
+                           " faces were triangulated or dropped (non-planar or of zero area)");
+  }
+  return out;
+}
 
 void inline_mesh_refs(ImportResult& result) {
   auto solids = result.request.find("scene");

@@ -1,9 +1,10 @@
 // Sweet Home 3D Home.xml -> a request: every level as a scene level at its elevation (hidden ones
 // not viewable, so not drawn by default) with its elements tagged, walls and openings
-// (import_sh3d_walls.cpp), rooms as rooms (floor and ceiling), furniture and lamps as boxes of the
-// piece's size and angle, each light source as a point light, and the observer camera as the
-// camera. Centimetres -> metres; the plan's x and y are our x and z; Sweet Home 3D angles turn
-// clockwise on the plan, ours counter-clockwise, so rotation_y = -angle.
+// (import_sh3d_walls.cpp), rooms as rooms (floor and ceiling), each top-level piece of furniture, lamp
+// or furniture group as one piece of its models' parts (import_sh3d_models.cpp; a box of its size
+// without models), each light source as a point light, and the observer camera as the camera. Centimetres -> metres;
+// the plan's x and y are our x and z; Sweet Home 3D angles turn clockwise on the plan, ours counter-clockwise, so
+// rotation_y = -angle.
 #include "render/import/import.hpp"
 #include "render/import/import_sh3d.hpp"
 #include "render/scene_io/scene_checks.hpp"
@@ -243,57 +244,215 @@ Color piece_color(const pugi::xml_node& node) {
   return Color{0.7f};
 }
 
-// Furniture and lamps as boxes; each lamp's light sources as point lights.
-void add_furniture(const Elements& all, const Sh3dHome& h, const ImportOptions& options, json& solids, json& lights,
-                   ImportResult& result) {
+// Where an element of furniture goes, from its x, y, width, height, depth, angle and elevation (above
+// its level); nullopt when it has no size.
+std::optional<PiecePlacement> read_placement(const Sh3dElement& e, const Sh3dLevel& level) {
+  PiecePlacement place;
+  place.centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
+  place.size = Vec3(required_number(e, "width"), required_number(e, "height"), required_number(e, "depth")) / 100.0;
+  place.angle = number_attribute(e, "angle", 0.0);
+  place.base = level.elevation_m + number_attribute(e, "elevation", 0.0) / 100.0;
+  if (!(place.size.x > 1e-4 && place.size.y > 1e-4 && place.size.z > 1e-4)) return std::nullopt;
+  return place;
+}
+
+// A piece standing where `place` says, holding `parts`: its box is the unit box of the parts.
+Vec3 round_vec3(Vec3 v) { return {round_m(v.x), round_m(v.y), round_m(v.z)}; }
+
+json piece_json(const std::string& id, const PiecePlacement& place, json parts) {
+  return {{"type", "piece"},
+          {"id", id},
+          {"center", json_vec2(place.centre)},
+          {"base", round_m(place.base)},
+          {"size", json_vec3(place.size)},
+          {"rotation_y", -place.angle * 180.0 / pi},
+          {"parts", std::move(parts)}};
+}
+
+std::string element_label(const Sh3dElement& e) {
+  return std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")";
+}
+
+// rotation_y as a 3x3 matrix acting on (x, y, z), as the tessellator turns (counter-clockwise seen
+// from above: +X toward -Z); GLM matrices are indexed [column][row].
+Mat3 turn_y(double rotation_y_deg) {
+  const double a = radians(rotation_y_deg), c = std::cos(a), s = std::sin(a);
+  Mat3 m(1.0);
+  m[0][0] = c, m[2][0] = s;
+  m[0][2] = -s, m[2][2] = c;
+  return m;
+}
+
+// The rows [[a, b, c, tx], ...] that put a member's unit model, stretched by `stretch` and placed as
+// a mesh solid of the member would have been (the box's middle rounded as such a solid's position
+// was), into its group's unit box: u = G^-1 R_group^-1 (P_member - P_group + R_member (stretch * v)).
+// The group's values are those its piece is written with, so the composition differs from placing
+// the member by itself by rounding only (about 1e-16 of the coordinates).
+json member_transform(const PiecePlacement& member, Vec3 stretch, const PiecePlacement& group) {
+  const Vec3 member_centre = round_vec3({member.centre.x, member.base + 0.5 * member.size.y, member.centre.y});
+  const Vec3 group_size = round_vec3(group.size);
+  const Vec3 group_centre{round_m(group.centre.x), round_m(group.base) + 0.5 * group_size.y, round_m(group.centre.y)};
+  Mat3 scale_in(1.0), scale_out(1.0);
+  for (int k = 0; k < 3; ++k) {
+    scale_in[k][k] = round_m(stretch[k]);
+    scale_out[k][k] = group_size[k] > 1e-9 ? 1.0 / group_size[k] : 1.0;
+  }
+  const Mat3 unturn = glm::transpose(turn_y(-group.angle * 180.0 / pi));
+  const Mat3 linear = scale_out * unturn * turn_y(-member.angle * 180.0 / pi) * scale_in;
+  const Vec3 offset = scale_out * (unturn * (member_centre - group_centre));
+  json rows = json::array();
+  for (int row = 0; row < 3; ++row) rows.push_back({linear[0][row], linear[1][row], linear[2][row], offset[row]});
+  return rows;
+}
+
+// The axes a unit model stretches on: the piece's size where the model has extent, 1 where it is flat.
+Vec3 model_stretch(Vec3 size, Vec3 extent) {
+  Vec3 out{1.0};
+  for (int k = 0; k < 3; ++k) out[k] = extent[k] > 1e-9 ? size[k] : 1.0;
+  return out;
+}
+
+// The pieces of furniture and lamps a group holds, at any depth, in document order.
+void collect_members(const pugi::xml_node& group, const std::string& pointer, const Sh3dHome& h,
+                     std::vector<Sh3dElement>& out) {
+  std::map<std::string, size_t> sibling_count;
+  for (pugi::xml_node child : group.children()) {
+    if (child.type() != pugi::node_element) continue;
+    const std::string name = child.name();
+    const std::string at = pointer + "/" + name + "/" + std::to_string(sibling_count[name]++);
+    if (!child.attribute("visible").as_bool(true)) continue;
+    if (name == "furnitureGroup") {
+      collect_members(child, at, h, out);
+    } else if (name == "pieceOfFurniture" || name == "light") {
+      out.push_back({child, at, h.line_of(child)});
+    }
+  }
+}
+
+// One top-level element of furniture: a piece, a lamp or a group; `members` holds a group's.
+struct FurnitureItem {
+  Sh3dElement element;
+  std::vector<Sh3dElement> members;
+};
+
+// The top-level furniture in the order its solids are written: pieces of furniture, then lamps (so
+// polygon ids keep the order they had when every piece was written separately), a group with the
+// kind of its first member. Groups holding only doors and windows are none: those are openings.
+std::vector<FurnitureItem> furniture_items(const pugi::xml_node& home, const Sh3dHome& h) {
+  std::vector<FurnitureItem> pieces, lamps;
+  std::map<std::string, size_t> sibling_count;
+  for (pugi::xml_node child : home.children()) {
+    if (child.type() != pugi::node_element) continue;
+    const std::string name = child.name();
+    if (name != "pieceOfFurniture" && name != "light" && name != "furnitureGroup") continue;
+    FurnitureItem item{{child, "/home/" + name + "/" + std::to_string(sibling_count[name]++), h.line_of(child)}, {}};
+    if (name == "furnitureGroup") {
+      collect_members(child, item.element.pointer, h, item.members);
+      if (item.members.empty()) continue;
+    }
+    const std::string kind = item.members.empty() ? name : item.members.front().node.name();
+    (kind == "light" ? lamps : pieces).push_back(std::move(item));
+  }
+  pieces.insert(pieces.end(), std::make_move_iterator(lamps.begin()), std::make_move_iterator(lamps.end()));
+  return pieces;
+}
+
+// A group as one piece: its box is the group's, and each member's model groups (a unit cube for a
+// member without a model) are parts placed in it by the member's own transform.
+std::optional<json> group_piece(const FurnitureItem& item, const PiecePlacement& group, const Sh3dLevel& level,
+                                const ImportOptions& options, Sh3dModelCache& models, size_t& skipped) {
+  json parts = json::array();
+  for (const Sh3dElement& m : item.members) {
+    const std::optional<PiecePlacement> place = read_placement(m, level);
+    if (!place) {
+      ++skipped;
+      continue;
+    }
+    Vec3 extent{1.0};
+    std::optional<json> member_parts;
+    if (options.furniture_models) member_parts = model_parts(m, options, models, extent);
+    if (!member_parts) {
+      member_parts = json::array({{{"ref", unit_box_mesh(models)}, {"color", json_color(piece_color(m.node))}}});
+      extent = Vec3{1.0};
+    }
+    const json transform = member_transform(*place, model_stretch(place->size, extent), group);
+    const std::string member = m.node.attribute("name").as_string("");
+    for (json& part : *member_parts) {
+      part["name"] = member + (part.contains("name") ? " " + part["name"].get<std::string>() : "");
+      part["transform"] = transform;
+      parts.push_back(std::move(part));
+    }
+  }
+  if (parts.empty()) return std::nullopt;
+  return piece_json(element_label(item.element), group, std::move(parts));
+}
+
+// Every lamp's light sources as point lights (lamps inside groups too), in document order.
+void add_lamp_lights(const Elements& all, const Sh3dHome& h, json& lights) {
+  for (const Sh3dElement& e : elements_named(all, "light")) {
+    const Sh3dLevel& level = element_level(e, h);
+    // Lights carry no level: a lamp of a hidden level would light the levels shown.
+    if (!e.node.attribute("visible").as_bool(true) || !level.viewable) continue;
+    const std::optional<PiecePlacement> place = read_placement(e, level);
+    if (!place) continue;
+    const Vec2 centre = place->centre;
+    const Vec3 size = place->size;
+    const double angle = place->angle;
+    const double power = std::clamp(number_attribute(e, "power", 0.5), 0.0, 1.0);
+    for (pugi::xml_node source : e.node.children("lightSource")) {
+      Sh3dElement s{source, e.pointer, e.line};
+      // Source coordinates are fractions of the piece's box: x along width, y along depth, z up.
+      const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x, (number_attribute(s, "y", 0.5) - 0.5) * size.z};
+      const Vec2 plan = centre + Vec2(std::cos(angle) * local.x - std::sin(angle) * local.y,
+                                      std::sin(angle) * local.x + std::cos(angle) * local.y);
+      const double y = place->base + number_attribute(s, "z", 0.5) * size.y;
+      lights.push_back({{"type", "point"},
+                        {"id", e.pointer},
+                        {"position", json_vec3({plan.x, y, plan.y})},
+                        {"color", json_color(color_attribute(source, "color").value_or(Color{1.0f}))},
+                        {"intensity", 0.6 * power},
+                        {"attenuation", {1.0, 0.0, 0.4}}});
+    }
+  }
+}
+
+// One solid per top-level piece, lamp or group: a piece of its model's parts, or a box of its size
+// when its model is not there (or boxes were asked for); each lamp's light sources as point lights.
+void add_furniture(const pugi::xml_node& home, const Elements& all, const Sh3dHome& h, const ImportOptions& options,
+                   json& solids, json& lights, ImportResult& result) {
   std::vector<std::string>& warnings = result.warnings;
   size_t skipped = 0;
   Sh3dModelCache models;
-  for (const char* kind : {"pieceOfFurniture", "light"}) {
-    for (const Sh3dElement& e : elements_named(all, kind)) {
-      const Sh3dLevel& level = element_level(e, h);
-      if (!e.node.attribute("visible").as_bool(true)) continue;
-      const Vec2 centre = Vec2(required_number(e, "x"), required_number(e, "y")) / 100.0;
-      const Vec3 size =
-          Vec3(required_number(e, "width"), required_number(e, "height"), required_number(e, "depth")) / 100.0;
-      const double angle = number_attribute(e, "angle", 0.0);
-      const double base = level.elevation_m + number_attribute(e, "elevation", 0.0) / 100.0;
-      if (!(size.x > 1e-4 && size.y > 1e-4 && size.z > 1e-4)) {
-        ++skipped;
-        continue;
-      }
-      const PiecePlacement place{centre, base, size, angle};
-      const size_t first_solid = solids.size();
-      if (!options.furniture_models || !add_piece_model(e, place, options, models, solids)) {
-        solids.push_back({{"type", "box"},
-                          {"id", std::string(e.node.attribute("name").as_string("")) + " (" + e.pointer + ")"},
-                          {"center", json_vec2(centre)},
-                          {"base", round_m(base)},
-                          {"size", json_vec3(size)},
-                          {"rotation_y", -angle * 180.0 / pi},
-                          {"color", json_color(piece_color(e.node))}});
-      }
-      for (size_t k = first_solid; k < solids.size(); ++k) tag_level(solids[k], level);
-      // Lights carry no level: a lamp of a hidden level would light the levels shown.
-      if (!level.viewable) continue;
-      const double power = std::clamp(number_attribute(e, "power", 0.5), 0.0, 1.0);
-      for (pugi::xml_node source : e.node.children("lightSource")) {
-        Sh3dElement s{source, e.pointer, e.line};
-        // Source coordinates are fractions of the piece's box: x along width, y along depth, z up.
-        const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x,
-                         (number_attribute(s, "y", 0.5) - 0.5) * size.z};
-        const Vec2 plan = centre + Vec2(std::cos(angle) * local.x - std::sin(angle) * local.y,
-                                        std::sin(angle) * local.x + std::cos(angle) * local.y);
-        const double y = base + number_attribute(s, "z", 0.5) * size.y;
-        lights.push_back({{"type", "point"},
-                          {"id", e.pointer},
-                          {"position", json_vec3({plan.x, y, plan.y})},
-                          {"color", json_color(color_attribute(source, "color").value_or(Color{1.0f}))},
-                          {"intensity", 0.6 * power},
-                          {"attenuation", {1.0, 0.0, 0.4}}});
-      }
+  for (const FurnitureItem& item : furniture_items(home, h)) {
+    const Sh3dElement& e = item.element;
+    const Sh3dLevel& level = element_level(e, h);
+    if (!e.node.attribute("visible").as_bool(true)) continue;
+    const std::optional<PiecePlacement> place = read_placement(e, level);
+    if (!place) {
+      ++skipped;
+      continue;
     }
+    std::optional<json> solid;
+    Vec3 extent{1.0};
+    if (!item.members.empty()) {
+      solid = group_piece(item, *place, level, options, models, skipped);
+      if (!solid) continue;
+    } else if (std::optional<json> parts;
+               options.furniture_models && (parts = model_parts(e, options, models, extent))) {
+      solid = piece_json(element_label(e), *place, std::move(*parts));
+    } else {
+      solid = json{{"type", "box"},
+                   {"id", element_label(e)},
+                   {"center", json_vec2(place->centre)},
+                   {"base", round_m(place->base)},
+                   {"size", json_vec3(place->size)},
+                   {"rotation_y", -place->angle * 180.0 / pi},
+                   {"color", json_color(piece_color(e.node))}};
+    }
+    tag_level(*solid, level);
+    solids.push_back(std::move(*solid));
   }
+  add_lamp_lights(all, h, lights);
   if (skipped) warnings.push_back(std::to_string(skipped) + " pieces of furniture with no size were left out");
   add_model_warnings(models, warnings);
   result.meshes = std::move(models.meshes);
@@ -342,7 +501,7 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   Box3 box;
   add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
   add_rooms(all, h, rooms, result.warnings);
-  add_furniture(all, h, options, solids, lights, result);
+  add_furniture(root, all, h, options, solids, lights, result);
   const double aspect = double(options.width) / double(options.height);
   std::optional<json> camera = observer_camera(all, aspect, box);
   if (!camera) {

@@ -17,6 +17,14 @@ std::string label(ElementRef element, const Scene& scene, std::string_view scene
   return !id || id->empty() ? pointer : pointer + " (\"" + quote_input(*id) + "\")";
 }
 
+// "piece" for a piece of furniture, "solid" for the other solids.
+std::string solid_noun(ElementRef element, const Scene& scene) {
+  const std::vector<Solid>& solids = scene.geometry.solids;
+  const bool piece = element.kind == ElementKind::solid && element.index < solids.size() &&
+                     solids[element.index].type == SolidType::piece;
+  return piece ? "piece" : "solid";
+}
+
 }  // namespace
 
 std::string element_pointer(ElementRef element, std::string_view scene_pointer) {
@@ -58,11 +66,12 @@ WarningText describe(const PlacementWarning& w, const Scene& scene, std::string_
       detail = "opening is " + distance + " from opening " + element_pointer(w.other, scene_pointer) + under;
       break;
     case PlacementIssue::beyond_floor:
-      detail = "solid reaches " + distance + " beyond the floor's edge";
+      detail = solid_noun(w.element, scene) + " reaches " + distance + " beyond the floor's edge";
       break;
     case PlacementIssue::intersects:
-      detail = std::string(w.other.kind == ElementKind::wall ? "solid intersects wall " : "solid intersects solid ") +
-               label(w.other, scene, scene_pointer);
+      detail = solid_noun(w.element, scene) + " intersects " +
+               (w.other.kind == ElementKind::wall ? "wall " : solid_noun(w.other, scene) + " ") +
+               label(w.other, scene, scene_pointer) + " by " + format_number(w.depth_m) + " m";
       break;
     case PlacementIssue::more_problems:
     case PlacementIssue::stopped_early:
@@ -72,7 +81,9 @@ WarningText describe(const PlacementWarning& w, const Scene& scene, std::string_
                "; " + std::to_string(w.count) + " further warning(s) not listed";
       break;
   }
-  return {element_pointer(w.element, scene_pointer), detail};
+  const bool pair = w.issue == PlacementIssue::intersects || w.issue == PlacementIssue::openings_too_close;
+  return {element_pointer(w.element, scene_pointer), detail, pair ? element_pointer(w.other, scene_pointer) : "",
+          w.depth_m};
 }
 
 std::vector<WarningText> describe(const std::vector<PlacementWarning>& warnings, const Scene& scene,

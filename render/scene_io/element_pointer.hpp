@@ -19,6 +19,8 @@ std::string element_pointer(ElementRef element, std::string_view scene_pointer =
 struct WarningText {
   std::string pointer;
   std::string detail;
+  std::string other;   // the other element of a pair; empty when there is none
+  double depth_m = 0;  // PlacementWarning::depth_m, its severity
 };
 
 WarningText describe(const PlacementWarning& warning, const Scene& scene, std::string_view scene_pointer = "/scene");

@@ -1,6 +1,8 @@
 // report_json (see report_json.hpp): the one writer of a render's timings and counts as JSON.
 #include "render/scene_io/report_json.hpp"
 
+#include "render/scene_io/element_pointer.hpp"
+
 #include <cmath>
 
 namespace rr {
@@ -49,6 +51,17 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
                 {"screen_full", s.bsp_screen_full}};
   }
   return j;
+}
+
+nlohmann::json warnings_json(const std::vector<PlacementWarning>& warnings, const Scene& scene,
+                             std::string_view scene_pointer) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const WarningText& w : describe(warnings, scene, scene_pointer)) {
+    nlohmann::json item = {{"pointer", w.pointer}, {"detail", w.detail}, {"depth", std::round(w.depth_m * 1e6) / 1e6}};
+    if (!w.other.empty()) item["other"] = w.other;
+    list.push_back(std::move(item));
+  }
+  return list;
 }
 
 }  // namespace rr

@@ -29,6 +29,9 @@ struct ParseLimits {
   size_t max_mesh_vertices = 4'000'000;  // one mesh's vertices (its faces count against max_polygons)
   // Finds a stored mesh for a mesh solid's "ref" (nullptr: none). Unset, every ref is refused (422).
   std::function<std::shared_ptr<const MeshData>(const std::string& id)> resolve_mesh;
+  // Whether a ref names a mesh that is always there (the server's catalogue): a stored scene placing
+  // it depends on no stored document. Unset: none is.
+  std::function<bool(const std::string& id)> builtin_mesh;
 };
 
 // Parses JSON text, rejecting what nlohmann would accept but we will not: nesting deeper than

@@ -90,15 +90,15 @@ Vec3 read_scale(const ObjectReader& r, const Bounds& b) {
 }
 
 // "ref": a stored mesh, found through the limits' resolver. It replaces the geometry members.
-void read_mesh_ref(const ObjectReader& r, Solid& s, const Bounds& b) {
+void read_ref(const ObjectReader& r, std::shared_ptr<const MeshData>& mesh, std::string& mesh_ref, const Bounds& b) {
   const json& ref = r.require("ref");
   if (!ref.is_string()) throw_invalid(r.at("ref"), "must be the id of a stored mesh (a string)");
   for (const char* key : {"vertices", "faces", "normals"}) {
     if (r.find(key)) throw_invalid(r.at(key), "a mesh placed by \"ref\" takes its geometry from the stored mesh");
   }
-  s.mesh_ref = ref.get<std::string>();
-  if (b.limits.resolve_mesh) s.mesh = b.limits.resolve_mesh(s.mesh_ref);
-  if (!s.mesh) throw_invalid(r.at("ref"), "there is no stored mesh \"" + quote_input(s.mesh_ref) + "\"");
+  mesh_ref = ref.get<std::string>();
+  if (b.limits.resolve_mesh) mesh = b.limits.resolve_mesh(mesh_ref);
+  if (!mesh) throw_invalid(r.at("ref"), "there is no stored mesh \"" + quote_input(mesh_ref) + "\"");
 }
 
 void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
@@ -108,7 +108,7 @@ void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bo
   read_common(r, s);
   b.errors.attempt([&] {
     if (r.find("ref")) {
-      read_mesh_ref(r, s, b);
+      read_ref(r, s.mesh, s.mesh_ref, b);
     } else {
       s.mesh = read_mesh_geometry(r, b);
     }
@@ -120,12 +120,74 @@ void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bo
   s.closed = r.boolean("closed", false);
 }
 
+// Parts of one piece: a bound on bookkeeping (their faces count against max_polygons as any mesh's).
+constexpr size_t max_piece_parts = 4096;
+
+// "transform": [[a, b, c, tx], [d, e, f, ty], [g, h, i, tz]], rows mapping (x, y, z, 1) into the
+// piece's unit box; it must be invertible, since normals go through its inverse transpose.
+void read_part_transform(const json& value, const std::string& pointer, PiecePart& part, const Bounds& b) {
+  const json& rows = expect_array(value, pointer);
+  if (rows.size() != 3) throw_invalid(pointer, "must hold 3 rows of 4 numbers");
+  for (size_t row = 0; row < 3; ++row) {
+    const std::string at = pointer_append(pointer, row);
+    const json& cells = expect_array(rows[row], at);
+    if (cells.size() != 4) throw_invalid(at, "must hold 4 numbers");
+    for (int col = 0; col < 3; ++col) {
+      part.linear[col][int(row)] = read_number(cells[size_t(col)], pointer_append(at, size_t(col)), b.coordinate);
+    }
+    part.offset[int(row)] = read_number(cells[3], pointer_append(at, 3), b.coordinate);
+  }
+  const double det = glm::determinant(part.linear);
+  if (!(std::abs(det) > 1e-12)) {
+    throw_invalid(pointer, "must be invertible: its 3x3 part has determinant " + format_number(det));
+  }
+  part.transformed = true;
+}
+
+PiecePart read_part(const json& value, const std::string& pointer, const Solid& piece, const Bounds& b) {
+  ObjectReader r(value, pointer, b.errors,
+                 {"name", "ref", "vertices", "faces", "normals", "color", "material", "transform"});
+  PiecePart part;
+  part.name = r.string("name", "");
+  part.color = r.color("color", piece.color);
+  part.material = r.find("material") ? read_material(r) : piece.material;
+  b.errors.attempt([&] {
+    if (r.find("ref")) {
+      read_ref(r, part.mesh, part.mesh_ref, b);
+    } else {
+      part.mesh = read_mesh_geometry(r, b);
+    }
+  });
+  r.member("transform", [&](const json& t, const std::string& at) { read_part_transform(t, at, part, b); });
+  return part;
+}
+
+void read_piece(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
+  ObjectReader r(
+      value, pointer, b.errors,
+      {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "size", "mirrored", "parts"});
+  read_common(r, s);
+  read_footprint(r, s, b);
+  s.size = r.vec3("size", b.length);
+  s.mirrored = r.boolean("mirrored", false);
+  b.errors.attempt([&] {
+    const json& parts = r.array("parts", true);
+    if (parts.empty()) throw_invalid(r.at("parts"), "must hold at least one part");
+    if (parts.size() > max_piece_parts) {
+      throw_too_large(r.at("parts"), "must hold at most " + std::to_string(max_piece_parts) + " parts");
+    }
+    for_each_element(parts, r.at("parts"), b.errors,
+                     [&](const json& part, const std::string& at) { s.parts.push_back(read_part(part, at, s, b)); });
+  });
+}
+
 constexpr auto readers = std::to_array<SolidReader>({
     {SolidType::box, read_box_or_pyramid},
     {SolidType::cylinder, read_cylinder},
     {SolidType::pyramid, read_box_or_pyramid},
     {SolidType::prism, read_prism},
     {SolidType::mesh, read_mesh},
+    {SolidType::piece, read_piece},
 });
 
 }  // namespace

@@ -6,7 +6,7 @@
 // request is read back after each step with request(). Waits are on idle() (no render in flight),
 // never on fixed sleeps, so a loaded machine only makes them slower.
 import { runScenario, assert, imageSummary } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem } from "./designer_support.mjs";
 
 const [binary, outDir, scenario, screenshotPath] = process.argv.slice(2);
 
@@ -18,12 +18,12 @@ const scenarios = {
     await drawRoom(page);
 
     // A door in the south wall, a window in the east one.
-    await page.click('[data-tool="door"]');
+    await page.click('button[data-tool="door"]');
     await clickPlan(page, 2.5, 0);
     let r = await request(page);
     const door = r.scene.walls[0].openings?.[0];
     assert(door && door.type === "door" && Math.abs(door.offset - 2.05) < 1e-6 && door.width === 0.9, `a door at 2.5 m: ${JSON.stringify(door)}`);
-    await page.click('[data-tool="window"]');
+    await page.click('button[data-tool="window"]');
     await clickPlan(page, 5, 2);
     r = await request(page);
     const win = r.scene.walls[1].openings?.[0];
@@ -36,25 +36,25 @@ const scenarios = {
     assert((await request(page)).scene.walls[0].openings.length === 1, "and nothing was added");
 
     // A table and a chair from the catalogue.
-    await page.click('[data-tool="furniture"]');
-    await page.click('[data-item="table"]');
+    await chooseItem(page, "Living room", "table");
     await clickPlan(page, 2.5, 2);
-    await page.click('[data-item="chair"]');
+    await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 1.5, 2);
     r = await request(page);
-    assert(r.scene.solids.length === 2, `two solids: ${r.scene.solids.length}`);
-    assert(r.scene.solids[0].id === "table-1" && near(r.scene.solids[0].position, [2.5, 0, 2]), `the table at (2.5, 2): ${r.scene.solids[0].position}`);
-    assert(r.scene.solids[1].id === "chair-1" && near(r.scene.solids[1].position, [1.5, 0, 2]), `the chair at (1.5, 2): ${r.scene.solids[1].position}`);
+    assert(r.scene.solids.length === 2, `two solids: ${JSON.stringify(r.scene.solids.map((s) => [s.id, s.center]))}`);
+    assert(r.scene.solids[0].id === "table-1" && r.scene.solids[0].type === "piece" && near(r.scene.solids[0].center, [2.5, 2]),
+      `the table at (2.5, 2): ${r.scene.solids[0].center}`);
+    assert(r.scene.solids[1].id === "chair-1" && near(r.scene.solids[1].center, [1.5, 2]), `the chair at (1.5, 2): ${r.scene.solids[1].center}`);
 
     // Move the chair by dragging it 1 m toward +Z, then rotate it.
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await dragPlan(page, [1.5, 2], [1.5, 3]);
     r = await request(page);
-    assert(near(r.scene.solids[1].position, [1.5, 0, 3], 0.051), `the chair moved to (1.5, 3): ${r.scene.solids[1].position}`);
+    assert(near(r.scene.solids[1].center, [1.5, 3], 0.051), `the chair moved to (1.5, 3): ${r.scene.solids[1].center}`);
     assert(await hooks(page, "selection") === "/scene/solids/1", "and is selected");
     await page.keyboard.press("Shift+ArrowLeft");
     r = await request(page);
-    assert(near(r.scene.solids[1].position, [1, 0, 3], 0.051), `Shift+← moved it 0.5 m: ${r.scene.solids[1].position}`);
+    assert(near(r.scene.solids[1].center, [1, 3], 0.051), `Shift+← moved it 0.5 m: ${r.scene.solids[1].center}`);
     await page.keyboard.press("Shift+ArrowRight");
     await page.keyboard.press("r");
     r = await request(page);
@@ -74,7 +74,7 @@ const scenarios = {
     await page.keyboard.press("Control+z");
     r = await request(page);
     assert((r.scene.solids[1].rotation_y ?? 0) === 0, `a second undo takes the rotation back: ${r.scene.solids[1].rotation_y}`);
-    assert(near(r.scene.solids[1].position, [1.5, 0, 3], 0.051), "but not the move");
+    assert(near(r.scene.solids[1].center, [1.5, 3], 0.051), "but not the move");
     await page.keyboard.press("Control+Shift+z");
     r = await request(page);
     assert(r.scene.solids[1].rotation_y === 15 && r.scene.solids.length === 2, "redo turns the chair again, the table stays");
@@ -96,7 +96,7 @@ const scenarios = {
   async designer_panel({ page, server }) {
     await openEmpty(page, server);
     await drawRoom(page);
-    await page.click('[data-tool="door"]');
+    await page.click('button[data-tool="door"]');
     await clickPlan(page, 2.5, 0);
     assert(await hooks(page, "selection") === "/scene/walls/0/openings/0", "the new door is selected");
     await page.fill('#properties input[data-field="width"]', "1.2");
@@ -118,7 +118,7 @@ const scenarios = {
     await page.keyboard.press("Control+A");
     await page.keyboard.insertText(JSON.stringify(edited, null, 2));
     await page.waitForSelector('[data-testid="plan"] [data-pointer="/scene/solids/0"]');
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     const p = await hooks(page, "worldToPlan", 4, 3);
     await page.mouse.click(p.x, p.y);  // the plan takes the keyboard
     await page.keyboard.press("Control+z");
@@ -129,7 +129,7 @@ const scenarios = {
     assert(r.scene.walls[0].openings[0].width === 0.9, "and then the panel's edit");
 
     // A point light by a click; Shift+click aims the sun; Ctrl+D duplicates the selected light.
-    await page.click('[data-tool="light"]');
+    await page.click('button[data-tool="light"]');
     await clickPlan(page, 2.5, 2);
     r = await request(page);
     const light = r.scene.lights[r.scene.lights.length - 1];
@@ -141,7 +141,7 @@ const scenarios = {
     r = await request(page);
     const sun = r.scene.lights.find((l) => l.type === "directional").direction;
     assert(!near(sun, sunBefore) && sun[1] === -1, `Shift+click turned the sun: ${sunBefore} -> ${sun}: ${JSON.stringify(r.scene.lights)}`);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await clickPlan(page, 2.5, 2);
     assert(/^\/scene\/lights\/\d+$/.test(await hooks(page, "selection")), "a click selects the light");
     const count = r.scene.lights.length;
@@ -154,7 +154,7 @@ const scenarios = {
     await page.fill('#properties input[data-field="thickness"]', "0.25");
     await page.press('#properties input[data-field="thickness"]', "Enter");
     assert((await request(page)).scene.walls[3].thickness === 0.25, "the panel set its thickness");
-    await page.click('[data-tool="wall"]');
+    await page.click('button[data-tool="wall"]');
     await clickPlan(page, 1.5, 0);
     await clickPlan(page, 1.5, 4);
     await page.keyboard.press("Escape");
@@ -165,7 +165,7 @@ const scenarios = {
 
     // Dragging the (selected) new wall moves it; dragging one of its ends moves that end only.
     await page.evaluate(() => window.scrollTo(0, 0));  // typing in the panel scrolled the page
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await dragPlan(page, [1.5, 2], [1, 2]);
     r = await request(page);
     assert(near(r.scene.walls[4].start, [1, 0]) && near(r.scene.walls[4].end, [1, 4]), `the wall moved 0.5 m: ${JSON.stringify(r.scene.walls[4])}`);
@@ -185,8 +185,7 @@ const scenarios = {
   async designer_warnings({ page, server }) {
     await openEmpty(page, server);
     await drawRoom(page);
-    await page.click('[data-tool="furniture"]');
-    await page.click('[data-item="box"]');
+    await chooseItem(page, null, "box");
     await clickPlan(page, 5, 2);     // through the east wall
     await clickPlan(page, 2.5, 2);   // free standing
     await idle(page);
@@ -208,7 +207,7 @@ const scenarios = {
     await openEmpty(page, server);
     await drawRoom(page);
     await idle(page);
-    await page.click('[data-tool="walk"]');
+    await page.click('button[data-tool="walk"]');
     await page.waitForFunction(() => window.roomrenderDesigner.request().camera.position[1] === 1.6);
     await idle(page);
     const before = (await request(page)).camera;
@@ -250,29 +249,28 @@ const scenarios = {
   // the edited request in full.
   async designer_plan_preview({ page, server }) {
     await openEmpty(page, server);
-    await page.click('[data-tool="furniture"]');
-    await page.click('[data-item="chair"]');
+    await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 2, 2);
     await idle(page);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     const sizes = [];
     const isRender = (req) => req.url().endsWith("/v1/render");
     page.on("request", (req) => {
       if (isRender(req)) sizes.push(JSON.parse(req.postData()).options?.width);
     });
     const preview = page.waitForRequest((req) => isRender(req) && JSON.parse(req.postData()).options?.width === 320 &&
-      JSON.parse(req.postData()).scene.solids[0].position[0] > 2);
+      JSON.parse(req.postData()).scene.solids[0].center[0] > 2);
     const a = await hooks(page, "worldToPlan", 2, 2);
     const b = await hooks(page, "worldToPlan", 3, 2);
     await page.mouse.move(a.x, a.y);
     await page.mouse.down();
     for (let i = 1; i <= 5; i++) await page.mouse.move(a.x + ((b.x - a.x) * i) / 5, a.y);
     await preview;
-    assert((await request(page)).scene.solids[0].position[0] === 2, "the editor keeps the chair until the drop");
+    assert((await request(page)).scene.solids[0].center[0] === 2, "the editor keeps the chair until the drop");
     await page.mouse.up();
     await idle(page);
     const r = await request(page);
-    assert(near(r.scene.solids[0].position, [3, 0, 2], 0.051), `the drop moved the chair: ${r.scene.solids[0].position}`);
+    assert(near(r.scene.solids[0].center, [3, 2], 0.051), `the drop moved the chair: ${r.scene.solids[0].center}`);
     assert(sizes.includes(320) && sizes[sizes.length - 1] === 640, `half size while dragging, then full: ${sizes}`);
     const shown = await imageSummary(page);
     assert(shown.width === 640, `the image at rest is full size: ${shown.width}`);
@@ -280,15 +278,15 @@ const scenarios = {
 
   async designer_autosave({ page, server }) {
     await openEmpty(page, server);
-    await page.click('[data-tool="furniture"]');
-    await page.click('[data-item="bed"]');
+    await chooseItem(page, "Bedroom", "bed140x190");
     await clickPlan(page, 1, 1);
     await page.click('[data-action="save"]');
     await page.reload();
     await page.waitForFunction(() => window.roomrenderDesigner && window.roomrenderDesigner.request());
     await idle(page);
     const r = await request(page);
-    assert(r.scene.solids.length === 1 && r.scene.solids[0].id === "bed-1", `the bed is restored: ${JSON.stringify(r.scene.solids.map((s) => s.id))}`);
+    assert(r.scene.solids.length === 1 && r.scene.solids[0].id === "bed140x190-1",
+      `the bed is restored: ${JSON.stringify(r.scene.solids.map((s) => s.id))}`);
   },
 };
 
@@ -296,20 +294,20 @@ const scenarios = {
 async function screenshot({ page, server }) {
   await openEmpty(page, server);
   await drawRoom(page);
-  await page.click('[data-tool="door"]');
+  await page.click('button[data-tool="door"]');
   await clickPlan(page, 1.2, 4);
-  await page.click('[data-tool="window"]');
+  await page.click('button[data-tool="window"]');
   await clickPlan(page, 5, 2);
   await clickPlan(page, 2.5, 0);
-  await page.click('[data-tool="furniture"]');
-  for (const [item, x, z] of [["bed", 1.1, 1.3], ["table", 3.5, 2.6], ["chair", 3.5, 3.3], ["sofa", 3.6, 0.7], ["lamp", 4.6, 3.6]]) {
-    await page.click(`[data-item="${item}"]`);
+  for (const [category, item, x, z] of [["Bedroom", "bed140x190", 1.1, 1.3], ["Living room", "table", 3.5, 2.6],
+    ["Living room", "chair", 3.5, 3.3], ["Living room", "sofa", 3.6, 0.7], ["Lights", "floor_uplight", 4.6, 3.6]]) {
+    await chooseItem(page, category, item);
     await clickPlan(page, x, z);
   }
   await page.keyboard.press("r");
-  await page.click('[data-tool="light"]');
+  await page.click('button[data-tool="light"]');
   await clickPlan(page, 2.5, 2);
-  await page.click('[data-tool="select"]');
+  await page.click('button[data-tool="select"]');
   await clickPlan(page, 3.5, 3.3);
   await page.click('[data-action="frame"]');
   await idle(page);

@@ -1,12 +1,20 @@
-// Steps shared by the designer's browser tests (designer.mjs, sharing.mjs): the page's hooks
-// (window.roomrenderDesigner), clicks and drags in the plan by world coordinates, and the empty
-// 5 m × 4 m room drawn with the wall tool.
+// Steps shared by the designer's browser tests (designer.mjs, designer_view.mjs, sharing.mjs,
+// pieces.mjs): the page's hooks (window.roomrenderDesigner), choosing furniture, clicks and drags in
+// the plan by world coordinates, and the empty 5 m × 4 m room drawn with the wall tool.
 import { assert } from "./support.mjs";
 
 export const hooks = (page, name, ...args) => page.evaluate(([n, a]) => window.roomrenderDesigner[n](...a), [name, args]);
 export const idle = (page) => page.evaluate(() => window.roomrenderDesigner.idle());
 export const request = (page) => hooks(page, "request");
 export const near = (a, b, tol = 1e-6) => a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol);
+
+// Chooses a piece of furniture as a person would: the Furniture tool, then the catalogue's
+// category in its selector and the model's button (a block or cylinder: its button).
+export async function chooseItem(page, category, item) {
+  await page.click('button[data-tool="furniture"]');
+  if (category) await page.selectOption("#catalogue-category", category);
+  await page.click(`[data-item="${item}"]`);
+}
 
 export async function clickPlan(page, x, z) {
   const p = await hooks(page, "worldToPlan", x, z);
@@ -39,7 +47,7 @@ export async function openEmpty(page, server) {
 export const room = [[0, 0], [5, 0], [5, 4], [0, 4]];
 
 export async function drawRoom(page) {
-  await page.click('[data-tool="wall"]');
+  await page.click('button[data-tool="wall"]');
   await clickPlan(page, ...room[0]);
   for (let i = 1; i <= 4; i++) {
     await clickPlan(page, ...room[i % 4]);

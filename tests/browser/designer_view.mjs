@@ -5,7 +5,7 @@
 // sent, and "Frame all" shows the camera the service frames with "camera": {"frame": "all"}.
 //   node tests/browser/designer_view.mjs BUILD/roomrender OUT_DIR SCENARIO
 import { runScenario, assert, httpRequest, serverHas, skip } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, openEmpty, worldToPage } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, openEmpty, worldToPage, chooseItem } from "./designer_support.mjs";
 import { execFileSync } from "node:child_process";
 import fs from "node:fs";
 import path from "node:path";
@@ -95,10 +95,9 @@ const scenarios = {
   async designer_view_drag({ page, server }) {
     if (!(await serverHas(server, "/v1/pick"))) skip("the server has no POST /v1/pick");
     await openEmpty(page, server);
-    await page.click('[data-tool="furniture"]');
-    await page.click('[data-item="chair"]');
+    await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 2, 2);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await idle(page);
     const before = await request(page);
     const full = { width: before.options.width, height: before.options.height };
@@ -118,25 +117,25 @@ const scenarios = {
       if (isRender(r)) sent.push(JSON.parse(r.postData()));
     });
     const preview = page.waitForRequest((r) => isRender(r) && JSON.parse(r.postData()).options?.width === full.width / 2 &&
-      JSON.parse(r.postData()).scene.solids[0].position[0] > 2.2);
+      JSON.parse(r.postData()).scene.solids[0].center[0] > 2.2);
     await page.mouse.move(a.x, a.y);
     await page.mouse.down();
     await idle(page);  // the pick has answered: the chair is what was grabbed
     assert(await hooks(page, "selection") === "/scene/solids/0", "pressing on the chair selects it");
     for (let i = 1; i <= 8; i++) await page.mouse.move(a.x + ((b.x - a.x) * i) / 8, a.y + ((b.y - a.y) * i) / 8);
     await preview;
-    assert((await request(page)).scene.solids[0].position[0] === 2, "the editor keeps the chair until the drop");
+    assert((await request(page)).scene.solids[0].center[0] === 2, "the editor keeps the chair until the drop");
     await page.mouse.up();
     await idle(page);
     const after = await request(page);
-    const moved = after.scene.solids[0].position;
-    assert(near(moved, [3, 0, 2.5], 0.08), `the chair followed the pointer on the floor to (3, 2.5): ${moved}`);
+    const moved = after.scene.solids[0].center;
+    assert(near(moved, [3, 2.5], 0.08), `the chair followed the pointer on the floor to (3, 2.5): ${moved}`);
     assert(near(after.camera.position, before.camera.position) && near(after.camera.target, before.camera.target),
       "the camera stayed");
     const last = sent[sent.length - 1];
-    assert(last.options.width === full.width && near(last.scene.solids[0].position, moved), `the last render is full size with the moved chair: ${JSON.stringify(last.options)}`);
+    assert(last.options.width === full.width && near(last.scene.solids[0].center, moved), `the last render is full size with the moved chair: ${JSON.stringify(last.options)}`);
     await page.keyboard.press("Control+z");
-    assert(near((await request(page)).scene.solids[0].position, [2, 0, 2]), "one undo takes the move back");
+    assert(near((await request(page)).scene.solids[0].center, [2, 2]), "one undo takes the move back");
   },
 
   // The anti-aliasing control sets options.antialias, and the render sent carries it.

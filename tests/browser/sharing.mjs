@@ -10,7 +10,7 @@ import os from "node:os";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
 import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem } from "./designer_support.mjs";
 import { hitTest, solidAnchor } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
@@ -58,8 +58,7 @@ const scenarios = {
     await openEmpty(page, server);
     await expectExample(page, "", "after New the example selector says (custom)");
     await drawRoom(page);
-    await page.click('[data-tool="furniture"]');
-    await page.click('[data-item="chair"]');
+    await chooseItem(page, "Living room", "chair");
     await clickPlan(page, 2, 2);
     // A camera of one's own: two orbit steps with the keyboard on the image.
     await page.focus("#views");
@@ -155,7 +154,7 @@ const scenarios = {
     renders.length = 0;
     const b = r.scene.solids.map((s) => s.vertices).flat();
     const mid = [0, 2].map((k) => (Math.min(...b.map((v) => v[k])) + Math.max(...b.map((v) => v[k]))) / 2);
-    await page.click('[data-tool="light"]');
+    await page.click('button[data-tool="light"]');
     await clickPlan(page, mid[0], mid[1]);
     await waitForNewRender(page, seq);
     const lit = await request(page);
@@ -168,8 +167,9 @@ const scenarios = {
   },
 
   // A Sweet Home 3D home zipped with its furniture models, picked in the file input: imported with
-  // store=1, its furniture drawn with the models (solids placing stored meshes by ref, so the editor's
-  // text stays small), rendered; a piece dragged in the plan renders again.
+  // store=1, its furniture drawn with the models (one piece per piece of furniture, its parts placing
+  // stored meshes by ref, so the editor's text stays small), rendered; a piece dragged in the plan
+  // renders again.
   async designer_import_home_zip({ page, server }) {
     const zip = studioZip();
     await page.goto(`${server.url}/`);
@@ -187,25 +187,26 @@ const scenarios = {
     assert(imported.colours > 20 && imported.hash !== example.hash, `an image of the home: ${JSON.stringify(imported)}`);
     const r = await request(page);
     const text = JSON.stringify(r);
-    const placed = r.scene.solids.filter((s) => s.type === "mesh" && /^[0-9a-f]{16}$/.test(s.ref || "") && !s.vertices);
-    assert(placed.length >= 100 && text.length < 250000,
-      `the editor holds ref'd meshes in a small text: ${placed.length} of ${r.scene.solids.length} solids, ${text.length} characters`);
+    const placed = r.scene.solids.filter((s) => s.type === "piece" &&
+      s.parts.every((part) => /^[0-9a-f]{16}$/.test(part.ref || "") && !part.vertices));
+    assert(placed.length === 43 && text.length < 250000,
+      `the editor holds Studio's 43 pieces placing ref'd meshes in a small text: ${placed.length} of ${r.scene.solids.length} solids, ${text.length} characters`);
     assert((r.scene.rooms || []).length > 0 && (r.scene.walls || []).length > 0, "with the home's rooms and walls");
     const bounds = await hooks(page, "worldToPlan", 0, 0);
     assert(Number.isFinite(bounds.x) && Number.isFinite(bounds.y), `the plan has finite bounds: ${JSON.stringify(bounds)}`);
 
-    // Drag the topmost piece under its own anchor (its footprint is the stored model's unit box
-    // scaled to the piece) 0.3 m along x: it moves, and the scene renders again.
+    // Drag the topmost piece under its own anchor (its footprint is its box) 0.3 m along x: it
+    // moves, and the scene renders again.
     const i = r.scene.solids.findLastIndex((s, k) => placed.includes(s) && hitTest(r.scene, solidAnchor(s), 0.05) === `/scene/solids/${k}`);
     assert(i >= 0, "a piece can be picked in the plan");
     const from = solidAnchor(r.scene.solids[i]);
     seq = await renderSeq(page);
-    await page.click('[data-tool="select"]');
+    await page.click('button[data-tool="select"]');
     await dragPlan(page, from, [from[0] + 0.3, from[1]]);
     await waitForNewRender(page, seq);
     const moved = (await request(page)).scene.solids[i];
-    assert(moved.ref === r.scene.solids[i].ref && near([moved.position[0], moved.position[2]], [from[0] + 0.3, from[1]], 0.051),
-      `solid ${i} moved 0.3 m: ${JSON.stringify(r.scene.solids[i].position)} -> ${JSON.stringify(moved.position)}`);
+    assert(JSON.stringify(moved.parts) === JSON.stringify(r.scene.solids[i].parts) && near(moved.center, [from[0] + 0.3, from[1]], 0.051),
+      `solid ${i} moved 0.3 m: ${JSON.stringify(r.scene.solids[i].center)} -> ${JSON.stringify(moved.center)}`);
     const after = await imageSummary(page);
     assert(after.colours > 20, `the second render is a picture: ${JSON.stringify(after)}`);
     assert(!(await page.isVisible("#problems li.error")) && !/refused|failed|error/i.test(await page.textContent("#status")),

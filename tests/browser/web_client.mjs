@@ -259,9 +259,10 @@ const scenarios = {
     seq = await waitForRender(page, seq);
     assert(held >= 1, "the render answer was held back");
     const pointer = `/scene/solids/${request.scene.solids.length - 1}`;
-    const item = await page.$(`#warning-list li.warning:has(.pointer:text-is("${pointer}"))`);
+    // The list has one entry per element, its button named after the element, its warnings under it.
+    const item = await page.$(`#warning-list li.warning:has(.pointer[title^="${pointer}:"])`);
     assert(item, `a placement warning names the box (${pointer})`);
-    const detail = (await item.textContent()).replace(pointer, "").trim();
+    const detail = (await item.$eval("ul > li", (li) => li.textContent)).trim();
     await item.$eval(".pointer", (b) => b.click());  // scrolls the editor to the box; edits nothing
     const shown = await page.waitForFunction((d) => [...document.querySelectorAll(".cm-inline-warning")]
       .some((e) => e.textContent.includes(d)), detail, { timeout: 5000 }).then(() => true, () => false);

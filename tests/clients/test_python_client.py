@@ -220,6 +220,40 @@ class Import(ServerTest):
         self.assertEqual(rc.png_size(view.png), (80, 60))
 
 
+class Catalogue(ServerTest):
+    needs = [("get", "/v1/catalogue"), ("post", "/v1/pick")]
+
+    def test_a_catalogue_chair_is_a_piece_that_renders_and_picks_whole(self):
+        catalogue = self.client.catalogue()
+        self.assertIn("CC BY 3.0", catalogue["attribution"])
+        chair = next(item for item in catalogue["items"] if item["id"] == "chair")
+        self.assertEqual(chair["size_cm"], {"width": 40, "depth": 42, "height": 90})
+        self.assertEqual(rc.png_size(self.client.catalogue_icon("chair"))[0] > 0, True)
+        piece = rc.place_piece(chair, center=[0, 0], rotation_y=30, id="chair-1")
+        self.assertEqual((piece["type"], piece["size"], piece["id"]), ("piece", [0.4, 0.9, 0.42], "chair-1"))
+        request = {"scene": {"solids": [piece]}, "camera": {"position": [0, 1.2, 2], "target": [0, 0.45, 0]},
+                   "options": {"width": 96, "height": 72}}
+        result = self.client.render(request)
+        self.assertEqual(rc.png_size(result.png), (96, 72))
+        self.assertGreater(result.counts["polygons"], 12, "the model, not a box")
+        hit = self.client.pick(request, 48, 36)
+        self.assertEqual(hit["pointer"], "/scene/solids/0")
+        self.assertTrue(hit["part"]["pointer"].startswith("/scene/solids/0/parts/"), hit["part"])
+        # Its parts are read-only stored meshes: served, not deletable.
+        ref = piece["parts"][0]["ref"]
+        with self.assertRaises(rc.RoomrenderError) as refused:
+            self.client._send("DELETE", f"/v1/meshes/{ref}")
+        self.assertEqual(refused.exception.status, 403)
+
+    def test_command_lists_the_catalogue(self):
+        done = subprocess.run([sys.executable, CLIENT, "--url", self.server.url, "catalogue", "--category", "Bedroom"],
+                              capture_output=True, text=True, timeout=120)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        lines = done.stdout.splitlines()
+        self.assertTrue(lines and all("\tBedroom\t" in line for line in lines), lines)
+        self.assertIn("bed140x190\tBedroom\tBed 140x190\t158 x 208 x 70 cm", lines)
+
+
 class CommandLine(ServerTest):
     def run_cli(self, *args, check=True):
         done = subprocess.run([sys.executable, CLIENT, "--url", self.server.url, *args],

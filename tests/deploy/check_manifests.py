@@ -82,7 +82,8 @@ def check_dockerfile(source_dir):
           re.search(rf"useradd\b[^&]*--uid {RUNTIME_UID} --gid {RUNTIME_UID}\b[^&]*\b{RUNTIME_USER}\b",
                     runtime_runs) is not None
           and users and users[-1] in (RUNTIME_USER, str(RUNTIME_UID)), f"USER {users}")
-    for name, source in [("WEB", "/src/clients/web"), ("EXAMPLES", "/src/examples"), ("SCHEMAS", "/src/schemas")]:
+    for name, source in [("WEB", "/src/clients/web"), ("EXAMPLES", "/src/examples"), ("SCHEMAS", "/src/schemas"),
+                         ("CATALOGUE", "/src/catalogue")]:
         var = f"ROOMRENDER_{name}_DIR"
         value = env.get(var)
         check(f"{var} names where the image holds {source}", value is not None and copied.get(value) == source,

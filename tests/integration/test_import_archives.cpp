@@ -74,14 +74,19 @@ struct Furniture {
   rr::Vec3 lo{1e18}, hi{-1e18};
 };
 
-// The polygons of a request's furniture (solids that come from <pieceOfFurniture> or <light>).
+// The polygons of a request's furniture (solids that come from <pieceOfFurniture>, <light> or
+// <furnitureGroup>).
 Furniture furniture_of(const json& request) {
   json only = request;
   json solids = json::array();
   for (const json& s : request["scene"]["solids"]) {
     const std::string id = s.value("id", "");
-    if (id.find("/pieceOfFurniture/") != std::string::npos || id.find("/light/") != std::string::npos)
-      solids.push_back(s);
+    for (const char* kind : {"/pieceOfFurniture/", "/light/", "/furnitureGroup/"}) {
+      if (id.find(kind) != std::string::npos) {
+        solids.push_back(s);
+        break;
+      }
+    }
   }
   only["scene"]["solids"] = solids;
   only["scene"]["walls"] = json::array();
@@ -142,12 +147,16 @@ TEST(ArchiveImport, EveryHomeImportsWithItsModelsStoresAndRenders) {
     ASSERT_TRUE(scene);
     ASSERT_EQ(scene->status, 200);
     const json document = json::parse(scene->body);
-    size_t meshes = 0;
-    for (const json& s : document["solids"]) meshes += s.contains("ref");
+    size_t pieces = 0, meshes = 0;
+    for (const json& s : document["solids"]) {
+      meshes += s.contains("ref");
+      pieces += s["type"] == "piece";
+      for (const json& part : s.value("parts", json::array())) meshes += part.contains("ref");
+    }
     EXPECT_GT(meshes, 20u) << name;
     EXPECT_LT(scene->body.size(), 1u << 20) << name;  // each mesh is stored once, apart from the scene
-    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu solids placing a stored mesh\n", name.c_str(),
-                zip.size(), scene->body.size(), meshes);
+    std::printf("[ archive ] %-34s zip %8zu B, stored scene %9zu B, %zu pieces, %zu placements of a stored mesh\n",
+                name.c_str(), zip.size(), scene->body.size(), pieces, meshes);
     for (const std::string& pipeline : pipelines()) {
       json view = {{"camera", receipt["camera"]}, {"options", {{"width", 96}, {"height", 72}, {"pipeline", pipeline}}}};
       auto png =
@@ -191,12 +200,12 @@ TEST(ArchiveImport, RefFormPlacesEachDistinctMeshOnceAndInlinesToTheSamePolygons
     options.mesh_refs = true;
     rr::ImportResult refs = rr::import_file_text(home_zip(home), rr::ImportFormat::sweethome3d, options);
     size_t placed = 0, mesh_bytes = 0;
-    for (const json& s : refs.request["scene"]["solids"]) {
-      if (!s.contains("ref")) continue;
+    rr::for_each_mesh_holder(refs.request["scene"]["solids"], [&](json& holder) {
+      if (!holder.contains("ref")) return;
       ++placed;
-      ASSERT_TRUE(refs.meshes.contains(s["ref"].get<std::string>())) << s["ref"];
-      EXPECT_FALSE(s.contains("vertices"));
-    }
+      EXPECT_TRUE(refs.meshes.contains(holder["ref"].get<std::string>())) << holder["ref"];
+      EXPECT_FALSE(holder.contains("vertices"));
+    });
     for (const auto& [key, mesh] : refs.meshes) mesh_bytes += mesh.dump().size();
     const size_t scene_bytes = refs.request["scene"].dump().size();
     std::printf("[ archive ] %-34s scene with refs %7zu B (%zu placements), %3zu distinct meshes %8zu B\n",

@@ -1,5 +1,6 @@
-// Every way to render is one path: each example x pipeline x {flat, phong + shadows} at 96x72 is
-// drawn over HTTP (inline POST /v1/render, stored POST /v1/scenes/{id}/render, GET .../render.png
+// Every way to render is one path: each example (and a furnished room of pieces, the catalogue's
+// placed by ref and one inline, mirrored, with a transformed part) x pipeline x {flat, phong +
+// shadows} at 96x72 is drawn over HTTP (inline POST /v1/render, stored POST /v1/scenes/{id}/render, GET .../render.png
 // with the view as query parameters) and by the built `roomrender render`, and the four PNGs must be
 // byte-identical. The stage names must agree too: the JSON answer's timings_ms keys, Server-Timing's
 // names and the CLI line's timings_ms keys are all stage_table, in its order.
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace {
@@ -107,17 +109,68 @@ std::vector<RenderCase> render_cases() {
     if (entry.path().extension() == ".json") examples.push_back(entry.path());
   }
   std::sort(examples.begin(), examples.end());
-  for (const fs::path& example : examples) {
+  std::vector<std::string> names;
+  for (const fs::path& example : examples) names.push_back(example.stem().string());
+  names.push_back("furnished_room");
+  for (const std::string& name : names) {
     for (const rr::PipelineInfo& p : rr::pipeline_table()) {
-      for (bool lit : {false, true}) cases.push_back({example.stem().string(), p.name, lit});
+      for (bool lit : {false, true}) cases.push_back({name, p.name, lit});
     }
   }
   return cases;
 }
 
-json case_request(const RenderCase& c) {
+// A room furnished with pieces: three of the server's catalogue (their parts placing its read-only
+// meshes by ref, which the CLI resolves from the same files), one mirrored, and one inline piece
+// whose second part has a transform.
+json furnished_room(const json& catalogue) {
+  json solids = json::array();
+  const std::vector<std::tuple<std::string, double, double, double, bool>> placed = {
+      {"table", 0.0, 0.0, 0.0, false}, {"chair", -0.55, 0.1, 90.0, false}, {"sofa", 0.2, -1.3, 0.0, true}};
+  for (const auto& [id, x, z, turn, mirrored] : placed) {
+    for (const json& item : catalogue.at("items")) {
+      if (item.at("id") != id) continue;
+      json piece = item.at("piece");
+      piece["center"] = {x, z};
+      piece["rotation_y"] = turn;
+      if (mirrored) piece["mirrored"] = true;
+      solids.push_back(piece);
+    }
+  }
+  const json cube = {{"vertices",
+                      {{-0.5, -0.5, -0.5},
+                       {0.5, -0.5, -0.5},
+                       {-0.5, 0.5, -0.5},
+                       {0.5, 0.5, -0.5},
+                       {-0.5, -0.5, 0.5},
+                       {0.5, -0.5, 0.5},
+                       {-0.5, 0.5, 0.5},
+                       {0.5, 0.5, 0.5}}},
+                     {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
+  json lid = cube;
+  lid["color"] = "#c04040";
+  lid["transform"] = {{1, 0, 0.2, 0}, {0, 0.2, 0, 0.4}, {0, 0, 0.8, 0.1}};
+  solids.push_back({{"type", "piece"},
+                    {"id", "chest"},
+                    {"center", {1.2, 0.8}},
+                    {"size", {0.6, 0.5, 0.4}},
+                    {"rotation_y", 30},
+                    {"mirrored", true},
+                    {"parts", {cube, lid}}});
+  return {{"scene",
+           {{"floor", {{"cells", {4, 4}}, {"origin", {-2, -2}}}},
+            {"walls", {{{"start", {-2, -2}}, {"end", {2, -2}}}}},
+            {"solids", solids},
+            {"lights", {{{"type", "directional"}, {"direction", {-0.3, -1, -0.4}}}}}}},
+          {"camera", {{"position", {2.5, 2.2, 3}}, {"target", {0, 0.4, -0.3}}}},
+          {"options", json::object()}};
+}
+
+json case_request(const RenderCase& c, const json& furnished) {
   json request =
-      json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" / (c.example + ".json")));
+      c.example == "furnished_room"
+          ? furnished
+          : json::parse(rr::testing::read_file(fs::path(ROOMRENDER_SOURCE_DIR) / "examples" / (c.example + ".json")));
   json& options = request["options"];
   if (options.is_null()) options = json::object();
   options["width"] = frame_width;
@@ -151,10 +204,14 @@ TEST(OnePath, EveryExamplePipelineAndShadingGivesTheSameBytesEverywhere) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::vector<std::string> stages = stage_names();
+  auto catalogue = client.Get("/v1/catalogue");
+  ASSERT_TRUE(catalogue);
+  const json furnished = furnished_room(json::parse(catalogue->body));
+  ASSERT_EQ(furnished["scene"]["solids"].size(), 4u) << "the catalogue has a table, a chair and a sofa";
   size_t compared = 0;
   for (const RenderCase& c : render_cases()) {
     SCOPED_TRACE(c.example + " " + c.pipeline + (c.lit ? " phong+shadows" : " flat"));
-    const json request = case_request(c);
+    const json request = case_request(c, furnished);
     const json view = {{"camera", camera_of(request)}, {"options", request.at("options")}};
 
     auto inline_png = client.Post("/v1/render", request.dump(), "application/json");
@@ -193,14 +250,14 @@ TEST(OnePath, EveryExamplePipelineAndShadingGivesTheSameBytesEverywhere) {
     EXPECT_TRUE(got_png->body == cli.png) << "GET render.png and CLI differ";
     ++compared;
   }
-  EXPECT_GE(compared, 12u * 4u * 2u);
+  EXPECT_GE(compared, 13u * 4u * 2u);
 }
 
 // The png query parameter selects the encoder as options.png.compression does in a body.
 TEST(OnePath, PngQueryParameterSelectsTheEncoder) {
   TestServer server;
   httplib::Client client = server.client();
-  json request = case_request({"studio", "zbuffer", false});
+  json request = case_request({"studio", "zbuffer", false}, json());
   auto stored = client.Post("/v1/scenes", request.at("scene").dump(), "application/json");
   ASSERT_TRUE(stored);
   const std::string location = json::parse(stored->body).at("location");

@@ -41,7 +41,8 @@ TEST(StoreAnswers, CreatedThenStoredAlreadyWithLocationAndEachKindsMembers) {
   for (int status : {201, 200}) {
     auto res = client.Post("/v1/scenes", scene_text(), "application/json");
     json scene = expect_stored(res, status, "scenes");
-    EXPECT_EQ(keys(scene), (std::set<std::string>{"id", "location", "scene_id", "created", "expires", "warnings"}));
+    EXPECT_EQ(keys(scene),
+              (std::set<std::string>{"id", "location", "scene_id", "created", "expires", "warnings", "warning_count"}));
     EXPECT_EQ(res->get_header_value("X-Scene-Id"), scene["scene_id"]);
     EXPECT_EQ(scene["expires"], nullptr);
 

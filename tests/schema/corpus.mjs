@@ -37,6 +37,15 @@ export const base = {
         type: "mesh", vertices: [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
         faces: [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], position: [-0.5, 1, 1.5], scale: 0.4, closed: true,
       },
+      {
+        type: "piece", id: "chest", center: [2, -2], base: 0, size: [0.6, 0.5, 0.4], rotation_y: 30,
+        parts: [
+          { name: "body", vertices: [[-0.5, -0.5, -0.5], [0.5, -0.5, -0.5], [0, 0.5, -0.5], [0, -0.5, 0.5]],
+            faces: [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], color: "#8b5a2b" },
+          { name: "lid", vertices: [[0, 0, 0], [1, 0, 0], [0, 0, 1]], faces: [[0, 2, 1]],
+            transform: [[0.5, 0, 0, -0.25], [0, 1, 0, 0.5], [0, 0, 0.5, -0.25]], material: { specular: 0.3 } },
+        ],
+      },
     ],
     lights: [
       { type: "directional", direction: [-0.3, -1, -0.2], intensity: 0.8 },
@@ -79,6 +88,8 @@ valid("open doorway", ["scene/walls/0/openings/0/leaf", false]);
 valid("cylinder with 3 segments", ["scene/solids/1/segments", 3]);
 valid("mesh with per-axis scale", ["scene/solids/4/scale", [0.5, 1, 2]]);
 valid("no floor", ["scene/floor", undefined]);
+valid("mirrored piece", ["scene/solids/5/mirrored", true]);
+valid("piece part without a transform", ["scene/solids/5/parts/1/transform", undefined]);
 valid("shadows with tuning", ["options/shadows", true], ["options/shadow", { size: 256, pcf: 3, bias: 0.5 }]);
 valid("painter key", ["options/painter", { key: "newell" }]);
 // Every pipeline and shading mode the schema lists (tests/unit/test_schema_tables.cpp holds that list
@@ -142,6 +153,14 @@ invalid("mesh face of 2 vertices", ["scene/solids/4/faces/0", [0, 1]]);
 invalid("negative mesh index", ["scene/solids/4/faces/0", [0, -1, 2]]);
 invalid("repeated mesh index", ["scene/solids/4/faces/0", [0, 2, 2]]);
 invalid("mesh with both ref and vertices", ["scene/solids/4/ref", "0123456789abcdef"]);
+invalid("piece without parts", ["scene/solids/5/parts", undefined]);
+invalid("piece with no part", ["scene/solids/5/parts", []]);
+invalid("piece without size", ["scene/solids/5/size", undefined]);
+invalid("piece part with both ref and vertices", ["scene/solids/5/parts/0/ref", "0123456789abcdef"]);
+invalid("piece part transform of 2 rows", ["scene/solids/5/parts/1/transform", [[1, 0, 0, 0], [0, 1, 0, 0]]]);
+invalid("piece part transform row of 3", ["scene/solids/5/parts/1/transform/0", [1, 0, 0]]);
+invalid("unknown piece part key", ["scene/solids/5/parts/0/scale", 2]);
+invalid("piece with a position", ["scene/solids/5/position", [0, 0, 0]]);
 invalid("point light attenuation all zero", ["scene/lights/1/attenuation", [0, 0, 0]]);
 invalid("unknown light type", ["scene/lights/0/type", "spot"]);
 invalid("point light without position", ["scene/lights/1/position", undefined]);
@@ -161,6 +180,8 @@ semantic("overlapping openings", ["scene/walls/0/openings/1/offset", 1.0]);
 semantic("window above its wall", ["scene/walls/0/openings/1/sill", 2.0]);
 semantic("mesh index out of range", ["scene/solids/4/faces/0", [0, 2, 9]]);
 semantic("mesh ref naming no stored mesh", ["scene/solids/4", { type: "mesh", ref: "0123456789abcdef" }]);
+semantic("piece part transform not invertible", ["scene/solids/5/parts/1/transform", [[1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 1, 0]]]);
+semantic("piece part ref naming no stored mesh", ["scene/solids/5/parts/0", { ref: "0123456789abcdef" }]);
 semantic("self-intersecting prism", ["scene/solids/3/points", [[0, 0], [1, 1], [1, 0], [0, 1]]]);
 semantic("far not beyond near", ["camera/near", 5], ["camera/far", 4]);
 semantic("far / near above 1e7", ["camera/near", 0.00001], ["camera/far", 1000]);

@@ -1,8 +1,9 @@
 // Sweet Home 3D import: a hand-made Home.xml whose every mapping is computed by hand (cm -> m,
 // centre-based door positions -> offsets, sloped and arc walls, rotation sign, observer camera), the
-// errors (malformed XML, an opening wider than its wall, a missing attribute), a .sh3d zip, and the
-// nine example homes of ../shared/data: one checked against its XML read independently with pugixml,
-// all of them imported and rendered with every pipeline.
+// errors (malformed XML, an opening wider than its wall, a missing attribute), a .sh3d zip, furniture
+// models as pieces (groups, the default material library), and the nine example homes of
+// ../shared/data: one checked against its XML read independently with pugixml, each giving one piece
+// per top-level piece of its XML, all of them imported and rendered with every pipeline.
 #include "import_test_util.hpp"
 #include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
@@ -12,6 +13,8 @@
 #include <pugixml.hpp>
 
 #include <cmath>
+#include <functional>
+#include <map>
 
 namespace {
 
@@ -225,18 +228,24 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
   EXPECT_EQ(asked, (std::vector<std::string>{"models/thing.obj", "furniture/thing.obj", "models/lost.obj",
                                              "furniture/lost.obj"}));
   const json& solids = r.request["scene"]["solids"];
-  ASSERT_EQ(solids.size(), 3u);  // two groups of the model, and a box for the missing one
-  EXPECT_EQ(solids[0]["color"], json::array({1.0, 0.0, 0.0}));
-  EXPECT_EQ(solids[2]["type"], "box");
+  ASSERT_EQ(solids.size(), 2u);  // one piece of the model's two groups, and a box for the missing one
+  EXPECT_EQ(solids[0]["type"], "piece");
+  EXPECT_EQ(solids[0]["id"], "Box (/home/pieceOfFurniture/0)");
+  ASSERT_EQ(solids[0]["parts"].size(), 2u);
+  EXPECT_EQ(solids[0]["parts"][0]["name"], "red");
+  EXPECT_EQ(solids[0]["parts"][0]["color"], json::array({1.0, 0.0, 0.0}));
+  EXPECT_EQ(solids[0]["center"], json::array({3.0, 4.0}));
+  EXPECT_EQ(solids[0]["size"], json::array({1.0, 2.0, 0.5}));
+  EXPECT_EQ(solids[1]["type"], "box");
   ASSERT_EQ(r.warnings.size(), 2u);  // the missing model, then the missing observer camera
   EXPECT_EQ(
       r.warnings[0],
       "1 furniture models were not found and 0 could not be read: those pieces are boxes (not found: models/lost.obj)");
   // Width (model x, 2 units -> 1 m) turned by the angle runs along +z; depth (4 units -> 0.5 m)
-  // along -x; height 1 unit -> 2 m from the elevation up. Measured on the tessellated meshes, since
-  // each mesh is the unit model placed by its solid's scale, rotation_y and position.
+  // along -x; height 1 unit -> 2 m from the elevation up. Measured on the tessellated piece, since
+  // each part is the unit model stretched to the piece's size, turned and placed.
   json models = r.request;
-  models["scene"]["solids"] = json::array({solids[0], solids[1]});
+  models["scene"]["solids"] = json::array({solids[0]});
   models["scene"]["walls"] = json::array();
   const rr::PolygonSoup soup = rr::tessellate(rr::request_from_json(models).scene.geometry);
   rr::Vec3 lo{1e9}, hi{-1e9};
@@ -244,6 +253,7 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
     for (const rr::Vec3& p : soup.points(polygon)) lo = glm::min(lo, p), hi = glm::max(hi, p);
   }
   EXPECT_EQ(soup.polygons.size(), 2u);
+  EXPECT_EQ(soup.objects.size(), 1u);
   EXPECT_NEAR(lo.x, 2.75, 1e-6);
   EXPECT_NEAR(hi.x, 3.25, 1e-6);
   EXPECT_NEAR(lo.y, 0.1, 1e-6);
@@ -253,8 +263,71 @@ TEST(ImportSh3d, FurnitureModelsArePlacedOnThePiecesBox) {
   EXPECT_NO_THROW(rr::request_from_json(r.request));
 }
 
+// Models name materials without an .mtl: Sweet Home 3D's default library colours them (with its
+// specular terms); a name it does not have stays grey.
+TEST(ImportSh3d, MaterialsWithoutAnMtlComeFromTheDefaultLibrary) {
+  const std::string model =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+      "usemtl white\nf 1 2 3 4\nusemtl flblonde\nf 1 5 6 2\nusemtl no_such\nf 1 4 5\n";
+  const char* home =
+      R"(<home><pieceOfFurniture name='A' model='a.obj' x='0' y='0' width='10' depth='10' height='10'/></home>)";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    return name == "a.obj" ? std::optional<std::string>(model) : std::nullopt;
+  };
+  const json parts = rr::import_sweethome3d(home, options).request["scene"]["solids"][0]["parts"];
+  ASSERT_EQ(parts.size(), 3u);
+  // catalogue/default-materials.mtl: white Kd 1 1 1, Ks 0.3, Ns 60; flblonde Kd 0.5714 0.3283 0.0443.
+  EXPECT_EQ(parts[0]["color"], json::array({1.0, 1.0, 1.0}));
+  EXPECT_EQ(parts[0]["material"], json({{"specular", 0.3}, {"specular_color", {1.0, 1.0, 1.0}}, {"shininess", 60.0}}));
+  EXPECT_EQ(parts[1]["color"], json::array({0.571, 0.328, 0.044}));
+  EXPECT_FALSE(parts[1].contains("material"));  // no Ks or Ns in the library
+  EXPECT_EQ(parts[2]["color"], json::array({0.7, 0.7, 0.7}));
+}
+
+// A furniture group is one piece in the group's box: each member's model is a part placed by its
+// transform, and the piece draws the points the members would draw placed one by one.
+TEST(ImportSh3d, AFurnitureGroupIsOnePieceOfItsMembers) {
+  const std::string model =
+      "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
+      "usemtl red\nf 2 3 7 6\nusemtl plain\nf 1 5 8 4\n";
+  const char* members = R"(
+      <pieceOfFurniture name='A' model='thing.obj' x='100' y='100' angle='0.3' width='100' depth='50' height='200'/>
+      <pieceOfFurniture name='B' model='thing.obj' x='260' y='140' elevation='20' angle='2.1' width='60' depth='30' height='80'/>)";
+  const std::string grouped = std::string(
+                                  "<home><furnitureGroup name='G' x='180' y='120' angle='0.5' width='260' "
+                                  "depth='190' height='220'>") +
+                              members + "</furnitureGroup></home>";
+  const std::string separate = std::string("<home>") + members + "</home>";
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    return name == "thing.obj" ? std::optional<std::string>(model) : std::nullopt;
+  };
+  const ImportResult group = rr::import_sweethome3d(grouped, options);
+  const json& solids = group.request["scene"]["solids"];
+  ASSERT_EQ(solids.size(), 1u);
+  EXPECT_EQ(solids[0]["id"], "G (/home/furnitureGroup/0)");
+  ASSERT_EQ(solids[0]["parts"].size(), 4u);
+  EXPECT_EQ(solids[0]["parts"][2]["name"], "B red");
+  EXPECT_EQ(solids[0]["parts"][0]["transform"], solids[0]["parts"][1]["transform"]);
+  auto points = [](const json& request) {
+    json scene = request["scene"];
+    scene["walls"] = json::array();
+    const rr::PolygonSoup soup = rr::tessellate(rr::request_from_json(json{{"scene", scene}}).scene.geometry);
+    return soup;
+  };
+  const rr::PolygonSoup a = points(group.request), b = points(rr::import_sweethome3d(separate, options).request);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  ASSERT_EQ(a.polygons.size(), b.polygons.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < a.positions.size(); ++i) worst = std::max(worst, glm::length(a.positions[i] - b.positions[i]));
+  EXPECT_LT(worst, 1e-12) << "the group's parts are where its members stand";
+}
+
 // Three pieces of one model: two plain ones share its meshes, the mirrored one has its own; every
-// placement scales by the piece's size (positive), and inlining gives the request made without refs.
+// piece stretches them to its size, and inlining gives the request made without refs.
 TEST(ImportSh3d, EachDistinctModelIsOneMeshPlacedByRef) {
   const std::string model =
       "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 4\nv 2 0 4\nv 2 1 4\nv 0 1 4\n"
@@ -272,19 +345,20 @@ TEST(ImportSh3d, EachDistinctModelIsOneMeshPlacedByRef) {
   };
   ImportResult refs = rr::import_sweethome3d(home, options);
   const json& solids = refs.request["scene"]["solids"];
-  ASSERT_EQ(solids.size(), 6u);       // two groups per piece
+  ASSERT_EQ(solids.size(), 3u);       // one piece each, of two parts
   EXPECT_EQ(refs.meshes.size(), 4u);  // two groups x (plain, mirrored)
-  EXPECT_EQ(solids[0]["ref"], solids[2]["ref"]);
-  EXPECT_NE(solids[0]["ref"], solids[4]["ref"]);
-  EXPECT_EQ(solids[2]["scale"], json::array({0.6, 0.8, 0.3}));
-  EXPECT_NEAR(solids[2]["rotation_y"].get<double>(), -180.0 / rr::pi, 1e-9);
+  auto ref = [&](size_t s, size_t p) { return solids[s]["parts"][p]["ref"]; };
+  EXPECT_EQ(ref(0, 0), ref(1, 0));
+  EXPECT_NE(ref(0, 0), ref(2, 0));
+  EXPECT_EQ(solids[1]["size"], json::array({0.6, 0.8, 0.3}));
+  EXPECT_NEAR(solids[1]["rotation_y"].get<double>(), -180.0 / rr::pi, 1e-9);
   for (const auto& [key, mesh] : refs.meshes) {
     for (const json& v : mesh["vertices"]) {
       for (const json& c : v) EXPECT_LE(std::abs(c.get<double>()), 0.5 + 1e-12) << key;  // the unit box
     }
   }
   // The mirrored mesh is the plain one with x negated and every face reversed.
-  const json &plain = refs.meshes.at(solids[0]["ref"]), &mirrored = refs.meshes.at(solids[4]["ref"]);
+  const json &plain = refs.meshes.at(ref(0, 0)), &mirrored = refs.meshes.at(ref(2, 0));
   ASSERT_EQ(plain["faces"].size(), 1u);
   ASSERT_EQ(mirrored["faces"].size(), 1u);
   const json& f0 = plain["faces"][0];
@@ -384,12 +458,79 @@ TEST(ImportSh3d, ExampleHomeWithFurnitureModels) {
   ImportResult boxes = rr::import_sweethome3d(xml);
   ImportResult models = rr::import_sweethome3d(xml, options);
   for (const std::string& w : models.warnings) EXPECT_EQ(w.find("not found"), std::string::npos) << w;
-  EXPECT_GT(models.request["scene"]["solids"].size(), 2 * boxes.request["scene"]["solids"].size());
+  // One solid per piece either way: a box, or a piece of its model's parts.
+  const json& pieces = models.request["scene"]["solids"];
+  ASSERT_EQ(pieces.size(), boxes.request["scene"]["solids"].size());
+  size_t parts = 0;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    EXPECT_EQ(pieces[i]["type"], "piece") << pieces[i]["id"];
+    EXPECT_EQ(pieces[i]["id"], boxes.request["scene"]["solids"][i]["id"]);
+    EXPECT_EQ(pieces[i]["center"], boxes.request["scene"]["solids"][i]["center"]);
+    parts += pieces[i]["parts"].size();
+  }
+  EXPECT_GT(parts, 2 * pieces.size());
   EXPECT_EQ(models.request["scene"]["walls"], boxes.request["scene"]["walls"]);
   EXPECT_GT(rr::testing::covered_share(models.request, "zbuffer"), 0.5);
 }
 
 class ExampleHome : public ::testing::TestWithParam<std::filesystem::path> {};
+
+// The top-level pieces of furniture, lamps and groups of a Home.xml, read with pugixml: those shown
+// (visible), with a size, and groups holding a shown piece or lamp at any depth (not only doors and
+// windows, which become openings).
+std::vector<std::string> top_level_furniture(const std::string& xml) {
+  pugi::xml_document doc;
+  EXPECT_TRUE(doc.load_string(xml.c_str()));
+  std::function<bool(pugi::xml_node)> holds_furniture = [&](pugi::xml_node group) {
+    for (pugi::xml_node m : group.children()) {
+      if (!m.attribute("visible").as_bool(true)) continue;
+      const std::string kind = m.name();
+      if (kind == "pieceOfFurniture" || kind == "light" || (kind == "furnitureGroup" && holds_furniture(m)))
+        return true;
+    }
+    return false;
+  };
+  std::vector<std::string> out;
+  std::map<std::string, size_t> count;
+  for (pugi::xml_node e : doc.document_element().children()) {
+    const std::string kind = e.name();
+    if (kind != "pieceOfFurniture" && kind != "light" && kind != "furnitureGroup") continue;
+    const std::string pointer = "/home/" + kind + "/" + std::to_string(count[kind]++);
+    if (!e.attribute("visible").as_bool(true) || !(e.attribute("width").as_double() > 0.01)) continue;
+    if (kind == "furnitureGroup" && !holds_furniture(e)) continue;
+    out.push_back(pointer);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Each top-level piece, lamp and group of the home is one piece of its models (every model is in
+// furniture/, so none falls back to a box), named by its pointer; no other solid comes from
+// furniture (the rest are sloped wall tops).
+TEST_P(ExampleHome, GivesOnePiecePerTopLevelPiece) {
+  const std::string xml = rr::testing::read_file(GetParam());
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  options.mesh_refs = true;
+  const auto dir = GetParam().parent_path();
+  options.read_companion = [&](const std::string& name) -> std::optional<std::string> {
+    if (!std::filesystem::exists(dir / name)) return std::nullopt;
+    return rr::testing::read_file(dir / name);
+  };
+  const ImportResult r = rr::import_sweethome3d(xml, options);
+  std::vector<std::string> pieces;
+  for (const json& s : r.request["scene"]["solids"]) {
+    if (s["type"] == "mesh") continue;
+    EXPECT_EQ(s["type"], "piece") << s["id"];
+    const std::string id = s["id"];
+    pieces.push_back(id.substr(id.rfind(" (/home/") + 2, id.size() - id.rfind(" (/home/") - 3));
+  }
+  std::sort(pieces.begin(), pieces.end());
+  const std::vector<std::string> expected = top_level_furniture(xml);
+  EXPECT_EQ(pieces, expected);
+  std::printf("[ pieces ] %-32s %3zu pieces for %3zu top-level pieces, lamps and groups\n",
+              GetParam().stem().string().c_str(), pieces.size(), expected.size());
+}
 
 TEST_P(ExampleHome, ImportsAndRendersWithEveryPipeline) {
   ImportResult r = rr::import_sweethome3d(rr::testing::read_file(GetParam()));

@@ -79,7 +79,8 @@ TEST(SceneId, LengthsSeparateNeighbouringLists) {
   EXPECT_EQ(mesh({{0, 1, 2}, {3, 4, 5}}), mesh({{0, 1, 2}, {3, 4, 5}}));
 }
 
-// A geometry using every struct: floor, a wall with a door and a window, and one solid of each type.
+// A geometry using every struct: floor, a wall with a door and a window, and one solid of each type (a
+// piece of two parts).
 StaticGeometry every_kind() {
   StaticGeometry g;
   g.has_floor = true;
@@ -92,12 +93,18 @@ StaticGeometry every_kind() {
   window.offset = 2.5;
   wall.openings = {door, window};
   g.walls = {wall};
-  for (SolidType type : {SolidType::box, SolidType::cylinder, SolidType::pyramid, SolidType::prism, SolidType::mesh}) {
+  for (SolidType type :
+       {SolidType::box, SolidType::cylinder, SolidType::pyramid, SolidType::prism, SolidType::mesh, SolidType::piece}) {
     Solid s;
     s.type = type;
     s.points = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
     if (type == SolidType::mesh)
       s.mesh = make_mesh_data({{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}, {{0, 1, 2}}, {});
+    if (type == SolidType::piece) {
+      PiecePart part;
+      part.mesh = make_mesh_data({{0.0, 0.0, 0.0}, {0.5, 0.0, 0.0}, {0.0, 0.5, 0.0}}, {{0, 1, 2}}, {});
+      s.parts = {part, part};
+    }
     g.solids.push_back(s);
   }
   return g;
@@ -168,6 +175,17 @@ TEST(SceneId, EveryDrawnMemberCounts) {
       {"mesh.position", solid(4, [](Solid& s) { s.position.x = 1.0; })},
       {"mesh.scale", solid(4, [](Solid& s) { s.scale.z = 2.0; })},
       {"mesh.closed", solid(4, [](Solid& s) { s.closed = true; })},
+      {"piece.mirrored", solid(5, [](Solid& s) { s.mirrored = true; })},
+      {"piece.parts", solid(5, [](Solid& s) { s.parts.pop_back(); })},
+      {"part.mesh", solid(5,
+                          [](Solid& s) {
+                            s.parts[1].mesh = make_mesh_data({{0, 0, 0}, {0.5, 0, 0}, {0, 0, 0.5}}, {{0, 1, 2}}, {});
+                          })},
+      {"part.color", solid(5, [](Solid& s) { s.parts[1].color.g = 0.1f; })},
+      {"part.material", solid(5, [](Solid& s) { s.parts[1].material.specular = 0.3f; })},
+      {"part.transformed", solid(5, [](Solid& s) { s.parts[1].transformed = true; })},
+      {"part.linear", solid(5, [](Solid& s) { s.parts[1].linear[2][0] = 0.5; })},
+      {"part.offset", solid(5, [](Solid& s) { s.parts[1].offset.y = 0.25; })},
       {"solids order", [](StaticGeometry& g) { std::swap(g.solids[0], g.solids[1]); }},
   };
   const std::string base = scene_id(every_kind());
@@ -185,6 +203,7 @@ TEST(SceneId, WhatDrawsNothingDoesNotCount) {
   renamed.walls[0].id = "north";
   renamed.walls[0].openings[1].id = "window";
   renamed.solids[2].id = "pyramid";
+  renamed.solids[5].parts[0].name = "seat";
   EXPECT_EQ(scene_id(renamed), base);
   StaticGeometry no_floor = every_kind(), other_unused_floor = every_kind();
   no_floor.has_floor = other_unused_floor.has_floor = false;

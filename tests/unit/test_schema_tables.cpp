@@ -146,7 +146,12 @@ class Dump {
     (*this)("type", s.type)("id", s.id)("color", s.color)("material", s.material)("center", s.center)("base", s.base)(
         "rotation_y", s.rotation_y_deg)("size", s.size)("radius", s.radius)("height", s.height)("segments", s.segments)(
         "smooth", s.smooth)("caps", s.caps)("points", s.points)("mesh", s.mesh)("mesh_ref", s.mesh_ref)(
-        "position", s.position)("scale", s.scale)("closed", s.closed);
+        "position", s.position)("scale", s.scale)("closed", s.closed)("parts", s.parts)("mirrored", s.mirrored);
+  }
+  void put(const PiecePart& p) {
+    (*this)("name", p.name)("mesh", p.mesh)("mesh_ref", p.mesh_ref)("color", p.color)("material", p.material)(
+        "transformed", p.transformed)("linear.x", p.linear[0])("linear.y", p.linear[1])("linear.z", p.linear[2])(
+        "offset", p.offset);
   }
   void put(const std::shared_ptr<const MeshData>& m) {
     if (!m) return;
@@ -225,6 +230,10 @@ std::vector<Site> sites() {
   };
   auto with_solid = [](json solid) { return json{{"scene", {{"solids", {std::move(solid)}}}}}; };
   auto with_light = [](json light) { return json{{"scene", {{"lights", {std::move(light)}}}}}; };
+  const json piece = {{"type", "piece"},
+                      {"center", {0, 0}},
+                      {"size", {1, 1, 1}},
+                      {"parts", {{{"vertices", {{0, 0, 0}, {0.5, 0, 0}, {0, 0, 0.5}}}, {"faces", {{0, 1, 2}}}}}}};
   return {
       {"request.schema.json", "", json::json_pointer(""), json::object()},
       {"request.schema.json", "camera", json::json_pointer("/camera"), json::object()},
@@ -252,6 +261,8 @@ std::vector<Site> sites() {
        with_solid({{"type", "prism"}, {"points", {{0, 0}, {1, 0}, {0, 1}}}, {"height", 1}})},
       {"scene.schema.json", "mesh", json::json_pointer("/scene/solids/0"),
        with_solid({{"type", "mesh"}, {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}}}, {"faces", {{0, 1, 2}}}})},
+      {"scene.schema.json", "piece", json::json_pointer("/scene/solids/0"), with_solid(piece)},
+      {"scene.schema.json", "piece_part", json::json_pointer("/scene/solids/0/parts/0"), with_solid(piece)},
       {"scene.schema.json", "directional_light", json::json_pointer("/scene/lights/0"),
        with_light({{"type", "directional"}})},
       {"scene.schema.json", "point_light", json::json_pointer("/scene/lights/0"),

@@ -81,6 +81,12 @@ export class Api {
     return this.getJson("/v1/pipelines");
   }
 
+  // GET /v1/catalogue: the furniture catalogue ({items: [{id, name, category, size_cm, icon, piece}],
+  // attribution}), or null from a server without one.
+  async catalogue() {
+    return this.has("/v1/catalogue", "get") ? this.getJson("/v1/catalogue") : null;
+  }
+
   async examples() {
     return (await this.getJson("/examples/")).examples || [];
   }
@@ -109,11 +115,12 @@ export class Api {
   // warnings point into the stored scene (/solids/3); they are given as pointers into the request.
   async renderStored(id, view, { signal } = {}) {
     const result = await this.renderAt(`/v1/scenes/${encodeURIComponent(id)}/render`, view, { signal, stored: true });
-    return { ...result, warnings: result.warnings.map((w) => ({ ...w, pointer: sceneScoped(w.pointer) })) };
+    const scoped = (w) => ({ ...w, pointer: sceneScoped(w.pointer), ...(w.other ? { other: sceneScoped(w.other) } : {}) });
+    return { ...result, warnings: result.warnings.map(scoped) };
   }
 
-  // POST /v1/pick: the element visible at pixel (x, y) of the request's image, {pointer, point,
-  // depth, camera, ...} (pointer null on the background); stored: POST /v1/scenes/{id}/pick with the
+  // POST /v1/pick: the element visible at pixel (x, y) of the request's image, {pointer, part, point,
+  // depth, camera, ...} (pointer null on the background; part, the piece's part there); stored: POST /v1/scenes/{id}/pick with the
   // view, its pointer given as one into the request (/scene/solids/3).
   async pick(request, x, y, { storedId = null, signal } = {}) {
     const { scene, ...view } = request;
@@ -125,7 +132,9 @@ export class Api {
     });
     if (!res.ok) throw storedId ? scopedError(res.status, await problemOf(res)) : new ApiError(res.status, await problemOf(res));
     const answer = await res.json();
-    return storedId && answer.pointer !== null ? { ...answer, pointer: sceneScoped(answer.pointer) } : answer;
+    if (!storedId || answer.pointer === null) return answer;
+    const part = answer.part ? { ...answer.part, pointer: sceneScoped(answer.part.pointer) } : answer.part;
+    return { ...answer, pointer: sceneScoped(answer.pointer), part };
   }
 
   async renderAt(path, body, { signal, stored = false } = {}) {
@@ -145,6 +154,7 @@ export class Api {
         timings: answer.timings_ms || {},
         counts: answer.counts || {},
         warnings: answer.warnings || [],
+        warningCount: answer.warning_count ?? (answer.warnings || []).length,
         sceneId: answer.scene_id,
         cache: answer.cache,
         pipeline: answer.pipeline,

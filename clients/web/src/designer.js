@@ -11,6 +11,7 @@ import { History } from "./history.js";
 import { tools, toolMethods } from "./designer_tools.js";
 import { commandMethods } from "./designer_commands.js";
 import { at, setAt, clone } from "./designer_util.js";
+import { catalogueEntries, categories } from "./catalogue.js";
 
 const $ = (id) => document.getElementById(id);
 const storageKey = "roomrender.designer.request";
@@ -42,12 +43,14 @@ export class Designer {
     this.frameCamera = frameCamera;  // async (request) -> the server's frame of the scene, or null
     this.plan = new PlanView($("plan"));
     this.tool = "select";
-    this.item = "table";
+    this.item = "box";
+    this.catalogue = new Map();    // the server's catalogue entries by id (catalogue.js)
     this.selection = null;
     this.chain = [];               // wall tool: points clicked so far
     this.cursor = null;
     this.drag = null;
     this.marks = new Map();
+    this.clashes = [];             // [{from, to, detail}]: pairs of elements a warning names
     this.history = new History(editor.text());
     this.applying = false;
     this.parsedText = null;
@@ -176,6 +179,7 @@ export class Designer {
     this.selection = null;
     this.chain = [];
     this.marks = new Map();
+    this.clashes = [];
     const request = this.request();
     this.plan.fit(request?.scene);
     this.updateButtons();
@@ -237,6 +241,7 @@ export class Designer {
       this.plan.draw(this.drag?.scene || this.lastScene, {
         selection: this.selection,
         marks: this.marks,
+        clashes: this.clashes,
         preview: tools[this.tool].preview?.(this) ?? null,
         camera: request?.camera,
       });
@@ -251,18 +256,23 @@ export class Designer {
     this.redraw();
   }
 
-  // Warnings and errors of the last answer, drawn on the elements they name ({pointer, detail, severity}).
+  // Warnings and errors of the last answer, drawn on the elements they name ({pointer, detail,
+  // severity}), and the pairs they name (a warning's `other`: what an element intersects) joined by a
+  // line in the plan.
   setMarks(notes) {
     this.marks = new Map();
+    this.clashes = [];
+    const element = (pointer) => /^\/scene\/(walls\/\d+(\/openings\/\d+)?|solids\/\d+|lights\/\d+|floor)/.exec(pointer || "")?.[0];
     for (const n of notes) {
-      const m = /^\/scene\/(walls\/\d+(\/openings\/\d+)?|solids\/\d+|lights\/\d+|floor)/.exec(n.pointer || "");
-      if (!m) continue;
-      const pointer = m[0];
+      const pointer = element(n.pointer);
+      if (!pointer) continue;
       const old = this.marks.get(pointer);
       this.marks.set(pointer, {
         severity: old?.severity === "error" || n.severity === "error" ? "error" : "warning",
         text: old ? `${old.text}\n${n.detail}` : n.detail,
       });
+      const other = element(n.other);
+      if (other) this.clashes.push({ from: pointer, to: other, detail: n.detail });
     }
     this.redraw();
   }
@@ -283,6 +293,39 @@ export class Designer {
   setItem(item) {
     this.item = item;
     for (const b of document.querySelectorAll("[data-item]")) b.setAttribute("aria-pressed", String(b.dataset.item === item));
+  }
+
+  // The server's catalogue (GET /v1/catalogue, or null): a category selector and a button per model
+  // of the chosen category, its icon with its name and real size as the title.
+  setCatalogue(answer) {
+    this.catalogue = catalogueEntries(answer);
+    const select = $("catalogue-category");
+    const names = categories(this.catalogue);
+    select.replaceChildren(...names.map((c) => new Option(c, c)));
+    $("catalogue-models").hidden = !names.length;
+    const show = () => {
+      const buttons = [...this.catalogue.values()].filter((e) => e.category === select.value).map((e) => {
+        const b = document.createElement("button");
+        b.type = "button";
+        b.dataset.item = e.id;
+        const { width, depth, height } = e.size_cm;
+        b.title = `${e.name}, ${width} × ${depth} cm, ${height} cm high`;
+        b.setAttribute("aria-label", e.name);
+        const img = document.createElement("img");
+        img.src = e.icon;
+        img.alt = "";
+        b.append(img);
+        b.addEventListener("click", () => {
+          this.setItem(e.id);
+          this.setTool("furniture");
+        });
+        return b;
+      });
+      $("catalogue-items").replaceChildren(...buttons);
+      this.setItem(this.item);
+    };
+    select.onchange = show;
+    show();
   }
 
   select(pointer) {
@@ -310,7 +353,7 @@ export class Designer {
 
   bindToolbar() {
     for (const b of document.querySelectorAll("[data-tool]")) b.addEventListener("click", () => this.setTool(b.dataset.tool));
-    for (const b of document.querySelectorAll("[data-item]")) {
+    for (const b of document.querySelectorAll("#catalogue > [data-item]")) {
       b.addEventListener("click", () => {
         this.setItem(b.dataset.item);
         this.setTool("furniture");

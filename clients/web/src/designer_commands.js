@@ -1,4 +1,4 @@
-// Commands of the designer on its selection (delete, nudge, rotate, duplicate), the camera in walk
+// Commands of the designer on its selection (delete, nudge, rotate, mirror, duplicate), the camera in walk
 // mode and framing (camera.js does the geometry), and the keyboard. In: the selection's JSON Pointer
 // and key events outside the editor and the form fields. Out: designer steps, or camera edits that
 // are no steps. Mixed into Designer.prototype (designer.js), so `this` is the designer.
@@ -50,6 +50,18 @@ export const commandMethods = {
       const s = at(r, pointer);
       if (s.type === "prism") return false;  // its points are already placed
       s.rotation_y = (((s.rotation_y || 0) + deg) % 360 + 360) % 360;
+    });
+  },
+
+  // A piece of furniture mirrored across its width axis (its `mirrored` turned over), one step.
+  mirrorSelection() {
+    const pointer = this.selection;
+    if (!pointer || !/^\/scene\/solids\/\d+$/.test(pointer)) return;
+    this.edit((r) => {
+      const s = at(r, pointer);
+      if (s.type !== "piece") return false;
+      if (s.mirrored) delete s.mirrored;
+      else s.mirrored = true;
     });
   },
 
@@ -154,6 +166,7 @@ export const commandMethods = {
     }
     if (key === "Delete" || key === "Backspace") return this.selection && (done(), this.deleteSelection());
     if (key === "r" && this.selection) return done(), this.rotateSelection(e.shiftKey ? -15 : 15);
+    if (key === "m" && this.selection) return done(), this.mirrorSelection();
     const tool = Object.keys(tools).find((name) => tools[name].shortcut === key);
     if (tool && !e.target.closest?.("#views")) return done(), this.setTool(tool);
   },

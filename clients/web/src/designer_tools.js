@@ -240,7 +240,9 @@ export const toolMethods = {
     const point = snapToGrid(p, 0.05);
     this.edit((r) => {
       r.scene.solids = r.scene.solids || [];
-      r.scene.solids.push(makeFurniture(this.item, point, this.nextId(this.item, r.scene.solids)));
+      const solid = makeFurniture(this.item, point, this.nextId(this.item, r.scene.solids), this.catalogue);
+      if (!solid) return false;
+      r.scene.solids.push(solid);
       this.selection = `/scene/solids/${r.scene.solids.length - 1}`;
     });
   },

@@ -63,10 +63,19 @@ function showWarnings(result) {
   const notes = result.warnings.map((w) => ({ pointer: w.pointer, message: w.detail, severity: "warning" }));
   editor.setServerNotes(notes);
   app.lastWarnings = result.warnings;
+  app.warningCount = result.warningCount || notes.length;
   designer.setMarks(result.warnings.map((w) => ({ ...w, severity: "warning" })));
   showProblemList([]);
-  showWarningList(result.warnings, notes.length ? 0 : result.warningCount || 0, warningClicks);
-  return notes.length || result.warningCount || 0;
+  showWarningList(result.warnings, app.warningCount, warningClicks);
+  return app.warningCount;
+}
+
+// How the warning list names an element: a solid by its id (an imported piece's is its name and
+// where it was in the home), else its pointer.
+function elementLabel(pointer) {
+  const m = /^\/scene\/solids\/(\d+)$/.exec(pointer || "");
+  const solid = m && designer.lastScene?.solids?.[Number(m[1])];
+  return solid?.id ? `${solid.id} — ${pointer}` : pointer || "the scene";
 }
 
 function showError(error) {
@@ -264,8 +273,8 @@ const designer = new Designer(editor, {
   onSave: () => sharing.save(),
   onReplaced: () => sharing.replaced(),
   autosaveText: () => sharing.autosaveText(),
-  // A plan drag renders at reduced size, at most once a frame; a big scene would be stored each
-  // step, so it waits for the drop.
+  // A plan drag renders at reduced size, at most once a frame and once the last preview is drawn; a
+  // big scene would be stored each step, so it waits for the drop.
   // Frame all asks the server for its frame of the scene (a JSON render with "frame": "all").
   frameCamera: (request) => loading(async () => {
     const { up, fov_y, near, far } = request.camera || {};
@@ -279,15 +288,19 @@ const designer = new Designer(editor, {
       cancelAnimationFrame(app.planFrame);
       app.planFrame = 0;
     } else if (!app.planFrame) {
-      app.planFrame = requestAnimationFrame(() => {
-        app.planFrame = 0;
-        render({ preview: true, scene: app.planScene });
-      });
+      // One preview at a time: the server draws what it was sent even when the page gives up on it,
+      // so aborting one preview a frame would queue a render a frame (a second each on a furnished
+      // home) until the server refuses them all, the drop's render too.
+      const step = () => {
+        app.planFrame = app.inflight ? requestAnimationFrame(step) : 0;
+        if (!app.planFrame && app.planScene) render({ preview: true, scene: app.planScene });
+      };
+      app.planFrame = requestAnimationFrame(step);
     }
   },
 });
 const sharing = new Sharing({ api, editor, designer, onStatus: setStatus });
-const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p) };
+const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p), label: elementLabel };
 const controls = new Controls({
   setOptions: (entries) => {
     if (editor.setValues(entries)) render();
@@ -313,7 +326,7 @@ attachViewer($("views"), {
     enabled: () => api.has("/v1/pick"),
   }),
 });
-$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], 0, warningClicks));
+$("warning-kind").addEventListener("change", () => showWarningList(app.lastWarnings || [], app.warningCount || 0, warningClicks));
 
 // Hooks for scripted checks that drive the page as a person would (tests/browser/designer.mjs).
 window.roomrenderDesigner = {
@@ -406,6 +419,7 @@ async function start() {
   ]);
   controls.setPipelines(pipelines);
   controls.setImportSupported(api.has("/v1/import/{format}"));
+  designer.setCatalogue(await api.catalogue().catch(() => null));
   if (schemas) {
     editor.setChecker(sharing.filterChecker(makeRequestChecker(...schemas)));
     $("check-note").textContent = "Checked against the server's schema as you type; Ctrl+Enter renders.";

@@ -3,7 +3,7 @@
 // carrying data-pointer. Plan point [x, z] maps to SVG pixel (ox + x·s, oy + z·s): +X right, +Z
 // down, s pixels per metre; one SVG pixel is one CSS pixel (no viewBox), so client coordinates are
 // the SVG's bounding box plus that.
-import { wallPolygon, openingPolygon, solidFootprint, sceneBounds } from "./plan_math.js";
+import { wallPolygon, openingPolygon, solidFootprint, solidAnchor, sceneBounds, projectOnWall, wallLength } from "./plan_math.js";
 
 const NS = "http://www.w3.org/2000/svg";
 
@@ -75,9 +75,10 @@ export class PlanView {
     return poly.map((p) => this.toSvg(p).map((v) => v.toFixed(1)).join(",")).join(" ");
   }
 
-  // Redraws everything. `marks`: Map pointer -> {severity, text}; `preview`: {chain, cursor} of the
-  // wall tool; `camera`: the request's camera (eye and direction drawn).
-  draw(scene, { selection = null, marks = new Map(), preview = null, camera = null } = {}) {
+  // Redraws everything. `marks`: Map pointer -> {severity, text}; `clashes`: [{from, to, detail}],
+  // pairs of elements a warning names, joined by a line; `preview`: {chain, cursor} of the wall
+  // tool; `camera`: the request's camera (eye and direction drawn).
+  draw(scene, { selection = null, marks = new Map(), clashes = [], preview = null, camera = null } = {}) {
     const svg = this.svg;
     svg.replaceChildren();
     const { w, h } = this.size();
@@ -127,12 +128,14 @@ export class PlanView {
       } catch {
         return;  // half-typed in the editor
       }
-      const fill = colorText(s.color, "#b3b3b3");
+      // A piece without a colour of its own shows its first part's.
+      const fill = colorText(s.color ?? (Array.isArray(s.parts) ? s.parts[0]?.color : undefined), "#b3b3b3");
       const node = f.circle
         ? el("circle", { cx: this.toSvg(f.circle.center)[0], cy: this.toSvg(f.circle.center)[1], r: f.circle.radius * this.s, class: "solid", fill }, svg)
         : el("polygon", { points: this.points(f.polygon), class: "solid", fill }, svg);
       decorate(node, `/scene/solids/${i}`);
     });
+    for (const c of clashes) this.drawClash(scene, c);
     let suns = 0;
     (scene.lights || []).forEach((l, i) => {
       if (l.type === "point" && Array.isArray(l.position)) {
@@ -174,6 +177,37 @@ export class PlanView {
     el("line", { x1: cx - ux * 16, y1: cy - uy * 16, x2: cx + ux * 16, y2: cy + uy * 16 }, g);
     el("circle", { cx: cx + ux * 16, cy: cy + uy * 16, r: 3 }, g);
     el("title", {}, g).textContent = `directional light ${i}: direction [${d.join(", ")}]`;
+  }
+
+  // A line from the solid a warning is about to what it meets: the other solid's anchor, or the
+  // nearest point of the wall's centreline.
+  drawClash(scene, { from, to, detail }) {
+    const at = (pointer, toward) => {
+      const m = /^\/scene\/(solids|walls)\/(\d+)$/.exec(pointer);
+      const el = m && (scene[m[1]] || [])[Number(m[2])];
+      if (!el) return null;
+      try {
+        if (m[1] === "solids") return solidAnchor(el);
+        if (!wallLength(el) || !toward) return null;
+        const { t } = projectOnWall(el, toward);
+        const len = wallLength(el);
+        return [el.start[0] + ((el.end[0] - el.start[0]) * t) / len, el.start[1] + ((el.end[1] - el.start[1]) * t) / len];
+      } catch {
+        return null;  // half-typed in the editor
+      }
+    };
+    const a = at(from, null);
+    const b = a && at(to, a);
+    if (!a || !b) return;
+    const [x1, y1] = this.toSvg(a);
+    const [x2, y2] = this.toSvg(b);
+    const g = el("g", { class: "clash" }, this.svg);
+    g.dataset.from = from;
+    g.dataset.to = to;
+    el("line", { x1, y1, x2, y2 }, g);
+    el("circle", { cx: x1, cy: y1, r: 3 }, g);
+    el("circle", { cx: x2, cy: y2, r: 3 }, g);
+    el("title", {}, g).textContent = detail;
   }
 
   drawCamera(c) {

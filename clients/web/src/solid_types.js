@@ -54,6 +54,13 @@ const boxLike = {
   fields: (s) => [...centred.fields(s), ...size(s)],
 };
 
+// A piece of furniture: its parts fill its box, placed as a box is, so it is drawn, moved, turned and
+// sized as one; mirrored flips it across its width.
+const piece = {
+  ...boxLike,
+  fields: (s) => [...boxLike.fields(s), { label: "mirrored", path: ["mirrored"], kind: "bool", value: Boolean(s.mirrored) }],
+};
+
 export const solidTypes = {
   box: boxLike,
   cylinder: {
@@ -84,6 +91,7 @@ export const solidTypes = {
         rotation(s)];
     },
   },
+  piece,
 };
 
 // The row of a solid's type (a centred solid without a footprint for a type the page does not know).

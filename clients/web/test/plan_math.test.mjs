@@ -1,9 +1,9 @@
-// The designer's plan geometry: snapping, hit tests, opening checks and the catalogue's meshes, on
+// The designer's plan geometry: snapping, hit tests, opening checks and the catalogue's pieces, on
 // hand-placed fixtures (a 5 m × 4 m room) whose answers can be worked out on paper.
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { snapWallPoint, hitTest, openingProblem, openingAt, placePoint, solidFootprint, moveSolid, sceneBounds } from "../src/plan_math.js";
-import { makeFurniture, catalogueItems } from "../src/catalogue.js";
+import { makeFurniture, primitiveItems, catalogueEntries, categories } from "../src/catalogue.js";
 import { look } from "../src/camera.js";
 
 const walls = [
@@ -40,27 +40,40 @@ test("an opening that does not fit is refused with the format's rule", () => {
   assert.deepEqual(openingAt(walls[1], 3.9, { type: "window", width: 1.2 }).offset, 2.8);  // slid inside
 });
 
-test("every catalogue item is a valid solid whose footprint is centred where it was dropped", () => {
-  for (const item of catalogueItems) {
-    const s = makeFurniture(item, [2, 3], `${item}-1`);
+// A catalogue answer as GET /v1/catalogue gives it: two entries, the second standing 1.7 m up.
+const answer = { items: [
+  { id: "chair", name: "Chair", category: "Living room", size_cm: { width: 40, depth: 42, height: 90 }, icon: "/i/chair.png",
+    piece: { type: "piece", size: [0.4, 0.9, 0.42], base: 0, parts: [{ name: "wood", ref: "0123456789abcdef", color: [0.5, 0.3, 0] }] } },
+  { id: "pendant_lamp", name: "Pendant lamp", category: "Lights", size_cm: { width: 60, depth: 60, height: 80 }, icon: "/i/l.png",
+    piece: { type: "piece", size: [0.6, 0.8, 0.6], base: 1.7, parts: [{ ref: "fedcba9876543210" }] } },
+] };
+
+test("every furniture item is a solid whose footprint is centred where it was dropped", () => {
+  const entries = catalogueEntries(answer);
+  assert.deepEqual(categories(entries), ["Living room", "Lights"]);
+  for (const item of [...primitiveItems, ...entries.keys()]) {
+    const s = makeFurniture(item, [2, 3], `${item}-1`, entries);
     const f = solidFootprint(s);
     const c = f.circle ? f.circle.center : [0, 1].map((k) => (Math.min(...f.polygon.map((p) => p[k])) + Math.max(...f.polygon.map((p) => p[k]))) / 2);
-    assert.ok(Math.abs(c[0] - 2) < 0.1 && Math.abs(c[1] - 3) < 0.15, `${item}: ${c}`);
-    if (s.type === "mesh") {
-      for (const face of s.faces) assert.ok(face.every((i) => i >= 0 && i < s.vertices.length));
-      // Closed and wound outward: the faces' signed volume is positive.
-      let volume = 0;
-      for (const [a, b, c2, d] of s.faces) {
-        for (const [p, q, r] of [[a, b, c2], [a, c2, d]]) {
-          const [P, Q, R] = [s.vertices[p], s.vertices[q], s.vertices[r]];
-          volume += (P[0] * (Q[1] * R[2] - Q[2] * R[1]) - P[1] * (Q[0] * R[2] - Q[2] * R[0]) + P[2] * (Q[0] * R[1] - Q[1] * R[0])) / 6;
-        }
-      }
-      assert.ok(volume > 0, `${item} winds outward: ${volume}`);
-    }
+    assert.ok(Math.abs(c[0] - 2) < 1e-9 && Math.abs(c[1] - 3) < 1e-9, `${item}: ${c}`);
     const moved = moveSolid(s, [3, 3]);
     assert.notEqual(moved, s);
+    assert.deepEqual(solidFootprint(moved).circle?.center ?? moved.center, [3, 3]);
   }
+  const lamp = makeFurniture("pendant_lamp", [1, 1], "pendant_lamp-1", entries);
+  assert.deepEqual(lamp, { type: "piece", id: "pendant_lamp-1", center: [1, 1], rotation_y: 0, size: [0.6, 0.8, 0.6], base: 1.7,
+    parts: [{ ref: "fedcba9876543210" }] });
+  assert.equal(makeFurniture("sofa", [0, 0], "sofa-1", entries), null, "an item the catalogue does not have");
+});
+
+test("a piece's footprint is its box: turned, and the same when mirrored", () => {
+  const s = { type: "piece", center: [1, 2], size: [2, 1, 1], rotation_y: 90, parts: [{ ref: "0123456789abcdef" }] };
+  const xs = solidFootprint(s).polygon.map((p) => p[0]);
+  const zs = solidFootprint(s).polygon.map((p) => p[1]);
+  assert.ok(Math.abs(Math.min(...xs) - 0.5) < 1e-9 && Math.abs(Math.max(...xs) - 1.5) < 1e-9, String(xs));
+  assert.ok(Math.abs(Math.min(...zs) - 1) < 1e-9 && Math.abs(Math.max(...zs) - 3) < 1e-9, String(zs));
+  assert.deepEqual(solidFootprint({ ...s, mirrored: true }), solidFootprint(s));
+  assert.equal(hitTest({ solids: [s] }, [1.2, 2.8], 0.01), "/scene/solids/0");
 });
 
 test("walk mode's look keeps the eye and the distance to the target", () => {

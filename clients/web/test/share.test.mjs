@@ -52,6 +52,24 @@ test("a big scene's meshes are kept out and put back whole", () => {
   assert.match(summarize(split.scene, 2.5e6, split.meshes.size), /^2\.50 MB scene: 1 walls, 2 solids \(1 meshes kept out/);
 });
 
+test("a big scene's pieces keep their placement in the editor; their parts' meshes come back whole", () => {
+  const vertices = Array.from({ length: 100 }, (_, i) => [i / 100 - 0.5, 0, 0]);
+  const faces = Array.from({ length: 98 }, (_, i) => [i, i + 1, i + 2]);
+  const piece = { type: "piece", id: "sofa", center: [1, 2], size: [2, 1, 1],
+    parts: [{ name: "frame", ref: "0123456789abcdef" }, { name: "cushion", vertices, faces, color: [1, 0, 0] }] };
+  const scene = { solids: [piece] };
+  const split = splitMeshes(scene);
+  const stub = split.scene.solids[0];
+  assert.ok(isStoredMesh(stub));
+  assert.deepEqual(stub.parts[0], piece.parts[0], "a part placed by ref is small: it stays");
+  assert.equal(stub.parts[1].faces, undefined);
+  assert.equal(stub.parts[1].name, "cushion");
+  assert.deepEqual(stub.center, [1, 2]);
+  const moved = structuredClone(split.scene);
+  moved.solids[0].center = [3, 2];
+  assert.deepEqual(joinMeshes(moved, split.meshes).solids[0], { ...piece, center: [3, 2] });
+});
+
 test("the browser's copy of a big scene opens as a permalink", async () => {
   const { storedSceneLink } = await import("../src/sharing.js");
   const view = viewOf(request);

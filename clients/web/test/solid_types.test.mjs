@@ -21,6 +21,7 @@ test("every field of a type's panel is a member of that type", () => {
     pyramid: { type: "pyramid", center: [1, 2], size: [1, 1, 1] },
     prism: { type: "prism", points: [[0, 0], [1, 0], [0, 1]], height: 1 },
     mesh: { type: "mesh", vertices: [[0, 0, 0], [1, 0, 0], [0, 0, 1]], faces: [[0, 1, 2]] },
+    piece: { type: "piece", center: [1, 2], size: [1, 1, 1], parts: [{ ref: "0123456789abcdef" }] },
   };
   for (const [type, row] of Object.entries(solidTypes)) {
     const members = def(`#/$defs/${type}`).properties;

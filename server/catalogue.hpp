@@ -1,0 +1,45 @@
+// The furniture catalogue the server offers (GET /v1/catalogue): read once at start from
+// --catalogue-dir (catalogue.json, models/, icons/; catalogue/README.md). Each entry's OBJ model
+// becomes the parts of a piece as the Sweet Home 3D importer makes them (import_furniture_model: one
+// mesh per material group, in the unit box, coloured by the default material library), and each part's
+// mesh a stored mesh that every replica makes alike from the same files (its id is its content hash).
+// Those meshes are read-only documents of the mesh store (catalogue_store.hpp).
+#pragma once
+
+#include "server/mesh_store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rr::server {
+
+struct CatalogueItem {
+  std::string id;  // [a-z0-9_]+, e.g. "bedside_table"
+  std::string name, category;
+  double width_cm = 0, depth_cm = 0, height_cm = 0, elevation_cm = 0;
+  std::filesystem::path icon;  // the PNG file
+  nlohmann::json piece;        // {"type": "piece", "size", "base", "parts": [{"name", "ref", "color"[, "material"]}]}
+};
+
+struct Catalogue {
+  std::vector<CatalogueItem> items;                                 // in the catalogue file's order
+  std::map<std::string, std::shared_ptr<const StoredMesh>> meshes;  // by id: every part's mesh
+  std::string attribution, licence;
+  std::string answer;                 // the GET /v1/catalogue body, made once
+  std::string etag;                   // its content hash, quoted
+  std::vector<std::string> problems;  // entries left out, and why (the service logs them at start)
+
+  const CatalogueItem* find(const std::string& id) const;
+};
+
+// Reads the catalogue in `dir`; an empty catalogue when dir has no catalogue.json. An entry whose
+// model cannot be read is left out and said in `problems`; a catalogue.json that does not read is
+// an error (std::runtime_error naming the file).
+std::shared_ptr<const Catalogue> load_catalogue(const std::filesystem::path& dir, const ParseLimits& limits);
+
+}  // namespace rr::server
