@@ -60,7 +60,8 @@ struct RenderStats {
   size_t triangles = 0;         // rasterized after clipping
   size_t fragments = 0;         // pixels that passed coverage (before the depth test)
   size_t lights_evaluated = 0;  // light-polygon (flat) or light-vertex/pixel evaluations
-  bool shadow_skipped = true;   // no shadow lookups (no light, shadows off, or nothing to cast)
+  bool shadow_skipped = true;   // no shadow lookups or rays (no light, shadows off, or nothing to cast)
+  size_t lamps_culled = 0;      // shadow.method rays, culling on: lights that see no cell the view reaches
   size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
   // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
   size_t objects_occluded = 0;    // objects in the frustum with a front face, none of it drawn: all hidden
@@ -159,6 +160,11 @@ struct FrameInput {
   const RenderOptions& options;
   const RenderContext& context;
   const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
+  // shadow.method rays: the shadow-ray tree of `soup` (null: no shadow rays). Never set with `shadows`.
+  const ShadowBvh* shadow_rays = nullptr;
+  // Per scene light, 1 when the light is skipped altogether (rays only: it sees no cell the view
+  // reaches, so every ray it would get is blocked); null: none is.
+  const std::vector<uint8_t>* lights_skipped = nullptr;
   // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
   // not computed (the bsp pipeline culls subtrees of its tree instead).
   const std::vector<uint8_t>* objects_in_view = nullptr;

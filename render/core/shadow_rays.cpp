@@ -49,9 +49,8 @@ Segment segment_toward(Vec3 p, const Light& light, double eps) {
 bool leaf_blocks(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t leaf, uint32_t self, Vec3 p,
                  const Light& light, const Segment& s) {
   for (uint32_t i = bvh.leaf_begin[leaf]; i < bvh.leaf_begin[leaf + 1]; ++i) {
-    const uint32_t j = bvh.items[i];
-    if (j == self) continue;
-    const Polygon& q = soup.polygons[j];
+    const Polygon& q = soup.polygons[bvh.items[i]];
+    if (q.id == self) continue;
     if (casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return true;
   }
   return false;
@@ -220,7 +219,7 @@ bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon,
   if (s.empty) return false;
   for (uint32_t j = 0; j < soup.polygons.size(); ++j) {
     const Polygon& q = soup.polygons[j];
-    if (j == self || (q.flags & polygon_translucent) || !casts_shadow(q, light)) continue;
+    if (q.id == self || (q.flags & polygon_translucent) || !casts_shadow(q, light)) continue;
     if (intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return true;
   }
   return false;

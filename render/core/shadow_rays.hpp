@@ -36,11 +36,12 @@ struct ShadowBvh {
 // The casters' tree of `soup` from its hierarchy. Deterministic; linear in the hierarchy's size.
 ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierarchy);
 
-// Whether a caster other than polygon `self` blocks the segment from p toward `light` (to its
-// position for a point light, without end for a directional one), as the reference's shadow ray
-// decides it: the ray starts bvh.ray_epsilon from p (and stops as far before a point light);
-// casters are opaque polygons not edge-on to the light and, for closed objects, only the faces
-// turned away from it. A point light within 2 epsilon of p is never blocked.
+// Whether a caster other than the polygon whose id is `self` (Polygon::id: the source polygon's index
+// in the tessellated soup, which a view's selection and a pipeline's fragments keep) blocks the segment from p toward
+// `light` (to its position for a point light, without end for a directional one), as the reference's shadow ray decides
+// it: the ray starts bvh.ray_epsilon from p (and stops as far before a point light); casters are opaque polygons not
+// edge-on to the light and, for closed objects, only the faces turned away from it. A point light within 2 epsilon of p
+// is never blocked.
 bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light);
 
 // The same by testing every polygon of `soup` (the tests' oracle).

@@ -2,8 +2,11 @@
 // every polygon: the same answer for every ray, since both end in the same exact polygon test and
 // the tree's padded float boxes must never lose a polygon the ray meets. Seeded random rooms (the
 // studio's walls, windows and door with random boxes and lights), rays from random points of random
-// polygons, and axis-aligned rays whose slab products meet 0 x infinity.
+// polygons, and axis-aligned rays whose slab products meet 0 x infinity. Then options.shadow.method
+// rays through every raster pipeline against the reference's own shadow rays on the same rooms.
+#include "render/core/error_metrics.hpp"
 #include "render/core/shadow_rays.hpp"
+#include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/soup_builder.hpp"
@@ -19,7 +22,7 @@ namespace {
 
 using nlohmann::json;
 
-PreparedScene random_room(std::mt19937& rng) {
+json random_room_request(std::mt19937& rng) {
   json request = json::parse(testing::read_file(testing::examples_dir() / "studio.json"));
   std::uniform_real_distribution<double> at(0.3, 5.7), size(0.1, 1.6), base(0.0, 1.5), height(0.3, 2.5);
   json solids = json::array();
@@ -38,7 +41,11 @@ PreparedScene random_room(std::mt19937& rng) {
   lights.push_back({{"type", "directional"}, {"direction", {0.0, -1.0, 0.0}}});  // parallel to two slab pairs
   lights.push_back({{"type", "directional"}, {"direction", {1.0, 0.0, 0.0}}});
   request["scene"]["lights"] = lights;
-  return prepare_scene(request_from_json(request).scene);
+  return request;
+}
+
+PreparedScene random_room(std::mt19937& rng) {
+  return prepare_scene(request_from_json(random_room_request(rng)).scene);
 }
 
 Vec3 random_point_on(const PolygonSoup& soup, const Polygon& poly, std::mt19937& rng) {
@@ -104,6 +111,70 @@ TEST(ShadowRays, TranslucentPanesCastNothingAndAnEmptySoupNothingAtAll) {
   EXPECT_EQ(studio.shadow_bvh->leaf_begin, bvh.leaf_begin);
   EXPECT_EQ(studio.shadow_bvh->nodes.size(), bvh.nodes.size());
   EXPECT_EQ(studio.shadow_bvh->ray_epsilon, bvh.ray_epsilon);
+}
+
+// Every raster pipeline with options.shadow.method rays (and the z-buffer's A-buffer) decides each
+// visible point's light exactly as the reference's shadow rays: its light mask is the reference's at
+// every pixel away from the 2-pixel band around the reference's shadow edges (where the rasterized
+// point and the reference's hit differ by rounding and an exact decision may flip). Pixels where
+// another polygon is visible (a visibility difference, measured elsewhere) are not compared. The
+// cameras look over the room from its corners, in Phong and flat shading.
+TEST(ShadowRays, RaysMethodDecidesAsTheReferenceAwayFromShadowEdgesOnSeededRandomRooms) {
+  const auto seeds = testing::test_seeds(3131, 6);
+  constexpr int width = 160, height = 120;
+  size_t compared = 0, lit = 0, unlit = 0;
+  for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
+    std::mt19937 rng(seed);
+    json request = random_room_request(rng);
+    const double corner = seed % 2 ? 0.4 : 5.6;
+    request["camera"] = {{"position", {corner, 2.4, 6.0 - corner}}, {"target", {3.0, 0.6, 3.0}}, {"fov_y", 70}};
+    request["options"] = {{"width", width}, {"height", height}, {"shadows", true}, {"shading", "phong"}};
+    request["options"]["shadow"]["method"] = "rays";
+    const PreparedScene prepared = prepare_scene(request_from_json(request).scene);
+    RenderContext context;
+    context.shadow_mask = true;
+    context.shadow_bvh = prepared.shadow_bvh.get();
+    context.shadow_bvh_soup = &prepared.soup;
+    auto draw = [&](const json& r) {
+      const RenderRequest q = request_from_json(r);
+      return render_frame(q.scene, prepared.soup, q.camera, q.options, context);
+    };
+    json reference = request;
+    reference["options"]["pipeline"] = "reference";
+    const RenderResult truth = draw(reference);
+    ASSERT_EQ(truth.frame.shadow_mask_bytes, 1u);
+    for (const PipelineInfo& pipeline : pipeline_table()) {
+      if (pipeline.reference) continue;
+      for (const char* shading : {"phong", "flat"}) {
+        for (int antialias : {1, 4}) {
+          if (antialias > 1 && (pipeline.name != std::string("zbuffer") || shading != std::string("phong"))) continue;
+          SCOPED_TRACE(std::string(pipeline.name) + " " + shading + " antialias " + std::to_string(antialias));
+          json r = request;
+          r["options"]["pipeline"] = pipeline.name;
+          r["options"]["shading"] = shading;
+          r["options"]["antialias"] = antialias;
+          const RenderResult test = draw(r);
+          EXPECT_FALSE(test.stats.shadow_skipped);
+          EXPECT_EQ(test.timings.shadow_ms, 0.0) << "the prepared scene's tree is used, not a private one";
+          std::vector<uint8_t> mask = test.frame.shadow_mask;
+          ASSERT_EQ(mask.size(), truth.frame.shadow_mask.size());
+          for (size_t i = 0; i < mask.size(); ++i) {
+            if (test.frame.ids.ids[i] != truth.frame.ids.ids[i]) mask[i] = truth.frame.shadow_mask[i];
+          }
+          const ShadowError e = shadow_error(truth.frame.shadow_mask, mask, 1, width);
+          ASSERT_TRUE(e.split);
+          EXPECT_EQ(e.away_differing, 0u) << "of " << e.away_pixels << " pixels away from shadow edges";
+          EXPECT_GT(e.away_pixels, size_t(width * height / 2));
+          compared += e.away_pixels;
+        }
+      }
+    }
+    for (uint8_t m : truth.frame.shadow_mask) lit += m != 0, unlit += m != 0x3F;
+  }
+  EXPECT_GT(lit, 5000u);  // pixels some light reaches and pixels some light does not are both common
+  EXPECT_GT(unlit, 5000u);
+  EXPECT_GT(compared, 100000u);
 }
 
 }  // namespace
