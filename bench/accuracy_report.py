@@ -14,7 +14,8 @@ CLASSES = [("classic", "Classic test scenes (intersecting and overlapping solids
            ("r2v", "R2V apartment plans"),
            ("interiors", "Real interiors (OBJ meshes)")]
 COLOURS = {"zbuffer": "#1f77b4", "painter": "#d62728", "bsp": "#2ca02c", "shading": "#9467bd", "reference": "#000000"}
-ERROR_KEYS = ["visibility_all", "visibility_non_edge", "rmse", "psnr_db", "shadow_disagreement"]
+ERROR_KEYS = ["visibility_all", "visibility_non_edge", "rmse", "psnr_db", "shadow_disagreement",
+              "shadow_disagreement_band", "shadow_disagreement_away"]
 BEGIN, END = "<!-- accuracy-bench:begin -->", "<!-- accuracy-bench:end -->"
 
 
@@ -201,13 +202,15 @@ def class_section(results, cls, title, svg_dir, doc_dir):
     vis_front = {p["config"] for p in pareto(points, "visibility_non_edge")}
     rmse_front = {p["config"] for p in pareto(points, "rmse")}
     L += ["| # | config | frame ms | BSP build ms | visibility error, all | visibility error, non-edge | RMSE | PSNR dB | "
-          "shadow disagreement | Pareto (vis / shading) | scenes |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---:|"]
+          "shadow disagreement | within 2 px of shadow edges | away from them | Pareto (vis / shading) | scenes |",
+          "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|"]
     for p in points:
         marks = ("V" if p["config"] in vis_front else "") + ("S" if p["config"] in rmse_front else "")
-        L.append("| %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d |" % (
+        L.append("| %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d |" % (
             p["number"], p["config"], num(p["ms"]), num(p["build_ms"], "%.1f"), pct(p["visibility_all"]),
             pct(p["visibility_non_edge"]), num(p["rmse"]), num(p["psnr_db"], "%.1f"),
-            pct(p["shadow_disagreement"]), marks or "", p["scenes"]))
+            pct(p["shadow_disagreement"]), pct(p["shadow_disagreement_band"]), pct(p["shadow_disagreement_away"]),
+            marks or "", p["scenes"]))
     L.append("")
     for key, label, suffix in (("visibility_non_edge", "visibility error, non-edge pixels (share)", "visibility"),
                                ("rmse", "shading error: RMSE of 8-bit RGB", "shading")):

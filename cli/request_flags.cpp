@@ -13,7 +13,7 @@ namespace {
 using nlohmann::json;
 
 enum class Kind { vec3, number, integer, size, name, boolean, light };
-enum class Names { none, pipelines, shadings, png, culling };
+enum class Names { none, pipelines, shadings, png, culling, shadow_methods };
 
 struct RequestFlag {
   const char* name;
@@ -37,7 +37,9 @@ constexpr RequestFlag request_flag_rows[] = {
     {"--size", "/options/width", Kind::size, "WxH", Names::none, "image size, pixels (not with --width/--height)"},
     {"--pipeline", "/options/pipeline", Kind::name, nullptr, Names::pipelines, "hidden-surface pipeline"},
     {"--shading", "/options/shading", Kind::name, nullptr, Names::shadings, "shading mode"},
-    {"--shadows", "/options/shadows", Kind::boolean, "true|false", Names::none, "shadow maps"},
+    {"--shadows", "/options/shadows", Kind::boolean, "true|false", Names::none, "shadows"},
+    {"--shadow-method", "/options/shadow/method", Kind::name, nullptr, Names::shadow_methods,
+     "shadows from maps, or exact rays toward each light"},
     {"--antialias", "/options/antialias", Kind::integer, "S", Names::none,
      "coverage sub-samples per pixel: 1, 4, 8 or 16"},
     {"--png", "/options/png/compression", Kind::name, nullptr, Names::png, "PNG encoder (none: stored, unfiltered)"},
@@ -64,6 +66,9 @@ std::string value_names(Names names) {
       break;
     case Names::culling:
       for (const auto& row : culling_mode_names) add(row.name);
+      break;
+    case Names::shadow_methods:
+      for (const auto& row : shadow_method_names) add(row.name);
       break;
     case Names::none:
       break;

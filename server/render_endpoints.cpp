@@ -227,6 +227,7 @@ constexpr QueryParam query_params[] = {
     {"shadow_bias", "/options/shadow/bias", ParamKind::number},
     {"shadow_slope_bias", "/options/shadow/slope_bias", ParamKind::number},
     {"shadow_fit", "/options/shadow/fit", ParamKind::text},
+    {"shadow_method", "/options/shadow/method", ParamKind::text},
     {"png", "/options/png/compression", ParamKind::text},
     {"antialias", "/options/antialias", ParamKind::integer},
     {"culling", "/options/culling", ParamKind::text},

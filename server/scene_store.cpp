@@ -13,7 +13,8 @@ namespace rr::server {
 namespace {
 
 // Approximate heap cost of a prepared scene: the text, the parsed scene (about as large as its text,
-// in practice smaller), the tessellation's arrays, its hierarchy, its cells and the meshes it places
+// in practice smaller), the tessellation's arrays, its hierarchy, its cells, its shadow-ray tree and the
+// meshes it places
 // (counted with each scene that holds them, though the scenes placing one mesh share it: an overcount
 // keeps the cache's budget a bound on what it holds).
 size_t entry_bytes(const StoredScene& s) {
@@ -23,6 +24,7 @@ size_t entry_bytes(const StoredScene& s) {
   bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
   if (s.hierarchy) bytes += s.hierarchy->bytes();
   if (s.cells) bytes += s.cells->bytes();
+  if (s.shadow_bvh) bytes += s.shadow_bvh->bytes();
   std::set<const MeshData*> meshes;
   for (const Solid& solid : s.scene.geometry.solids) {
     if (solid.mesh && meshes.insert(solid.mesh.get()).second) bytes += mesh_bytes(*solid.mesh);

@@ -13,7 +13,9 @@ nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame
                               {"visibility_non_edge", nullptr},
                               {"rmse", nullptr},
                               {"psnr_db", nullptr},
-                              {"shadow_disagreement", nullptr}};
+                              {"shadow_disagreement", nullptr},
+                              {"shadow_disagreement_band", nullptr},
+                              {"shadow_disagreement_away", nullptr}};
   if (m.visibility) {
     j["visibility_all"] = m.visibility->share();
     j["visibility_non_edge"] = m.visibility->non_edge_share();
@@ -24,6 +26,10 @@ nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame
     if (std::isfinite(m.shading->psnr_db)) j["psnr_db"] = m.shading->psnr_db;
   }
   if (m.shadow) j["shadow_disagreement"] = m.shadow->share();
+  if (m.shadow && m.shadow->split) {  // within shadow_edge_band pixels of the reference's shadow edges, and away
+    j["shadow_disagreement_band"] = m.shadow->band_share();
+    j["shadow_disagreement_away"] = m.shadow->away_share();
+  }
   return j;
 }
 

@@ -59,14 +59,50 @@ ShadingError shading_error(const Image& reference, const Image& test) {
   return e;
 }
 
-ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test) {
+ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test, size_t bytes_per_pixel,
+                         int width) {
   if (reference.size() != test.size()) {
     throw std::invalid_argument("shadow mask sizes differ: " + std::to_string(reference.size()) + " and " +
-                                std::to_string(test.size()) + " pixels");
+                                std::to_string(test.size()) + " bytes");
+  }
+  if (bytes_per_pixel == 0 || reference.size() % bytes_per_pixel != 0) {
+    throw std::invalid_argument("shadow mask of " + std::to_string(reference.size()) + " bytes is not made of " +
+                                std::to_string(bytes_per_pixel) + "-byte pixels");
   }
   ShadowError e;
-  e.pixels = reference.size();
-  for (size_t i = 0; i < reference.size(); ++i) e.differing += reference[i] != test[i];
+  e.pixels = reference.size() / bytes_per_pixel;
+  auto same = [&](std::span<const uint8_t> x, size_t i, std::span<const uint8_t> y, size_t j) {
+    return std::equal(x.begin() + ptrdiff_t(i * bytes_per_pixel), x.begin() + ptrdiff_t((i + 1) * bytes_per_pixel),
+                      y.begin() + ptrdiff_t(j * bytes_per_pixel));
+  };
+  for (size_t i = 0; i < e.pixels; ++i) e.differing += !same(reference, i, test, i);
+  if (width <= 0 || e.pixels % size_t(width) != 0) return e;
+  // The band: the reference's shadow edge pixels, dilated by shadow_edge_band along rows, then columns.
+  const size_t w = size_t(width), h = e.pixels / w, r = size_t(shadow_edge_band);
+  std::vector<uint8_t> edge(e.pixels, 0), rows(e.pixels, 0);
+  for (size_t y = 0; y < h; ++y) {
+    for (size_t x = 0; x < w; ++x) {
+      const size_t i = y * w + x;
+      edge[i] =
+          (x > 0 && !same(reference, i, reference, i - 1)) || (x + 1 < w && !same(reference, i, reference, i + 1)) ||
+          (y > 0 && !same(reference, i, reference, i - w)) || (y + 1 < h && !same(reference, i, reference, i + w));
+    }
+  }
+  for (size_t y = 0; y < h; ++y) {
+    for (size_t x = 0; x < w; ++x) {
+      for (size_t nx = x > r ? x - r : 0; nx <= std::min(x + r, w - 1); ++nx) rows[y * w + x] |= edge[y * w + nx];
+    }
+  }
+  e.split = true;
+  for (size_t y = 0; y < h; ++y) {
+    for (size_t x = 0; x < w; ++x) {
+      bool band = false;
+      for (size_t ny = y > r ? y - r : 0; ny <= std::min(y + r, h - 1); ++ny) band = band || rows[ny * w + x];
+      const bool differs = !same(reference, y * w + x, test, y * w + x);
+      (band ? e.band_pixels : e.away_pixels)++;
+      (band ? e.band_differing : e.away_differing) += differs;
+    }
+  }
   return e;
 }
 
@@ -116,7 +152,12 @@ ErrorMeasures compare_frames(const Frame& reference, const Frame& test) {
   m.visibility = visibility_error(reference.ids, test.ids);
   m.shading = shading_error(reference.image, test.image);
   if (!reference.shadow_mask.empty() && !test.shadow_mask.empty()) {
-    m.shadow = shadow_error(reference.shadow_mask, test.shadow_mask);
+    if (reference.shadow_mask_bytes != test.shadow_mask_bytes) {
+      throw std::invalid_argument("shadow masks of " + std::to_string(reference.shadow_mask_bytes) + " and " +
+                                  std::to_string(test.shadow_mask_bytes) + " bytes a pixel");
+    }
+    m.shadow =
+        shadow_error(reference.shadow_mask, test.shadow_mask, reference.shadow_mask_bytes, reference.image.width);
   }
   return m;
 }

@@ -39,13 +39,27 @@ struct ShadingError {
 };
 ShadingError shading_error(const Image& reference, const Image& test);
 
-// Frame::shadow_mask bytes compared whole: a pixel differs when any of its lights' lit state does.
+// Frame::shadow_mask compared a pixel (`bytes_per_pixel` bytes) at a time: a pixel differs when any
+// of its lights' lit state does.
+// With the image's width (compare_frames gives it), the pixels are also split into the band of
+// shadow_edge_band pixels (Chebyshev distance) around the reference's shadow edges, where a map's
+// resolution or a raster's interpolated position may decide otherwise than the exact ray, and the
+// pixels away from it, where they should not. A shadow edge pixel's mask differs from one of its
+// 4-neighbours' in the reference.
+constexpr int shadow_edge_band = 2;
 struct ShadowError {
   size_t pixels = 0;
   size_t differing = 0;
+  bool split = false;  // the band and away counts below are filled
+  size_t band_pixels = 0, band_differing = 0;
+  size_t away_pixels = 0, away_differing = 0;
   double share() const { return pixels ? double(differing) / double(pixels) : 0.0; }
+  double band_share() const { return band_pixels ? double(band_differing) / double(band_pixels) : 0.0; }
+  double away_share() const { return away_pixels ? double(away_differing) / double(away_pixels) : 0.0; }
 };
-ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test);
+// width 0: no split (the length of a row is not known).
+ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test, size_t bytes_per_pixel = 1,
+                         int width = 0);
 
 // An anti-aliasing edge pixel: its 3x3 neighbourhood (clipped to the image) in the reference's
 // centre-sample id buffer holds more than one id, background included. Every pixel that a straight

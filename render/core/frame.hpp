@@ -60,7 +60,8 @@ struct RenderStats {
   size_t triangles = 0;         // rasterized after clipping
   size_t fragments = 0;         // pixels that passed coverage (before the depth test)
   size_t lights_evaluated = 0;  // light-polygon (flat) or light-vertex/pixel evaluations
-  bool shadow_skipped = true;   // no shadow lookups (no light, shadows off, or nothing to cast)
+  bool shadow_skipped = true;   // no shadow lookups or rays (no light, shadows off, or nothing to cast)
+  size_t lamps_culled = 0;      // shadow.method rays, culling on: lights that see no cell the view reaches
   size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
   // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
   size_t objects_occluded = 0;    // objects in the frustum with a front face, none of it drawn: all hidden
@@ -92,14 +93,21 @@ struct RenderStats {
 struct Frame {
   Image image;   // RGB8
   IdBuffer ids;  // visible polygon per pixel (the last one drawn there for priority pipelines)
-  // Only when RenderContext::shadow_mask asked for it (else empty): per pixel, bit l is set when
-  // scene light l (l < 8) reaches the visible surface there: the light is on its lit side and,
-  // with shadows on, the shadow lookup (visibility >= 0.5) or shadow ray finds it unblocked.
+  // Only when RenderContext::shadow_mask asked for it (else empty): per pixel, shadow_mask_bytes
+  // bytes (light_mask_bytes of the scene's lights); bit l % 8 of the pixel's byte l / 8 is set when
+  // scene light l reaches the visible surface there: the light is on its lit side and, with shadows
+  // on, the shadow lookup (visibility >= 0.5) or shadow ray finds it unblocked. With at most 8 lights
+  // it is one byte a pixel, bit l for light l.
   std::vector<uint8_t> shadow_mask = {};
+  size_t shadow_mask_bytes = 1;
 };
+
+// Bytes per pixel of a light mask for `lights` lights: one bit each, at least one byte.
+inline size_t light_mask_bytes(size_t lights) { return lights > 8 ? (lights + 7) / 8 : 1; }
 
 struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
 struct SceneCells;                               // cells.hpp: cells and portals of one static scene
+struct ShadowBvh;                                // shadow_rays.hpp: the shadow rays' tree of one static soup
 class DepthPyramid;                              // occlusion.hpp: one frame's hierarchical depth
 struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
 using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
@@ -122,6 +130,10 @@ struct RenderContext {
   // The cells of `hierarchy_soup` with the hierarchy's node masks. Null with a hierarchy: no cells;
   // null without one: the frame derives them with its private hierarchy (timed as build).
   const SceneCells* cells = nullptr;
+  // The shadow-ray tree of `shadow_bvh_soup` (the prepared scene's soup). Null: a frame that casts
+  // shadow rays over another soup (a view's selection) builds a private one.
+  const ShadowBvh* shadow_bvh = nullptr;
+  const PolygonSoup* shadow_bvh_soup = nullptr;
   bool use_cells = true;               // benches only: false culls occlusion without the portal walk
   int cull_eager = 0;                  // tests only: the occlusion test made that many margins too eager (a mutation)
   uint32_t drop_portal = 0xFFFFFFFFu;  // tests only: the portal walk ignores this portal (a mutation)
@@ -148,6 +160,11 @@ struct FrameInput {
   const RenderOptions& options;
   const RenderContext& context;
   const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
+  // shadow.method rays: the shadow-ray tree of `soup` (null: no shadow rays). Never set with `shadows`.
+  const ShadowBvh* shadow_rays = nullptr;
+  // Per scene light, 1 when the light is skipped altogether (rays only: it sees no cell the view
+  // reaches, so every ray it would get is blocked); null: none is.
+  const std::vector<uint8_t>* lights_skipped = nullptr;
   // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
   // not computed (the bsp pipeline culls subtrees of its tree instead).
   const std::vector<uint8_t>* objects_in_view = nullptr;
@@ -159,6 +176,7 @@ struct FrameInput {
   const DepthPyramid* occlusion = nullptr;
   size_t* lights_evaluated = nullptr;  // SurfaceShader adds its light evaluations here
   uint8_t* shadow_mask = nullptr;      // Frame::shadow_mask's pixels when requested, else null
+  size_t shadow_mask_bytes = 1;        // Frame::shadow_mask_bytes: bytes per pixel of shadow_mask
 };
 
 using PipelineFn = void (*)(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings);

@@ -200,6 +200,11 @@ enum class BspTraversal { front_to_back, back_to_front };
 // (sharpest; reused only for the same view) or every receiver of the scene (reused by every camera).
 enum class ShadowFit { view, scene };
 
+// How a visible point's shadow from each light is decided (docs/lighting.md): shadow maps (the
+// shadow pass, filtered lookups) or one exact ray toward the light per point and light, through the
+// static scene's shadow-ray tree (shadow_rays.hpp), as the reference decides it.
+enum class ShadowMethod { map, rays };
+
 struct BspOptions {
   // Splitter score w1*|front - back| + w2*splits + w3*coplanar (lower is better).
   double w1 = 1.0;
@@ -217,6 +222,7 @@ struct ShadowOptions {
   double bias = 0.0;        // extra constant depth bias in texels of depth, added to the default
   double slope_bias = 0.0;  // extra slope-scaled bias, added to the default
   ShadowFit fit = ShadowFit::view;
+  ShadowMethod method = ShadowMethod::map;  // rays: size, pcf, biases and fit are not read
 };
 
 // Which ceilings a view draws: auto draws a room's ceiling when the camera is below it (an aerial

@@ -45,6 +45,12 @@ inline constexpr std::array<NameRow<ShadowFit>, 2> shadow_fit_rows = {{
 }};
 inline constexpr NameTable<NameRow<ShadowFit>> shadow_fit_names{shadow_fit_rows};
 
+inline constexpr std::array<NameRow<ShadowMethod>, 2> shadow_method_rows = {{
+    {ShadowMethod::map, "map"},
+    {ShadowMethod::rays, "rays"},
+}};
+inline constexpr NameTable<NameRow<ShadowMethod>> shadow_method_names{shadow_method_rows};
+
 inline constexpr std::array<NameRow<LightType>, 2> light_type_rows = {{
     {LightType::directional, "directional"},
     {LightType::point, "point"},

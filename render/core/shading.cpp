@@ -66,11 +66,15 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
       soup_(soup),
       lights_evaluated_(input.lights_evaluated),
       maps_(input.shadows && !input.shadows->empty() ? input.shadows : nullptr),
+      rays_(maps_ ? nullptr : input.shadow_rays),
       mode_(input.options.shading),
-      slots_(maps_ ? maps_->lights.size() : 0),
+      slots_(maps_   ? maps_->lights.size()
+             : rays_ ? input.scene.lights.size()
+                     : 0),
       term_begin_(mode_ == ShadingMode::phong ? 0 : soup.polygons.size(), 0),
       slot_sums_(slots_),
-      mask_(input.shadow_mask) {}
+      mask_(input.shadow_mask),
+      mask_bytes_(input.shadow_mask_bytes) {}
 
 SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evaluated)
     : input_(prepared.input_),
@@ -78,10 +82,12 @@ SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evalu
       prepared_(&prepared),
       lights_evaluated_(lights_evaluated),
       maps_(prepared.maps_),
+      rays_(prepared.rays_),
       mode_(prepared.mode_),
       slots_(prepared.slots_),
       slot_sums_(slots_),
-      mask_(prepared.mask_) {}
+      mask_(prepared.mask_),
+      mask_bytes_(prepared.mask_bytes_) {}
 
 SurfaceShader::~SurfaceShader() {
   if (lights_evaluated_) *lights_evaluated_ += evaluated_ + evaluated_per_pixel_;
@@ -91,6 +97,7 @@ void SurfaceShader::collect_reaching(const Polygon& source) {
   sign_ = lit_side(source, input_.view.eye);
   reaching_.clear();
   for (uint32_t l = 0; l < input_.scene.lights.size(); ++l) {
+    if (skipped(l)) continue;
     if (light_reaches(input_.scene.lights[l], sign_ * source.normal, sign_ * source.offset)) reaching_.push_back(l);
   }
 }
@@ -104,7 +111,7 @@ void SurfaceShader::add_terms(const Material& material, Vec3 p, Vec3 n, Color* o
   for (uint32_t l : reaching_) {
     const LightTerms t = light_terms(input_.scene.lights[l], material, p, n, input_.view.eye);
     ++evaluated_;
-    const int32_t slot = maps_ ? maps_->slot_of_light[l] : -1;
+    const int32_t slot = slot_of(l);
     if (slot < 0) {
       irradiance += t.irradiance;
       specular += t.specular;

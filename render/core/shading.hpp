@@ -1,8 +1,8 @@
 // Lighting and shading shared by every pipeline (docs/lighting.md). The model: ambient + Blinn-Phong
 // (Lambert diffuse and a specular lobe on the half vector) from directional and point lights, each
-// light scaled by its shadow-map visibility. Input: world-space positions and unit normals; output:
-// display colours (no gamma; to_byte clamps). Open surfaces (not part of a closed object) are lit
-// on the side facing the eye, so a single triangle seen from behind is not black.
+// light scaled by its shadow-map visibility, or by 0 or 1 from an exact shadow ray (shadow.method rays). Input:
+// world-space positions and unit normals; output: display colours (no gamma; to_byte clamps). Open surfaces (not part
+// of a closed object) are lit on the side facing the eye, so a single triangle seen from behind is not black.
 #pragma once
 
 #include "render/core/draw.hpp"
@@ -67,8 +67,8 @@ class SpecularTable {
 //                  Gouraud vertex colours are computed here, once per polygon;
 //   bind(i, s)     after project_polygon, before drawing it: selects the polygon, the lights that
 //                  reach its plane and the attributes of its clipped vertices;
-//   fragment(f, k) per covered pixel: the colour. Shadow lookups use the world position
-//                  interpolated across the drawn polygon, so every pipeline gets shadows.
+//   fragment(f, k) per covered pixel: the colour. Shadow lookups and shadow rays use the world
+//                  position interpolated across the drawn polygon, so every pipeline gets shadows.
 // Colours of a polygon drawn as fragments (painter splits, BSP fragments) are those of its source
 // polygon at the same points: a fragment's id is its source's index in input.soup.
 // The destructor adds the lights evaluated (per polygon for flat, per vertex for Gouraud, per pixel
@@ -129,10 +129,16 @@ class SurfaceShader {
     int32_t shadow = -1;  // index into shadowed_, or -1: never shadowed
   };
   struct Shadowed {
-    const ShadowLight* light;
+    const ShadowLight* light;  // shadow maps; null for a shadow ray
     ShadowReceiver receiver;
-    int32_t slot;  // index into ShadowMaps::lights
+    int32_t slot;                      // index into ShadowMaps::lights, or the scene light with rays
+    const Light* ray_light = nullptr;  // shadow rays: the light the ray goes toward
   };
+  // The terms slot of scene light l: its index among the lights with maps, l itself with shadow
+  // rays, -1 when it is never shadowed.
+  int32_t slot_of(uint32_t l) const { return maps_ ? maps_->slot_of_light[l] : rays_ ? int32_t(l) : -1; }
+  bool skipped(uint32_t l) const { return input_.lights_skipped && (*input_.lights_skipped)[l]; }
+  float ray_visibility(const Shadowed& light, Vec3 p_world) const;
 
   Color shade_pixel(const Fragment& f, size_t k) const;
   void write_mask(const Fragment& f, size_t k) const;
@@ -156,8 +162,9 @@ class SurfaceShader {
   const SurfaceShader* prepared_ = this;  // holds term_begin_ and terms_
   size_t* lights_evaluated_;
   const ShadowMaps* maps_;
+  const ShadowBvh* rays_;  // shadow.method rays: the tree of input_.soup (never with maps_)
   ShadingMode mode_;
-  size_t slots_;                       // lights with shadow maps
+  size_t slots_;                       // lights with shadow maps, or every scene light with rays
   std::vector<uint32_t> term_begin_;   // per polygon: its first entry in terms_
   std::vector<Color> terms_;           // [unshadowed sum, one per slot], per polygon (flat) or vertex
   std::vector<Color> scratch_terms_;   // source vertex terms while preparing a fragment
@@ -174,13 +181,16 @@ class SurfaceShader {
   std::vector<Shadowed> shadowed_;
   std::vector<Color> bound_terms_;            // flat: 1 + shadowed; Gouraud: that per clipped vertex
   std::vector<Vec3> coords_;                  // per clipped vertex x shadowed_: shadow_coords
+  std::vector<Vec3> world_;                   // shadow rays: per clipped vertex, its world position
+  uint32_t self_ = 0;                         // shadow rays: the bound polygon's id (casts on itself never)
   std::vector<glm::vec3> eye_to_p_, normal_;  // Phong: per clipped vertex
   size_t evaluated_ = 0;
   mutable size_t evaluated_per_pixel_ = 0;
-  // Frame::shadow_mask (null when not requested): the bound polygon's lights l < 8 that reach it,
-  // as (bit, index into shadowed_ or -1).
+  // Frame::shadow_mask (null when not requested), mask_bytes_ a pixel: the bound polygon's lights
+  // that reach it, as (light index, index into shadowed_ or -1).
   uint8_t* mask_ = nullptr;
-  std::vector<std::pair<uint8_t, int32_t>> mask_lights_;
+  size_t mask_bytes_ = 1;
+  std::vector<std::pair<uint32_t, int32_t>> mask_lights_;
 };
 
 }  // namespace rr

@@ -5,7 +5,9 @@
 #include "render/core/shading.hpp"
 
 #include "render/core/shading_detail.hpp"
+#include "render/core/shadow_rays.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rr {
@@ -25,15 +27,18 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   const auto& lights = input_.scene.lights;
   for (uint32_t l = 0; l < lights.size(); ++l) {
     const Light& light = lights[l];
-    if (!light_reaches(light, sign_ * poly.normal, sign_ * poly.offset)) continue;
+    if (skipped(l) || !light_reaches(light, sign_ * poly.normal, sign_ * poly.offset)) continue;
     ActiveLight a;
-    const int32_t slot = maps_ ? maps_->slot_of_light[l] : -1;
-    if (slot >= 0) {
+    const int32_t slot = slot_of(l);
+    if (slot >= 0 && maps_) {
       const ShadowLight& sl = maps_->lights[size_t(slot)];
       shadowed_.push_back({&sl, make_shadow_receiver(*maps_, sl, poly.normal, poly.offset), slot});
       a.shadow = int32_t(shadowed_.size() - 1);
+    } else if (slot >= 0) {
+      shadowed_.push_back({nullptr, {}, slot, &light});
+      a.shadow = int32_t(shadowed_.size() - 1);
     }
-    if (mask_ && l < 8) mask_lights_.push_back({uint8_t(1u << l), a.shadow});
+    if (mask_) mask_lights_.push_back({l, a.shadow});
     if (mode_ != ShadingMode::phong) continue;
     const glm::vec3 radiance = light.color * light.intensity;
     a.point = light.type == LightType::point;
@@ -47,10 +52,16 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   }
   const auto& clipped = scratch.clipped;
   const size_t shadowed = shadowed_.size();
-  coords_.resize(clipped.size() * shadowed);
-  for (size_t j = 0; j < clipped.size(); ++j) {
-    for (size_t s = 0; s < shadowed; ++s)
-      coords_[j * shadowed + s] = shadow_coords(*shadowed_[s].light, clipped[j].p_world);
+  if (rays_) {
+    self_ = poly.id;
+    world_.resize(clipped.size());
+    for (size_t j = 0; j < clipped.size(); ++j) world_[j] = clipped[j].p_world;
+  } else {
+    coords_.resize(clipped.size() * shadowed);
+    for (size_t j = 0; j < clipped.size(); ++j) {
+      for (size_t s = 0; s < shadowed; ++s)
+        coords_[j * shadowed + s] = shadow_coords(*shadowed_[s].light, clipped[j].p_world);
+    }
   }
   switch (mode_) {
     case ShadingMode::flat: {
@@ -106,7 +117,16 @@ void SurfaceShader::bind_gouraud(uint32_t index, const DrawScratch& scratch) {
   }
 }
 
+// A shadow ray from p_world, the point interpolated in doubles across the drawn polygon (so it lies
+// on the polygon's plane to within rounding of its vertices, far below the ray's epsilon): the polygon
+// itself is left out of the casters by its id, as the reference leaves out the polygon it hit, rather
+// than moving the origin off the surface, so that a decision is the reference's at the same point.
+float SurfaceShader::ray_visibility(const Shadowed& light, Vec3 p_world) const {
+  return shadow_ray_blocked(*rays_, input_.soup, self_, p_world, *light.ray_light) ? 0.0f : 1.0f;
+}
+
 float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {
+  if (rays_) return ray_visibility(shadowed_[s], f.b[0] * world_[0] + f.b[1] * world_[k + 1] + f.b[2] * world_[k + 2]);
   const size_t n = shadowed_.size();
   const Vec3 coords = f.b[0] * coords_[s] + f.b[1] * coords_[(k + 1) * n + s] + f.b[2] * coords_[(k + 2) * n + s];
   return shadow_visibility(*maps_, *shadowed_[s].light, shadowed_[s].receiver, coords);
@@ -114,11 +134,11 @@ float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {
 
 // A light counts as reaching the pixel when at least half of its PCF taps see it.
 void SurfaceShader::write_mask(const Fragment& f, size_t k) const {
-  uint8_t bits = 0;
-  for (const auto& [bit, shadow] : mask_lights_) {
-    if (shadow < 0 || visibility(size_t(shadow), f, k) >= 0.5f) bits = uint8_t(bits | bit);
+  uint8_t* const bits = mask_ + (size_t(f.y) * size_t(input_.view.width) + size_t(f.x)) * mask_bytes_;
+  std::fill(bits, bits + mask_bytes_, uint8_t(0));
+  for (const auto& [light, shadow] : mask_lights_) {
+    if (shadow < 0 || visibility(size_t(shadow), f, k) >= 0.5f) bits[light / 8] |= uint8_t(1u << (light % 8));
   }
-  mask_[size_t(f.y) * size_t(input_.view.width) + size_t(f.x)] = bits;
 }
 
 Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {

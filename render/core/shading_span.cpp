@@ -5,6 +5,8 @@
 // SpecularTable instead of std::pow. Each loop runs over structure-of-arrays buffers, light by light.
 #include "render/core/shading.hpp"
 
+#include "render/core/shadow_rays.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -105,6 +107,13 @@ bool span_decided(const ShadowMaps& maps, const ShadowLight& light, const Shadow
 // up to 8 pixels that span_decided settles take no lookup per pixel (shorter runs than the span's
 // have smaller footprints, so more of them are settled).
 void SurfaceShader::span_visibility(const Span& span, size_t s, float* vis) const {
+  if (rays_) {
+    const size_t k = span.k;
+    const Vec3 w0 = world_[0], w1 = world_[k + 1], w2 = world_[k + 2];
+    for (size_t i = 0; i < span.count; ++i)
+      vis[i] = ray_visibility(shadowed_[s], span.b[0][i] * w0 + span.b[1][i] * w1 + span.b[2][i] * w2);
+    return;
+  }
   const size_t n = shadowed_.size(), k = span.k;
   const Vec3 c0 = coords_[s], c1 = coords_[(k + 1) * n + s], c2 = coords_[(k + 2) * n + s];
   const Shadowed& light = shadowed_[s];

@@ -8,11 +8,14 @@
 #include "render/core/hierarchy.hpp"
 #include "render/core/occlusion.hpp"
 #include "render/core/shadow.hpp"
+#include "render/core/shadow_rays.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/shadow_cache.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
+#include <numbers>
 
 namespace rr {
 
@@ -30,6 +33,9 @@ struct CullState {
   std::vector<uint8_t> object_present;  // per object: it has polygons in the frame's soup
   CellWalk cell_walk;
   CellFilter cell_filter;
+  CellConditions cell_conditions;
+  CellWalk lamp_walk;                   // one cube face of one lamp at a time
+  std::vector<uint8_t> lights_skipped;  // per scene light (shadow rays: FrameInput::lights_skipped)
 };
 
 // The hierarchy of `soup`: the context's when it was built on this soup or on the soup this one was
@@ -74,7 +80,8 @@ const CellFilter* walk_portals(const SceneCells& cells, const FrameInput& input,
   stats.cells = cells.cells.size();
   stats.cells_visited = cells.cells.size();
   if (!cells.derived()) return nullptr;
-  CellConditions conditions = cell_conditions(cells, state.object_present);
+  state.cell_conditions = cell_conditions(cells, state.object_present);
+  CellConditions& conditions = state.cell_conditions;
   conditions.dropped_pair = input.context.drop_portal;
   if (!conditions.valid) return nullptr;
   walk_cells(cells, conditions, cell_viewpoint(input.view), state.cell_walk);
@@ -82,6 +89,46 @@ const CellFilter* walk_portals(const SceneCells& cells, const FrameInput& input,
   stats.cells_visited = state.cell_walk.cells_visited;
   stats.portals_walked = state.cell_walk.portals_walked;
   return &state.cell_filter;
+}
+
+// Lamps culled by what they see (shadow rays only, after the camera's portal walk): a point light
+// whose own portal walk, one per cube face from its position over the whole sphere, reaches no cell
+// the camera's walk reached, cannot light any point the frame shows. A shown point lies in a cell the
+// camera reached, and an unblocked ray from the lamp to it would be a sight line from the lamp into
+// that cell; every other straight line crosses a wall, floor, ceiling or door leaf the frame draws,
+// and those are shadow casters (a closed wall by the face turned away from the lamp). So each of its
+// rays would be blocked and its terms scaled by 0: skipping it keeps the bytes. With shadow maps a
+// lamp is never skipped (a map's bias may let light through where a ray would not). Directional
+// lights come from outside every cell and are never skipped.
+void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, RenderStats& stats) {
+  const auto& lights = input.scene.lights;
+  state.lights_skipped.assign(lights.size(), 0);
+  input.lights_skipped = &state.lights_skipped;
+  if (state.cell_walk.everything) return;
+  // The lamp's views start 0.1 mm from it (locate_cells takes every cell that close as a start), and
+  // their portals are widened by 1e-6 of the view plane, far beyond the rounding of a projection:
+  // the walk must never miss a cell an exact ray enters.
+  constexpr double near_m = 1e-4, far_m = 1e6, margin = 1e-6;
+  for (size_t l = 0; l < lights.size(); ++l) {
+    const Light& light = lights[l];
+    if (light.type != LightType::point) continue;
+    bool sees = false;
+    for (const shadow_detail::CubeFace& face : shadow_detail::cube_faces) {
+      CellViewpoint viewpoint;
+      viewpoint.eye = light.position;
+      viewpoint.reach = near_m * std::sqrt(3.0);
+      viewpoint.clip_from_world = glm::perspective(0.5 * std::numbers::pi, 1.0, near_m, far_m) *
+                                  glm::lookAt(light.position, light.position + face.forward, face.up);
+      viewpoint.margin_x = viewpoint.margin_y = margin;
+      walk_cells(cells, state.cell_conditions, viewpoint, state.lamp_walk);
+      sees = state.lamp_walk.everything;
+      for (size_t c = 0; !sees && c < cells.cells.size(); ++c) {
+        sees = state.lamp_walk.reached[c] && state.cell_walk.reached[c];
+      }
+      if (sees) break;
+    }
+    if (!sees) state.lights_skipped[l] = 1, ++stats.lamps_culled;
+  }
 }
 
 // The cull stage: whole objects outside the frustum (rows that cull objects), then the occlusion
@@ -116,6 +163,7 @@ void cull(const PipelineInfo& pipeline, FrameInput& input, CullState& state, Ren
   }
   OcclusionCandidates candidates{state.drawn, state.opaque};
   if (cells) candidates.cells = walk_portals(*cells, input, state, stats);
+  if (candidates.cells && input.shadow_rays) cull_lamps(*cells, input, state, stats);
   walk_occlusion(hierarchy, soup, state.frame_of, candidates, input.view, input.context.cull_eager, state.occlusion);
   input.polygons_shown = &state.occlusion.shown;
   input.polygons_shown_by_id = &state.occlusion.shown;
@@ -149,24 +197,42 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   RenderResult result;
   result.frame.image = Image(options.width, options.height, scene.background);
   result.frame.ids = IdBuffer(options.width, options.height);
-  if (context.shadow_mask) result.frame.shadow_mask.assign(result.frame.ids.ids.size(), 0);
+  if (context.shadow_mask) {
+    result.frame.shadow_mask_bytes = light_mask_bytes(scene.lights.size());
+    result.frame.shadow_mask.assign(result.frame.ids.ids.size() * result.frame.shadow_mask_bytes, 0);
+  }
   result.stats.polygons = soup.polygons.size();
   ViewTransform view = make_view(camera, options.width, options.height);
   FrameInput input{scene, soup, view, options, context};
-  if (context.shadow_mask) input.shadow_mask = result.frame.shadow_mask.data();
+  if (context.shadow_mask) {
+    input.shadow_mask = result.frame.shadow_mask.data();
+    input.shadow_mask_bytes = result.frame.shadow_mask_bytes;
+  }
   const PipelineInfo& pipeline = pipeline_info(options.pipeline);
   check_cancel(context.cancel);
   // The shadow pass runs at most once, before any pipeline draws, and not at all when the shadow
   // cache holds this frame's maps; with no light or shadows off it does not run (shadow_ms stays 0).
   // It comes before culling and reads none of it: the maps are the same with culling on or off.
   std::shared_ptr<const ShadowMaps> shadow_maps;
-  if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps) {
+  ShadowBvh private_rays;
+  if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps && options.shadow.method == ShadowMethod::rays) {
+    // The casters are the frame's soup: a view's selection (levels, ceilings left out) casts what it
+    // draws, as the maps and the reference do, so it takes a private tree (timed as shadow).
+    if (context.shadow_bvh && context.shadow_bvh_soup == &soup) {
+      input.shadow_rays = context.shadow_bvh;
+    } else {
+      Stopwatch shadow_clock;
+      private_rays = build_shadow_bvh(soup, build_hierarchy(soup, context.cancel));
+      input.shadow_rays = &private_rays;
+      result.timings.shadow_ms = shadow_clock.elapsed_ms();
+    }
+  } else if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps) {
     Stopwatch shadow_clock;
     shadow_maps = obtain_shadow_maps(scene, soup, view, options, context, result.stats);
     result.timings.shadow_ms = shadow_clock.elapsed_ms();
     if (!shadow_maps->empty()) input.shadows = shadow_maps.get();
   }
-  result.stats.shadow_skipped = input.shadows == nullptr;
+  result.stats.shadow_skipped = input.shadows == nullptr && input.shadow_rays == nullptr;
   // Whole objects outside the frustum, and what lies behind what is drawn first, are skipped before
   // any per-polygon work of the pipeline.
   // Kept by this thread for its next frame, so the buffers' memory is not allocated again.

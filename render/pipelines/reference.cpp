@@ -42,29 +42,6 @@ bool covers_screen_point(std::span<const Vec2> xy, double px, double py) {
   return true;
 }
 
-std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& polygon, Vec3 origin, Vec3 direction,
-                                        double t_min, double t_max) {
-  const double denom = glm::dot(polygon.normal, direction);
-  if (denom == 0.0) return std::nullopt;
-  const double t = (polygon.offset - glm::dot(polygon.normal, origin)) / denom;
-  if (!(t > t_min && t < t_max)) return std::nullopt;
-  const Vec3 p = origin + t * direction;
-  // Inside test in the plane with the largest normal component dropped; the polygon winds
-  // counter-clockwise about its normal, so every edge cross product has the sign of that component.
-  const Vec3 a = glm::abs(polygon.normal);
-  const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
-  const double sign = polygon.normal[drop] >= 0.0 ? 1.0 : -1.0;
-  const auto points = soup.points(polygon);
-  for (size_t j = 0; j < points.size(); ++j) {
-    const Vec3& s = points[j];
-    const Vec3& e = points[(j + 1) % points.size()];
-    const double cross = (e[u] - s[u]) * (p[v] - s[v]) - (e[v] - s[v]) * (p[u] - s[u]);
-    if (sign * cross < 0.0) return std::nullopt;
-  }
-  return t;
-}
-
 namespace reference_detail {
 
 ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
@@ -178,16 +155,16 @@ struct RayPaint {
   uint8_t* rgb;
   uint32_t* id;
   uint8_t* mask;  // null: no shadow mask
+  size_t mask_bytes = 1;
 };
 
 bool paint_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>& translucent, const RayPaint& out) {
   const PolygonSoup& soup = rs.input.soup;
   const PixelHits px = cast_ray(rs, sx, sy, translucent);
   auto paint = [&](const Hit& hit, float alpha) {
-    uint8_t lit = 0;
+    const std::span<uint8_t> lit = out.mask ? std::span<uint8_t>(out.mask, out.mask_bytes) : std::span<uint8_t>();
     const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, lit);
     *out.id = soup.polygons[hit.polygon].id;
-    if (out.mask) *out.mask = lit;
     for (int ch = 0; ch < 3; ++ch) {
       out.rgb[ch] =
           alpha >= 1.0f ? to_byte(c[ch]) : to_byte(alpha * c[ch] + (1.0f - alpha) * float(out.rgb[ch]) / 255.0f);
@@ -222,7 +199,8 @@ void draw_row(const ReferenceScene& rs, int y, Frame& frame, size_t& hits, std::
   for (int x = 0; x < frame.image.width; ++x) {
     const size_t i = size_t(y) * size_t(frame.image.width) + size_t(x);
     const RayPaint out{frame.image.rgb.data() + i * 3, &frame.ids.ids[i],
-                       frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i]};
+                       frame.shadow_mask.empty() ? nullptr : &frame.shadow_mask[i * frame.shadow_mask_bytes],
+                       frame.shadow_mask_bytes};
     hits += samples == 1 ? paint_ray(rs, x + 0.5, y + 0.5, translucent, out)
                          : paint_supersampled(rs, x, y, pattern, translucent, out);
   }

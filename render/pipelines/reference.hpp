@@ -11,18 +11,13 @@
 
 #include "render/core/bvh.hpp"
 #include "render/core/frame.hpp"
+#include "render/core/ray_polygon.hpp"
 
 #include <optional>
 
 namespace rr {
 
 void draw_reference(const FrameInput& input, Frame& frame, RenderStats& stats, StageTimings& timings);
-
-// Where origin + t * direction (t_min < t < t_max) meets the convex polygon, boundary included;
-// nullopt when it misses or runs parallel to its plane. World space, doubles; used by the shadow
-// rays and by tests comparing the BVH with a brute-force search.
-std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& polygon, Vec3 origin, Vec3 direction,
-                                        double t_min, double t_max);
 
 // The pixel-centre coverage test of the reference: whether screen point (px, py) lies in the convex
 // screen polygon `xy` (either winding), with the rasterizer's top-left rule deciding points exactly

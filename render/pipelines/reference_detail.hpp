@@ -4,6 +4,7 @@
 
 #include "render/pipelines/reference.hpp"
 
+#include <span>
 #include <vector>
 
 namespace rr::reference_detail {
@@ -38,7 +39,8 @@ ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats);
 // along the ray through screen point (sx, sy) in pixels (x + 0.5, y + 0.5 is pixel (x, y)'s centre).
 PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>& translucent);
 // Colour of `hit` at world point p (ambient + each light reaching its lit side, scaled by an exact
-// shadow ray when shadows are on); `lit` gets bit l set for each light l < 8 that reaches p.
-Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, uint8_t& lit);
+// shadow ray when shadows are on); `lit` (empty: not recorded) gets bit l % 8 of byte l / 8 set for
+// each light l that reaches p, and every other bit cleared.
+Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, std::span<uint8_t> lit);
 
 }  // namespace rr::reference_detail

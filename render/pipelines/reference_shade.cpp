@@ -6,6 +6,8 @@
 #include "render/core/shading.hpp"
 #include "render/core/shading_detail.hpp"
 
+#include <algorithm>
+
 namespace rr::reference_detail {
 
 namespace {
@@ -56,20 +58,20 @@ bool occluded(const ReferenceScene& rs, uint32_t self, Vec3 p, const Light& ligh
 
 }  // namespace
 
-Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, uint8_t& lit) {
+Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, std::span<uint8_t> lit) {
   const FrameInput& in = rs.input;
   const Polygon& poly = in.soup.polygons[hit.polygon];
   const Material& material = in.soup.materials[poly.material];
   const double sign = lit_side(poly, in.view.eye);
   const Vec3 n = sign * interpolated_normal(in.soup, poly, p);
   glm::dvec3 irradiance = shading_detail::ambient_irradiance(in.scene), specular(0.0);
-  lit = 0;
+  std::fill(lit.begin(), lit.end(), uint8_t(0));
   const auto& lights = in.scene.lights;
   for (size_t l = 0; l < lights.size(); ++l) {
     // As SurfaceShader: a light behind the lit side's plane is not evaluated at all.
     if (!light_reaches(lights[l], sign * poly.normal, sign * poly.offset)) continue;
     if (rs.shadows && occluded(rs, hit.polygon, p, lights[l])) continue;
-    if (l < 8) lit = uint8_t(lit | (1u << l));
+    if (!lit.empty()) lit[l / 8] |= uint8_t(1u << (l % 8));
     const LightTerms t = light_terms(lights[l], material, p, n, in.view.eye);
     irradiance += t.irradiance;
     specular += t.specular;

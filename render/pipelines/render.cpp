@@ -21,6 +21,7 @@ PreparedScene prepare_scene(Scene scene) {
   bound_objects(out.soup);
   out.hierarchy = std::make_shared<const SceneHierarchy>(build_hierarchy(out.soup));
   out.cells = std::make_shared<const SceneCells>(build_cells(out.scene.geometry, out.soup, *out.hierarchy));
+  out.shadow_bvh = std::make_shared<const ShadowBvh>(build_shadow_bvh(out.soup, *out.hierarchy));
   out.tessellate_ms = clock.elapsed_ms();
   out.static_id = scene_id(out.scene.geometry);
   out.warnings = placement_warnings(out.scene, out.soup);
@@ -46,6 +47,7 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
     frame_context.hierarchy = scene.hierarchy.get(), frame_context.hierarchy_soup = &scene.soup;
     frame_context.cells = scene.cells.get();
   }
+  if (scene.shadow_bvh) frame_context.shadow_bvh = scene.shadow_bvh.get(), frame_context.shadow_bvh_soup = &scene.soup;
   const std::string static_id = frame_context.scene_id;
   // A view that leaves levels or ceilings out draws a copy without them, cached under its own keys.
   const Camera camera = view_camera(view.camera, view.options, scene.soup);

@@ -9,6 +9,7 @@
 #include "render/core/frame.hpp"
 #include "render/core/hierarchy.hpp"
 #include "render/core/placement.hpp"
+#include "render/core/shadow_rays.hpp"
 
 #include <memory>
 #include <string>
@@ -26,10 +27,13 @@ struct PreparedScene {
   std::shared_ptr<const SceneHierarchy> hierarchy;
   // Its cells and portals, with `hierarchy`'s node masks (the portal walk reads them; shared likewise).
   std::shared_ptr<const SceneCells> cells;
-  double tessellate_ms = 0.0;  // the time tessellation took, with the hierarchy's and the cells' builds
+  // The shadow rays' tree of `soup`'s casters, collapsed from `hierarchy` (shared likewise).
+  std::shared_ptr<const ShadowBvh> shadow_bvh;
+  double tessellate_ms = 0.0;  // the time tessellation took, with the hierarchy's, cells' and shadow tree's builds
 };
 
-// Tessellates `scene`, builds its hierarchy and cells and computes its id and placement warnings.
+// Tessellates `scene`, builds its hierarchy, cells and shadow-ray tree and computes its id and
+// placement warnings.
 PreparedScene prepare_scene(Scene scene);
 
 struct RenderReport {

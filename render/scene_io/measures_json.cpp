@@ -23,8 +23,15 @@ nlohmann::ordered_json error_measures_json(const ErrorMeasures& m) {
     if (std::isfinite(m.shading->psnr_db)) s["psnr_db"] = m.shading->psnr_db;
     j["shading"] = s;
   }
-  if (m.shadow)
-    j["shadow"] = {{"pixels", m.shadow->pixels}, {"differing", m.shadow->differing}, {"error", m.shadow->share()}};
+  if (m.shadow) {
+    const ShadowError& e = *m.shadow;
+    nlohmann::ordered_json s = {{"pixels", e.pixels}, {"differing", e.differing}, {"error", e.share()}};
+    if (e.split) {
+      s["band_pixels"] = e.band_pixels, s["band_differing"] = e.band_differing, s["band_error"] = e.band_share();
+      s["away_pixels"] = e.away_pixels, s["away_differing"] = e.away_differing, s["away_error"] = e.away_share();
+    }
+    j["shadow"] = s;
+  }
   return j;
 }
 

@@ -31,7 +31,8 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
                  {"polygons_projected", s.polygons_projected},
                  {"cells", s.cells},
                  {"cells_visited", s.cells_visited},
-                 {"portals_walked", s.portals_walked}};
+                 {"portals_walked", s.portals_walked},
+                 {"lamps_culled", s.lamps_culled}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
   if (s.painter_pairs_tested || s.painter_splits || s.painter_budget_exhausted) {

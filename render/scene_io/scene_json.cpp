@@ -356,7 +356,7 @@ BspOptions read_bsp(const json& value, const std::string& pointer, ErrorList& er
 }
 
 ShadowOptions read_shadow(const json& value, const std::string& pointer, ErrorList& errors) {
-  ObjectReader r(value, pointer, errors, {"size", "pcf", "bias", "slope_bias", "fit"});
+  ObjectReader r(value, pointer, errors, {"size", "pcf", "bias", "slope_bias", "fit", "method"});
   ShadowOptions o;
   NumberRange size{64.0, 4096.0};
   size.kind_above = Kind::too_large;
@@ -366,6 +366,7 @@ ShadowOptions read_shadow(const json& value, const std::string& pointer, ErrorLi
   o.bias = r.number("bias", o.bias, NumberRange{-100.0, 100.0});
   o.slope_bias = r.number("slope_bias", o.slope_bias, NumberRange{-100.0, 100.0});
   o.fit = read_choice(r, "fit", o.fit, shadow_fit_names);
+  o.method = read_choice(r, "method", o.method, shadow_method_names);
   return o;
 }
 

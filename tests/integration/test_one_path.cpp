@@ -1,9 +1,9 @@
 // Every way to render is one path: each example (and a furnished room of pieces, the catalogue's
 // placed by ref and one inline, mirrored, with a transformed part) x pipeline x {flat, phong +
-// shadows} at 96x72 is drawn over HTTP (inline POST /v1/render, stored POST /v1/scenes/{id}/render, GET .../render.png
-// with the view as query parameters) and by the built `roomrender render`, and the four PNGs must be
-// byte-identical. The stage names must agree too: the JSON answer's timings_ms keys, Server-Timing's
-// names and the CLI line's timings_ms keys are all stage_table, in its order.
+// shadow maps, phong + shadow rays} at 96x72 is drawn over HTTP (inline POST /v1/render, stored POST
+// /v1/scenes/{id}/render, GET .../render.png with the view as query parameters) and by the built `roomrender render`,
+// and the four PNGs must be byte-identical. The stage names must agree too: the JSON answer's timings_ms keys,
+// Server-Timing's names and the CLI line's timings_ms keys are all stage_table, in its order.
 #include "integration/server_fixture.hpp"
 #include "render/core/frame.hpp"
 #include "render/pipelines/pipeline.hpp"
@@ -96,10 +96,13 @@ std::string view_query(const json& request) {
   return query;
 }
 
+// How a case is lit: flat without shadows, or phong with shadows of each options.shadow.method.
+enum class Lit { flat, map, rays };
+
 struct RenderCase {
   std::string example;
   std::string pipeline;
-  bool lit;  // phong with shadows; else flat without
+  Lit lit;
 };
 
 std::vector<RenderCase> render_cases() {
@@ -114,7 +117,7 @@ std::vector<RenderCase> render_cases() {
   names.push_back("furnished_room");
   for (const std::string& name : names) {
     for (const rr::PipelineInfo& p : rr::pipeline_table()) {
-      for (bool lit : {false, true}) cases.push_back({name, p.name, lit});
+      for (Lit lit : {Lit::flat, Lit::map, Lit::rays}) cases.push_back({name, p.name, lit});
     }
   }
   return cases;
@@ -176,8 +179,9 @@ json case_request(const RenderCase& c, const json& furnished) {
   options["width"] = frame_width;
   options["height"] = frame_height;
   options["pipeline"] = c.pipeline;
-  options["shading"] = c.lit ? "phong" : "flat";
-  options["shadows"] = c.lit;
+  options["shading"] = c.lit != Lit::flat ? "phong" : "flat";
+  options["shadows"] = c.lit != Lit::flat;
+  if (c.lit == Lit::rays) options["shadow"]["method"] = "rays";
   return request;
 }
 
@@ -210,7 +214,10 @@ TEST(OnePath, EveryExamplePipelineAndShadingGivesTheSameBytesEverywhere) {
   ASSERT_EQ(furnished["scene"]["solids"].size(), 4u) << "the catalogue has a table, a chair and a sofa";
   size_t compared = 0;
   for (const RenderCase& c : render_cases()) {
-    SCOPED_TRACE(c.example + " " + c.pipeline + (c.lit ? " phong+shadows" : " flat"));
+    SCOPED_TRACE(c.example + " " + c.pipeline +
+                 (c.lit == Lit::rays  ? " phong+shadow rays"
+                  : c.lit == Lit::map ? " phong+shadow maps"
+                                      : " flat"));
     const json request = case_request(c, furnished);
     const json view = {{"camera", camera_of(request)}, {"options", request.at("options")}};
 
@@ -250,14 +257,14 @@ TEST(OnePath, EveryExamplePipelineAndShadingGivesTheSameBytesEverywhere) {
     EXPECT_TRUE(got_png->body == cli.png) << "GET render.png and CLI differ";
     ++compared;
   }
-  EXPECT_GE(compared, 13u * 4u * 2u);
+  EXPECT_GE(compared, 13u * 4u * 3u);
 }
 
 // The png query parameter selects the encoder as options.png.compression does in a body.
 TEST(OnePath, PngQueryParameterSelectsTheEncoder) {
   TestServer server;
   httplib::Client client = server.client();
-  json request = case_request({"studio", "zbuffer", false}, json());
+  json request = case_request({"studio", "zbuffer", Lit::flat}, json());
   auto stored = client.Post("/v1/scenes", request.at("scene").dump(), "application/json");
   ASSERT_TRUE(stored);
   const std::string location = json::parse(stored->body).at("location");

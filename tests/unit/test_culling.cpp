@@ -1,11 +1,11 @@
 // Occlusion culling (render/core/occlusion.hpp, docs/culling.md): the depth pyramid's bounds hold for
 // the rasterizer; options.culling on and off give byte-identical images and id buffers for every
 // pipeline whose row uses it, on the examples, homes imported with their furniture models, R2V plans
-// and the fireplace room, from their own and seeded cameras, flat and Phong with shadows, at 1 and 4
-// samples, with the portal walk of the scene's cells (render/core/cells.hpp) and without; a test made
-// one margin too eager is caught, and so is one portal dropped; the counters do not depend on the
-// thread count.
-// The seed is printed; ROOMRENDER_CULLING_SEED replays another. bench/culling.cpp runs the full matrix.
+// and the fireplace room, from their own and seeded cameras, flat and Phong with shadow maps and with
+// shadow rays (where culling also skips lamps that see no cell the view reaches), at 1 and 4 samples, with the portal
+// walk of the scene's cells (render/core/cells.hpp) and without; a test made one margin too eager is caught, and so is
+// one portal dropped; the counters do not depend on the thread count. The seed is printed; ROOMRENDER_CULLING_SEED
+// replays another. bench/culling.cpp runs the full matrix.
 #include "render/core/cells.hpp"
 #include "render/core/draw.hpp"
 #include "render/core/occlusion.hpp"
@@ -41,10 +41,12 @@ struct Matrix {
   int width = 320, height = 180;
   size_t compared = 0;
   size_t cells_skipped = 0;          // pairs whose frame with culling on skipped cells the portal walk did not reach
+  size_t lamps_culled = 0;           // lamps skipped by the frames with culling on (shadow rays)
   uint32_t drop_portal = no_object;  // the portal walk ignores this portal with culling on (a mutation)
 
   RenderOutcome draw(const RenderRequest& base, const PreparedScene& scene, const Camera& camera, PipelineId pipeline,
-                     int antialias, bool phong, CullingMode culling, int eager, unsigned threads = 2) {
+                     int antialias, bool phong, CullingMode culling, int eager, unsigned threads = 2,
+                     ShadowMethod method = ShadowMethod::map) {
     RenderRequest r = base;
     r.camera = camera;
     r.options.width = width, r.options.height = height;
@@ -52,6 +54,7 @@ struct Matrix {
     r.options.antialias = antialias;
     r.options.shading = phong ? ShadingMode::phong : ShadingMode::flat;
     r.options.shadows = phong;
+    r.options.shadow.method = method;
     r.options.culling = culling;
     RenderContext context;
     context.encode = false;
@@ -63,23 +66,35 @@ struct Matrix {
     return render(r, scene, context);
   }
 
-  // Every culling pipeline at 1 and 4 samples, flat and Phong with shadows; the first difference.
+  // Every culling pipeline at 1 and 4 samples, flat, Phong with shadow maps and Phong with shadow
+  // rays; the first difference.
   std::string compare(const CullingScene& s, const PreparedScene& scene, const SeededCamera& cam, int eager) {
     for (const PipelineInfo& row : pipeline_table()) {
       if (!row.occlusion_culling) continue;
       for (int antialias : {1, 4}) {
-        for (bool phong : {false, true}) {
+        for (int lit : {0, 1, 2}) {
           const PipelineId p = pipeline_id(row);
-          const RenderOutcome off = draw(s.request, scene, cam.camera, p, antialias, phong, CullingMode::off, 0);
-          const RenderOutcome on = draw(s.request, scene, cam.camera, p, antialias, phong, CullingMode::on, eager);
+          const bool phong = lit > 0;
+          const ShadowMethod method = lit == 2 ? ShadowMethod::rays : ShadowMethod::map;
+          const RenderOutcome off =
+              draw(s.request, scene, cam.camera, p, antialias, phong, CullingMode::off, 0, 2, method);
+          const RenderOutcome on =
+              draw(s.request, scene, cam.camera, p, antialias, phong, CullingMode::on, eager, 2, method);
           ++compared;
           if (on.report.stats.cells_visited < on.report.stats.cells) ++cells_skipped;
+          lamps_culled += on.report.stats.lamps_culled;
+          EXPECT_EQ(off.report.stats.lamps_culled, 0u) << "culling off skips no lamp";
+          if (lit != 2) {
+            EXPECT_EQ(on.report.stats.lamps_culled, 0u) << "only shadow rays skip lamps";
+          }
           const bool same_image = off.frame.image.rgb == on.frame.image.rgb;
           const bool same_ids = off.frame.ids.ids == on.frame.ids.ids;
           if (same_image && same_ids) continue;
           return s.name + " camera " + cam.kind + " " + row.name + " S=" + std::to_string(antialias) +
-                 (phong ? " phong+shadows" : " flat") + (same_image ? "" : ": image differs") +
-                 (same_ids ? "" : ": ids differ");
+                 (lit == 2 ? " phong+shadow rays"
+                  : phong  ? " phong+shadow maps"
+                           : " flat") +
+                 (same_image ? "" : ": image differs") + (same_ids ? "" : ": ids differ");
         }
       }
     }
@@ -88,8 +103,8 @@ struct Matrix {
 };
 
 // The identity check over `scenes`, one seeded camera of each kind per scene (plus its own). Returns
-// how many pairs skipped cells.
-size_t expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed) {
+// how many pairs skipped cells; `lamps_culled`, when given, gets how many lamps the frames skipped.
+size_t expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed, size_t* lamps_culled = nullptr) {
   if (scenes.empty()) return 0;
   Matrix m;
   for (const CullingScene& s : scenes) {
@@ -98,7 +113,9 @@ size_t expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed) 
       EXPECT_EQ(m.compare(s, scene, cam, 0), "") << "seed " << seed;
     }
   }
-  std::cout << m.compared << " on/off pairs compared, " << m.cells_skipped << " of them skipping cells\n";
+  std::cout << m.compared << " on/off pairs compared, " << m.cells_skipped << " of them skipping cells, "
+            << m.lamps_culled << " lamps skipped\n";
+  if (lamps_culled) *lamps_culled = m.lamps_culled;
   return m.cells_skipped;
 }
 
@@ -112,7 +129,57 @@ TEST(Culling, IdenticalOnAndOffHomesWithModels) {
       testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(),
                               {"Studio", "3BedroomApartment", "2BedroomHouseWithBasement"});
   if (homes.empty()) GTEST_SKIP() << "no homes (../shared/data absent)";
-  EXPECT_GT(expect_identical(homes, culling_seed()), 0u) << "the homes' cells were compared";
+  size_t lamps_culled = 0;
+  EXPECT_GT(expect_identical(homes, culling_seed(), &lamps_culled), 0u) << "the homes' cells were compared";
+  EXPECT_GT(lamps_culled, 0u) << "shadow rays skipped lamps in rooms out of sight, with the same bytes";
+}
+
+// A lamp shut in a room with no opening cannot see the cells a camera in another room reaches: with
+// shadow rays and culling on it is skipped (counted, and its terms never evaluated); the lamp of the
+// camera's room is not. With culling off, or shadow maps, nothing is skipped; the bytes are the same.
+TEST(Culling, LampInAClosedRoomTheViewCannotReachIsSkipped) {
+  nlohmann::json walls = nlohmann::json::array();
+  for (const auto& [x0, z0, x1, z1] :
+       std::vector<std::array<double, 4>>{{0, 0, 8, 0}, {8, 0, 8, 4}, {8, 4, 0, 4}, {0, 4, 0, 0}, {4, 0, 4, 4}})
+    walls.push_back({{"start", {x0, z0}}, {"end", {x1, z1}}});
+  const nlohmann::json rooms = {{{"id", "A"}, {"points", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}}},
+                                {{"id", "B"}, {"points", {{4, 0}, {8, 0}, {8, 4}, {4, 4}}}}};
+  const nlohmann::json table = {{"type", "box"}, {"center", {2.0, 2.0}}, {"size", {0.8, 0.75, 0.8}}};
+  const nlohmann::json lights = {{{"type", "point"}, {"position", {1.0, 2.0, 1.0}}, {"intensity", 0.6}},
+                                 {{"type", "point"}, {"position", {6.0, 2.0, 2.0}}, {"intensity", 0.6}},
+                                 {{"type", "directional"}, {"direction", {0.3, -1.0, 0.2}}, {"intensity", 0.3}}};
+  const RenderRequest request =
+      request_from_json({{"scene", {{"walls", walls}, {"rooms", rooms}, {"solids", {table}}, {"lights", lights}}},
+                         {"camera", {{"position", {0.5, 1.6, 3.5}}, {"target", {3.0, 0.5, 1.0}}}}});
+  const PreparedScene scene = prepare_scene(request.scene);
+  ASSERT_TRUE(scene.cells && scene.cells->derived());
+  Matrix m;
+  const PipelineId z = pipeline_id(pipeline_table()[0]);
+  ASSERT_TRUE(pipeline_table()[0].occlusion_culling);
+  for (bool phong : {true, false}) {
+    SCOPED_TRACE(phong ? "phong" : "flat");
+    auto draw = [&](CullingMode culling, ShadowMethod method) {
+      RenderRequest r = request;
+      r.options.width = m.width, r.options.height = m.height;
+      r.options.pipeline = z;
+      r.options.shading = phong ? ShadingMode::phong : ShadingMode::flat;
+      r.options.shadows = true;
+      r.options.shadow.method = method;
+      r.options.culling = culling;
+      RenderContext context;
+      context.encode = false;
+      return render(r, scene, context);
+    };
+    const RenderOutcome on = draw(CullingMode::on, ShadowMethod::rays);
+    const RenderOutcome off = draw(CullingMode::off, ShadowMethod::rays);
+    const RenderOutcome maps = draw(CullingMode::on, ShadowMethod::map);
+    EXPECT_EQ(on.report.stats.lamps_culled, 1u) << "the lamp of room B";
+    EXPECT_EQ(off.report.stats.lamps_culled, 0u);
+    EXPECT_EQ(maps.report.stats.lamps_culled, 0u);
+    EXPECT_LT(on.report.stats.lights_evaluated, off.report.stats.lights_evaluated);
+    EXPECT_TRUE(on.frame.image.rgb == off.frame.image.rgb);
+    EXPECT_TRUE(on.frame.ids.ids == off.frame.ids.ids);
+  }
 }
 
 TEST(Culling, IdenticalOnAndOffPlansAndFireplaceRoom) {

@@ -71,6 +71,36 @@ TEST(ErrorMetrics, ShadowErrorComparesWholeMaskBytes) {
   EXPECT_THROW(shadow_error(truth, std::vector<uint8_t>{0}), std::invalid_argument);
 }
 
+TEST(ErrorMetrics, ShadowErrorSplitsTheBandAroundShadowEdgesFromThePixelsAwayFromThem) {
+  // 8 x 6 pixels, the reference lit (1) left of column 4 and shadowed (0) from it: its shadow edge
+  // pixels are columns 3 and 4, the 2-pixel band columns 1 to 6, away columns 0 and 7.
+  const int w = 8, h = 6;
+  std::vector<uint8_t> truth(size_t(w * h)), test;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) truth[size_t(y * w + x)] = x < 4;
+  test = truth;
+  test[size_t(2 * w + 5)] = 1;  // in the band
+  test[size_t(0 * w + 7)] = 1;  // away
+  test[size_t(5 * w + 0)] = 0;  // away
+  const ShadowError e = shadow_error(truth, test, 1, w);
+  ASSERT_TRUE(e.split);
+  EXPECT_EQ(e.differing, 3u);
+  EXPECT_EQ(e.band_pixels, size_t(6 * h));
+  EXPECT_EQ(e.away_pixels, size_t(2 * h));
+  EXPECT_EQ(e.band_differing, 1u);
+  EXPECT_EQ(e.away_differing, 2u);
+  // A lone shadowed pixel in the middle of a 9 x 9 lit image: it and its 4-neighbours are edge pixels,
+  // so the band is the 7 x 7 square around it less its 4 corners (3 pixels from each edge pixel
+  // along one axis), and the image's corner pixel is away from it.
+  std::vector<uint8_t> dot(81, 1), off = dot;
+  dot[4 * 9 + 4] = 0;
+  off[0] = 0;
+  const ShadowError d = shadow_error(dot, off, 1, 9);
+  EXPECT_EQ(d.band_pixels, 45u);
+  EXPECT_EQ(d.away_differing, 1u);
+  EXPECT_FALSE(shadow_error(dot, off).split);  // no width: no split
+}
+
 TEST(ErrorMetrics, CompareFramesAndJson) {
   Frame truth, test;
   truth.image = Image(2, 2, Color(0.5f));
@@ -90,6 +120,15 @@ TEST(ErrorMetrics, CompareFramesAndJson) {
   test.shadow_mask = {1, 1, 1, 1};
   j = error_measures_json(compare_frames(truth, test));
   EXPECT_DOUBLE_EQ(j["shadow"]["error"].get<double>(), 0.25);
+  // Two bytes a pixel (9 to 16 lights): a pixel differs when either of its bytes does.
+  truth.shadow_mask = {1, 0, 1, 0x80, 1, 1, 0, 0};
+  test.shadow_mask = {1, 0, 1, 0x00, 0, 1, 0, 0};
+  truth.shadow_mask_bytes = test.shadow_mask_bytes = 2;
+  const ShadowError e = compare_frames(truth, test).shadow.value();
+  EXPECT_EQ(e.pixels, 4u);
+  EXPECT_EQ(e.differing, 2u);
+  test.shadow_mask_bytes = 1;
+  EXPECT_THROW(compare_frames(truth, test), std::invalid_argument);
 }
 
 }  // namespace

@@ -208,6 +208,73 @@ TEST(Reference, RasterShadowMaskAgreesWithShadowRaysAwayFromShadowEdges) {
   }
 }
 
+TEST(Reference, LightMaskHoldsSeventeenLights) {
+  // Seventeen directional lights around the box, each casting its shadow another way: the mask has
+  // three bytes a pixel, and light l's bit (bit l % 8 of byte l / 8) is, in the reference, exactly
+  // the one bit of the mask of a frame lit by light l alone; the shadow-map pipelines agree with it
+  // away from id and shadow edges, for every light.
+  constexpr size_t lights = 17;
+  auto light_at = [](size_t l) {
+    const double a = 2.0 * 3.14159265358979 * double(l) / double(lights);
+    return json{
+        {"type", "directional"}, {"direction", {0.6 * std::cos(a), -1.0, 0.6 * std::sin(a)}}, {"intensity", 0.05}};
+  };
+  json all = shadow_request("reference", light_at(0), true);
+  for (size_t l = 1; l < lights; ++l) all["scene"]["lights"].push_back(light_at(l));
+  auto render = [](const json& request) {
+    RenderRequest q = request_from_json(request);
+    PolygonSoup soup = tessellate(q.scene.geometry);
+    return render_frame(q.scene, soup, q.camera, q.options, with_shadow_mask()).frame;
+  };
+  const Frame truth = render(all);
+  ASSERT_EQ(truth.shadow_mask_bytes, 3u);
+  ASSERT_EQ(truth.shadow_mask.size(), size_t(120 * 90 * 3));
+  auto bit = [](const Frame& f, size_t pixel, size_t l) {
+    return (f.shadow_mask[pixel * f.shadow_mask_bytes + l / 8] >> (l % 8)) & 1u;
+  };
+  size_t casting = 0;  // lights whose shadow on the floor shows (the box hides some of them)
+  for (size_t l = 0; l < lights; ++l) {
+    SCOPED_TRACE("light " + std::to_string(l));
+    const Frame alone = render(shadow_request("reference", light_at(l), true));
+    ASSERT_EQ(alone.shadow_mask_bytes, 1u);
+    size_t shadowed = 0;
+    for (size_t i = 0; i < size_t(120 * 90); ++i) {
+      ASSERT_EQ(bit(truth, i, l), alone.shadow_mask[i] & 1u) << "pixel " << i;
+      shadowed += truth.ids.ids[i] == 0 && bit(truth, i, l) == 0;  // floor pixels in this light's shadow
+    }
+    casting += shadowed > 50;
+    if (l == lights - 1) {
+      EXPECT_GT(shadowed, 50u);  // the last light, alone in the third byte
+    }
+  }
+  EXPECT_GE(casting, 12u);
+  for (size_t i = 0; i < size_t(120 * 90); ++i) EXPECT_EQ(truth.shadow_mask[i * 3 + 2] & 0xFEu, 0) << "pixel " << i;
+  for (const PipelineInfo& pipeline : pipeline_table()) {
+    if (!pipeline.shadow_maps) continue;
+    SCOPED_TRACE(pipeline.name);
+    all["options"]["pipeline"] = pipeline.name;
+    const Frame test = render(all);
+    ASSERT_EQ(test.shadow_mask_bytes, 3u);
+    size_t compared = 0, differing = 0;
+    for (int y = 1; y + 1 < 90; ++y) {
+      for (int x = 1; x + 1 < 120; ++x) {
+        const size_t i = size_t(y * 120 + x);
+        if (is_edge_pixel(truth.ids, x, y) || truth.ids.ids[i] != test.ids.ids[i]) continue;
+        for (size_t l = 0; l < lights; ++l) {
+          const unsigned m = bit(truth, i, l);
+          if (bit(truth, i - 1, l) != m || bit(truth, i + 1, l) != m || bit(truth, i - 120, l) != m ||
+              bit(truth, i + 120, l) != m)
+            continue;  // a shadow edge of this light
+          ++compared;
+          differing += bit(test, i, l) != m;
+        }
+      }
+    }
+    EXPECT_GT(compared, 5000u * lights);
+    EXPECT_EQ(differing, 0u);
+  }
+}
+
 TEST(Reference, TranslucentPaneCompositesOverTheOpaqueHitAndTakesTheId) {
   // A half-transparent red pane (window, opacity 0.5) in front of a wall: the pixel is
   // to_byte(0.5 * pane + 0.5 * wall/255) over the wall's own to_byte colour, as the z-buffer blends.

@@ -225,6 +225,10 @@ TEST(SceneJsonErrors, WrongTypes) {
   expect_error(R"({"options":{"width":640.5}})", Kind::invalid, "/options/width", "integer");
   expect_error(R"({"options":{"pipeline":"raytrace"}})", Kind::invalid, "/options/pipeline", "zbuffer");
   expect_error(R"({"options":{"shading":"toon"}})", Kind::invalid, "/options/shading", "flat");
+  expect_error(R"({"options":{"shadow":{"method":"exact"}}})", Kind::invalid, "/options/shadow/method",
+               "must be one of: map, rays");
+  EXPECT_EQ(parse_request(R"({"options":{"shadow":{"method":"rays"}}})").options.shadow.method, ShadowMethod::rays);
+  EXPECT_EQ(parse_request(R"({})").options.shadow.method, ShadowMethod::map);
   expect_error(R"({"scene":{"version":2}})", Kind::invalid, "/scene/version");
 }
 

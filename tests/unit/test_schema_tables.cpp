@@ -57,6 +57,7 @@ TEST(SchemaTables, RequestEnumsEqualTheTables) {
   EXPECT_EQ(strings(options["painter"]["properties"]["key"]["enum"]), names_of(painter_key_names));
   EXPECT_EQ(strings(options["bsp"]["properties"]["traversal"]["enum"]), names_of(bsp_traversal_names));
   EXPECT_EQ(strings(options["shadow"]["properties"]["fit"]["enum"]), names_of(shadow_fit_names));
+  EXPECT_EQ(strings(options["shadow"]["properties"]["method"]["enum"]), names_of(shadow_method_names));
   EXPECT_EQ(strings(options["png"]["properties"]["compression"]["enum"]), names_of(png_compression_names));
   EXPECT_EQ(strings(options["ceilings"]["enum"]), names_of(ceiling_mode_names));
   EXPECT_EQ(strings(options["culling"]["enum"]), names_of(culling_mode_names));
@@ -84,9 +85,10 @@ TEST(SchemaTables, EverySolidTypeHasAReader) {
 TEST(SchemaTables, OpenApiParameterEnumsEqualTheTables) {
   const json parameters = read_schema("openapi.json")["paths"]["/v1/scenes/{id}/render.png"]["get"]["parameters"];
   const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
-      {"pipeline", names_of(pipeline_table())},     {"shading", names_of(shading_names)},
-      {"painter_key", names_of(painter_key_names)}, {"bsp_traversal", names_of(bsp_traversal_names)},
-      {"shadow_fit", names_of(shadow_fit_names)},   {"png", names_of(png_compression_names)}};
+      {"pipeline", names_of(pipeline_table())},        {"shading", names_of(shading_names)},
+      {"painter_key", names_of(painter_key_names)},    {"bsp_traversal", names_of(bsp_traversal_names)},
+      {"shadow_fit", names_of(shadow_fit_names)},      {"png", names_of(png_compression_names)},
+      {"shadow_method", names_of(shadow_method_names)}};
   for (const json& p : parameters) {
     if (!p["schema"].contains("enum")) continue;
     for (const auto& [name, table] : tables) {
@@ -196,7 +198,7 @@ std::string dump(const RenderRequest& r) {
   d("bsp.w1", o.bsp.w1)("bsp.w2", o.bsp.w2)("bsp.w3", o.bsp.w3)("bsp.epsilon", o.bsp.epsilon)(
       "bsp.max_candidates", o.bsp.max_candidates)("bsp.traversal", o.bsp.traversal);
   d("shadow.size", o.shadow.size)("shadow.pcf", o.shadow.pcf)("shadow.bias", o.shadow.bias)(
-      "shadow.slope_bias", o.shadow.slope_bias)("shadow.fit", o.shadow.fit);
+      "shadow.slope_bias", o.shadow.slope_bias)("shadow.fit", o.shadow.fit)("shadow.method", o.shadow.method);
   return d.str();
 }
 

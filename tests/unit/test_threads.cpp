@@ -60,6 +60,34 @@ TEST(Threads, EveryExampleAndModeIsByteIdenticalForOneTwoAndEightThreads) {
   EXPECT_GT(renders, 0u) << "no examples found";
 }
 
+// Shadow rays (options.shadow.method rays) decide each point alone, so the thread count cannot change
+// them either: every example x raster pipeline x shading, plain and through the A-buffer. And the
+// method is used: some example's frame differs from its shadow-map frame.
+TEST(Threads, ShadowRaysAreByteIdenticalForOneTwoAndEightThreads) {
+  size_t renders = 0, differ_from_maps = 0;
+  for (const auto& file : testing::example_files()) {
+    nlohmann::json j = nlohmann::json::parse(testing::read_file(file));
+    j["options"]["width"] = 250;
+    j["options"]["height"] = 170;
+    for (int antialias : {1, 8}) {
+      j["options"]["antialias"] = antialias;
+      testing::for_each_render_mode(j, false, [&](nlohmann::json mode, const std::string& label) {
+        if (!mode["options"]["shadows"].get<bool>()) return;
+        SCOPED_TRACE(file.filename().string() + label + " rays, antialias " + std::to_string(antialias));
+        const RenderRequest maps = request_from_json(mode);
+        mode["options"]["shadow"]["method"] = "rays";
+        const RenderRequest request = request_from_json(mode);
+        const PolygonSoup soup = tessellate(request.scene.geometry);
+        expect_same_for_two_and_eight_threads(request, soup);
+        differ_from_maps += draw(request, soup, 2).png != draw(maps, soup, 2).png;
+        renders += 2;
+      });
+    }
+  }
+  EXPECT_GT(renders, 0u) << "no examples found";
+  EXPECT_GT(differ_from_maps, 0u);
+}
+
 // A scene of 2,000 seeded random triangles: the front end cuts its draw order into several chunks
 // (the examples fit in one), and tiles hold long bins.
 nlohmann::json many_triangles() {

@@ -25,6 +25,7 @@ export class Controls {
     $("pipeline").addEventListener("change", (e) => setOption("/options/pipeline", e.target.value));
     $("shading").addEventListener("change", (e) => setOption("/options/shading", e.target.value));
     $("shadows").addEventListener("change", (e) => setOption("/options/shadows", e.target.checked));
+    $("shadow-method").addEventListener("change", (e) => setOption("/options/shadow/method", e.target.value));
     $("size").addEventListener("change", (e) => {
       const [w, h] = e.target.value.split("x").map(Number);
       setOptions([{ pointer: "/options/width", value: w }, { pointer: "/options/height", value: h }]);
@@ -87,6 +88,7 @@ export class Controls {
     if (this.pipelines.includes(pipeline)) $("pipeline").value = pipeline;
     if ([...$("shading").options].some((opt) => opt.value === (o.shading || "flat"))) $("shading").value = o.shading || "flat";
     $("shadows").checked = o.shadows === true;
+    $("shadow-method").value = o.shadow?.method === "rays" ? "rays" : "map";
     $("antialias").value = String([1, 4, 8, 16].includes(o.antialias) ? o.antialias : 1);
     const key = `${o.width ?? 640}x${o.height ?? 480}`;
     const entries = sizes.map(([w, h]) => [`${w}x${h}`, `${w} × ${h}`]);

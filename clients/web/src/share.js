@@ -49,7 +49,7 @@ const queryMembers = [
   ["pipeline", ["options", "pipeline"], String], ["shading", ["options", "shading"], String],
   ["shadows", ["options", "shadows"], String], ["painter_key", ["options", "painter", "key"], String],
   ...["w1", "w2", "w3", "epsilon", "max_candidates", "traversal"].map((k) => [`bsp_${k}`, ["options", "bsp", k], k === "traversal" ? String : decimal]),
-  ...["size", "pcf", "bias", "slope_bias", "fit"].map((k) => [`shadow_${k}`, ["options", "shadow", k], k === "fit" ? String : decimal]),
+  ...["size", "pcf", "bias", "slope_bias", "fit", "method"].map((k) => [`shadow_${k}`, ["options", "shadow", k], k === "fit" || k === "method" ? String : decimal]),
 ];
 
 // The GET URL of the image of a stored scene seen with `view`: {url, missing}, where `missing` lists

@@ -9,7 +9,7 @@ import { splitMeshes, joinMeshes, isStoredMesh, summarize } from "../src/big_sce
 const request = {
   scene: { walls: [] },
   camera: { position: [1.25, 1.6, -0.1], target: [3, 1, 2], fov_y: 55, near: 1e-7 },
-  options: { width: 640, height: 480, pipeline: "bsp", shadows: true, bsp: { w1: 8 }, shadow: { fit: "scene" }, extra: 1 },
+  options: { width: 640, height: 480, pipeline: "bsp", shadows: true, bsp: { w1: 8 }, shadow: { fit: "scene", method: "rays" }, extra: 1 },
 };
 
 test("a permalink carries the camera and options exactly", () => {
@@ -25,7 +25,7 @@ test("a permalink carries the camera and options exactly", () => {
 test("the image URL names each member by its query parameter, in plain decimals", () => {
   const { url, missing } = imageUrl("http://h:1", "0123456789abcdef", viewOf(request));
   assert.equal(url, "http://h:1/v1/scenes/0123456789abcdef/render.png?position=1.25,1.6,-0.1&target=3,1,2" +
-    "&fov_y=55&near=0.0000001&width=640&height=480&pipeline=bsp&shadows=true&bsp_w1=8&shadow_fit=scene");
+    "&fov_y=55&near=0.0000001&width=640&height=480&pipeline=bsp&shadows=true&bsp_w1=8&shadow_fit=scene&shadow_method=rays");
   assert.deepEqual(missing, ["/options/extra"]);
 });
 

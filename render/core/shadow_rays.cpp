@@ -1,0 +1,228 @@
+// The four-wide shadow-ray tree (see shadow_rays.hpp): built by collapsing the binary hierarchy,
+// each node taking the grandchildren of its largest inner children until it has four; traversed
+// with an explicit stack, four slab tests at once (SSE2, the x86-64 baseline, so every CPU runs the
+// same instructions), leaves tested in doubles.
+#include "render/core/shadow_rays.hpp"
+
+#include "render/core/ray_polygon.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace rr {
+
+namespace {
+
+constexpr float inf_f = std::numeric_limits<float>::infinity();
+
+// Whether polygon q casts a shadow of `light` (shadow.cpp's caster_side): not edge-on to it, and
+// for a closed object only when it faces away from it (the same silhouette, half the faces).
+bool casts_shadow(const Polygon& q, const Light& light) {
+  const double facing = light.type == LightType::directional ? glm::dot(q.normal, light.direction)
+                                                             : q.offset - glm::dot(q.normal, light.position);
+  return facing != 0.0 && !((q.flags & polygon_closed) && facing < 0.0);
+}
+
+struct Segment {
+  Vec3 direction;
+  double t_min, t_max;
+  bool empty;  // a point light too close to p: never blocked
+};
+
+Segment segment_toward(Vec3 p, const Light& light, double eps) {
+  if (light.type == LightType::directional) {
+    return {-light.direction, eps, std::numeric_limits<double>::infinity(), false};
+  }
+  const Vec3 direction = light.position - p;
+  const double distance = glm::length(direction);
+  if (!(distance > 2.0 * eps)) return {direction, 0.0, 0.0, true};
+  const double t_min = eps / distance;
+  return {direction, t_min, 1.0 - t_min, false};
+}
+
+bool leaf_blocks(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t leaf, uint32_t self, Vec3 p,
+                 const Light& light, const Segment& s) {
+  for (uint32_t i = bvh.leaf_begin[leaf]; i < bvh.leaf_begin[leaf + 1]; ++i) {
+    const Polygon& q = soup.polygons[bvh.items[i]];
+    if (q.id == self) continue;
+    if (casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return true;
+  }
+  return false;
+}
+
+// Bits i of the children whose (padded) boxes the ray enters within [0, t_far]. A slab product that
+// is NaN (0 x infinity: the origin on a slab of an axis the ray runs parallel to) is left out of the
+// interval, which only keeps a box.
+struct FloatRay {
+  float origin[3], inv[3], t_far;
+  bool negative[3];
+};
+
+#if defined(__SSE2__)
+int entered(const ShadowBvhNode& node, const FloatRay& r) {
+  __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(r.t_far);
+  for (int a = 0; a < 3; ++a) {
+    const __m128 o = _mm_set1_ps(r.origin[a]), inv = _mm_set1_ps(r.inv[a]);
+    const __m128 lo = _mm_load_ps(node.lo[a]), hi = _mm_load_ps(node.hi[a]);
+    const __m128 near = _mm_mul_ps(_mm_sub_ps(r.negative[a] ? hi : lo, o), inv);
+    const __m128 far = _mm_mul_ps(_mm_sub_ps(r.negative[a] ? lo : hi, o), inv);
+    t0 = _mm_max_ps(near, t0);  // NaN in `near` gives t0
+    t1 = _mm_min_ps(far, t1);   // NaN in `far` gives t1
+  }
+  return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+}
+#else
+int entered(const ShadowBvhNode& node, const FloatRay& r) {
+  int bits = 0;
+  for (int i = 0; i < 4; ++i) {
+    float t0 = 0.0f, t1 = r.t_far;
+    for (int a = 0; a < 3; ++a) {
+      const float near = ((r.negative[a] ? node.hi[a][i] : node.lo[a][i]) - r.origin[a]) * r.inv[a];
+      const float far = ((r.negative[a] ? node.lo[a][i] : node.hi[a][i]) - r.origin[a]) * r.inv[a];
+      t0 = near > t0 ? near : t0;
+      t1 = far < t1 ? far : t1;
+    }
+    bits |= int(t0 <= t1) << i;
+  }
+  return bits;
+}
+#endif
+
+}  // namespace
+
+double shadow_ray_epsilon(const PolygonSoup& soup) {
+  Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const Vec3& p : soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  if (soup.positions.empty()) return 1e-9;  // the reference's scene size of 1 for an empty soup
+  return 1e-9 * glm::length(hi - lo) + 1e-12 * std::max(glm::length(lo), glm::length(hi));
+}
+
+ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierarchy) {
+  ShadowBvh bvh;
+  bvh.ray_epsilon = shadow_ray_epsilon(soup);
+  bvh.leaf_begin.push_back(0);
+  if (hierarchy.nodes.empty()) return bvh;
+  const HierarchyNode& root = hierarchy.nodes[0];
+  // Padding that holds the exact ray inside every box it enters despite float rounding: the origin
+  // and the direction rounded to floats move the ray by at most 2^-24 of the coordinates' and the
+  // travelled distance's size, and each slab distance has three roundings. Far above both.
+  const glm::dvec3 rlo(root.lo), rhi(root.hi);
+  const double magnitude = std::max(glm::length(rlo), glm::length(rhi));
+  const double pad = 1e-5 * glm::length(rhi - rlo) + 64.0 * double(std::numeric_limits<float>::epsilon()) * magnitude;
+  auto area = [](const HierarchyNode& n) {
+    const glm::vec3 e = n.hi - n.lo;
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  };
+  struct Work {
+    uint32_t hierarchy_node, node, depth;
+  };
+  std::vector<Work> work{{0u, 0u, 1u}};
+  bvh.nodes.emplace_back();
+  while (!work.empty()) {
+    const auto [h, n, depth] = work.back();
+    work.pop_back();
+    bvh.depth = std::max(bvh.depth, size_t(depth));
+    std::array<uint32_t, 4> kids{};
+    size_t count = 0;
+    if (hierarchy.nodes[h].leaf()) {
+      kids[count++] = h;
+    } else {
+      kids[count++] = h + 1, kids[count++] = hierarchy.nodes[h].second;
+    }
+    while (count < 4) {  // open the largest inner child
+      size_t best = count;
+      for (size_t i = 0; i < count; ++i) {
+        const HierarchyNode& k = hierarchy.nodes[kids[i]];
+        if (!k.leaf() && (best == count || area(k) > area(hierarchy.nodes[kids[best]]))) best = i;
+      }
+      if (best == count) break;
+      const uint32_t opened = kids[best];
+      kids[best] = opened + 1, kids[count++] = hierarchy.nodes[opened].second;
+    }
+    ShadowBvhNode node;
+    for (int a = 0; a < 3; ++a)
+      std::fill(node.lo[a], node.lo[a] + 4, inf_f), std::fill(node.hi[a], node.hi[a] + 4, -inf_f);
+    std::fill(node.child, node.child + 4, -1);
+    for (size_t i = 0, slot = 0; i < count; ++i) {
+      const HierarchyNode& k = hierarchy.nodes[kids[i]];
+      if (k.leaf()) {
+        const size_t before = bvh.items.size();
+        for (uint32_t j = k.first; j < k.first + k.count; ++j) {
+          const uint32_t polygon = hierarchy.polygons[j];
+          if (!(soup.polygons[polygon].flags & polygon_translucent)) bvh.items.push_back(polygon);
+        }
+        if (bvh.items.size() == before) continue;  // casts nothing: an empty slot
+        node.child[slot] = ~int32_t(bvh.leaf_begin.size() - 1);
+        bvh.leaf_begin.push_back(uint32_t(bvh.items.size()));
+      } else {
+        node.child[slot] = int32_t(bvh.nodes.size());
+        work.push_back({kids[i], uint32_t(bvh.nodes.size()), depth + 1});
+        bvh.nodes.emplace_back();
+      }
+      for (int a = 0; a < 3; ++a) {
+        node.lo[a][slot] = std::nextafter(float(double(k.lo[a]) - pad), -inf_f);
+        node.hi[a][slot] = std::nextafter(float(double(k.hi[a]) + pad), inf_f);
+      }
+      ++slot;
+    }
+    bvh.nodes[n] = node;
+  }
+  return bvh;
+}
+
+size_t ShadowBvh::bytes() const {
+  return sizeof(ShadowBvh) + nodes.capacity() * sizeof(ShadowBvhNode) + leaf_begin.capacity() * sizeof(uint32_t) +
+         items.capacity() * sizeof(uint32_t);
+}
+
+bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light) {
+  const Segment s = segment_toward(p, light, bvh.ray_epsilon);
+  if (s.empty || bvh.nodes.empty()) return false;
+  FloatRay r;
+  for (int a = 0; a < 3; ++a) {
+    r.origin[a] = float(p[a]);
+    r.inv[a] = 1.0f / float(s.direction[a]);  // +-infinity where the ray runs parallel to the slabs
+    r.negative[a] = std::signbit(r.inv[a]);
+  }
+  r.t_far = s.t_max == std::numeric_limits<double>::infinity() ? inf_f : float(s.t_max) * (1.0f + 1e-6f);
+  // Depth-first: each level leaves at most 3 entries on the stack, so 3 x depth + 1 hold it; a tree
+  // too deep for the fixed stack (a degenerate soup) takes the thread's growing one.
+  std::array<int32_t, 256> fixed;
+  thread_local std::vector<int32_t> deep;
+  int32_t* stack = fixed.data();
+  if (3 * bvh.depth + 1 > fixed.size()) deep.resize(3 * bvh.depth + 1), stack = deep.data();
+  size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const ShadowBvhNode& node = bvh.nodes[size_t(stack[--top])];
+    for (int bits = entered(node, r); bits != 0; bits &= bits - 1) {
+      const int32_t child = node.child[__builtin_ctz(unsigned(bits))];
+      if (child >= 0) {
+        stack[top++] = child;
+      } else if (leaf_blocks(bvh, soup, uint32_t(~child), self, p, light, s)) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
+                                    const Light& light) {
+  const Segment s = segment_toward(p, light, ray_epsilon);
+  if (s.empty) return false;
+  for (uint32_t j = 0; j < soup.polygons.size(); ++j) {
+    const Polygon& q = soup.polygons[j];
+    if (q.id == self || (q.flags & polygon_translucent) || !casts_shadow(q, light)) continue;
+    if (intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return true;
+  }
+  return false;
+}
+
+}  // namespace rr

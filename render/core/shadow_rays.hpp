@@ -1,0 +1,54 @@
+// The pipelines' shadow rays: a four-wide bounding-volume hierarchy of one static soup's shadow
+// casters (every polygon that is not translucent), collapsed from its SceneHierarchy (binned SAH,
+// hierarchy.hpp) and traversed four boxes at a time in floats, any hit ending the walk. Boxes are
+// padded so that float rounding of the ray never loses a box the exact ray enters; the polygons are
+// then tested in doubles with intersect_polygon and the casters of shadow.cpp (as the reference's
+// shadow rays are), so a ray's answer is exactly the brute-force search's, whatever the traversal
+// order, the thread or the SIMD level. It is not the reference's BVH (bvh.hpp), which stays the oracle's.
+#pragma once
+
+#include "render/core/hierarchy.hpp"
+#include "render/core/math.hpp"
+#include "render/core/scene.hpp"
+#include "render/core/tessellate.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace rr {
+
+// Four children, boxes as structure of arrays. child[i] >= 0: an inner node; < 0: leaf ~child[i]
+// (ShadowBvh::leaf_begin); an empty slot has an empty box (lo > hi), which no ray enters.
+struct alignas(16) ShadowBvhNode {
+  float lo[3][4], hi[3][4];
+  int32_t child[4];
+};
+
+struct ShadowBvh {
+  std::vector<ShadowBvhNode> nodes;  // nodes[0] is the root; empty when the soup casts nothing
+  std::vector<uint32_t> leaf_begin;  // leaf l holds items[leaf_begin[l], leaf_begin[l + 1])
+  std::vector<uint32_t> items;       // soup polygon indices, casters only
+  double ray_epsilon = 0.0;          // shadow rays start this far from their surface point
+  size_t depth = 0;                  // levels of nodes (the traversal's stack holds 3 per level)
+  size_t bytes() const;              // what it costs against a cache budget
+};
+
+// The casters' tree of `soup` from its hierarchy. Deterministic; linear in the hierarchy's size.
+ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierarchy);
+
+// Whether a caster other than the polygon whose id is `self` (Polygon::id: the source polygon's index
+// in the tessellated soup, which a view's selection and a pipeline's fragments keep) blocks the segment from p toward
+// `light` (to its position for a point light, without end for a directional one), as the reference's shadow ray decides
+// it: the ray starts bvh.ray_epsilon from p (and stops as far before a point light); casters are opaque polygons not
+// edge-on to the light and, for closed objects, only the faces turned away from it. A point light within 2 epsilon of p
+// is never blocked.
+bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light);
+
+// The same by testing every polygon of `soup` (the tests' oracle).
+bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
+                                    const Light& light);
+
+// The reference's ray epsilon for `soup`: 1e-9 of its size plus 1e-12 of its distance from the origin.
+double shadow_ray_epsilon(const PolygonSoup& soup);
+
+}  // namespace rr
