@@ -73,6 +73,7 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
                      : 0),
       term_begin_(mode_ == ShadingMode::phong ? 0 : soup.polygons.size(), 0),
       slot_sums_(slots_),
+      memos_(rays_ ? slots_ : 0),
       mask_(input.shadow_mask),
       mask_bytes_(input.shadow_mask_bytes) {}
 
@@ -86,6 +87,7 @@ SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evalu
       mode_(prepared.mode_),
       slots_(prepared.slots_),
       slot_sums_(slots_),
+      memos_(rays_ ? slots_ : 0),
       mask_(prepared.mask_),
       mask_bytes_(prepared.mask_bytes_) {}
 

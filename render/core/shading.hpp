@@ -9,6 +9,7 @@
 #include "render/core/frame.hpp"
 #include "render/core/scene.hpp"
 #include "render/core/shadow.hpp"
+#include "render/core/shadow_rays.hpp"
 #include "render/core/tessellate.hpp"
 
 #include <algorithm>
@@ -179,10 +180,13 @@ class SurfaceShader {
   size_t table_ = 0;                            // the bound polygon's, in specular_tables_
   std::vector<ActiveLight> active_;
   std::vector<Shadowed> shadowed_;
-  std::vector<Color> bound_terms_;            // flat: 1 + shadowed; Gouraud: that per clipped vertex
-  std::vector<Vec3> coords_;                  // per clipped vertex x shadowed_: shadow_coords
-  std::vector<Vec3> world_;                   // shadow rays: per clipped vertex, its world position
-  uint32_t self_ = 0;                         // shadow rays: the bound polygon's id (casts on itself never)
+  std::vector<Color> bound_terms_;  // flat: 1 + shadowed; Gouraud: that per clipped vertex
+  std::vector<Vec3> coords_;        // per clipped vertex x shadowed_: shadow_coords
+  std::vector<Vec3> world_;         // shadow rays: per clipped vertex, its world position
+  uint32_t self_ = 0;               // shadow rays: the bound polygon's id (casts on itself never)
+  // Shadow rays, per scene light: the caster that last blocked one of this shader's rays (each
+  // binding copy is one thread's). Any blocker proves a ray blocked, so it is tried first.
+  mutable std::vector<ShadowRayMemo> memos_;
   std::vector<glm::vec3> eye_to_p_, normal_;  // Phong: per clipped vertex
   size_t evaluated_ = 0;
   mutable size_t evaluated_per_pixel_ = 0;

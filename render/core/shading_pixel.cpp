@@ -123,7 +123,8 @@ void SurfaceShader::bind_gouraud(uint32_t index, const DrawScratch& scratch) {
 // itself is left out of the casters by its id, as the reference leaves out the polygon it hit, rather
 // than moving the origin off the surface, so that a decision is the reference's at the same point.
 float SurfaceShader::ray_visibility(const Shadowed& light, Vec3 p_world) const {
-  return shadow_ray_blocked(*rays_, input_.soup, self_, p_world, *light.ray_light) ? 0.0f : 1.0f;
+  return shadow_ray_blocked(*rays_, input_.soup, self_, p_world, *light.ray_light, &memos_[size_t(light.slot)]) ? 0.0f
+                                                                                                                : 1.0f;
 }
 
 float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {

@@ -46,14 +46,16 @@ Segment segment_toward(Vec3 p, const Light& light, double eps) {
   return {direction, t_min, 1.0 - t_min, false};
 }
 
-bool leaf_blocks(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t leaf, uint32_t self, Vec3 p,
-                 const Light& light, const Segment& s) {
+// The first caster of the leaf that blocks the segment (a soup polygon index), or UINT32_MAX.
+uint32_t leaf_blocker(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t leaf, uint32_t self, Vec3 p,
+                      const Light& light, const Segment& s, ShadowRayStats* stats) {
   for (uint32_t i = bvh.leaf_begin[leaf]; i < bvh.leaf_begin[leaf + 1]; ++i) {
     const Polygon& q = soup.polygons[bvh.items[i]];
     if (q.id == self) continue;
-    if (casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return true;
+    if (stats) ++stats->polygons;
+    if (casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return bvh.items[i];
   }
-  return false;
+  return UINT32_MAX;
 }
 
 // Bits i of the children whose (padded) boxes the ray enters within [0, t_far]. A slab product that
@@ -181,9 +183,21 @@ size_t ShadowBvh::bytes() const {
          items.capacity() * sizeof(uint32_t);
 }
 
-bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light) {
+bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light,
+                        ShadowRayMemo* memo, ShadowRayStats* stats) {
   const Segment s = segment_toward(p, light, bvh.ray_epsilon);
   if (s.empty || bvh.nodes.empty()) return false;
+  if (stats) ++stats->rays;
+  // The memo's polygon is one of the tree's items, so it is a caster exactly when the walk below
+  // would find it one: the same own-id exclusion, caster rule and exact test.
+  if (memo && memo->blocker != UINT32_MAX) {
+    const Polygon& q = soup.polygons[memo->blocker];
+    if (q.id != self && casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) {
+      if (stats) ++stats->blocked, ++stats->memo_hits, ++stats->polygons;
+      return true;
+    }
+    if (stats) ++stats->polygons;
+  }
   FloatRay r;
   for (int a = 0; a < 3; ++a) {
     r.origin[a] = float(p[a]);
@@ -201,11 +215,17 @@ bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t 
   stack[top++] = 0;
   while (top > 0) {
     const ShadowBvhNode& node = bvh.nodes[size_t(stack[--top])];
+    if (stats) ++stats->nodes;
     for (int bits = entered(node, r); bits != 0; bits &= bits - 1) {
       const int32_t child = node.child[__builtin_ctz(unsigned(bits))];
       if (child >= 0) {
         stack[top++] = child;
-      } else if (leaf_blocks(bvh, soup, uint32_t(~child), self, p, light, s)) {
+        continue;
+      }
+      const uint32_t blocker = leaf_blocker(bvh, soup, uint32_t(~child), self, p, light, s, stats);
+      if (blocker != UINT32_MAX) {
+        if (memo) memo->blocker = blocker;
+        if (stats) ++stats->blocked;
         return true;
       }
     }

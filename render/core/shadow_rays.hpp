@@ -42,7 +42,18 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
 // it: the ray starts bvh.ray_epsilon from p (and stops as far before a point light); casters are opaque polygons not
 // edge-on to the light and, for closed objects, only the faces turned away from it. A point light within 2 epsilon of p
 // is never blocked.
-bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light);
+//
+// `memo` (optional, one per thread and light): the caster that blocked the last blocked ray, tested
+// before the tree and replaced by each new blocker. Any caster that blocks the segment proves the
+// answer, so the memo changes the cost, never the answer. `stats` (optional) counts the work.
+struct ShadowRayMemo {
+  uint32_t blocker = UINT32_MAX;  // a soup polygon index from ShadowBvh::items, or none
+};
+struct ShadowRayStats {
+  uint64_t rays = 0, blocked = 0, memo_hits = 0, nodes = 0, polygons = 0;
+};
+bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light,
+                        ShadowRayMemo* memo = nullptr, ShadowRayStats* stats = nullptr);
 
 // The same by testing every polygon of `soup` (the tests' oracle).
 bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,

@@ -9,11 +9,13 @@
 #include "render/core/occlusion.hpp"
 #include "render/core/shadow.hpp"
 #include "render/core/shadow_rays.hpp"
+#include "render/core/sight_cones.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/shadow_cache.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -91,15 +93,33 @@ const CellFilter* walk_portals(const SceneCells& cells, const FrameInput& input,
   return &state.cell_filter;
 }
 
+// The rectangle of the view plane holding every region a walk reached cell c with (its sight lines
+// into c), or the whole plane when it kept none.
+ViewRegion bounding_region(const CellWalk& walk, size_t c) {
+  const CellRegions& r = walk.regions[c];
+  if (r.count == 0) return {-1e30, -1e30, 1e30, 1e30};
+  ViewRegion out = r.region[0];
+  for (size_t i = 1; i < r.count; ++i) {
+    out.x0 = std::min(out.x0, r.region[i].x0), out.y0 = std::min(out.y0, r.region[i].y0);
+    out.x1 = std::max(out.x1, r.region[i].x1), out.y1 = std::max(out.y1, r.region[i].y1);
+  }
+  return out;
+}
+
 // Lamps culled by what they see (shadow rays only, after the camera's portal walk): a point light
 // whose own portal walk, one per cube face from its position over the whole sphere, reaches no cell
 // the camera's walk reached, cannot light any point the frame shows. A shown point lies in a cell the
 // camera reached, and an unblocked ray from the lamp to it would be a sight line from the lamp into
 // that cell; every other straight line crosses a wall, floor, ceiling or door leaf the frame draws,
 // and those are shadow casters (a closed wall by the face turned away from the lamp). So each of its
-// rays would be blocked and its terms scaled by 0: skipping it keeps the bytes. With shadow maps a
-// lamp is never skipped (a map's bias may let light through where a ray would not). Directional
-// lights come from outside every cell and are never skipped.
+// rays would be blocked and its terms scaled by 0: skipping it keeps the bytes. Finer, per cell both
+// walks reach: the shown point lies on the camera's sight line into that cell, so in the cone of the
+// camera's regions of it, and on the lamp's sight line into it, so in the cone of that face's regions
+// of it, and on a polygon, so in the soup's box. A lamp none of whose faces' cones meets the
+// camera's cone of a shared cell within that box lights no shown point either (the outside, one cell
+// that every window opens on, is the case this decides). With shadow maps a lamp is never skipped (a
+// map's bias may let light through where a ray would not). Directional lights come from outside
+// every cell and are never skipped.
 void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, RenderStats& stats) {
   const auto& lights = input.scene.lights;
   state.lights_skipped.assign(lights.size(), 0);
@@ -109,6 +129,13 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
   // their portals are widened by 1e-6 of the view plane, far beyond the rounding of a projection:
   // the walk must never miss a cell an exact ray enters.
   constexpr double near_m = 1e-4, far_m = 1e6, margin = 1e-6;
+  Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const Vec3& p : input.soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  if (input.soup.positions.empty()) return;
+  // Cones that come within this of each other count as meeting: far above the clipping's rounding.
+  const double tolerance = 1e-7 * glm::length(hi - lo) + 1e-9;
+  const Mat4 camera_clip_from_world = cell_viewpoint(input.view).clip_from_world;
+  std::vector<HalfSpace> cones;
   for (size_t l = 0; l < lights.size(); ++l) {
     const Light& light = lights[l];
     if (light.type != LightType::point) continue;
@@ -123,7 +150,11 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
       walk_cells(cells, state.cell_conditions, viewpoint, state.lamp_walk);
       sees = state.lamp_walk.everything;
       for (size_t c = 0; !sees && c < cells.cells.size(); ++c) {
-        sees = state.lamp_walk.reached[c] && state.cell_walk.reached[c];
+        if (!state.lamp_walk.reached[c] || !state.cell_walk.reached[c]) continue;
+        cones.clear();
+        add_sight_cone(camera_clip_from_world, bounding_region(state.cell_walk, c), cones);
+        add_sight_cone(viewpoint.clip_from_world, bounding_region(state.lamp_walk, c), cones);
+        sees = half_spaces_meet_in_box(cones, lo, hi, tolerance);
       }
       if (sees) break;
     }

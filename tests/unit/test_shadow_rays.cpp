@@ -87,6 +87,46 @@ TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
   EXPECT_GT(open, 10000u);
 }
 
+// The memo (the last blocker tried first) changes the work, never an answer: with one memo per light
+// kept across every ray of a room, each answer is the brute-force search's, also for a ray that
+// starts on the memo's own polygon (which it must leave out, as the walk does).
+TEST(ShadowRays, MemoOfTheLastBlockerGivesTheBruteForceAnswers) {
+  const auto seeds = testing::test_seeds(3111, 8);
+  ShadowRayStats stats;
+  size_t from_memo_polygon = 0;
+  for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
+    std::mt19937 rng(seed);
+    const PreparedScene prepared = random_room(rng);
+    const PolygonSoup& soup = prepared.soup;
+    const ShadowBvh bvh = build_shadow_bvh(soup, *prepared.hierarchy);
+    std::vector<ShadowRayMemo> memos(prepared.scene.lights.size());
+    for (int i = 0; i < 2000; ++i) {
+      const uint32_t self = uint32_t(rng() % soup.polygons.size());
+      const Vec3 p = random_point_on(soup, soup.polygons[self], rng);
+      for (size_t l = 0; l < memos.size(); ++l) {
+        const Light& light = prepared.scene.lights[l];
+        ASSERT_EQ(shadow_ray_blocked(bvh, soup, self, p, light, &memos[l], &stats),
+                  shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, self, p, light))
+            << "ray " << i << " light " << l;
+        if (memos[l].blocker == UINT32_MAX) continue;
+        // A ray from the memo's own polygon: the memo must not block it.
+        const Polygon& own = soup.polygons[memos[l].blocker];
+        const Vec3 q = random_point_on(soup, own, rng);
+        ASSERT_EQ(shadow_ray_blocked(bvh, soup, own.id, q, light, &memos[l], &stats),
+                  shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, own.id, q, light))
+            << "ray " << i << " from the memo's polygon, light " << l;
+        ++from_memo_polygon;
+      }
+    }
+  }
+  // Random points are far less coherent than a frame's pixels, yet the memo answers many rays (so the
+  // comparison means something) and the walk still finds other blockers.
+  EXPECT_GT(stats.memo_hits, stats.rays / 20);  // about one ray in ten with the default seeds
+  EXPECT_LT(stats.memo_hits, stats.blocked);
+  EXPECT_GT(from_memo_polygon, 1000u);
+}
+
 TEST(ShadowRays, TranslucentPanesCastNothingAndAnEmptySoupNothingAtAll) {
   const PreparedScene empty = prepare_scene(Scene{});
   const ShadowBvh none = build_shadow_bvh(empty.soup, *empty.hierarchy);
