@@ -77,7 +77,7 @@ bool span_decided(const ShadowMaps& maps, const ShadowLight& light, const Shadow
   const double g_max = shadow_max_slope * texel;
   const glm::dvec2 g = glm::clamp(receiver.gradient[0], glm::dvec2(-g_max), glm::dvec2(g_max));
   const double slope = std::max(std::abs(g.x), std::abs(g.y)) / texel;
-  const double bias = (maps.bias + maps.slope_bias * slope) * texel;
+  const double bias = (maps.bias + maps.slope_bias * slope + receiver.shift) * texel;
   constexpr double margin_texels = 1e-6;
   const double u0 = std::min(a.x, b.x) - margin_texels, u1 = std::max(a.x, b.x) + margin_texels;
   const double v0 = std::min(a.y, b.y) - margin_texels, v1 = std::max(a.y, b.y) + margin_texels;

@@ -397,7 +397,13 @@ Vec3 shadow_coords(const ShadowLight& light, Vec3 p) {
           light.far_depth - glm::dot(p, light.forward)};
 }
 
-ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& light, Vec3 n, double offset) {
+ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& light, Vec3 n, double offset,
+                                    bool closed) {
+  if (closed) {  // no plane to extrapolate, the closed receivers' bias in place of the default one
+    ShadowReceiver r;
+    r.shift = shadow_closed_receiver_bias - shadow_default_bias;
+    return r;
+  }
   // Nearness on the plane as an affine function of texel coordinates (see shadow.hpp). A plane
   // edge-on to the light has an unbounded gradient; the divisor's floor keeps it finite and the
   // lookup clamps it to shadow_max_slope.

@@ -29,6 +29,17 @@ namespace rr {
 // options.shadow.bias and slope_bias are added to them.
 constexpr double shadow_default_bias = 0.2;
 constexpr double shadow_default_slope_bias = 0.1;
+// A lit face of a closed object is never compared with its own depth: its object casts with its
+// faces turned away from the light only, at least its thickness behind it. So it needs no bias
+// against acne and no plane extrapolation, and both would light it where it meets another caster
+// at a concave joint (a wall's lit face under a ceiling): within a texel of the joint the taps
+// read past the caster's edge, or extrapolate the receiver's plane above the caster. Such a
+// receiver compares its own nearness, moved this many texel widths away from the light: a caster
+// whose nearness changes by at most one texel width per texel step (a ceiling under a sun 45
+// degrees or more above the horizon) then still covers the receiver next to the joint, and only
+// a closed object thinner than a texel width along the light, or the last texel width of its lit
+// face before its silhouette, reads its own far side. options.shadow.bias still adds to it.
+constexpr double shadow_closed_receiver_bias = -1.0;
 // The slope term stops growing past this depth change per texel (in texel widths, ~86 degrees):
 // receivers that grazing are lit by cos < 0.07 and a larger bias would only detach shadows.
 constexpr double shadow_max_slope = 16.0;
@@ -175,11 +186,15 @@ ShadowMaps build_shadow_maps(const Scene& scene, const PolygonSoup& soup, const 
 Vec3 shadow_coords(const ShadowLight& light, Vec3 p_world);
 
 // Receiver-plane constants of one planar polygon (any normal sign) for one light: the change of
-// nearness per texel step in u and v, per cube face (a directional light uses [0]).
+// nearness per texel step in u and v, per cube face (a directional light uses [0]), and the texel
+// widths added to the maps' constant bias. A closed object's face (`closed`) has no gradient and
+// the shift that makes its bias shadow_closed_receiver_bias.
 struct ShadowReceiver {
   std::array<glm::dvec2, 6> gradient{};
+  double shift = 0.0;
 };
-ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& light, Vec3 normal, double offset);
+ShadowReceiver make_shadow_receiver(const ShadowMaps& maps, const ShadowLight& light, Vec3 normal, double offset,
+                                    bool closed = false);
 
 // Lookups, inline: they run for every shadowed pixel.
 namespace shadow_detail {
@@ -206,13 +221,13 @@ inline int cube_face_of(Vec3 d) {
 }
 
 // Percentage-closer filter: taps on the pcf x pcf texels around (u, v). `texel` is one texel's width
-// in nearness units at the receiver, the unit of both biases.
+// in nearness units at the receiver, the unit of both biases and of the receiver's `shift`.
 inline float filter_taps(const ShadowMaps& maps, const ShadowMap& map, double u, double v, double nearness,
-                         glm::dvec2 g, double texel) {
+                         glm::dvec2 g, double texel, double shift = 0.0) {
   const double g_max = shadow_max_slope * texel;
   g = glm::clamp(g, glm::dvec2(-g_max), glm::dvec2(g_max));
   const double slope = std::max(std::abs(g.x), std::abs(g.y)) / texel;
-  const double base = nearness + (maps.bias + maps.slope_bias * slope) * texel;
+  const double base = nearness + (maps.bias + maps.slope_bias * slope + shift) * texel;
   const int side = maps.side, radius = maps.pcf / 2;
   const int cu = int(std::floor(u)), cv = int(std::floor(v));
   // Every tap's offset from (u, v) is within radius + 1 texels on each axis, so its threshold is
@@ -255,7 +270,7 @@ inline float shadow_visibility(const ShadowMaps& maps, const ShadowLight& light,
   if (light.directional) {
     if (light.map[0] < 0) return 1.0f;
     return shadow_detail::filter_taps(maps, maps.maps[size_t(light.map[0])], coords.x, coords.y, coords.z,
-                                      receiver.gradient[0], std::max(light.texel_u, light.texel_v));
+                                      receiver.gradient[0], std::max(light.texel_u, light.texel_v), receiver.shift);
   }
   const int face = shadow_detail::cube_face_of(coords);
   const shadow_detail::CubeFace& f = shadow_detail::cube_faces[size_t(face)];
@@ -265,7 +280,7 @@ inline float shadow_visibility(const ShadowMaps& maps, const ShadowLight& light,
   const double u = (glm::dot(coords, f.right) / w + 1.0) * half, v = (1.0 - glm::dot(coords, f.up) / w) * half;
   // A texel is 2w/side metres wide there; d(1/w) = dw / w^2.
   return shadow_detail::filter_taps(maps, maps.maps[size_t(light.map[size_t(face)])], u, v, 1.0 / w,
-                                    receiver.gradient[size_t(face)], 2.0 / (w * maps.side));
+                                    receiver.gradient[size_t(face)], 2.0 / (w * maps.side), receiver.shift);
 }
 
 // Convenience for tests and reference renderers: the visibility of scene light `light_index` at a

@@ -178,7 +178,7 @@ PolygonSoup tessellate(const StaticGeometry& geometry) {
   if (geometry.has_floor) add_floor(out, geometry.floor);
   detail::add_walls(out, geometry.walls);
   for (size_t i = 0; i < geometry.solids.size(); ++i) add_solid(out, geometry.solids[i], i);
-  detail::add_rooms(out, geometry.rooms);
+  detail::add_rooms(out, geometry.rooms, geometry.walls);
   PolygonSoup soup = out.take();
   assign_plane_groups(soup);
   if (!geometry.levels.empty()) tag_levels(soup, geometry);

@@ -94,7 +94,7 @@ void add_walls(SoupBuilder& out, const std::vector<Wall>& walls);
 size_t estimate_wall_polygons(const Wall& wall);
 
 // Room floors and ceilings (tessellate_rooms.cpp).
-void add_rooms(SoupBuilder& out, const std::vector<Room>& rooms);
+void add_rooms(SoupBuilder& out, const std::vector<Room>& rooms, const std::vector<Wall>& walls);
 size_t estimate_room_polygons(const Room& room);
 
 }  // namespace rr::detail

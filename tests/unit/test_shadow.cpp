@@ -1,16 +1,22 @@
 // Shadow maps against exact shadows: a box on a floor under a directional light and under a point
 // light (its shadow crosses cube faces), ray cast per pixel; self-shadowing (acne) at a grazing
-// light; the gap at a box's base (peter-panning); when the pass is skipped; the memory bound.
+// light; the gap at a box's base (peter-panning); when the pass is skipped; the memory bound; no
+// sunlight inside a closed room, with maps and rays.
 // The floor is one grey #808080 cell, ambient 0.2, flat shading and pcf 1, so a floor pixel is
 // either lit or at the ambient value and the threshold between them classifies it.
 #include "render/core/shadow.hpp"
+#include "render/core/tessellate.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 #include "render/scene_io/report_json.hpp"
 #include "support/render_helpers.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
+#include <string>
 #include <vector>
 
 namespace rr {
@@ -265,6 +271,120 @@ TEST(Shadow, ManyLightsShareABoundedTexelBudget) {
   ASSERT_EQ(maps.lights.size(), 4u);
   EXPECT_LT(maps.side, 2048);
   EXPECT_LE(maps.maps.size() * size_t(maps.side) * size_t(maps.side), shadow_max_texels);
+}
+
+// The sun outside a closed room lights nothing inside it, with shadow maps and with shadow rays, in
+// every pipeline. The room is four walls and a room with its ceiling at the walls' height, the
+// camera inside facing the wall the sun falls on (its lit side faces the sun), so every wall-ceiling
+// and wall-wall joint it sees is a concave contact between a caster and a lit receiver. The frame
+// with the sun on must be byte-identical to the frame with the sun at intensity 0. Also: a room's
+// ceiling reaches 1 cm beyond its outline, and keeps the outline where the grown one would cross
+// itself.
+
+// A 4 x 3 m room of 10 cm walls 2.5 m high on their centre lines, the room's outline `outline`, a
+// sun 57 degrees high falling on the inner face of the wall along z = 0.
+json closed_room_in_sun(const json& outline) {
+  json walls = json::array();
+  const double corners[4][2] = {{0, 0}, {4, 0}, {4, 3}, {0, 3}};
+  for (int i = 0; i < 4; ++i) {
+    walls.push_back({{"id", "wall" + std::to_string(i)},
+                     {"start", {corners[i][0], corners[i][1]}},
+                     {"end", {corners[(i + 1) % 4][0], corners[(i + 1) % 4][1]}},
+                     {"thickness", 0.1},
+                     {"height", 2.5}});
+  }
+  return {{"scene",
+           {{"walls", walls},
+            {"rooms", {{{"id", "room"}, {"points", outline}, {"ceiling", true}, {"ceiling_height", 2.5}}}},
+            {"lights", {{{"type", "directional"}, {"direction", {-0.35, -1.0, -0.55}}, {"intensity", 0.75}}}}}},
+          {"camera", {{"position", {2, 1.5, 2.8}}, {"target", {2, 2.2, 0}}, {"fov_y", 60}}},
+          {"options", {{"width", 960}, {"height", 540}, {"shadows", true}}}};
+}
+
+const json room_at_inner_faces = {{0.05, 0.05}, {3.95, 0.05}, {3.95, 2.95}, {0.05, 2.95}};
+const json room_at_wall_centres = {{0, 0}, {4, 0}, {4, 3}, {0, 3}};
+
+// Pixels that differ between the frame with the sun on and at intensity 0.
+size_t sunlit_pixels(json request, const std::string& pipeline, const std::string& method, const std::string& shading) {
+  request["options"]["pipeline"] = pipeline;
+  request["options"]["shading"] = shading;
+  request["options"]["shadow"]["method"] = method;
+  const testing::SceneRender on = testing::render_json(request);
+  request["scene"]["lights"][0]["intensity"] = 0;
+  const testing::SceneRender off = testing::render_json(request);
+  const std::vector<uint8_t>&a = on.result.frame.image.rgb, &b = off.result.frame.image.rgb;
+  size_t lit = 0;
+  for (size_t i = 0; i < a.size(); i += 3) lit += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+  return lit;
+}
+
+void expect_dark_inside(const json& request) {
+  for (const PipelineInfo& p : pipeline_table()) {
+    for (const char* method : {"map", "rays"}) {
+      for (const char* shading : {"phong", "flat"}) {
+        EXPECT_EQ(sunlit_pixels(request, p.name, method, shading), 0u)
+            << p.name << ", shadow.method " << method << ", " << shading;
+      }
+    }
+  }
+}
+
+// The ceiling overlapping the walls already: what is left is the lookup, whose bias and plane
+// extrapolation lit a wall's face within a texel of the ceiling and of the other walls.
+TEST(ClosedRoomSun, RoomDrawnToTheWallCentresIsDarkInside) {
+  expect_dark_inside(closed_room_in_sun(room_at_wall_centres));
+}
+
+// As Sweet Home 3D draws rooms: the ceiling ends at the walls' inner faces, and only its 1 cm reach
+// under the walls closes the joint for the maps.
+TEST(ClosedRoomSun, RoomDrawnToTheWallsInnerFacesIsDarkInside) {
+  expect_dark_inside(closed_room_in_sun(room_at_inner_faces));
+}
+
+// The plan rectangle [min, max] of the ceiling polygons of `request`'s scene.
+std::pair<Vec2, Vec2> ceiling_extent(const json& request) {
+  const RenderRequest parsed = request_from_json(request);
+  const PolygonSoup soup = tessellate(parsed.scene.geometry);
+  Vec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const Polygon& p : soup.polygons) {
+    if (!soup.objects[p.object].ceiling) continue;
+    for (const Vec3& q : soup.points(p)) lo = glm::min(lo, Vec2(q.x, q.z)), hi = glm::max(hi, Vec2(q.x, q.z));
+  }
+  return {lo, hi};
+}
+
+TEST(ClosedRoomSun, CeilingReachesOneCentimetreUnderTheWalls) {
+  const auto [lo, hi] = ceiling_extent(closed_room_in_sun(room_at_inner_faces));
+  EXPECT_NEAR(lo.x, 0.04, 1e-12);
+  EXPECT_NEAR(lo.y, 0.04, 1e-12);
+  EXPECT_NEAR(hi.x, 3.96, 1e-12);
+  EXPECT_NEAR(hi.y, 2.96, 1e-12);
+}
+
+TEST(ClosedRoomSun, CeilingStaysWhereNoWallReachesIt) {
+  json request = closed_room_in_sun(room_at_inner_faces);
+  for (json& wall : request["scene"]["walls"]) wall["height"] = 1.0;
+  const auto [lo, hi] = ceiling_extent(request);
+  EXPECT_EQ(lo, Vec2(0.05, 0.05));
+  EXPECT_EQ(hi, Vec2(3.95, 2.95));
+}
+
+TEST(ClosedRoomSun, CeilingKeepsAnOutlineWhoseGrowthWouldCrossItself) {
+  // A 1.5 cm wall reaching into the room from its far wall, the outline around it: grown by 1 cm
+  // under that wall, the notch's sides would cross.
+  json request = closed_room_in_sun({{0.05, 0.05},
+                                     {3.95, 0.05},
+                                     {3.95, 2.95},
+                                     {2.0075, 2.95},
+                                     {2.0075, 2.0},
+                                     {1.9925, 2.0},
+                                     {1.9925, 2.95},
+                                     {0.05, 2.95}});
+  request["scene"]["walls"].push_back(
+      {{"id", "fin"}, {"start", {2, 3}}, {"end", {2, 2}}, {"thickness", 0.015}, {"height", 2.5}});
+  const auto [lo, hi] = ceiling_extent(request);
+  EXPECT_EQ(lo, Vec2(0.05, 0.05));
+  EXPECT_EQ(hi, Vec2(3.95, 2.95));
 }
 
 }  // namespace
