@@ -140,16 +140,7 @@ json furnished_room(const json& catalogue) {
       solids.push_back(piece);
     }
   }
-  const json cube = {{"vertices",
-                      {{-0.5, -0.5, -0.5},
-                       {0.5, -0.5, -0.5},
-                       {-0.5, 0.5, -0.5},
-                       {0.5, 0.5, -0.5},
-                       {-0.5, -0.5, 0.5},
-                       {0.5, -0.5, 0.5},
-                       {-0.5, 0.5, 0.5},
-                       {0.5, 0.5, 0.5}}},
-                     {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
+  const json cube = rr::testing::unit_cube_mesh();
   json lid = cube;
   lid["color"] = "#c04040";
   lid["transform"] = {{1, 0, 0.2, 0}, {0, 0.2, 0, 0.4}, {0, 0, 0.8, 0.1}};

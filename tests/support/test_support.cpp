@@ -74,6 +74,19 @@ nlohmann::json example_request(const std::string& stem, int width, int height) {
   return r;
 }
 
+nlohmann::json unit_cube_mesh() {
+  return {{"vertices",
+           {{-0.5, -0.5, -0.5},
+            {0.5, -0.5, -0.5},
+            {-0.5, 0.5, -0.5},
+            {0.5, 0.5, -0.5},
+            {-0.5, -0.5, 0.5},
+            {0.5, -0.5, 0.5},
+            {-0.5, 0.5, 0.5},
+            {0.5, 0.5, 0.5}}},
+          {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
+}
+
 std::vector<std::filesystem::path> example_files() {
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(examples_dir())) {

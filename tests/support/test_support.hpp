@@ -36,6 +36,10 @@ void write_file(const std::filesystem::path& path, const std::string& bytes);
 // examples/<stem>.json as a request, drawn at width x height.
 nlohmann::json example_request(const std::string& stem, int width = 320, int height = 240);
 
+// The unit cube [-0.5, 0.5]^3 as a mesh ("vertices", "faces"), each quad counter-clockwise seen from
+// outside.
+nlohmann::json unit_cube_mesh();
+
 // Every examples/*.json, sorted by name.
 std::vector<std::filesystem::path> example_files();
 

@@ -7,6 +7,7 @@
 #include "render/core/tessellate.hpp"
 #include "render/scene_io/element_pointer.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,18 +21,7 @@ namespace {
 
 using nlohmann::json;
 
-// The unit cube [-0.5, 0.5]^3, each quad counter-clockwise seen from outside.
-const json unit_cube = {
-    {"vertices",
-     {{-0.5, -0.5, -0.5},
-      {0.5, -0.5, -0.5},
-      {-0.5, 0.5, -0.5},
-      {0.5, 0.5, -0.5},
-      {-0.5, -0.5, 0.5},
-      {0.5, -0.5, 0.5},
-      {-0.5, 0.5, 0.5},
-      {0.5, 0.5, 0.5}}},
-    {"faces", {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}}};
+const json unit_cube = rr::testing::unit_cube_mesh();
 
 // A triangle in the plane x = 0 of the unit box, pointing toward +z.
 const json wedge = {{"vertices", {{0, -0.5, -0.5}, {0, 0.5, -0.5}, {0, -0.5, 0.5}}}, {"faces", {{0, 1, 2}}}};
