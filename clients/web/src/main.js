@@ -380,6 +380,7 @@ const yourScenes = new YourScenes({
   onOpen: openStored,
   onDeleted: (id) => sharing.forget(id),
   isHere: (id) => sharing.holds(id),
+  onToken: () => sharing.mayStoreAgain(),
 });
 const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p), label: elementLabel };
 const controls = new Controls({

@@ -242,6 +242,11 @@ export class Sharing {
     }
     if (this.working?.id === id) this.working = null;
     if (this.big?.id === id && !this.big.pending) Object.assign(this.big, { id: null, key: null });
+    this.mayStoreAgain();
+  }
+
+  // The server may store a working copy now (a token was entered, or a scene deleted).
+  mayStoreAgain() {
     this.noWorking = false;
   }
 

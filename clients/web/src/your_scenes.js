@@ -2,7 +2,7 @@
 // token owner's, on an open server only with --allow-listing), each with its id, size and date, a
 // button that opens it as the working scene and one that deletes it after a confirmation in its row.
 // In: the Api, `onOpen(id)` (main.js loads it), `onDeleted(id)` (sharing forgets its copies), and
-// `isHere(id)` (the scene is the one open in the page). The access token a server with
+// `isHere(id)` (the scene is the one open in the page), `onToken()` (a token was entered). The access token a server with
 // --api-token-file asks for is typed here, kept for this tab only (sessionStorage) and sent by the Api
 // with every write.
 const $ = (id) => document.getElementById(id);
@@ -29,8 +29,9 @@ export function listRefusal(error) {
 }
 
 export class YourScenes {
-  constructor({ api, onOpen, onDeleted, isHere }) {
+  constructor({ api, onOpen, onDeleted, isHere, onToken = () => {} }) {
     this.api = api;
+    this.onToken = onToken;
     this.onOpen = onOpen;
     this.onDeleted = onDeleted;
     this.isHere = isHere;
@@ -55,6 +56,7 @@ export class YourScenes {
     $("scenes-token-form").addEventListener("submit", (e) => {
       e.preventDefault();
       this.setToken($("scenes-token").value.trim());
+      this.onToken();
       this.refresh();
     });
   }
