@@ -9,7 +9,8 @@ import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
-import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
+import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary, tokenFile, afterListLoad, openYourScenes,
+  listedScenes } from "./support.mjs";
 import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem } from "./designer_support.mjs";
 import { hitTest, solidAnchor } from "../../clients/web/src/plan_math.js";
 
@@ -36,6 +37,8 @@ with zipfile.ZipFile(zip, "w", zipfile.ZIP_DEFLATED) as z:
 const sorted = (v) => (Array.isArray(v) ? v.map(sorted)
   : v && typeof v === "object" ? Object.fromEntries(Object.keys(v).sort().map((k) => [k, sorted(v[k])])) : v);
 const same = (a, b) => JSON.stringify(sorted(a)) === JSON.stringify(sorted(b));
+
+const aliceToken = "alice-browser-test-token-0123456789";
 
 const renderSeq = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
 
@@ -117,7 +120,8 @@ const scenarios = {
 
   // A store of one scene (--scene-store-entries 1) holds the first Save; a second scene's Save gets
   // 507, said in plain words with what to do, in the share panel and on no line of the editor; the
-  // camera still moves and renders (inline, as the page cannot store a working copy).
+  // camera still moves and renders (inline, as the page cannot store a working copy). Deleting the
+  // first scene in Your scenes (an open server with --allow-listing 1) makes room: Save then stores.
   async designer_store_full({ page, server }) {
     await page.goto(`${server.url}/?example=studio`);
     await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
@@ -129,7 +133,9 @@ const scenarios = {
     await page.click('[data-action="save"]');
     await page.waitForFunction(() => /HTTP 507/.test(document.getElementById("share-message").textContent));
     const message = await page.textContent("#share-message");
-    assert(/store is full/.test(message) && /Delete stored scenes/.test(message), `the 507 is said in plain words: ${message}`);
+    assert(/store is full/.test(message) && /Delete scenes you no longer need in Your scenes/.test(message) &&
+      /--scene-store-entries/.test(message), `the 507 is said in plain words, with what to do: ${message}`);
+    assert(await page.isVisible("#share-message"), "where the user sees it");
     assert(!(await page.$(".cm-lintRange-error, .cm-inline-error")), "and marks no line of the editor");
     const seq = await page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq));
     await page.focus("#views");
@@ -137,6 +143,102 @@ const scenarios = {
     await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq) > s && !document.body.hasAttribute("data-busy"), seq);
     await idle(page);
     assert(/Rendered in/.test(await page.textContent("#status")), `the camera still renders: ${await page.textContent("#status")}`);
+
+    await openYourScenes(page);
+    const listed = await listedScenes(page);
+    assert(listed.length === 1, `Your scenes lists the one stored scene: ${JSON.stringify(listed)}`);
+    await page.getByRole("button", { name: `Delete scene ${listed[0]}` }).click();
+    await afterListLoad(page, () => page.getByRole("button", { name: `Confirm: delete scene ${listed[0]}` }).click());
+    assert((await listedScenes(page)).length === 0, "the list updates: it is empty");
+    assert((await httpRequest(`${server.url}/v1/scenes/${listed[0]}`)).status === 404, "the scene is gone from the server");
+    await afterListLoad(page, () => page.click('[data-action="save"]'));
+    const stored = /Stored as scene ([0-9a-f]{16})/.exec(await page.textContent("#status"));
+    assert(stored, `with room in the store, Save stores: ${await page.textContent("#status")}`);
+    assert(JSON.stringify(await listedScenes(page)) === JSON.stringify([stored[1]]), "and the list shows the scene saved");
+  },
+
+  // Your scenes on a server with tokens (--api-token-file): without a token the list asks for one;
+  // with it (typed, Enter), the two scenes Saved are listed newest first; the older one is opened
+  // with the keyboard and becomes the working scene; deleting the other asks first (Escape keeps
+  // it), then deletes it on the server and the list updates.
+  async designer_your_scenes({ page, server }) {
+    await page.goto(`${server.url}/?example=studio`);
+    await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+    await idle(page);
+    await openYourScenes(page);
+    const asks = await page.textContent("#scenes-message");
+    assert(/access token/.test(asks) && await page.getByLabel("Access token").isVisible(), `the list asks for a token: ${asks}`);
+    await page.getByLabel("Access token").fill(aliceToken);
+    await afterListLoad(page, () => page.keyboard.press("Enter"));
+    assert((await listedScenes(page)).length === 0 && /No stored scenes/.test(await page.textContent("#scenes-message")),
+      `none yet: ${await page.textContent("#scenes-message")}`);
+
+    const saveAndList = async () => {
+      await afterListLoad(page, () => page.click('[data-action="save"]'));
+      return (/Stored as scene ([0-9a-f]{16})/.exec(await page.textContent("#status")) || [])[1];
+    };
+    const studio = await saveAndList();
+    const studioScene = await request(page);
+    await page.getByLabel("Example").selectOption("apartment");
+    await page.waitForFunction(() => document.getElementById("status").textContent.startsWith("Rendered"));
+    await idle(page);
+    const apartment = await saveAndList();
+    assert(studio && apartment && studio !== apartment, `two scenes stored: ${studio}, ${apartment}`);
+    const listed = await listedScenes(page);
+    assert(JSON.stringify(listed) === JSON.stringify([apartment, studio]), `listed newest first: ${JSON.stringify(listed)}`);
+    const row = page.locator(`#scenes-list li[data-id="${studio}"]`);
+    assert(/\d+(\.\d)? (B|KB)/.test(await row.textContent()) && (await row.locator("time").getAttribute("datetime")),
+      `a row shows the size and date: ${await row.textContent()}`);
+
+    // Tab from Refresh to the studio's Open button, then Enter.
+    await page.getByRole("button", { name: "Refresh the list" }).focus();
+    const openLabel = `Open scene ${studio}`;
+    for (let i = 0; i < 6 && (await page.evaluate(() => document.activeElement.getAttribute("aria-label"))) !== openLabel; i++) {
+      await page.keyboard.press("Tab");
+    }
+    assert(await page.evaluate(() => document.activeElement.getAttribute("aria-label")) === openLabel, "Tab reaches the Open button");
+    const seq = await renderSeq(page);
+    await page.keyboard.press("Enter");
+    await waitForNewRender(page, seq);
+    const opened = await request(page);
+    assert(same(opened.scene, studioScene.scene), "the opened scene is the studio's");
+    await page.waitForFunction(() => /working scene/.test(document.getElementById("scenes-message").textContent));
+    assert(/open here/.test(await row.textContent()), "its row says it is open here");
+
+    // Delete the apartment: the row asks first; Escape keeps it, the confirmation deletes it.
+    await page.getByRole("button", { name: `Delete scene ${apartment}` }).click();
+    assert(await page.evaluate(() => document.activeElement.textContent) === "Cancel", "the question focuses Cancel");
+    await page.keyboard.press("Escape");
+    assert(await page.getByRole("button", { name: `Delete scene ${apartment}` }).isVisible(), "Escape keeps the scene");
+    await page.getByRole("button", { name: `Delete scene ${apartment}` }).click();
+    await afterListLoad(page, () => page.getByRole("button", { name: `Confirm: delete scene ${apartment}` }).click());
+    assert(JSON.stringify(await listedScenes(page)) === JSON.stringify([studio]), `the list updates: ${JSON.stringify(await listedScenes(page))}`);
+    assert((await httpRequest(`${server.url}/v1/scenes/${apartment}`)).status === 404, "the apartment is gone from the server");
+    assert((await httpRequest(`${server.url}/v1/scenes/${studio}`)).status === 200, "the studio stays");
+  },
+
+  // A bare Studio.xml (no furniture/ beside it), opened with Open file…: its pieces are boxes, and a
+  // hint (from the import's warning of the models not found) says how to get the models; New takes
+  // the hint away.
+  async designer_import_bare_home({ page, server }) {
+    await page.goto(`${server.url}/`);
+    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+    await idle(page);
+    assert(!(await page.isVisible("#import-hint")), "no hint before an import");
+    const seq = await renderSeq(page);
+    const chooser = page.waitForEvent("filechooser");
+    await page.getByRole("button", { name: "Open file…" }).click();
+    await (await chooser).setFiles(path.join(homesDir, "Studio.xml"));
+    await waitForNewRender(page, seq);
+    await page.waitForSelector("#import-hint:not([hidden])");
+    const hint = await page.textContent("#import-hint");
+    assert(/^Studio\.xml came without its furniture models \(\d+ furniture models not found\), so those pieces are drawn as boxes/.test(hint) &&
+      /open the \.sh3d file/.test(hint) && /zip Home\.xml together with its furniture\/ folder/.test(hint), `the hint says how to get the models: ${hint}`);
+    const r = await request(page);
+    assert(r.scene.solids.filter((s) => s.type === "box").length === 43, "Studio's 43 pieces are boxes");
+    assert(await page.getByRole("status").filter({ hasText: "drawn as boxes" }).isVisible(), "as a status the user sees");
+    await page.click('[data-action="new"]');
+    assert(!(await page.isVisible("#import-hint")), "New takes the hint away");
   },
 
   // An OBJ interior (5.65 MB) goes through POST /v1/import/obj?store=1: the editor gets the scene
@@ -239,6 +341,13 @@ const scenarios = {
 };
 
 const prechecks = {
+  async designer_your_scenes(server) {
+    if (!(await serverHas(server, "/v1/scenes", "get"))) skip("needs GET /v1/scenes");
+  },
+  async designer_import_bare_home(server) {
+    if (!fs.existsSync(path.join(homesDir, "Studio.xml"))) skip(`no ${homesDir}/Studio.xml (set ROOMRENDER_SHARED to the shared data's parent)`);
+    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+  },
   async designer_import_big(server) {
     if (!fs.existsSync(fireplaceObj)) skip(`no ${fireplaceObj} (set ROOMRENDER_SHARED to the shared data's parent)`);
     if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
@@ -254,5 +363,8 @@ if (!binary || !outDir || !body) {
   console.error(`usage: sharing.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")})`);
   process.exit(2);
 }
-const serverArgs = { designer_store_full: ["--scene-store-entries", "1"] };
-process.exit(await runScenario(scenario, { binary, outDir, precheck: prechecks[scenario], serverArgs: serverArgs[scenario] }, body));
+const serverArgs = {
+  designer_store_full: () => ["--scene-store-entries", "1", "--allow-listing", "1"],
+  designer_your_scenes: () => ["--api-token-file", tokenFile({ alice: aliceToken })],
+};
+process.exit(await runScenario(scenario, { binary, outDir, precheck: prechecks[scenario], serverArgs: serverArgs[scenario]?.() }, body));

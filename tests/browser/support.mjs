@@ -6,6 +6,7 @@ import { spawn } from "node:child_process";
 import http from "node:http";
 import { createRequire } from "node:module";
 import fs from "node:fs";
+import os from "node:os";
 import path from "node:path";
 import readline from "node:readline";
 import { fileURLToPath } from "node:url";
@@ -165,4 +166,32 @@ export function imageSummary(page, selector = '[data-testid="view"]') {
     }
     return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
   }, selector);
+}
+
+// A token file for `--api-token-file` holding `name:token` lines (tokens: {name: token}); its path.
+export function tokenFile(tokens) {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), "rr-tokens-"));
+  const file = path.join(dir, "tokens");
+  fs.writeFileSync(file, Object.entries(tokens).map(([name, token]) => `${name}:${token}\n`).join(""), { mode: 0o600 });
+  return file;
+}
+
+// How many times "Your scenes" has loaded its list (each load, shown or refused, adds one).
+const listLoads = (page) => page.evaluate(() => Number(document.getElementById("your-scenes").dataset.loads || 0));
+
+// Runs `act` (a click, a key) and waits for the list of "Your scenes" to load again after it.
+export async function afterListLoad(page, act) {
+  const before = await listLoads(page);
+  await act();
+  await page.waitForFunction((n) => Number(document.getElementById("your-scenes").dataset.loads || 0) > n, before);
+}
+
+// Opens "Your scenes" with a click on its heading and waits for its list.
+export async function openYourScenes(page) {
+  await afterListLoad(page, () => page.getByText("Your scenes", { exact: true }).click());
+}
+
+// The ids "Your scenes" lists, in its order (newest first).
+export function listedScenes(page) {
+  return page.$$eval("#scenes-list li", (rows) => rows.map((li) => li.dataset.id));
 }

@@ -28,17 +28,24 @@ async function problemOf(res) {
 }
 
 // What a refusal that is not about the request means, in plain words with what to do (null: the
-// answer's own errors say it, by pointer).
+// answer's own errors say it, by pointer). The flags named are `roomrender serve`'s.
 export function plainWords(error) {
   if (error?.status === 507) {
-    return "The server's scene store is full, so it did not keep this scene (it never throws stored scenes away " +
-      "to make room). Delete stored scenes you no longer need, or ask whoever runs the server for a larger store. " +
+    return "The server's store is full, so it did not keep this scene (it never throws stored scenes away " +
+      "to make room). Delete scenes you no longer need in Your scenes, or ask whoever runs the server to raise " +
+      "--scene-store-bytes or --scene-store-entries (--mesh-store-bytes, --mesh-store-entries for meshes). " +
       "Renders that need no storing still work.";
+  }
+  if (error?.status === 401) {
+    return "This server stores and deletes scenes only for an access token (it runs with --api-token-file): " +
+      "enter yours under Your scenes, then try again.";
   }
   if (error?.status === 503) {
     const wait = error.problem?.retryAfter ? `in ${error.problem.retryAfter} s` : "in a few seconds";
     return "The server is too busy right now: every render slot is taken and its queue is full (or it is " +
-      `shutting down, or its store does not answer). Nothing is wrong with the scene: try again ${wait}.`;
+      `shutting down, or its store does not answer). Nothing is wrong with the scene: try again ${wait}. ` +
+      "If it keeps happening, ask whoever runs the server to raise --render-queue or --render-workers " +
+      "(or --store-timeout-ms when its store is a database).";
   }
   return null;
 }
@@ -69,6 +76,12 @@ export class Api {
   constructor(base = "") {
     this.base = base;
     this.paths = null;  // OpenAPI paths once known; null: the server has no OpenAPI document
+    this.token = null;  // bearer token sent with writes and listings (a server with --api-token-file)
+  }
+
+  // The headers of a write (or a listing): `headers` with the bearer token when there is one.
+  authorized(headers = {}) {
+    return this.token ? { ...headers, Authorization: `Bearer ${this.token}` } : headers;
   }
 
   url(path) {
@@ -92,6 +105,10 @@ export class Api {
 
   has(path, method = "post") {
     return Boolean(this.paths && this.paths[path] && this.paths[path][method]);
+  }
+
+  hasParameter(path, name, method = "post") {
+    return Boolean(this.has(path, method) && (this.paths[path][method].parameters || []).some((p) => p.name === name));
   }
 
   pipelines() {
@@ -193,7 +210,7 @@ export class Api {
   async storeScene(scene, { signal } = {}) {
     const res = await fetch(this.url("/v1/scenes"), {
       method: "POST",
-      headers: { "Content-Type": "application/json", Accept: "application/json" },
+      headers: this.authorized({ "Content-Type": "application/json", Accept: "application/json" }),
       body: typeof scene === "string" ? scene : JSON.stringify(scene),
       signal,
     });
@@ -203,8 +220,18 @@ export class Api {
 
   // DELETE /v1/scenes/{id}.
   async deleteScene(id, { signal } = {}) {
-    const res = await fetch(this.url(`/v1/scenes/${encodeURIComponent(id)}`), { method: "DELETE", signal });
+    const res = await fetch(this.url(`/v1/scenes/${encodeURIComponent(id)}`), {
+      method: "DELETE", headers: this.authorized(), signal,
+    });
     if (!res.ok) throw new ApiError(res.status, await problemOf(res));
+  }
+
+  // GET /v1/scenes (or the `next` URL of a page before): a page of stored scenes, newest first,
+  // {scenes: [{id, created, expires, bytes}], next}; with a token, its owner's.
+  async listScenes(next = null, { signal } = {}) {
+    const path = next ?? "/v1/scenes?limit=50";
+    const res = await fetch(this.url(path), { headers: this.authorized({ Accept: "application/json" }), signal });
+    return (await ok(res)).json();
   }
 
   // GET /v1/scenes/{id}: the stored scene document as text (canonical JSON).
@@ -225,11 +252,13 @@ export class Api {
 
   // POST /v1/import/{format}?store=1: the file's scene is stored on the server, which answers its id
   // with the default camera and options ({id, camera, options, warnings}); the scene never travels
-  // back as part of the answer.
-  async importStored(format, file, { signal } = {}) {
-    const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}?store=1`), {
+  // back as part of the answer. `models`: furniture=models, so that a home's furniture is drawn with
+  // its models whatever the file (a bare Home.xml has none: the warnings then name those missing).
+  async importStored(format, file, { signal, models = false } = {}) {
+    const furniture = models && this.hasParameter("/v1/import/{format}", "furniture") ? "&furniture=models" : "";
+    const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}?store=1${furniture}`), {
       method: "POST",
-      headers: { "Content-Type": "application/octet-stream", Accept: "application/json" },
+      headers: this.authorized({ "Content-Type": "application/octet-stream", Accept: "application/json" }),
       body: file,
       signal,
     }));

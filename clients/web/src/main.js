@@ -19,6 +19,8 @@ import { Sharing, storedSceneLink } from "./sharing.js";
 import { parsePermalink, viewOf } from "./share.js";
 import { bigSceneChars } from "./big_scene.js";
 import { viewGrabber } from "./view_select.js";
+import { YourScenes } from "./your_scenes.js";
+import { missingModelsHint } from "./import_hint.js";
 
 const $ = (id) => document.getElementById(id);
 const defaultExample = "apartment";
@@ -87,9 +89,10 @@ function showError(error) {
   app.warnedScene = null;
   const plain = plainWords(error);
   if (plain) {
-    // About the server, not a field: no mark in the editor or the plan.
+    // About the server, not a field: no mark in the editor or the plan; said where Save says it.
     showProblemList([{ pointer: null, detail: plain }]);
-    setStatus(`HTTP ${error.status}: ${plain}`);
+    sharing.showError(`HTTP ${error.status}: ${plain}`, { transient: true });
+    if (error.status === 401) yourScenes.askToken();
   } else if (error instanceof ApiError) {
     editor.setServerNotes(error.errors.map((e) => ({ pointer: e.pointer, message: e.detail, severity: "error" })));
     showProblemList(error.errors.map((e) => ({ pointer: e.pointer, detail: e.detail })));
@@ -197,7 +200,10 @@ async function display(request, [a, b], seq, { preview = false } = {}) {
   // Tests (and people) can tell a new image from the old one by this number.
   img.dataset.renderSeq = String(seq);
   $("views").dataset.renderSeq = String(seq);
-  if (!preview) sharing.showLinks(request);
+  if (!preview) {
+    sharing.showLinks(request);
+    sharing.rendered();
+  }
 }
 
 // Camera gestures move the designer's live camera (not the text), then render the stored scene from
@@ -265,6 +271,7 @@ const noHome = (error) => /archive holds no home/.test([error.message, ...(error
 
 async function importFileNow(file) {
   const format = controls.importFormat(file.name);
+  showImportHint(null);
   try {
     setStatus(`Importing ${file.name}…`);
     if (format === "json") {
@@ -283,6 +290,8 @@ async function importFileNow(file) {
         return sharing.importStored("obj", file);
       });
       if (receipt.warnings?.length) setStatus(`Imported ${file.name} with ${receipt.warnings.length} repair(s).`);
+      showImportHint(missingModelsHint(file.name, receipt.warnings));
+      yourScenes.refreshIfOpen();
     }
     app.exampleName = file.name.replace(/\.[^.]*$/, "");
     const request = editor.parsed();
@@ -292,6 +301,32 @@ async function importFileNow(file) {
   } catch (error) {
     showError(error);
   }
+}
+
+function showImportHint(text) {
+  $("import-hint").textContent = text || "";
+  $("import-hint").hidden = !text;
+}
+
+// Opens a scene of Your scenes as the working scene, as a permalink opens one, with the current
+// options and the server's frame of the whole scene (the stored document has no camera).
+function openStored(id) {
+  return loading(async () => {
+    const options = designer.request()?.options ?? {};
+    const scale = (n) => Math.max(16, Math.round(n / 4));
+    const sample = { ...options, width: scale(options.width ?? 640), height: scale(options.height ?? 480) };
+    const framed = api.has("/v1/scenes/{id}/render")
+      ? await api.renderStored(id, { camera: { frame: "all" }, options: sample }).then((r) => r.camera, () => null) : null;
+    showImportHint(null);
+    sharing.showError(null);
+    await sharing.openPermalink(id, { ...(framed ? { camera: framed } : {}), options });
+    app.exampleName = `scene-${id}`;
+    app.loadedCamera = editor.parsed()?.camera || null;
+    controls.readFrom(editor.parsed());
+    controls.showExample(null);
+    setStatus(`Opened the stored scene ${id}.`);
+    await render();
+  });
 }
 
 const editor = new RequestEditor($("editor"), {
@@ -307,7 +342,10 @@ const designer = new Designer(editor, {
   onCameraMoved: ({ preview = false } = {}) => render({ moved: true, preview }),
   busy: () => $("views").classList.contains("dragging") || Boolean(designer.drag),
   onStatus: setStatus,
-  onSave: () => sharing.save(),
+  onSave: () => sharing.save().then((id) => {
+    if (id) yourScenes.refreshIfOpen();
+    return id;
+  }),
   onReplaced: () => sharing.replaced(),
   autosaveText: () => sharing.autosaveText(),
   // A plan drag renders at reduced size, at most once a frame and once the last preview is drawn; a
@@ -337,6 +375,13 @@ const designer = new Designer(editor, {
   },
 });
 const sharing = new Sharing({ api, editor, designer, onStatus: setStatus });
+const yourScenes = new YourScenes({
+  api,
+  onOpen: openStored,
+  onDeleted: (id) => sharing.forget(id),
+  isHere: (id) => sharing.holds(id),
+  onToken: () => sharing.mayStoreAgain(),
+});
 const warningClicks = { reveal: (p) => editor.reveal(p), select: (p) => designer.select(p), label: elementLabel };
 const controls = new Controls({
   setOptions: (entries) => {
@@ -409,6 +454,8 @@ $("download-scene").addEventListener("click", () => {
 });
 // The text shows the camera on screen before the user reads or types into it.
 $("editor").addEventListener("focusin", () => designer.syncCamera());
+document.querySelector('[data-action="new"]').addEventListener("click", () => showImportHint(null));
+$("example").addEventListener("change", () => showImportHint(null));
 $("open-file").addEventListener("click", () => $("file").click());
 $("file").addEventListener("change", (e) => {
   if (e.target.files[0]) importFile(e.target.files[0]);

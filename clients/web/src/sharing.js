@@ -142,7 +142,7 @@ export class Sharing {
   // server's answer, and fills the editor when it comes (GET /v1/scenes/{id}: the server compresses
   // an interior's megabytes first, which takes it a while).
   async importStored(format, file, { waitMs = 1500 } = {}) {
-    const receipt = await this.api.importStored(format, file);
+    const receipt = await this.api.importStored(format, file, { models: format === "sh3d" });
     if (!/^[0-9a-f]{16}$/.test(receipt.id || "")) throw new Error("the import answer names no stored scene");
     const view = { camera: receipt.camera, options: receipt.options };
     const fetched = this.api.storedSceneText(receipt.id).then((text) => ({ text }), (error) => ({ error }));
@@ -216,14 +216,45 @@ export class Sharing {
     }
   }
 
-  // A visible message in the share panel (null hides it).
-  showError(text) {
+  // A visible message in the share panel (null hides it). `transient`: about the server at that
+  // moment (busy, store full on an import); the next image drawn takes it away.
+  showError(text, { transient = false } = {}) {
     $("share-message").textContent = text || "";
     $("share-message").hidden = !text;
+    this.transientMessage = Boolean(text) && transient;
     if (text) {
       $("share").hidden = false;
       this.onStatus(text);
     }
+  }
+
+  // An image was drawn: a transient message no longer holds.
+  rendered() {
+    if (this.transientMessage) this.showError(null);
+  }
+
+  // The scene `id` was deleted from the server: no copy of this page names it any longer (the next
+  // camera move or Save stores the scene again), and the store may have room for a working copy.
+  forget(id) {
+    if (this.saved?.id === id) {
+      this.saved = null;
+      $("share-links").hidden = true;
+    }
+    if (this.working?.id === id) this.working = null;
+    if (this.big?.id === id && !this.big.pending) Object.assign(this.big, { id: null, key: null });
+    this.mayStoreAgain();
+  }
+
+  // The server may store a working copy now (a token was entered, or a scene deleted).
+  mayStoreAgain() {
+    this.noWorking = false;
+  }
+
+  // Is `id` a stored copy of the editor's scene (saved, imported, opened, or its working copy)?
+  holds(id) {
+    if (this.big) return this.big.id === id;
+    const scene = this.editor.parsed()?.scene;
+    return Boolean(scene) && this.copyOf(scene) === id;
   }
 
   // The schema checker, minus what it says about the stand-ins for meshes kept out of the editor.
