@@ -17,7 +17,8 @@ TEST_F(ExposureApiTest, TwoExposuresAreTwoImagesAndOneIsTheSameBytes) {
   auto stored = client().Post("/v1/scenes", scene_with_box_at(1.3).dump(), "application/json");
   ASSERT_TRUE(stored);
   ASSERT_EQ(stored->status, 201) << stored->body;
-  const std::string base = "/v1/scenes/" + json::parse(stored->body)["id"].get<std::string>() + "/render.png?width=64&height=48";
+  const std::string base =
+      "/v1/scenes/" + json::parse(stored->body)["id"].get<std::string>() + "/render.png?width=64&height=48";
   auto get = [&](const std::string& query) {
     auto res = client().Get((base + query).c_str());
     EXPECT_TRUE(res);
@@ -69,7 +70,8 @@ TEST_F(ExposureApiTest, BadValuesNameTheParameter) {
   check("exposure=-1", 422);  // a number out of range: invalid, as width=16.5 is
   check("exposure=0", 422);
   check("exposure=65", 422);
-  json body = expect_problem(client().Post("/v1/render", R"({"options": {"exposure": "brighter"}})", "application/json"), 422);
+  json body =
+      expect_problem(client().Post("/v1/render", R"({"options": {"exposure": "brighter"}})", "application/json"), 422);
   EXPECT_EQ(body["errors"][0]["pointer"], "/options/exposure");
 }
 

@@ -39,19 +39,19 @@ nlohmann::json exposure_room(double light, double ambient) {
                      {"height", 2.5},
                      {"color", "#d8d0c0"}});
   }
-  return {{"scene",
-           {{"version", 1},
-            {"background", "#336699"},
-            {"ambient", {{"intensity", ambient}}},
-            {"floor", {{"id", "f"}, {"origin", {0, 0}}, {"cells", {5, 4}}, {"colors", {"#b0a080", "#807060"}}}},
-            {"walls", walls},
-            {"solids",
-             {{{"type", "box"}, {"id", "b"}, {"center", {2.5, 2}}, {"size", {1, 0.8, 1}}, {"color", "#c04040"}}}},
-            {"lights",
-             {{{"type", "point"}, {"id", "lamp"}, {"position", {2.5, 2.3, 2}}, {"intensity", 0.6 * light}},
-              {{"type", "directional"}, {"id", "sun"}, {"direction", {-0.3, -1, -0.5}}, {"intensity", 0.3 * light}}}}}},
-          {"camera", {{"position", {4.6, 1.6, 3.7}}, {"target", {1, 0.5, 0.5}}}},
-          {"options", {{"width", 160}, {"height", 120}}}};
+  return {
+      {"scene",
+       {{"version", 1},
+        {"background", "#336699"},
+        {"ambient", {{"intensity", ambient}}},
+        {"floor", {{"id", "f"}, {"origin", {0, 0}}, {"cells", {5, 4}}, {"colors", {"#b0a080", "#807060"}}}},
+        {"walls", walls},
+        {"solids", {{{"type", "box"}, {"id", "b"}, {"center", {2.5, 2}}, {"size", {1, 0.8, 1}}, {"color", "#c04040"}}}},
+        {"lights",
+         {{{"type", "point"}, {"id", "lamp"}, {"position", {2.5, 2.3, 2}}, {"intensity", 0.6 * light}},
+          {{"type", "directional"}, {"id", "sun"}, {"direction", {-0.3, -1, -0.5}}, {"intensity", 0.3 * light}}}}}},
+      {"camera", {{"position", {4.6, 1.6, 3.7}}, {"target", {1, 0.5, 0.5}}}},
+      {"options", {{"width", 160}, {"height", 120}}}};
 }
 
 // Mean Rec. 709 luminance of byte / 255 over the pixels that show a surface: the measure "auto" aims at.
