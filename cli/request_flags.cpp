@@ -12,7 +12,7 @@ namespace {
 
 using nlohmann::json;
 
-enum class Kind { vec3, number, integer, size, name, boolean, light };
+enum class Kind { vec3, number, number_or_auto, integer, size, name, boolean, light };
 enum class Names { none, pipelines, shadings, png, culling, shadow_methods };
 
 struct RequestFlag {
@@ -42,6 +42,8 @@ constexpr RequestFlag request_flag_rows[] = {
      "shadows from maps, or exact rays toward each light"},
     {"--antialias", "/options/antialias", Kind::integer, "S", Names::none,
      "coverage sub-samples per pixel: 1, 4, 8 or 16"},
+    {"--exposure", "/options/exposure", Kind::number_or_auto, "E|auto", Names::none,
+     "multiplies the lights and ambient (default 1), or auto: a mean luminance of 0.45"},
     {"--png", "/options/png/compression", Kind::name, nullptr, Names::png, "PNG encoder (none: stored, unfiltered)"},
     {"--culling", "/options/culling", Kind::name, nullptr, Names::culling,
      "occlusion culling (the same bytes either way; docs/culling.md)"},
@@ -87,6 +89,9 @@ void add_flag(RequestPatch& patch, const RequestFlag& row, const std::string& te
     case Kind::vec3:
       return add_entry(patch, row.pointer, parse_vec3_flag(text, row.name), row.name);
     case Kind::number:
+      return add_entry(patch, row.pointer, parse_double_flag(text, row.name), row.name);
+    case Kind::number_or_auto:
+      if (text == "auto") return add_entry(patch, row.pointer, text, row.name);
       return add_entry(patch, row.pointer, parse_double_flag(text, row.name), row.name);
     case Kind::integer:
       return add_entry(patch, row.pointer, parse_any_int(text, row.name), row.name);

@@ -20,7 +20,7 @@ namespace {
 
 // Headers a page may read from our answers (beyond the CORS-safelisted ones).
 constexpr const char* exposed_headers =
-    "Server-Timing, X-Scene-Id, X-Cache, X-Shadow-Cache, X-Warning-Count, ETag, Location, Retry-After, "
+    "Server-Timing, X-Scene-Id, X-Cache, X-Shadow-Cache, X-Exposure, X-Warning-Count, ETag, Location, Retry-After, "
     "WWW-Authenticate";
 constexpr const char* allowed_request_headers = "Content-Type, Authorization, Accept, If-None-Match";
 // Seconds a browser may reuse a preflight's answer (Chromium caps it at 7200).

@@ -90,6 +90,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
   res.set_header("Server-Timing", server_timing(report.timings));
   if (!report.stats.bsp_cache.empty()) res.set_header("X-Cache", report.stats.bsp_cache);
   res.set_header("X-Shadow-Cache", report.stats.shadow_cache);
+  res.set_header("X-Exposure", nlohmann::json(report.exposure).dump());
   const size_t problems = placement_problem_count(plan.scene.warnings);
   res.set_header("X-Warning-Count", std::to_string(problems));
   if (match.media_type == "application/json") {
@@ -193,7 +194,7 @@ void handle_stored_render(ServiceState& state, const Request& req, Response& res
 
 // --- query parameters of GET /v1/scenes/{id}/render.png ------------------------------------------
 
-enum class ParamKind { number, integer, boolean, text, vec3 };
+enum class ParamKind { number, number_or_auto, integer, boolean, text, vec3 };
 
 struct QueryParam {
   const char* name;
@@ -231,6 +232,7 @@ constexpr QueryParam query_params[] = {
     {"png", "/options/png/compression", ParamKind::text},
     {"antialias", "/options/antialias", ParamKind::integer},
     {"culling", "/options/culling", ParamKind::text},
+    {"exposure", "/options/exposure", ParamKind::number_or_auto},
 };
 
 [[noreturn]] void bad_parameter(const QueryParam& p, const std::string& detail) {
@@ -261,6 +263,10 @@ json parse_param(const QueryParam& p, const std::string& text) {
     case ParamKind::boolean:
       if (text == "true" || text == "false") return text == "true";
       bad_parameter(p, "must be true or false");
+    case ParamKind::number_or_auto:
+      if (text == "auto") return text;
+      if (auto number = parse_number(text)) return *number;
+      bad_parameter(p, "must be a finite number or auto");
     case ParamKind::integer:
     case ParamKind::number:
       if (auto number = parse_number(text)) return *number;

@@ -16,9 +16,9 @@ namespace rr::server {
 void send_problem(httplib::Response& res, const Problem& problem) {
   // Headers a handler may have set for a success that must not survive into an error answer (an
   // immutable Cache-Control on a 422 would pin the error in caches for a year).
-  static constexpr const char* success_headers[] = {"Server-Timing",  "X-Scene-Id", "X-Cache",
-                                                    "X-Shadow-Cache", "ETag",       "X-Warning-Count",
-                                                    "Cache-Control",  "Location",   "Vary"};
+  static constexpr const char* success_headers[] = {"Server-Timing", "X-Scene-Id", "X-Cache",         "X-Shadow-Cache",
+                                                    "X-Exposure",    "ETag",       "X-Warning-Count", "Cache-Control",
+                                                    "Location",      "Vary"};
   for (const char* name : success_headers) res.headers.erase(name);
   // The CORS headers screening set stay, so a page can read the problem; Vary went with the rest.
   if (request_context().vary_origin) res.set_header("Vary", "Origin");

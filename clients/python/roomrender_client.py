@@ -127,6 +127,11 @@ def with_antialias(request: dict, samples: int) -> dict:
     return {**request, "options": {**request.get("options", {}), "antialias": samples}}
 
 
+def _exposure(text: str):
+    """options.exposure from the command line: "auto" or a number (the server checks its range)."""
+    return text if text == "auto" else float(text)
+
+
 class Client:
     def __init__(self, base_url: str = DEFAULT_URL, timeout: float = 120.0):
         self.base_url = base_url.rstrip("/")
@@ -376,7 +381,7 @@ def _report(result: RenderResult, out: str) -> None:
 def _cmd_render(rr: Client, args) -> None:
     request = _load_json(args.request)
     options = request.setdefault("options", {})
-    for key in ("pipeline", "shading", "width", "height", "antialias"):
+    for key in ("pipeline", "shading", "width", "height", "antialias", "exposure"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
     result = rr.render(request)
@@ -450,6 +455,7 @@ def make_parser() -> argparse.ArgumentParser:
     r.add_argument("--width", type=int)
     r.add_argument("--height", type=int)
     r.add_argument("--antialias", type=int, choices=ANTIALIAS_SAMPLES, help="coverage sub-samples per pixel")
+    r.add_argument("--exposure", type=_exposure, help="multiplier of the lights and ambient in (0, 64], or auto")
     r.set_defaults(run=_cmd_render)
 
     s = sub.add_parser("store", help="store a scene (a scene document or a request's scene); prints the receipt")

@@ -233,6 +233,13 @@ enum class CeilingMode { automatic, on, off };
 // time only: the pipelines that use it give the same bytes either way; off is the check of that.
 enum class CullingMode { on, off };
 
+// options.exposure: a multiplier in (0, max_exposure]; "auto" picks one in [min_auto_exposure,
+// max_auto_exposure] so the frame's mean luminance is auto_exposure_target (render.cpp).
+inline constexpr double max_exposure = 64.0;
+inline constexpr double min_auto_exposure = 1.0 / 16.0;
+inline constexpr double max_auto_exposure = 16.0;
+inline constexpr double auto_exposure_target = 0.45;
+
 struct RenderOptions {
   int width = 640;
   int height = 480;
@@ -250,6 +257,11 @@ struct RenderOptions {
   // 4, 8 or 16 resolve each pixel from the fragments visible in its sub-samples (docs/antialiasing.md).
   int antialias = 1;
   CullingMode culling = CullingMode::on;
+  // Multiplies every light's intensity and the ambient's before shading (render() applies it once;
+  // the background is a clear colour and is left alone). 1 changes no byte. auto_exposure: render()
+  // picks the multiplier from a small pre-pass (docs/lighting.md "Exposure") and `exposure` is unused.
+  double exposure = 1.0;
+  bool auto_exposure = false;
 };
 
 struct RenderRequest {

@@ -9,9 +9,78 @@
 #include "render/pipelines/view_selection.hpp"
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 #include <limits>
 
 namespace rr {
+
+namespace {
+
+// `scene` with every light's and the ambient's intensity multiplied by `exposure`: shading is linear,
+// so every pipeline and shading mode scales alike before to_byte clamps. The background is the
+// clear colour the request chose, not a lit surface, and stays. Products stay finite floats.
+Scene exposed_scene(const Scene& scene, double exposure) {
+  auto scaled = [&](float intensity) { return float(std::min(double(intensity) * exposure, double(FLT_MAX))); };
+  Scene out = scene;
+  out.ambient.intensity = scaled(out.ambient.intensity);
+  for (Light& light : out.lights) light.intensity = scaled(light.intensity);
+  return out;
+}
+
+// Mean Rec. 709 luminance (0.2126 R + 0.7152 G + 0.0722 B of byte / 255) of the pixels that show a
+// surface; nullopt when none does.
+std::optional<double> mean_surface_luminance(const Frame& frame) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t i = 0; i < frame.ids.ids.size(); ++i) {
+    if (frame.ids.ids[i] == background_id) continue;
+    const uint8_t* rgb = frame.image.rgb.data() + i * 3;
+    sum += (0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]) / 255.0;
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  return sum / double(count);
+}
+
+// The auto exposure rule (docs/lighting.md "Exposure"): draw the view at about 128 x 128 pixels
+// (the same aspect, camera, pipeline and shading, no anti-aliasing, shadows by rays) at exposure e, starting from 1,
+// and set e *= target / mean surface luminance, clamped to [min_auto_exposure, max_auto_exposure];
+// repeat while the mean misses the target by more than 0.01, at most four passes. Clipped pixels
+// make the mean grow less than e does, so later passes correct the first. A frame that shows no
+// surface keeps 1. Deterministic: the pre-passes are renders, and renders are.
+double choose_exposure(const RenderRequest& view, const Camera& camera, const PreparedScene& scene,
+                       const RenderContext& context) {
+  constexpr double pre_pass_pixels = 128.0 * 128.0;
+  constexpr double tolerance = 0.01;
+  RenderRequest small = view;
+  small.camera = camera;
+  small.camera.frame_all = false;
+  const double s = std::min(1.0, std::sqrt(pre_pass_pixels / (double(view.options.width) * view.options.height)));
+  small.options.width = std::max(1, int(std::lround(view.options.width * s)));
+  small.options.height = std::max(1, int(std::lround(view.options.height * s)));
+  small.options.antialias = 1;
+  small.options.auto_exposure = false;
+  // Shadows by rays, which the maps approximate: a map pass costs the same at any image size (seconds
+  // for a furnished home), rays cost per pixel.
+  small.options.shadow.method = ShadowMethod::rays;
+  RenderContext pre = context;
+  pre.encode = false;
+  double exposure = 1.0;
+  for (int pass = 0; pass < 4; ++pass) {
+    small.options.exposure = exposure;
+    const std::optional<double> mean = mean_surface_luminance(render(small, scene, pre).frame);
+    if (!mean) return 1.0;
+    if (std::abs(*mean - auto_exposure_target) <= tolerance) break;
+    const double next = *mean > 0.0 ? exposure * auto_exposure_target / *mean : max_auto_exposure;
+    const double clamped = std::clamp(next, min_auto_exposure, max_auto_exposure);
+    if (clamped == exposure) break;
+    exposure = clamped;
+  }
+  return exposure;
+}
+
+}  // namespace
 
 PreparedScene prepare_scene(Scene scene) {
   PreparedScene out;
@@ -58,7 +127,13 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
     frame_context.scene_id += selection.key_suffix;
   }
   const PolygonSoup& soup = selection.everything ? scene.soup : selected;
-  RenderResult result = render_frame(scene.scene, soup, camera, view.options, frame_context);
+  // Exposure scales the lights once here; at exactly 1 the scene is drawn as it is, byte for byte.
+  const double exposure =
+      view.options.auto_exposure ? choose_exposure(view, camera, scene, context) : view.options.exposure;
+  Scene exposed;
+  if (exposure != 1.0) exposed = exposed_scene(scene.scene, exposure);
+  RenderResult result =
+      render_frame(exposure != 1.0 ? exposed : scene.scene, soup, camera, view.options, frame_context);
   RenderOutcome out;
   out.camera = camera;
   out.frame = std::move(result.frame);
@@ -82,6 +157,7 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
   report.pipeline = view.options.pipeline;
   report.width = out.frame.image.width;
   report.height = out.frame.image.height;
+  report.exposure = exposure;
   return out;
 }
 

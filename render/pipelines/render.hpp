@@ -12,6 +12,7 @@
 #include "render/core/shadow_rays.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,7 @@ struct RenderReport {
   std::string scene_id;
   PipelineId pipeline;  // a row of pipeline_table()
   int width = 0, height = 0;
+  double exposure = 1.0;  // the multiplier drawn with: options.exposure, or the one "auto" chose
 };
 
 struct RenderOutcome {

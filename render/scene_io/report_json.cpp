@@ -35,6 +35,7 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
                  {"lamps_culled", s.lamps_culled}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
+  j["exposure"] = report.exposure;
   if (s.painter_pairs_tested || s.painter_splits || s.painter_budget_exhausted) {
     j["painter"] = {{"pairs_tested", s.painter_pairs_tested},
                     {"splits", s.painter_splits},

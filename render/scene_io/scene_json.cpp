@@ -388,7 +388,7 @@ void read_view_levels(const json& value, const std::string& pointer, ErrorList& 
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
                  {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png", "levels",
-                  "ceilings", "antialias", "culling"});
+                  "ceilings", "antialias", "culling", "exposure"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
   side.kind_above = Kind::too_large;
@@ -412,6 +412,15 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   o.antialias = int(r.integer("antialias", o.antialias, NumberRange{1.0, 16.0}));
   if (!is_sample_count(o.antialias)) throw_invalid(r.at("antialias"), "must be 1, 4, 8 or 16");
   o.culling = read_choice(r, "culling", o.culling, culling_mode_names);
+  r.member("exposure", [&](const json& v, const std::string& p) {
+    if (v.is_string() && v.get<std::string>() == "auto") {
+      o.auto_exposure = true;
+    } else if (v.is_number()) {
+      o.exposure = read_number(v, p, NumberRange{0.0, max_exposure, true, false});
+    } else {
+      throw_invalid(p, "must be a number in (0, 64] or \"auto\"");
+    }
+  });
   // The memory budget: named at the width when one sample per pixel already exceeds it, else at
   // the sub-samples whose A-buffer does.
   const bool plain_over = render_bytes(o.width, o.height, 1) > b.limits.max_render_bytes;

@@ -1,4 +1,4 @@
-// The toolbar's selectors (pipeline, shading, shadows, size, anti-aliasing, compare) and the examples list. They
+// The toolbar's selectors (pipeline, shading, shadows, size, anti-aliasing, exposure, compare) and the examples list. They
 // mirror the request's options: reading the request sets them, and changing one calls
 // setOptions([{pointer, value}]), which edits the request. Pipelines and shading modes come from
 // GET /v1/pipelines, so a pipeline added to the server's table appears here by itself.
@@ -6,6 +6,8 @@ const $ = (id) => document.getElementById(id);
 
 const sizes = [[320, 240], [640, 480], [800, 600], [1024, 768], [1280, 720], [1920, 1080]];
 const fallbackShading = ["flat", "gouraud", "phong"];
+// The exposure slider moves in stops (the multiplier is 2^stops); "auto" leaves the choice to the server.
+const exposureLabel = (stops) => `${Number((2 ** stops).toPrecision(3))}×`;
 const importFormats = { xml: "sh3d", sh3d: "sh3d", zip: "sh3d", obj: "obj", txt: "r2v", json: "json" };
 
 function fillSelect(select, entries, value) {
@@ -31,6 +33,12 @@ export class Controls {
       setOptions([{ pointer: "/options/width", value: w }, { pointer: "/options/height", value: h }]);
     });
     $("antialias").addEventListener("change", (e) => setOption("/options/antialias", Number(e.target.value)));
+    $("exposure").addEventListener("input", (e) => { $("exposure-value").value = exposureLabel(Number(e.target.value)); });
+    $("exposure").addEventListener("change", (e) => setOption("/options/exposure", 2 ** Number(e.target.value)));
+    $("exposure-auto").addEventListener("change", (e) => {
+      $("exposure").disabled = e.target.checked;
+      setOption("/options/exposure", e.target.checked ? "auto" : 2 ** Number($("exposure").value));
+    });
     $("compare").addEventListener("change", onCompareChange);
     $("pipeline-b").addEventListener("change", () => { if ($("compare").checked) onCompareChange(); });
     this.onCompareChange = onCompareChange;
@@ -90,6 +98,12 @@ export class Controls {
     $("shadows").checked = o.shadows === true;
     $("shadow-method").value = o.shadow?.method === "rays" ? "rays" : "map";
     $("antialias").value = String([1, 4, 8, 16].includes(o.antialias) ? o.antialias : 1);
+    const auto = o.exposure === "auto";
+    const stops = typeof o.exposure === "number" && o.exposure > 0 ? Math.min(4, Math.max(-4, Math.log2(o.exposure))) : 0;
+    $("exposure-auto").checked = auto;
+    $("exposure").disabled = auto;
+    if (!auto) $("exposure").value = String(stops);
+    $("exposure-value").value = auto ? "auto" : exposureLabel(Number($("exposure").value));
     const key = `${o.width ?? 640}x${o.height ?? 480}`;
     const entries = sizes.map(([w, h]) => [`${w}x${h}`, `${w} × ${h}`]);
     if (!entries.some(([v]) => v === key)) entries.push([key, key.replace("x", " × ")]);
