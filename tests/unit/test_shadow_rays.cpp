@@ -57,15 +57,24 @@ Vec3 random_point_on(const PolygonSoup& soup, const Polygon& poly, std::mt19937&
   return points[0] + a * (points[k + 1] - points[0]) + b * (points[k + 2] - points[0]);
 }
 
-TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
-  const auto seeds = testing::test_seeds(3101, 12);
-  size_t blocked = 0, open = 0;
+// Calls fn(rng, prepared, bvh) for each seeded random room of the test's seeds (default: `count`
+// from `first`), its shadow BVH built; a failure names the seed and how to replay it.
+template <class Fn>
+void for_each_random_room(unsigned first, unsigned count, Fn&& fn) {
+  const auto seeds = testing::test_seeds(first, count);
   for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
     std::mt19937 rng(seed);
     const PreparedScene prepared = random_room(rng);
+    const ShadowBvh bvh = build_shadow_bvh(prepared.soup, *prepared.hierarchy);
+    fn(rng, prepared, bvh);
+  }
+}
+
+TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
+  size_t blocked = 0, open = 0;
+  for_each_random_room(3101, 12, [&](std::mt19937& rng, const PreparedScene& prepared, const ShadowBvh& bvh) {
     const PolygonSoup& soup = prepared.soup;
-    const ShadowBvh bvh = build_shadow_bvh(soup, *prepared.hierarchy);
     ASSERT_FALSE(bvh.nodes.empty());
     EXPECT_EQ(bvh.ray_epsilon, shadow_ray_epsilon(soup));
     std::uniform_real_distribution<double> anywhere(-0.5, 6.5), up(-0.2, 3.0);
@@ -82,7 +91,7 @@ TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
         (fast ? blocked : open)++;
       }
     }
-  }
+  });
   EXPECT_GT(blocked, 10000u);  // both answers are common: the comparison means something
   EXPECT_GT(open, 10000u);
 }
@@ -91,15 +100,10 @@ TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
 // kept across every ray of a room, each answer is the brute-force search's, also for a ray that
 // starts on the memo's own polygon (which it must leave out, as the walk does).
 TEST(ShadowRays, MemoOfTheLastBlockerGivesTheBruteForceAnswers) {
-  const auto seeds = testing::test_seeds(3111, 8);
   ShadowRayStats stats;
   size_t from_memo_polygon = 0;
-  for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
-    SCOPED_TRACE("seed " + std::to_string(seed) + " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seed) + ")");
-    std::mt19937 rng(seed);
-    const PreparedScene prepared = random_room(rng);
+  for_each_random_room(3111, 8, [&](std::mt19937& rng, const PreparedScene& prepared, const ShadowBvh& bvh) {
     const PolygonSoup& soup = prepared.soup;
-    const ShadowBvh bvh = build_shadow_bvh(soup, *prepared.hierarchy);
     std::vector<ShadowRayMemo> memos(prepared.scene.lights.size());
     for (int i = 0; i < 2000; ++i) {
       const uint32_t self = uint32_t(rng() % soup.polygons.size());
@@ -119,7 +123,7 @@ TEST(ShadowRays, MemoOfTheLastBlockerGivesTheBruteForceAnswers) {
         ++from_memo_polygon;
       }
     }
-  }
+  });
   // Random points are far less coherent than a frame's pixels, yet the memo answers many rays (so the
   // comparison means something) and the walk still finds other blockers.
   EXPECT_GT(stats.memo_hits, stats.rays / 20);  // about one ray in ten with the default seeds
