@@ -51,11 +51,22 @@ export async function dragPlan(page, from, to, steps = 8) {
   await page.mouse.up();
 }
 
+// Waits until the designer's hooks are there and its first render is shown, then for it to settle.
+export async function designerReady(page) {
+  await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+  await idle(page);
+}
+
+// Waits until a render newer than `seq` is shown, then for the designer to settle.
+export async function waitForNewRender(page, seq, options = {}) {
+  await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s, seq, options);
+  await idle(page);
+}
+
 // Opens the page, waits for its first render, and starts an empty scene with "New".
 export async function openEmpty(page, server) {
   await page.goto(`${server.url}/`);
-  await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-  await idle(page);
+  await designerReady(page);
   await page.click('[data-action="new"]');
   await page.waitForFunction(() => (window.roomrenderDesigner.request()?.scene?.walls || [null]).length === 0);
   await idle(page);

@@ -5,7 +5,7 @@
 // sent, and "Frame all" shows the camera the service frames with "camera": {"frame": "all"}.
 //   node tests/browser/designer_view.mjs BUILD/roomrender OUT_DIR SCENARIO
 import { runScenario, assert, httpRequest, serverHas, skip } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, openEmpty, worldToPage, chooseItem } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, openEmpty, worldToPage, chooseItem, designerReady } from "./designer_support.mjs";
 import { execFileSync } from "node:child_process";
 import fs from "node:fs";
 import path from "node:path";
@@ -53,8 +53,7 @@ function regionPixels(ids) {
 async function openApartment(page, server) {
   if (!(await serverHas(server, "/v1/pick"))) skip("the server has no POST /v1/pick");
   await page.goto(`${server.url}/`);
-  await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-  await idle(page);
+  await designerReady(page);
 }
 
 const scenarios = {

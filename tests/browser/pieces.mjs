@@ -9,8 +9,8 @@
 import fs from "node:fs";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
-import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, homesDir } from "./designer_support.mjs";
+import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary, renderSeq } from "./support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
 import { hitTest } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
@@ -55,13 +55,6 @@ function cliIds(req) {
   return { width, height, at: (x, y) => bytes.readUInt32LE(8 + 4 * (y * width + x)) };
 }
 
-const renderSeq = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
-
-async function waitForNewRender(page, seq) {
-  await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s, seq);
-  await idle(page);
-}
-
 // Every solid but the one at `index` is as it was: a piece moves whole, nothing else does.
 function othersUnchanged(before, after, index) {
   return before.length === after.length && before.every((s, k) => k === index || JSON.stringify(s) === JSON.stringify(after[k]));
@@ -70,8 +63,7 @@ function othersUnchanged(before, after, index) {
 const scenarios = {
   async pieces_home({ page, server }) {
     await page.goto(`${server.url}/`);
-    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     let seq = await renderSeq(page);
     await page.setInputFiles("#file", homeZip("3BedroomApartment"));
     await waitForNewRender(page, seq);
@@ -227,8 +219,7 @@ const scenarios = {
     const png = await hooks(page, "png");
     const other = await context.newPage();
     await other.goto(link);
-    await other.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(other);
+    await designerReady(other);
     const reloaded = await request(other);
     assert(JSON.stringify(reloaded.scene.solids[0].parts) === JSON.stringify(placed.parts) && near(reloaded.scene.solids[0].center, [2.5, 1]),
       "the permalink gives the chair back");

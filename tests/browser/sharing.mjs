@@ -9,9 +9,8 @@ import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
-import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary, tokenFile, afterListLoad, openYourScenes,
-  listedScenes } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem } from "./designer_support.mjs";
+import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary, tokenFile, afterListLoad, openYourScenes, listedScenes, renderSeq, waitForRender } from "./support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, designerReady, waitForNewRender } from "./designer_support.mjs";
 import { hitTest, solidAnchor } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
@@ -39,13 +38,6 @@ const sorted = (v) => (Array.isArray(v) ? v.map(sorted)
 const same = (a, b) => JSON.stringify(sorted(a)) === JSON.stringify(sorted(b));
 
 const aliceToken = "alice-browser-test-token-0123456789";
-
-const renderSeq = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
-
-async function waitForNewRender(page, seq) {
-  await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s, seq);
-  await idle(page);
-}
 
 // The example selector follows the editor's text a moment after it changes (the controls read the
 // text debounced), so it is waited for rather than read at once.
@@ -81,8 +73,7 @@ const scenarios = {
 
     const other = await context.newPage();
     await other.goto(link);
-    await other.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(other);
+    await designerReady(other);
     const after = await request(other);
     assert(same(before, after), `the link gives the same request:\n${JSON.stringify(sorted(before))}\n${JSON.stringify(sorted(after))}`);
     const pngAfter = await hooks(other, "png");
@@ -102,8 +93,7 @@ const scenarios = {
     await page.waitForSelector("#share-message:not([hidden])");
     const message = await page.textContent("#share-message");
     assert(/0123456789abcdef/.test(message) && /no such scene/.test(message), `the page says the scene is unknown: ${message}`);
-    await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     await expectExample(page, "apartment", "and loads the default example instead");
 
     // A wall without an end parses as JSON but is no scene: storing it is refused, with the reason.
@@ -124,8 +114,7 @@ const scenarios = {
   // first scene in Your scenes (an open server with --allow-listing 1) makes room: Save then stores.
   async designer_store_full({ page, server }) {
     await page.goto(`${server.url}/?example=studio`);
-    await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     await page.click('[data-action="save"]');
     await page.waitForFunction(() => /Stored as scene/.test(document.getElementById("status").textContent));
     await page.click('[data-action="new"]');
@@ -137,10 +126,10 @@ const scenarios = {
       /--scene-store-entries/.test(message), `the 507 is said in plain words, with what to do: ${message}`);
     assert(await page.isVisible("#share-message"), "where the user sees it");
     assert(!(await page.$(".cm-lintRange-error, .cm-inline-error")), "and marks no line of the editor");
-    const seq = await page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq));
+    const seq = await renderSeq(page);
     await page.focus("#views");
     await page.keyboard.press("ArrowLeft");
-    await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq) > s && !document.body.hasAttribute("data-busy"), seq);
+    await waitForRender(page, seq);
     await idle(page);
     assert(/Rendered in/.test(await page.textContent("#status")), `the camera still renders: ${await page.textContent("#status")}`);
 
@@ -163,8 +152,7 @@ const scenarios = {
   // it), then deletes it on the server and the list updates.
   async designer_your_scenes({ page, server }) {
     await page.goto(`${server.url}/?example=studio`);
-    await page.waitForFunction(() => Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     await openYourScenes(page);
     const asks = await page.textContent("#scenes-message");
     assert(/access token/.test(asks) && await page.getByLabel("Access token").isVisible(), `the list asks for a token: ${asks}`);
@@ -222,8 +210,7 @@ const scenarios = {
   // the hint away.
   async designer_import_bare_home({ page, server }) {
     await page.goto(`${server.url}/`);
-    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     assert(!(await page.isVisible("#import-hint")), "no hint before an import");
     const seq = await renderSeq(page);
     const chooser = page.waitForEvent("filechooser");
@@ -251,8 +238,7 @@ const scenarios = {
       }
     });
     await page.goto(`${server.url}/`);
-    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     const example = await imageSummary(page);
     let seq = await renderSeq(page);
     renders.length = 0;
@@ -299,8 +285,7 @@ const scenarios = {
   async designer_import_home_zip({ page, server }) {
     const zip = studioZip();
     await page.goto(`${server.url}/`);
-    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     const example = await imageSummary(page);
     let seq = await renderSeq(page);
 

@@ -146,8 +146,18 @@ export function assert(condition, message) {
   if (!condition) throw new Error(`assertion failed: ${message}`);
 }
 
+// The page's count of renders shown so far (#views' data-render-seq).
+export const renderSeq = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
+
+// Waits until a render newer than `after` is on screen and nothing is in flight; its number.
+export async function waitForRender(page, after) {
+  await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s &&
+    !document.body.hasAttribute("data-busy"), after);
+  return renderSeq(page);
+}
+
 // An image on the page (the 3D view unless `selector` names another), summarised: its size, the
-// number of distinct colours and a hash of its pixels.
+// number of distinct colours, a hash of its pixels and their mean Rec. 709 luminance (0..1).
 export function imageSummary(page, selector = '[data-testid="view"]') {
   return page.evaluate((sel) => {
     const img = document.querySelector(sel);
@@ -159,12 +169,15 @@ export function imageSummary(page, selector = '[data-testid="view"]') {
     const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
     const colours = new Set();
     let hash = 2166136261;
+    let luminance = 0;
     for (let i = 0; i < data.length; i += 4) {
       const c = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
       colours.add(c);
       hash = Math.imul(hash ^ c, 16777619) >>> 0;
+      luminance += (0.2126 * data[i] + 0.7152 * data[i + 1] + 0.0722 * data[i + 2]) / 255;
     }
-    return { width: canvas.width, height: canvas.height, colours: colours.size, hash };
+    const pixels = data.length / 4;
+    return { width: canvas.width, height: canvas.height, colours: colours.size, hash, mean: luminance / pixels };
   }, selector);
 }
 

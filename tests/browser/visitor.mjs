@@ -7,15 +7,14 @@
 // Reads the home from ROOMRENDER_SHARED (default ../shared next to the repository); skipped without it.
 import fs from "node:fs";
 import path from "node:path";
-import { runScenario, assert, skip, serverHas, imageSummary } from "./support.mjs";
-import { hooks, idle, request, homeZip, homesDir } from "./designer_support.mjs";
+import { runScenario, assert, skip, serverHas, imageSummary, renderSeq } from "./support.mjs";
+import { hooks, idle, request, homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
 import { pointInPolygon } from "../../clients/web/src/plan_math.js";
 import { collides } from "../../clients/web/src/visitor.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
 const home = "3BedroomApartment";
 
-const renderSeq = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
 const eyeOf = (camera) => [camera.position[0], camera.position[2]];
 const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
 
@@ -84,12 +83,10 @@ async function walk(page, presses) {
 const scenarios = {
   async visitor_home({ page, server }) {
     await page.goto(`${server.url}/`);
-    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
-    await idle(page);
+    await designerReady(page);
     const seq = await renderSeq(page);
     await page.setInputFiles("#file", homeZip(home));
-    await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s, seq, { timeout: 120000 });
-    await idle(page);
+    await waitForNewRender(page, seq, { timeout: 120000 });
     const { scene } = await request(page);
     const rooms = (scene.rooms || []).map((r) => r.points);
     assert(rooms.length >= 5 && scene.walls.length >= 10, `the home has rooms and walls: ${rooms.length}, ${scene.walls.length}`);

@@ -5,20 +5,11 @@
 // person sees is what is checked: the image's pixels, the bars of the chart, the messages at the
 // fields, the files the download buttons save.
 import fs from "node:fs";
-import { runScenario, serverHas, httpRequest, skip, assert, repoRoot, imageSummary } from "./support.mjs";
+import { runScenario, serverHas, httpRequest, skip, assert, repoRoot, imageSummary, renderSeq, waitForRender } from "./support.mjs";
 
 const [binary, outDir, scenario, screenshotPath] = process.argv.slice(2);
 
 // ---- page helpers ---------------------------------------------------------------------------
-
-const shownSeq = (page) => page.evaluate(() => Number(document.getElementById("views").dataset.renderSeq || 0));
-
-// Waits until a render newer than `after` is on screen and nothing is in flight.
-async function waitForRender(page, after) {
-  await page.waitForFunction((s) => Number(document.getElementById("views").dataset.renderSeq || 0) > s &&
-    !document.body.hasAttribute("data-busy"), after);
-  return shownSeq(page);
-}
 
 async function open(page, server, example) {
   await page.goto(`${server.url}/`);
@@ -146,7 +137,7 @@ const scenarios = {
     assert(second.hash !== first.hash, "the new render shows a different image");
 
     // Scroll to zoom in, arrow key to orbit, 0 to return to the example's camera.
-    seq = await shownSeq(page);
+    seq = await renderSeq(page);
     await page.mouse.move(cx, cy);
     await page.mouse.wheel(0, -300);
     seq = await waitForRender(page, seq);
@@ -191,7 +182,7 @@ const scenarios = {
     const messages = await inlineMessages(page, "error");
     assert(messages.some((m) => m.line.includes('"far": 10') && m.message.includes("greater than 50")),
       `the message sits on far's line: ${JSON.stringify(messages)}`);
-    assert(await shownSeq(page) === seq, "the refused request did not replace the image");
+    assert(await renderSeq(page) === seq, "the refused request did not replace the image");
     // Typing over the selected value fixes it: the message goes, and the render goes through.
     await page.keyboard.type("80");
     await page.waitForFunction(() => !document.querySelector(".cm-inline-error"));
