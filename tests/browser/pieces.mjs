@@ -11,7 +11,7 @@ import path from "node:path";
 import { execFileSync } from "node:child_process";
 import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary, renderSeq } from "./support.mjs";
 import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
-import { hitTest } from "../../clients/web/src/plan_math.js";
+import { hitTest, resizeHandles } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
 async function pick(server, body) {
@@ -225,6 +225,58 @@ const scenarios = {
       "the permalink gives the chair back");
     assert(await hooks(other, "png") === png, "and the same PNG bytes");
     await other.close();
+  },
+
+  // A catalogue sofa resized with its corner handle in the plan: width and depth follow the pointer,
+  // the opposite corner stays, the image follows; one undo restores it; with Shift held the three
+  // sides keep their proportions.
+  async pieces_resize({ page, server }) {
+    await openEmpty(page, server);
+    await drawRoom(page);
+    await idle(page);
+    let seq = await renderSeq(page);
+    await chooseItem(page, "Living room", "sofa");
+    await clickPlan(page, 2.5, 2);
+    await waitForNewRender(page, seq);
+    await page.click('button[data-tool="select"]');
+    await clickPlan(page, 2.5, 2);
+    await idle(page);
+    const pointer = "/scene/solids/0";
+    assert(await hooks(page, "selection") === pointer, `the sofa is selected: ${await hooks(page, "selection")}`);
+    const sofa = (await request(page)).scene.solids[0];
+    assert(near(sofa.size, [1.47, 0.87, 0.87]) && near(sofa.center, [2.5, 2]), `Sweet Home 3D's sofa, 147 × 87 × 87 cm: ${JSON.stringify(sofa.size)}`);
+    assert(await page.$$eval('[data-testid="plan"] .handle.resize', (hs) => hs.length) === 4, "four corner handles in the plan");
+    const shown = await imageSummary(page);
+
+    // The corner at +x +z dragged 0.5 m along x: 1.97 m wide, the same depth, the centre 0.25 m on.
+    const corner = [2.5 + 0.735, 2 + 0.435];
+    seq = await renderSeq(page);
+    await dragPlan(page, corner, [corner[0] + 0.5, corner[1]], 10);
+    await waitForNewRender(page, seq);
+    let r = await request(page);
+    let s = r.scene.solids[0];
+    // Within a pointer pixel (the plan shows about 2 cm a pixel here) and the whole centimetres sizes
+    // are rounded to; the opposite corner exactly where it was (to the millimetre centres are kept to).
+    assert(near(s.size, [1.97, 0.87, 0.87], 0.021) && s.size[2] === 0.87, `resized: ${JSON.stringify({ size: s.size, center: s.center })}`);
+    assert(near(resizeHandles(s)[0], resizeHandles(sofa)[0], 0.0011), `the opposite corner stays: ${resizeHandles(s)[0]} ${resizeHandles(sofa)[0]}`);
+    assert(JSON.stringify(s.parts) === JSON.stringify(sofa.parts), "its parts stay the model's");
+    assert((await imageSummary(page)).hash !== shown.hash, "the image shows the wider sofa");
+    await page.keyboard.press("Control+z");
+    r = await request(page);
+    assert(near(r.scene.solids[0].size, sofa.size) && near(r.scene.solids[0].center, sofa.center), "one undo restores it");
+    await idle(page);
+
+    // With Shift: 0.5 m along x reaches (0.5 · 1.47) / (1.47² + 0.87²) ≈ 0.252 of the diagonal more.
+    seq = await renderSeq(page);
+    await page.keyboard.down("Shift");
+    await dragPlan(page, corner, [corner[0] + 0.5, corner[1]], 10);
+    await page.keyboard.up("Shift");
+    await waitForNewRender(page, seq);
+    s = (await request(page)).scene.solids[0];
+    const g = 1 + (0.5 * 1.47) / (1.47 ** 2 + 0.87 ** 2);
+    const expected = sofa.size.map((v) => v * g);
+    assert(near(s.size, expected, 0.021), `the proportions are kept: ${JSON.stringify(s.size)} against ${JSON.stringify(expected)}`);
+    assert(Math.abs(s.size[0] / s.size[2] - 1.47 / 0.87) < 0.03 && Math.abs(s.size[1] / s.size[2] - 1) < 0.03, `width : depth : height as before: ${JSON.stringify(s.size)}`);
   },
 };
 

@@ -5,7 +5,7 @@
 // (designer.js), so `this` is the designer.
 import { makeFurniture } from "./catalogue.js";
 import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
-  solidAnchor, distance, roundPoint, moveWallEnds, wallsProblem } from "./plan_math.js";
+  solidAnchor, distance, roundPoint, moveWallEnds, wallsProblem, resizeHandles, resizeSolid } from "./plan_math.js";
 import { at, setAt, clone } from "./designer_util.js";
 
 const $ = (id) => document.getElementById(id);
@@ -22,7 +22,7 @@ const openingDefaults = {
 // chosen and left; shortcut, the key that chooses it. A tool without move or up does what Select
 // does: it carries on a drag that Select began (a shortcut may change the tool while the pointer is down).
 export const tools = {
-  select: { shortcut: "v", down: (d, p, e) => d.selectDown(p, e), move: (d, p) => d.dragMove(p), up: (d) => d.dragEnd() },
+  select: { shortcut: "v", down: (d, p, e) => d.selectDown(p, e), move: (d, p, e) => d.dragMove(p, e), up: (d) => d.dragEnd() },
   wall: {
     shortcut: "w",
     down: (d, p) => d.clickWall(p),
@@ -54,8 +54,8 @@ export const toolMethods = {
     tools[this.tool].down?.(this, p, e);
   },
 
-  pointerMove(p) {
-    (tools[this.tool].move ?? tools.select.move)(this, p);
+  pointerMove(p, e) {
+    (tools[this.tool].move ?? tools.select.move)(this, p, e);
   },
 
   pointerUp() {
@@ -63,9 +63,16 @@ export const toolMethods = {
   },
 
   // Select: a click selects what is under it and picks it up to drag (an end of the selected wall
-  // drags that corner and the walls meeting there).
+  // drags that corner and the walls meeting there; a corner handle of the selected solid resizes it).
   selectDown(p, e) {
     const scene = this.lastScene;
+    const solid = /^\/scene\/solids\/\d+$/.test(this.selection || "") ? at({ scene }, this.selection) : null;
+    const corner = solid ? resizeHandles(solid).findIndex((q) => distance(p, q) <= this.tolerance()) : -1;
+    if (corner >= 0) {
+      this.drag = { pointer: this.selection, resize: corner, from: p, original: clone(solid), moved: false, scene: null };
+      this.plan.svg.setPointerCapture(e.pointerId);
+      return;
+    }
     const wall = /^\/scene\/walls\/\d+$/.test(this.selection || "") ? at({ scene }, this.selection) : null;
     const end = wall && [wall.start, wall.end].find((q) => distance(p, q) <= this.tolerance());
     if (end) {
@@ -84,13 +91,15 @@ export const toolMethods = {
     }
   },
 
-  dragMove(p) {
+  // Shift held while a corner handle is dragged keeps the solid's proportions.
+  dragMove(p, e) {
     if (!this.drag) return;
     const d = [p[0] - this.drag.from[0], p[1] - this.drag.from[1]];
     if (!this.drag.moved && Math.hypot(d[0], d[1]) * this.plan.s < 3) return;
     this.drag.moved = true;
     const scene = clone(this.lastScene);
-    const moved = this.drag.corner ? this.movedCorner(this.drag, p)
+    const moved = this.drag.resize !== undefined ? resizeSolid(this.drag.original, this.drag.resize, p, Boolean(e?.shiftKey))
+      : this.drag.corner ? this.movedCorner(this.drag, p)
       : this.drag.wall ? this.movedWall(this.drag, d) : this.movedElement(this.drag.pointer, this.drag.original, d);
     if (!moved) return;
     const changed = JSON.stringify(moved) !== JSON.stringify(this.drag.result);

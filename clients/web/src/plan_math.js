@@ -93,6 +93,17 @@ export function moveSolid(s, to) {
   return solidType(s).move(s, to, [to[0] - from[0], to[1] - from[1]]);
 }
 
+// The plan points of a solid's resize handles (none for a type not sized by a box).
+export function resizeHandles(s) {
+  const type = solidType(s);
+  return type.handles && Array.isArray(s.size) && Array.isArray(s.center) ? type.handles(s) : [];
+}
+
+// The solid with resize handle k dragged to plan point p (a new object; see solid_types.js).
+export function resizeSolid(s, k, p, keepProportions = false) {
+  return solidType(s).resize(s, k, p, keepProportions);
+}
+
 export function pointInPolygon(p, poly) {
   let inside = false;
   for (let i = 0, j = poly.length - 1; i < poly.length; j = i++) {

@@ -3,7 +3,7 @@
 // carrying data-pointer. Plan point [x, z] maps to SVG pixel (ox + x·s, oy + z·s): +X right, +Z
 // down, s pixels per metre; one SVG pixel is one CSS pixel (no viewBox), so client coordinates are
 // the SVG's bounding box plus that.
-import { wallPolygon, openingPolygon, solidFootprint, solidAnchor, sceneBounds, projectOnWall, wallLength } from "./plan_math.js";
+import { wallPolygon, openingPolygon, solidFootprint, solidAnchor, sceneBounds, projectOnWall, wallLength, resizeHandles } from "./plan_math.js";
 
 const NS = "http://www.w3.org/2000/svg";
 
@@ -136,6 +136,14 @@ export class PlanView {
         : el("polygon", { points: this.points(f.polygon), class: "solid", fill }, svg);
       decorate(node, `/scene/solids/${i}`);
     });
+    const selectedSolid = /^\/scene\/solids\/(\d+)$/.exec(selection || "");
+    const solid = selectedSolid && (scene.solids || [])[Number(selectedSolid[1])];
+    if (solid) {
+      resizeHandles(solid).forEach((q, k) => {
+        const [cx, cy] = this.toSvg(q);
+        el("rect", { x: cx - 4, y: cy - 4, width: 8, height: 8, class: "handle resize", "data-corner": k }, svg);  // drag to resize
+      });
+    }
     for (const c of clashes) this.drawClash(scene, c);
     let suns = 0;
     (scene.lights || []).forEach((l, i) => {

@@ -2,7 +2,9 @@
 // (render/core/solids.cpp; each type's members are read in render/scene_io/solid_readers.cpp):
 // footprint(s), its outline in the plan ({polygon} or {circle: {center, radius}}); anchor(s), the
 // plan point it is moved by; move(s, to, d), the solid with its anchor moved by d to `to`; fields(s),
-// its own fields in the properties panel (colour, which every type has, is added by the panel). A
+// its own fields in the properties panel (colour, which every type has, is added by the panel);
+// for types sized by a box, handles(s), the plan points of its corner handles, and
+// resize(s, k, p, keepProportions), the solid with handle k dragged to p. A
 // type the page does not know is drawn as nothing and edited as a centred solid (solidType).
 import { mm, roundPoint, placePoint } from "./plan_point.js";
 import { num, positive } from "./fields.js";
@@ -48,10 +50,43 @@ const centred = {
     num("base", ["base"], s.base ?? 0), rotation(s)],
 };
 
+// The smallest width or depth a corner handle leaves a solid (metres).
+const minSide = 0.05;
+const cm = (v) => Math.round(v * 100) / 100;
+const cornerSigns = [[-1, -1], [1, -1], [1, 1], [-1, 1]];  // boxCorners' order
+
+// The solid with its footprint corner k on plan point p and the opposite corner where it was: width
+// and depth follow the pointer in the solid's own frame (whole centimetres, at least minSide); with
+// keepProportions, the pointer's reach along the diagonal scales width, height and depth together.
+function resizeBox(s, k, p, keepProportions) {
+  const r = ((s.rotation_y || 0) * Math.PI) / 180;
+  const c = Math.cos(r);
+  const sn = Math.sin(r);
+  const dx = p[0] - s.center[0];
+  const dz = p[1] - s.center[1];
+  const local = [dx * c - dz * sn, dx * sn + dz * c];  // placePoint undone
+  const [gx, gz] = cornerSigns[k];
+  const fixed = [(-gx * s.size[0]) / 2, (-gz * s.size[2]) / 2];
+  const reach = [gx * (local[0] - fixed[0]), gz * (local[1] - fixed[1])];
+  let size;
+  if (keepProportions) {
+    const f = (reach[0] * s.size[0] + reach[1] * s.size[2]) / (s.size[0] ** 2 + s.size[2] ** 2);
+    const g = Math.max(f, minSide / Math.min(s.size[0], s.size[2]));
+    size = s.size.map((v) => cm(v * g));
+  } else {
+    size = [cm(Math.max(minSide, reach[0])), s.size[1], cm(Math.max(minSide, reach[1]))];
+  }
+  const centre = placePoint([fixed[0] + (gx * size[0]) / 2, fixed[1] + (gz * size[2]) / 2], s.rotation_y || 0, s.center);
+  return { ...s, center: roundPoint(centre), size };
+}
+
+// Sized by a box: corner handles in the plan resize it (handles, resize).
 const boxLike = {
   ...centred,
   footprint: (s) => ({ polygon: boxCorners(s.size[0], s.size[2], s.rotation_y || 0, s.center) }),
   fields: (s) => [...centred.fields(s), ...size(s)],
+  handles: (s) => boxCorners(s.size[0], s.size[2], s.rotation_y || 0, s.center),
+  resize: resizeBox,
 };
 
 // A piece of furniture: its parts fill its box, placed as a box is, so it is drawn, moved, turned and

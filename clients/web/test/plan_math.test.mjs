@@ -2,7 +2,7 @@
 // hand-placed fixtures (a 5 m × 4 m room) whose answers can be worked out on paper.
 import { test } from "node:test";
 import assert from "node:assert/strict";
-import { snapWallPoint, hitTest, openingProblem, openingAt, placePoint, solidFootprint, moveSolid, sceneBounds } from "../src/plan_math.js";
+import { snapWallPoint, hitTest, openingProblem, openingAt, placePoint, solidFootprint, moveSolid, sceneBounds, resizeHandles, resizeSolid } from "../src/plan_math.js";
 import { makeFurniture, primitiveItems, catalogueEntries, categories } from "../src/catalogue.js";
 import { look } from "../src/camera.js";
 
@@ -102,4 +102,29 @@ test("a mesh placed by ref stands on its scale box; rooms widen the bounds; noth
   assert.deepEqual(solidFootprint({ type: "mesh", position: [1, 0, 1] }).polygon, []);
   const scene = { solids: [{ type: "mesh", position: [1, 0, 1] }], rooms: [{ points: [[-1, -2], [6, -2], [6, 3]] }, { points: "x" }] };
   assert.deepEqual(sceneBounds(scene), [[-1, -2], [6, 3]]);
+});
+
+test("a corner handle resizes a box-sized solid, the opposite corner staying where it was", () => {
+  const box = { type: "box", center: [0, 0], size: [1, 0.5, 2] };
+  assert.deepEqual(resizeHandles(box), [[-0.5, -1], [0.5, -1], [0.5, 1], [-0.5, 1]]);
+  const wider = resizeSolid(box, 2, [1, 1.5]);
+  assert.deepEqual(wider.size, [1.5, 0.5, 2.5]);
+  assert.deepEqual(wider.center, [0.25, 0.25]);
+  assert.deepEqual(resizeHandles(wider)[0], [-0.5, -1]);
+  // Past the opposite corner: the smallest side, 5 cm.
+  assert.deepEqual(resizeSolid(box, 2, [-3, -3]).size, [0.05, 0.5, 0.05]);
+  // Keeping proportions: the reach along the diagonal, (1.5·1 + 3·2) / (1² + 2²) = 1.5, scales all three.
+  const scaled = resizeSolid(box, 2, [1, 2], true);
+  assert.deepEqual(scaled.size, [1.5, 0.75, 3]);
+  assert.deepEqual(scaled.center, [0.25, 0.5]);
+  // Turned 90°: a pointer moved along +x in the plan lengthens its depth.
+  const turned = { type: "piece", center: [2, 3], size: [1, 0.5, 2], rotation_y: 90, parts: [] };
+  const deeper = resizeSolid(turned, 2, [3.5, 2.5]);
+  assert.deepEqual(deeper.size, [1, 0.5, 2.5]);
+  assert.deepEqual(deeper.center, [2.25, 3]);
+  const before = resizeHandles(turned)[0];
+  const after = resizeHandles(deeper)[0];
+  assert.ok(Math.hypot(before[0] - after[0], before[1] - after[1]) < 1e-9, `the opposite corner stays: ${before} ${after}`);
+  // A solid not sized by a box has no handles.
+  assert.deepEqual(resizeHandles({ type: "cylinder", center: [0, 0], radius: 1, height: 1 }), []);
 });
