@@ -15,6 +15,7 @@ import { commandMethods } from "./designer_commands.js";
 import { at, setAt, clone } from "./designer_util.js";
 import { catalogueEntries, categories } from "./catalogue.js";
 import { bodyRadiusM } from "./visitor.js";
+import { sceneLevels, levelsToDraw, levelShown, levelLabel } from "./levels.js";
 
 const $ = (id) => document.getElementById(id);
 const storageKey = "roomrender.designer.request";
@@ -52,6 +53,7 @@ export class Designer {
     this.item = "box";
     this.catalogue = new Map();    // the server's catalogue entries by id (catalogue.js)
     this.selection = null;
+    this.level = null;             // the level tab chosen (levels.js), null: All
     this.chain = [];               // wall tool: points clicked so far
     this.cursor = null;
     this.drag = null;
@@ -293,8 +295,10 @@ export class Designer {
   redraw() {
     const request = this.request();
     if (request) this.lastScene = request.scene || {};
+    if (request) this.followLevels(request);
     try {
       this.plan.draw(this.drag?.scene || this.lastScene, {
+        level: this.level,
         selection: this.selection,
         marks: this.marks,
         clashes: this.clashes,
@@ -305,6 +309,53 @@ export class Designer {
       // A request that parses but is not a scene yet (typing): the plan keeps what it could draw.
       console.debug("plan:", error);
     }
+  }
+
+  // The level tabs follow the request: a tab whose storeys are what options.levels draws stays
+  // chosen; otherwise (a text edit, an undo, another scene) the tab is the one the request shows.
+  followLevels(request) {
+    const scene = request.scene || {};
+    const levels = sceneLevels(scene);
+    const drawn = Array.isArray(request.options?.levels) ? request.options.levels : levelsToDraw(scene, null);
+    if (this.level !== null && !levels.some((l) => l.id === this.level)) this.level = null;
+    if (JSON.stringify(levelsToDraw(scene, this.level)) !== JSON.stringify(drawn)) this.level = levelShown(request);
+    const bar = $("levels");
+    bar.hidden = levels.length === 0;
+    const key = JSON.stringify([levels.map((l) => l.id), this.level]);
+    if (bar.dataset.key === key) return;
+    bar.dataset.key = key;
+    bar.replaceChildren(...[{ id: null, label: "All levels" }, ...levels.map((l) => ({ id: l.id, label: levelLabel(l) }))].map(({ id, label }) => {
+      const b = document.createElement("button");
+      b.type = "button";
+      b.setAttribute("role", "tab");
+      b.setAttribute("aria-selected", String(id === this.level));
+      b.dataset.level = id ?? "";
+      b.textContent = label;
+      b.title = id === null ? "Every viewable level in the image and every element in the plan"
+        : `${id} and the levels below it in the image; its elements in the plan, where new ones go`;
+      b.addEventListener("click", () => this.setLevel(id));
+      return b;
+    }));
+  }
+
+  // Chooses the level tab `id` (null: All): options.levels draws it and the levels below it.
+  setLevel(id) {
+    const request = this.request();
+    if (!request) return;
+    this.flushTextStep();
+    this.level = id;
+    const text = this.editor.text();
+    if (this.applyValues([{ pointer: "/options/levels", value: levelsToDraw(request.scene || {}, id) }])) {
+      this.history.record(text, this.editor.text());
+    }
+    this.selection = null;
+    this.afterEdit();
+  }
+
+  // What a new element takes from the chosen level: its tag, and its floor as the base height.
+  levelMembers() {
+    const level = sceneLevels(this.lastScene).find((l) => l.id === this.level);
+    return level ? { level: level.id, elevation: level.elevation ?? 0 } : null;
   }
 
   fit() {

@@ -80,7 +80,7 @@ export const toolMethods = {
       this.plan.svg.setPointerCapture(e.pointerId);
       return;
     }
-    const hit = hitTest(scene, p, this.tolerance());
+    const hit = hitTest(scene, p, this.tolerance(), this.level);
     this.select(hit);
     if (hit && /^\/scene\/walls\/\d+$/.test(hit)) {
       this.drag = { pointer: "/scene/walls", wall: at({ scene }, hit), from: p, original: clone(scene.walls), moved: false, scene: null };
@@ -191,7 +191,9 @@ export const toolMethods = {
     if (distance(q, last) < 1e-6) return;
     const added = this.edit((r) => {
       r.scene.walls = r.scene.walls || [];
-      r.scene.walls.push({ start: last, end: q, ...this.styleOf("wall", { thickness: 0.15, height: 2.5 }) });
+      const on = this.levelMembers();
+      const wall = { start: last, end: q, ...this.styleOf("wall", { thickness: 0.15, height: 2.5 }) };
+      r.scene.walls.push(on ? { ...wall, level: on.level, base: wall.base ?? on.elevation } : wall);
       this.selection = `/scene/walls/${r.scene.walls.length - 1}`;
     });
     if (!added) return;
@@ -201,7 +203,7 @@ export const toolMethods = {
   },
 
   clickOpening(p, e) {
-    const hit = hitTest({ walls: this.lastScene.walls }, p, this.tolerance());
+    const hit = hitTest({ walls: this.lastScene.walls }, p, this.tolerance(), this.level);
     const m = hit && /^\/scene\/walls\/(\d+)/.exec(hit);
     if (!m) {
       this.refuse(`a ${this.tool} goes into a wall: click on one`, e);
@@ -256,8 +258,10 @@ export const toolMethods = {
     const point = snapToGrid(p, 0.05);
     this.edit((r) => {
       r.scene.solids = r.scene.solids || [];
-      const solid = makeFurniture(this.item, point, this.nextId(this.item, r.scene.solids), this.catalogue);
-      if (!solid) return false;
+      const made = makeFurniture(this.item, point, this.nextId(this.item, r.scene.solids), this.catalogue);
+      if (!made) return false;
+      const on = this.levelMembers();
+      const solid = on ? { ...made, level: on.level, base: on.elevation + (made.base ?? 0) } : made;
       r.scene.solids.push(solid);
       this.selection = `/scene/solids/${r.scene.solids.length - 1}`;
     });
@@ -283,7 +287,8 @@ export const toolMethods = {
     }
     this.edit((r) => {
       r.scene.lights = r.scene.lights || [];
-      r.scene.lights.push({ type: "point", position: [point[0], 2.4, point[1]], intensity: 0.6, attenuation: [1, 0, 0.05] });
+      const y = 2.4 + (this.levelMembers()?.elevation ?? 0);
+      r.scene.lights.push({ type: "point", position: [point[0], y, point[1]], intensity: 0.6, attenuation: [1, 0, 0.05] });
       this.selection = `/scene/lights/${r.scene.lights.length - 1}`;
     });
   },

@@ -5,6 +5,7 @@
 
 import { mm, roundPoint, placePoint } from "./plan_point.js";
 import { solidType } from "./solid_types.js";
+import { onLevel } from "./levels.js";
 
 export { roundPoint, placePoint };
 
@@ -115,17 +116,19 @@ export function pointInPolygon(p, poly) {
 }
 
 // The JSON Pointer of the element under plan point p (within tolM metres), topmost first: lights,
-// openings, solids (later drawn above earlier), walls. null when nothing is there.
-export function hitTest(scene, p, tolM) {
+// openings, solids (later drawn above earlier), walls. null when nothing is there. With `level` (a
+// level's id), elements on other levels are not there (levels.js).
+export function hitTest(scene, p, tolM, level = null) {
   const lights = scene.lights || [];
   for (let i = lights.length - 1; i >= 0; i--) {
     const l = lights[i];
+    if (!onLevel(l, level)) continue;
     if (l.type === "point" && Array.isArray(l.position) && distance(p, [l.position[0], l.position[2]]) <= Math.max(tolM, 0.15)) return `/scene/lights/${i}`;
   }
   const walls = scene.walls || [];
   for (let i = 0; i < walls.length; i++) {
     const w = walls[i];
-    if (!wallLength(w)) continue;
+    if (!wallLength(w) || !onLevel(w, level)) continue;
     const { t, off } = projectOnWall(w, p);
     if (off > (w.thickness ?? 0.15) / 2 + tolM) continue;
     const k = (w.openings || []).findIndex((o) => t >= o.offset && t <= o.offset + o.width);
@@ -133,14 +136,14 @@ export function hitTest(scene, p, tolM) {
   }
   const solids = scene.solids || [];
   for (let i = solids.length - 1; i >= 0; i--) {
-    const f = footprintOrNull(solids[i]);
+    const f = onLevel(solids[i], level) ? footprintOrNull(solids[i]) : null;
     if (!f) continue;
     if (f.circle && distance(p, f.circle.center) <= f.circle.radius + tolM) return `/scene/solids/${i}`;
     if (f.polygon && f.polygon.length >= 3 && pointInPolygon(p, f.polygon)) return `/scene/solids/${i}`;
   }
   let best = null;
   walls.forEach((w, i) => {
-    if (!wallLength(w)) return;
+    if (!wallLength(w) || !onLevel(w, level)) return;
     const { off } = projectOnWall(w, p);
     if (off <= (w.thickness ?? 0.15) / 2 + tolM && (!best || off < best.off)) best = { off, i };
   });

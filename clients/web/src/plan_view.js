@@ -3,6 +3,7 @@
 // carrying data-pointer. Plan point [x, z] maps to SVG pixel (ox + x·s, oy + z·s): +X right, +Z
 // down, s pixels per metre; one SVG pixel is one CSS pixel (no viewBox), so client coordinates are
 // the SVG's bounding box plus that.
+import { onLevel } from "./levels.js";
 import { wallPolygon, openingPolygon, solidFootprint, solidAnchor, sceneBounds, projectOnWall, wallLength, resizeHandles } from "./plan_math.js";
 
 const NS = "http://www.w3.org/2000/svg";
@@ -79,7 +80,7 @@ export class PlanView {
   // Redraws everything. `marks`: Map pointer -> {severity, text}; `clashes`: [{from, to, detail}],
   // pairs of elements a warning names, joined by a line; `preview`: {chain, cursor} of the wall
   // tool; `camera`: the request's camera (eye and direction drawn).
-  draw(scene, { selection = null, marks = new Map(), clashes = [], preview = null, camera = null } = {}) {
+  draw(scene, { selection = null, marks = new Map(), clashes = [], preview = null, camera = null, level = null } = {}) {
     const svg = this.svg;
     svg.replaceChildren();
     const { w, h } = this.size();
@@ -103,11 +104,11 @@ export class PlanView {
     }
     // Rooms' floor polygons, under everything else and not selectable (the panel edits no room).
     for (const room of scene.rooms || []) {
-      if (!Array.isArray(room?.points) || room.points.some((q) => !Array.isArray(q))) continue;
+      if (!Array.isArray(room?.points) || room.points.some((q) => !Array.isArray(q)) || !onLevel(room, level)) continue;
       el("polygon", { points: this.points(room.points), class: "room", fill: colorText(room.floor_color, "#d9d4c7") }, svg);
     }
     (scene.walls || []).forEach((wall, i) => {
-      if (!Array.isArray(wall.start) || !Array.isArray(wall.end)) return;
+      if (!Array.isArray(wall.start) || !Array.isArray(wall.end) || !onLevel(wall, level)) return;
       decorate(el("polygon", { points: this.points(wallPolygon(wall)), class: "wall" }, svg), `/scene/walls/${i}`);
       (wall.openings || []).forEach((o, k) => {
         decorate(el("polygon", { points: this.points(openingPolygon(wall, o)), class: `opening ${o.type}` }, svg),
@@ -123,6 +124,7 @@ export class PlanView {
       }
     }
     (scene.solids || []).forEach((s, i) => {
+      if (!onLevel(s, level)) return;
       let f;
       try {
         f = solidFootprint(s);
@@ -144,10 +146,16 @@ export class PlanView {
         el("rect", { x: cx - 4, y: cy - 4, width: 8, height: 8, class: "handle resize", "data-corner": k }, svg);  // drag to resize
       });
     }
-    for (const c of clashes) this.drawClash(scene, c);
+    // A pair is joined when both its elements are on the level shown.
+    const shown = (pointer) => {
+      const m = /^\/scene\/(walls|solids|rooms)\/(\d+)/.exec(pointer);
+      return !m || onLevel((scene[m[1]] || [])[Number(m[2])], level);
+    };
+    for (const c of clashes) if (shown(c.from) && shown(c.to)) this.drawClash(scene, c);
     let suns = 0;
     (scene.lights || []).forEach((l, i) => {
       if (l.type === "point" && Array.isArray(l.position)) {
+        if (!onLevel(l, level)) return;
         const [cx, cy] = this.toSvg([l.position[0], l.position[2]]);
         decorate(el("circle", { cx, cy, r: 7, class: "light" }, svg), `/scene/lights/${i}`);
       } else if (l.type === "directional") {
