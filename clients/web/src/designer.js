@@ -493,7 +493,14 @@ export class Designer {
       if (e.button !== 0) return;
       svg.focus({ preventScroll: true });
       e.preventDefault();
-      this.pointerDown(this.plan.fromClient(e.clientX, e.clientY), e);
+      // A second press within 400 ms and 4 px is a double-click (the plan is redrawn between the two,
+      // so the browser's dblclick, which wants one target under both, is not relied on).
+      const p = this.plan.fromClient(e.clientX, e.clientY);
+      const last = this.lastPress;
+      const double = last && e.timeStamp - last.t < 400 && Math.hypot(e.clientX - last.x, e.clientY - last.y) <= 4;
+      this.lastPress = double ? null : { t: e.timeStamp, x: e.clientX, y: e.clientY };
+      if (double && tools[this.tool].dblclick) tools[this.tool].dblclick(this, p, e);
+      else this.pointerDown(p, e);
     });
     svg.addEventListener("pointermove", (e) => this.pointerMove(this.plan.fromClient(e.clientX, e.clientY), e));
     svg.addEventListener("pointerup", (e) => this.pointerUp(e));

@@ -7,6 +7,8 @@ import { makeFurniture } from "./catalogue.js";
 import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt, openingProblem, moveSolid,
   solidAnchor, distance, roundPoint, moveWallEnds, wallsProblem, resizeHandles, resizeSolid } from "./plan_math.js";
 import { at, setAt, clone } from "./designer_util.js";
+import { roomAt } from "./rooms.js";
+import { onLevel } from "./levels.js";
 
 const $ = (id) => document.getElementById(id);
 const snapPx = 10;  // wall ends within this many pixels catch the pointer
@@ -18,7 +20,7 @@ const openingDefaults = {
 
 // The tools, one row each, every entry optional and given the designer `d`: down(d, p, e), move(d, p)
 // and up(d) for the pointer in the plan; key(d, key, e) for a key outside the editor (true when the
-// tool took it); preview(d), what the plan draws for the tool; enter(d) and leave(d) when it is
+// tool took it); dblclick(d, p, e) for a double-click in the plan; preview(d), what the plan draws for the tool; enter(d) and leave(d) when it is
 // chosen and left; shortcut, the key that chooses it. A tool without move or up does what Select
 // does: it carries on a drag that Select began (a shortcut may change the tool while the pointer is down).
 export const tools = {
@@ -26,6 +28,15 @@ export const tools = {
   wall: {
     shortcut: "w",
     down: (d, p) => d.clickWall(p),
+    move: (d, p) => d.moveWallCursor(p),
+    key: (d, key) => key === "Escape" && d.endChain(),
+    preview: (d) => ({ chain: d.chain, cursor: d.cursor }),
+    leave: (d) => { d.chain = []; },
+  },
+  room: {
+    shortcut: "o",
+    down: (d, p) => d.clickRoom(p),
+    dblclick: (d, p, e) => d.fillRoom(p, e),
     move: (d, p) => d.moveWallCursor(p),
     key: (d, key) => key === "Escape" && d.endChain(),
     preview: (d) => ({ chain: d.chain, cursor: d.cursor }),
@@ -202,6 +213,44 @@ export const toolMethods = {
     this.redraw();
   },
 
+  // Room: clicks put corners (snapped as walls are), a click on the first corner closes the room; a
+  // double-click inside closed walls fills the room they make, drawn to their inner faces.
+  clickRoom(p) {
+    const last = this.chain[this.chain.length - 1];
+    const q = snapWallPoint(p, last, [...wallEnds(this.lastScene.walls), ...this.chain], this.tolerance());
+    if (this.chain.length >= 3 && distance(q, this.chain[0]) < 1e-6) {
+      const points = this.chain;
+      this.chain = [];
+      this.addRoom(points);
+      return;
+    }
+    if (!last || distance(q, last) >= 1e-6) this.chain.push(q);
+    this.cursor = q;
+    this.redraw();
+  },
+
+  fillRoom(p, e) {
+    this.chain = [];
+    const walls = (this.lastScene.walls || []).filter((w) => onLevel(w, this.level));
+    const points = roomAt(walls, p);
+    if (!points) {
+      this.refuse("No closed walls around this point: draw the room's corners with clicks, or close its walls first.", e);
+      this.redraw();
+      return;
+    }
+    this.addRoom(points);
+  },
+
+  addRoom(points) {
+    this.edit((r) => {
+      r.scene.rooms = r.scene.rooms || [];
+      const on = this.levelMembers();
+      const room = { id: this.nextId("room", r.scene.rooms), points: points.map((q) => [q[0], q[1]]) };
+      r.scene.rooms.push(on ? { ...room, level: on.level } : room);
+      this.selection = null;
+    });
+  },
+
   clickOpening(p, e) {
     const hit = hitTest({ walls: this.lastScene.walls }, p, this.tolerance(), this.level);
     const m = hit && /^\/scene\/walls\/(\d+)/.exec(hit);
@@ -247,8 +296,8 @@ export const toolMethods = {
     this.onStatus(reason);
   },
 
-  nextId(item, solids) {
-    const used = new Set(solids.map((s) => s.id));
+  nextId(item, elements) {
+    const used = new Set(elements.map((s) => s.id));
     let n = 1;
     while (used.has(`${item}-${n}`)) n++;
     return `${item}-${n}`;

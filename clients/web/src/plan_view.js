@@ -4,6 +4,7 @@
 // down, s pixels per metre; one SVG pixel is one CSS pixel (no viewBox), so client coordinates are
 // the SVG's bounding box plus that.
 import { onLevel } from "./levels.js";
+import { polygonArea } from "./rooms.js";
 import { wallPolygon, openingPolygon, solidFootprint, solidAnchor, sceneBounds, projectOnWall, wallLength, resizeHandles } from "./plan_math.js";
 
 const NS = "http://www.w3.org/2000/svg";
@@ -102,10 +103,13 @@ export class PlanView {
       const [x, y] = this.toSvg(o);
       decorate(el("rect", { x, y, width: f.cells[0] * c * this.s, height: f.cells[1] * c * this.s, class: "floor" }, svg), "/scene/floor");
     }
-    // Rooms' floor polygons, under everything else and not selectable (the panel edits no room).
+    // Rooms' floor polygons, under everything else and not selectable (the panel edits no room); their
+    // names and areas are written over the walls and furniture.
+    const labels = [];
     for (const room of scene.rooms || []) {
       if (!Array.isArray(room?.points) || room.points.some((q) => !Array.isArray(q)) || !onLevel(room, level)) continue;
       el("polygon", { points: this.points(room.points), class: "room", fill: colorText(room.floor_color, "#d9d4c7") }, svg);
+      if (room.points.length >= 3) labels.push(room);
     }
     (scene.walls || []).forEach((wall, i) => {
       if (!Array.isArray(wall.start) || !Array.isArray(wall.end) || !onLevel(wall, level)) return;
@@ -152,6 +156,7 @@ export class PlanView {
       return !m || onLevel((scene[m[1]] || [])[Number(m[2])], level);
     };
     for (const c of clashes) if (shown(c.from) && shown(c.to)) this.drawClash(scene, c);
+    for (const room of labels) this.drawRoomLabel(room);
     let suns = 0;
     (scene.lights || []).forEach((l, i) => {
       if (l.type === "point" && Array.isArray(l.position)) {
@@ -165,6 +170,25 @@ export class PlanView {
     if (camera) this.drawCamera(camera);
     if (preview) this.drawPreview(preview);
     this.drawScaleBar(h);
+  }
+
+  // A room's name (its id) and floor area at its centroid.
+  drawRoomLabel(room) {
+    let a = 0;
+    let cx = 0;
+    let cz = 0;
+    const pts = room.points;
+    for (let i = 0, j = pts.length - 1; i < pts.length; j = i++) {
+      const cross = pts[j][0] * pts[i][1] - pts[i][0] * pts[j][1];
+      a += cross;
+      cx += (pts[j][0] + pts[i][0]) * cross;
+      cz += (pts[j][1] + pts[i][1]) * cross;
+    }
+    if (Math.abs(a) < 1e-12) return;
+    const [x, y] = this.toSvg([cx / (3 * a), cz / (3 * a)]);
+    const text = el("text", { x, y, class: "room-label", "text-anchor": "middle" }, this.svg);
+    if (room.id) el("tspan", { x, dy: "-0.2em" }, text).textContent = room.id;
+    el("tspan", { x, dy: room.id ? "1.1em" : "0.35em", class: "room-area" }, text).textContent = `${polygonArea(pts).toFixed(2)} m²`;
   }
 
   drawGrid(w, h) {
