@@ -10,6 +10,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,21 @@ std::string unit_box_mesh(Sh3dModelCache& cache);
 
 // The warnings about models that were missing, unreadable or repaired.
 void add_model_warnings(const Sh3dModelCache& cache, std::vector<std::string>& warnings);
+
+// A lamp's light source as a point light lit the way Sweet Home 3D's photo renderer lights it: there
+// a sphere of radius r (cm) and radiance 5 power^2 / r^2 x source colour x home light colour (both
+// 0..255 per channel) gives a diffuse surface at d cm, facing it, the radiance
+// albedo x 5 power^2 x source x home / d^2 (the sphere's pi r^2 cancels the r^2 and Lambert's 1/pi).
+// In metres and colours 0..1 that is albedo x intensity x colour / (r_m^2 + d_m^2) with
+// intensity = 5 x 255^2 / 100^2 x power^2, colour = source x home, attenuation (r_m^2, 0, 1):
+// the sphere's radius keeps the light finite at its own centre.
+struct Sh3dLampLight {
+  Color color{1.0f};
+  double intensity = 0.0;
+  double radius_m = 0.0325;
+};
+Sh3dLampLight sh3d_lamp_light(double power, Color source_color, Color home_light_color, std::optional<double> diameter,
+                              double lamp_width_m);
 
 // Walls (arcs split into segments, sloped tops as a wall plus a wedge mesh) with every door and
 // window cut into the walls it intersects. Appends to `walls` and `solids`, warnings to `warnings`.

@@ -105,6 +105,19 @@ const Sh3dLevel& element_level(const Sh3dElement& e, const Sh3dHome& h) {
   return it->second;
 }
 
+Sh3dLampLight sh3d_lamp_light(double power, Color source_color, Color home_light_color, std::optional<double> diameter,
+                              double lamp_width_m) {
+  // 5 x 255 x 255 / (100 cm/m)^2: the radiance factor with both colours 0..1 and distances in metres.
+  constexpr double radiance_factor = 5.0 * 255.0 * 255.0 / 1.0e4;
+  Sh3dLampLight lamp;
+  lamp.color = Color{source_color.r * home_light_color.r, source_color.g * home_light_color.g,
+                     source_color.b * home_light_color.b};
+  lamp.intensity = radiance_factor * power * power;
+  // A source without a diameter is a sphere of 3.25 cm radius; else the diameter is a fraction of the lamp's width.
+  if (diameter) lamp.radius_m = *diameter * lamp_width_m / 2.0;
+  return lamp;
+}
+
 void tag_level(json& element, const Sh3dLevel& level) {
   if (!level.id.empty()) element["level"] = level.id;
 }
@@ -387,8 +400,9 @@ std::optional<json> group_piece(const FurnitureItem& item, const PiecePlacement&
   return piece_json(element_label(item.element), group, std::move(parts));
 }
 
-// Every lamp's light sources as point lights (lamps inside groups too), in document order.
-void add_lamp_lights(const Elements& all, const Sh3dHome& h, json& lights) {
+// Every lamp's light sources as point lights (lamps inside groups too), in document order, lit by
+// sh3d_lamp_light with the home's light colour. A lamp whose power is 0 is off and gives no light.
+void add_lamp_lights(const Elements& all, const Sh3dHome& h, Color home_light_color, json& lights) {
   for (const Sh3dElement& e : elements_named(all, "light")) {
     const Sh3dLevel& level = element_level(e, h);
     // Lights carry no level: a lamp of a hidden level would light the levels shown.
@@ -399,19 +413,25 @@ void add_lamp_lights(const Elements& all, const Sh3dHome& h, json& lights) {
     const Vec3 size = place->size;
     const double angle = place->angle;
     const double power = std::clamp(number_attribute(e, "power", 0.5), 0.0, 1.0);
+    if (!(power > 0.0)) continue;
     for (pugi::xml_node source : e.node.children("lightSource")) {
       Sh3dElement s{source, e.pointer, e.line};
-      // Source coordinates are fractions of the piece's box: x along width, y along depth, z up.
-      const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x, (number_attribute(s, "y", 0.5) - 0.5) * size.z};
+      // Source coordinates are fractions of the piece's box: x along width, z up, y along depth from
+      // the front (the piece's +y side on the plan) at 0 to its back at 1.
+      const Vec2 local{(number_attribute(s, "x", 0.5) - 0.5) * size.x, (0.5 - number_attribute(s, "y", 0.5)) * size.z};
       const Vec2 plan = centre + Vec2(std::cos(angle) * local.x - std::sin(angle) * local.y,
                                       std::sin(angle) * local.x + std::cos(angle) * local.y);
       const double y = place->base + number_attribute(s, "z", 0.5) * size.y;
+      std::optional<double> diameter;
+      if (source.attribute("diameter")) diameter = number_attribute(s, "diameter", 0.0);
+      const Sh3dLampLight lamp = sh3d_lamp_light(power, color_attribute(source, "color").value_or(Color{1.0f}),
+                                                 home_light_color, diameter, size.x);
       lights.push_back({{"type", "point"},
                         {"id", e.pointer},
                         {"position", json_vec3({plan.x, y, plan.y})},
-                        {"color", json_color(color_attribute(source, "color").value_or(Color{1.0f}))},
-                        {"intensity", 0.6 * power},
-                        {"attenuation", {1.0, 0.0, 0.4}}});
+                        {"color", json_color(lamp.color)},
+                        {"intensity", lamp.intensity},
+                        {"attenuation", {lamp.radius_m * lamp.radius_m, 0.0, 1.0}}});
     }
   }
 }
@@ -452,7 +472,10 @@ void add_furniture(const pugi::xml_node& home, const Elements& all, const Sh3dHo
     tag_level(*solid, level);
     solids.push_back(std::move(*solid));
   }
-  add_lamp_lights(all, h, lights);
+  // Sweet Home 3D's default light colour when the home has no <environment lightColor>.
+  const Color home_light_color =
+      color_attribute(home.child("environment"), "lightColor").value_or(Color{208.0f / 255.0f});
+  add_lamp_lights(all, h, home_light_color, lights);
   if (skipped) warnings.push_back(std::to_string(skipped) + " pieces of furniture with no size were left out");
   add_model_warnings(models, warnings);
   result.meshes = std::move(models.meshes);

@@ -7,6 +7,7 @@
 #include "import_test_util.hpp"
 #include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
+#include "render/import/import_sh3d.hpp"
 
 #include <gtest/gtest.h>
 #include <zip.h>
@@ -109,12 +110,74 @@ TEST(ImportSh3d, SmallHomeFurnitureRoomLightAndCamera) {
   // The lamp's light source sits at the bottom centre of its 20 x 20 x 40 cm box, 2 m up.
   ASSERT_EQ(scene["lights"].size(), 2u);  // the default sun and the lamp
   EXPECT_EQ(scene["lights"][1]["position"], json::array({0.5, 2.0, 0.5}));
+  // Power 0.5, white source, no <environment>: the default light colour 208/255, 5 x 255^2 / 100^2 x 0.25,
+  // and a source with no diameter is a 3.25 cm sphere.
+  EXPECT_EQ(scene["lights"][1]["color"], json::array({0.816, 0.816, 0.816}));
+  EXPECT_DOUBLE_EQ(scene["lights"][1]["intensity"].get<double>(), 8.128125);
+  EXPECT_EQ(scene["lights"][1]["attenuation"], json::array({0.0325 * 0.0325, 0.0, 1.0}));
   // The observer at (100, 200) cm, eyes 170 cm up, yaw 0 looks toward +y of the plan (+z here).
   const json& camera = r.request["camera"];
   EXPECT_EQ(camera["position"], json::array({1.0, 1.7, 2.0}));
   EXPECT_EQ(camera["target"], json::array({1.0, 1.7, 3.0}));
   // 90 degrees horizontally at 4:3 is 2 atan(3/4) vertically.
   EXPECT_NEAR(camera["fov_y"].get<double>(), 2.0 * std::atan(0.75) * 180.0 / rr::pi, 1e-3);
+  EXPECT_NO_THROW(rr::request_from_json(r.request));
+}
+
+TEST(ImportSh3d, LampLightFollowsThePhotoRenderer) {
+  using rr::import_detail::sh3d_lamp_light;
+  const rr::Color white{1.0f}, home_default{208.0f / 255.0f};
+  // Intensity 5 x 255^2 / 100^2 x power^2 = 32.5125 power^2, whatever the colours.
+  EXPECT_DOUBLE_EQ(sh3d_lamp_light(0.0, white, home_default, std::nullopt, 0.3).intensity, 0.0);
+  EXPECT_DOUBLE_EQ(sh3d_lamp_light(0.5, white, home_default, std::nullopt, 0.3).intensity, 8.128125);
+  EXPECT_DOUBLE_EQ(sh3d_lamp_light(1.0, white, home_default, std::nullopt, 0.3).intensity, 32.5125);
+  // The colour is the source's times the home's, channel by channel: 0x998764 x 0xD0D0D0.
+  const rr::Color source{153.0f / 255.0f, 135.0f / 255.0f, 100.0f / 255.0f};
+  const auto lamp = sh3d_lamp_light(0.5, source, home_default, 0.29166666, 0.48);
+  EXPECT_FLOAT_EQ(lamp.color.r, 31824.0f / 65025.0f);  // 153 x 208 / 255^2
+  EXPECT_FLOAT_EQ(lamp.color.g, 28080.0f / 65025.0f);  // 135 x 208 / 255^2
+  EXPECT_FLOAT_EQ(lamp.color.b, 20800.0f / 65025.0f);  // 100 x 208 / 255^2
+  EXPECT_DOUBLE_EQ(lamp.intensity, 8.128125);
+  // The diameter is a fraction of the lamp's width: 0.29166666 x 0.48 m / 2 = 0.0699999984 m.
+  EXPECT_NEAR(lamp.radius_m, 0.0699999984, 1e-15);
+  // No diameter: 3.25 cm, whatever the width.
+  EXPECT_DOUBLE_EQ(sh3d_lamp_light(1.0, white, white, std::nullopt, 2.0).radius_m, 0.0325);
+  // A coloured home light tints every source: white x (1, 0.5, 0) and green x (1, 0.5, 0).
+  const rr::Color orange{1.0f, 0.5f, 0.0f};
+  const auto tinted = sh3d_lamp_light(1.0, white, orange, std::nullopt, 0.4);
+  EXPECT_EQ(tinted.color, rr::Color(1.0f, 0.5f, 0.0f));
+  const auto green = sh3d_lamp_light(1.0, rr::Color(0.0f, 1.0f, 0.0f), orange, std::nullopt, 0.4);
+  EXPECT_EQ(green.color, rr::Color(0.0f, 0.5f, 0.0f));
+}
+
+TEST(ImportSh3d, LampsWithSeveralSourcesAndTheHomeLightColour) {
+  ImportResult r = rr::import_sweethome3d(R"(<home wallHeight='250'>
+  <environment lightColor='00FF8000'/>
+  <light name='Two bulbs' x='200' y='100' elevation='100' width='40' depth='40' height='40' power='1'>
+    <lightSource x='0.25' y='0.5' z='1' color='00FFFFFF' diameter='0.5'/>
+    <lightSource x='0.75' y='0.25' z='1' color='0000FF00'/>
+  </light>
+  <light name='Off' x='300' y='100' width='40' depth='40' height='40' power='0'>
+    <lightSource x='0.5' y='0.5' z='0.5' color='00FFFFFF'/>
+  </light>
+</home>)");
+  const json& lights = r.request["scene"]["lights"];
+  ASSERT_EQ(lights.size(), 3u) << lights.dump();  // the sun and the two sources; the lamp at power 0 is off
+  const json& bulb = lights[1];
+  const json& green = lights[2];
+  EXPECT_EQ(bulb["position"], json::array({1.9, 1.4, 1.0}));
+  // y 0.25 of the depth is 0.1 m in front of the centre, toward the plan's +y (our +z).
+  EXPECT_EQ(green["position"], json::array({2.1, 1.4, 1.1}));
+  // Home light 0xFF8000: (1, 128/255 = 0.502, 0); power 1: 32.5125.
+  EXPECT_EQ(bulb["color"], json::array({1.0, 0.502, 0.0}));
+  EXPECT_EQ(green["color"], json::array({0.0, 0.502, 0.0}));
+  EXPECT_DOUBLE_EQ(bulb["intensity"].get<double>(), 32.5125);
+  EXPECT_DOUBLE_EQ(green["intensity"].get<double>(), 32.5125);
+  // Radius 0.5 x 0.4 m / 2 = 0.1 m; the second source has the default 3.25 cm.
+  EXPECT_NEAR(bulb["attenuation"][0].get<double>(), 0.01, 1e-12);
+  EXPECT_EQ(bulb["attenuation"][1], 0.0);
+  EXPECT_EQ(bulb["attenuation"][2], 1.0);
+  EXPECT_EQ(green["attenuation"], json::array({0.0325 * 0.0325, 0.0, 1.0}));
   EXPECT_NO_THROW(rr::request_from_json(r.request));
 }
 
