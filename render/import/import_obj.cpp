@@ -3,7 +3,8 @@
 // counter-clockwise fronts); the scale goes into each mesh's "scale". Faces are repaired so the
 // validator accepts them: repeated corners dropped, faces that are not planar within 1e-7 of their
 // group's size (the validator allows 1e-6) fan-triangulated, faces of zero area dropped; each repair
-// is counted in a warning. Bad numbers and indices are errors naming the line.
+// is counted in a warning. Bad numbers and indices are errors naming the line. The camera looks
+// from inside when the model has a floor and a ceiling (docs/import.md), else frames it from outside.
 #include "render/import/import_obj.hpp"
 #include "render/import/import.hpp"
 
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -303,6 +305,80 @@ void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& 
 
 using namespace import_detail;
 
+namespace {
+
+constexpr double eye_height_m = 1.6;
+constexpr double level_step_m = 0.01;       // horizontal faces within 1 cm make one level
+constexpr double large_level_share = 0.25;  // of the box's footprint: a floor, not a table top
+constexpr double low_room_eye_share = 0.6;  // of floor-to-ceiling, for rooms lower than 1.6 / 0.6 m
+
+// Whether the plan point (x, z) lies inside the face's plan projection (crossing count; the edge
+// case of a point on an edge can go either way, which a floor's neighbouring faces absorb).
+bool covers_plan_point(const ObjData& obj, const Face& f, double x, double z) {
+  bool inside = false;
+  for (uint32_t i = 0, j = f.corner_count - 1; i < f.corner_count; j = i++) {
+    const Vec3 a = obj.positions[obj.corners[f.first_corner + i].v];
+    const Vec3 b = obj.positions[obj.corners[f.first_corner + j].v];
+    if ((a.z > z) != (b.z > z) && x < a.x + (z - a.z) * (b.x - a.x) / (b.z - a.z)) inside = !inside;
+  }
+  return inside;
+}
+
+// The first view of an interior, in metres. A large level is one of horizontal faces (within 1 cm)
+// that together cover a quarter of the box's footprint, one of them over the box's plan centre; the
+// lowest is the floor, the highest the ceiling. The eye is 1.6 m above the floor (0.6 of the room's
+// height in a room lower than that) at the plan centre, looking along the box's longer horizontal
+// side (+x, or +z when deeper), near plane 5 cm. Nothing without a floor and a ceiling above it: a
+// model, not a room, which the caller frames from outside. `box` is in file units, as the positions.
+std::optional<json> camera_inside(const ObjData& obj, const Box3& box, double scale) {
+  const double cx = 0.5 * (box.lo.x + box.hi.x), cz = 0.5 * (box.lo.z + box.hi.z);
+  const double footprint = (box.hi.x - box.lo.x) * (box.hi.z - box.lo.z) * scale * scale;
+  struct Level {
+    double area_m2 = 0.0;
+    bool under_centre = false;
+  };
+  std::map<int64_t, Level> levels;  // by height in centimetres, lowest first
+  for (const Group& g : obj.groups) {
+    for (const Face& f : g.faces) {
+      if (f.corner_count < 3) continue;
+      Vec3 normal{0.0};  // Newell: twice the area vector
+      double y = 0.0;
+      for (uint32_t i = 0; i < f.corner_count; ++i) {
+        const Vec3 a = obj.positions[obj.corners[f.first_corner + i].v];
+        const Vec3 b = obj.positions[obj.corners[f.first_corner + (i + 1) % f.corner_count].v];
+        normal += glm::cross(a, b);
+        y += a.y;
+      }
+      const double twice_area = glm::length(normal);
+      if (twice_area <= 0.0 || std::abs(normal.y) < 0.999 * twice_area) continue;
+      Level& level = levels[std::llround(y / f.corner_count * scale / level_step_m)];
+      level.area_m2 += 0.5 * twice_area * scale * scale;
+      if (!level.under_centre) level.under_centre = covers_plan_point(obj, f, cx, cz);
+    }
+  }
+  auto is_large = [&](const Level& level) {
+    return level.under_centre && level.area_m2 >= large_level_share * footprint;
+  };
+  auto floor = std::find_if(levels.begin(), levels.end(), [&](const auto& l) { return is_large(l.second); });
+  auto ceiling = std::find_if(levels.rbegin(), levels.rend(), [&](const auto& l) { return is_large(l.second); });
+  if (floor == levels.end() || ceiling->first <= floor->first) return std::nullopt;
+  const double floor_y = double(floor->first) * level_step_m;
+  const double eye_y =
+      floor_y + std::min(eye_height_m, low_room_eye_share * double(ceiling->first - floor->first) * level_step_m);
+  const Vec3 eye{cx * scale, eye_y, cz * scale};
+  const bool along_x = box.hi.x - box.lo.x >= box.hi.z - box.lo.z;
+  const Vec3 target = along_x ? Vec3{box.hi.x * scale, eye_y, eye.z} : Vec3{eye.x, eye_y, box.hi.z * scale};
+  const double diagonal = glm::length(box.hi - box.lo) * scale;
+  return json{{"position", json_vec3(eye)},
+              {"target", json_vec3(target)},
+              {"fov_y", 60.0},
+              {"near", 0.05},
+              {"far", round_m(std::max(2.0 * diagonal, 1.0))}};
+  return std::nullopt;
+}
+
+}  // namespace
+
 ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   const double scale = resolve_scale(options, ImportFormat::obj);
   ObjData obj = parse_obj(text);
@@ -337,6 +413,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   }
   if (solids.empty()) throw InputError(Kind::invalid, "", "the OBJ file has no faces to draw");
   add_repair_warnings(repairs, result.warnings);
+  std::optional<json> inside = camera_inside(obj, box, scale);
   box.lo *= scale, box.hi *= scale;
   const double aspect = double(options.width) / double(options.height);
   result.request = {{"scene",
@@ -344,7 +421,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
                       {"ambient", {{"intensity", 0.35}}},
                       {"solids", std::move(solids)},
                       {"lights", json::array({default_sun_light()})}}},
-                    {"camera", camera_showing_box(box, aspect)},
+                    {"camera", inside ? std::move(*inside) : camera_showing_box(box, aspect)},
                     {"options", request_options(options)}};
   return result;
 }

@@ -17,6 +17,7 @@ const [binary, outDir, scenario] = process.argv.slice(2);
 
 const sharedDir = process.env.ROOMRENDER_SHARED || path.resolve(repoRoot, "../shared");
 const fireplaceObj = path.join(sharedDir, "data/meshes/fireplace_room/fireplace_room.obj");
+const conferenceObj = path.join(sharedDir, "data/meshes/conference/conference.obj");
 const homesDir = path.join(sharedDir, "data/floorplans/sweethome3d");
 
 // A zip of Studio.xml and the whole furniture/ folder beside it, as a person would zip a home.
@@ -323,9 +324,46 @@ const scenarios = {
     assert(!(await page.isVisible("#problems li.error")) && !/refused|failed|error/i.test(await page.textContent("#status")),
       `the second render has no error: ${await page.textContent("#status")}`);
   },
+  // The millimetre conference room imported with Units "mm": the server gets scale=0.001 and answers
+  // a first view from inside (the eye within the room's box), and the image is mostly the room.
+  async designer_import_obj_inside({ page, server }) {
+    await page.goto(`${server.url}/`);
+    await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
+    await idle(page);
+    const seq = await renderSeq(page);
+    await page.click(".import-options summary");
+    await page.selectOption("#import-units", "0.001");
+    const answer = page.waitForResponse((res) => new URL(res.url()).pathname === "/v1/import/obj");
+    const [chooser] = await Promise.all([page.waitForEvent("filechooser"), page.click("#open-file")]);
+    await chooser.setFiles(conferenceObj);
+    const res = await answer;
+    assert(new URL(res.url()).searchParams.get("scale") === "0.001", `the import asks scale=0.001: ${res.url()}`);
+    await waitForNewRender(page, seq);
+    const { camera } = await request(page);
+    // The room in metres (the file's box / 1000, measured once from conference.obj).
+    const lo = [-1.021, -0.003, -1.056], hi = [1.686, 0.651, 0.669];
+    assert(camera.position.every((v, k) => v > lo[k] && v < hi[k]) && camera.near <= 0.05,
+      `the first view is from inside: ${JSON.stringify(camera)}`);
+    const background = await page.evaluate(() => {
+      const img = document.getElementById("image");
+      const canvas = Object.assign(document.createElement("canvas"), { width: img.naturalWidth, height: img.naturalHeight });
+      const ctx = canvas.getContext("2d");
+      ctx.drawImage(img, 0, 0);
+      const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+      let same = 0;  // pixels of the importer's background, #20242a
+      for (let i = 0; i < data.length; i += 4) same += data[i] === 0x20 && data[i + 1] === 0x24 && data[i + 2] === 0x2a;
+      return same / (data.length / 4);
+    });
+    assert(background < 0.1, `the image is the room, not the background: ${(background * 100).toFixed(1)}% background`);
+  },
 };
 
 const prechecks = {
+  async designer_import_obj_inside(server) {
+    if (!fs.existsSync(conferenceObj)) skip(`no ${conferenceObj} (set ROOMRENDER_SHARED to the shared data's parent)`);
+    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+  },
+
   async designer_your_scenes(server) {
     if (!(await serverHas(server, "/v1/scenes", "get"))) skip("needs GET /v1/scenes");
   },

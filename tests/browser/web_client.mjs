@@ -303,6 +303,22 @@ const scenarios = {
     assert(request.scene.walls.some((w) => (w.openings || []).some((o) => o.type === "door")), "with its door");
     assert((await imageSummary(page, "#image")).colours > 5, "and rendered");
   },
+
+  // A narrow window shows the image on its first screen; a wide one keeps the toolbar to one row.
+  async layout_widths({ page, server }) {
+    await page.setViewportSize({ width: 800, height: 900 });
+    await open(page, server);
+    const image = await page.locator("#image").boundingBox();
+    assert(image && image.y >= 0 && image.y < 900 && image.height > 100, `at 800x900 the image starts on screen: ${JSON.stringify(image)}`);
+    await page.setViewportSize({ width: 1440, height: 900 });
+    // One row: every item starts above the bottom of the one that ends highest.
+    const toolbar = await page.$$eval('.toolbar[aria-label="Render settings"] > :not([hidden])', (items) => {
+      const rects = items.map((e) => e.getBoundingClientRect()).filter((r) => r.width > 0);
+      const bottom = Math.min(...rects.map((r) => r.bottom));
+      return { oneRow: rects.every((r) => r.top < bottom), items: rects.map((r) => [Math.round(r.top), Math.round(r.right)]) };
+    });
+    assert(toolbar.oneRow, `at 1440 px the toolbar is one row: ${JSON.stringify(toolbar.items)}`);
+  },
 };
 
 // Endpoints a scenario needs beyond the first server's, checked before the browser starts.

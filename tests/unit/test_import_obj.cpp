@@ -155,6 +155,43 @@ TEST(ImportObj, ScaleAndCameraFrameTheModel) {
   EXPECT_GT(rr::testing::covered_share(r.request, "zbuffer"), 0.05);
 }
 
+// A box room in millimetres, 6 m along x, 4 m along z, 3 m high: the floor as two triangles, a
+// table top at 0.8 m over the centre, the ceiling and four walls.
+constexpr const char* box_room_mm =
+    "v 0 0 0\nv 6000 0 0\nv 6000 0 4000\nv 0 0 4000\n"
+    "v 0 3000 0\nv 6000 3000 0\nv 6000 3000 4000\nv 0 3000 4000\n"
+    "v 2500 800 1500\nv 3500 800 1500\nv 3500 800 2500\nv 2500 800 2500\n"
+    "g floor\nf 1 4 3\nf 1 3 2\ng ceiling\nf 5 6 7 8\n"
+    "g walls\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\ng table\nf 9 12 11 10\n";
+
+TEST(ImportObj, InteriorOpensFromInsideAtEyeHeight) {
+  rr::ImportOptions options;
+  options.scale = 0.001;
+  ImportResult r = rr::import_obj(box_room_mm, options);
+  // 1.6 m above the floor (not the table) at the plan centre, looking along x, the longer side.
+  EXPECT_EQ(r.request["camera"]["position"], json::array({3.0, 1.6, 2.0}));
+  EXPECT_EQ(r.request["camera"]["target"], json::array({6.0, 1.6, 2.0}));
+  EXPECT_EQ(r.request["camera"]["near"], 0.05);
+  EXPECT_GT(rr::testing::covered_share(r.request, "zbuffer"), 0.99);  // walls all round: no background
+}
+
+TEST(ImportObj, LowRoomPutsTheEyeAtThreeFifthsOfItsHeight) {
+  rr::ImportOptions options;
+  options.scale = 1.0 / 3000.0;  // 2 m x 1.33 m, 1 m high
+  ImportResult r = rr::import_obj(box_room_mm, options);
+  EXPECT_EQ(r.request["camera"]["position"], json::array({1.0, 0.6, 0.666667}));
+  EXPECT_EQ(r.request["camera"]["target"], json::array({2.0, 0.6, 0.666667}));
+}
+
+TEST(ImportObj, ModelWithoutCeilingIsFramedFromOutside) {
+  std::string open_top = box_room_mm;
+  open_top.replace(open_top.find("g ceiling\nf 5 6 7 8\n"), 20, "");
+  rr::ImportOptions options;
+  options.scale = 0.001;
+  ImportResult r = rr::import_obj(open_top, options);
+  EXPECT_EQ(r.request["camera"]["target"], json::array({3.0, 1.5, 2.0}));  // the box's centre
+}
+
 TEST(ImportFormat, RecognisedFromContentThenName) {
   EXPECT_EQ(rr::detect_import_format("<?xml version='1.0'?>\n<home>", ""), rr::ImportFormat::sweethome3d);
   EXPECT_EQ(rr::detect_import_format("1\t2\t3\t4\twall\t1\t1\n", ""), rr::ImportFormat::r2v);

@@ -254,9 +254,11 @@ export class Api {
   // with the default camera and options ({id, camera, options, warnings}); the scene never travels
   // back as part of the answer. `models`: furniture=models, so that a home's furniture is drawn with
   // its models whatever the file (a bare Home.xml has none: the warnings then name those missing).
-  async importStored(format, file, { signal, models = false } = {}) {
+  // `scale`: metres per file unit (the importer's scale query parameter), null for the format's own.
+  async importStored(format, file, { signal, models = false, scale = null } = {}) {
     const furniture = models && this.hasParameter("/v1/import/{format}", "furniture") ? "&furniture=models" : "";
-    const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}?store=1${furniture}`), {
+    const scaled = scale ? `&scale=${encodeURIComponent(scale)}` : "";
+    const res = await ok(await fetch(this.url(`/v1/import/${encodeURIComponent(format)}?store=1${furniture}${scaled}`), {
       method: "POST",
       headers: this.authorized({ "Content-Type": "application/octet-stream", Accept: "application/json" }),
       body: file,

@@ -24,6 +24,7 @@ export class Controls {
     const setOption = (pointer, value) => setOptions([{ pointer, value }]);
     this.pipelines = [];
     this.timer = 0;
+    $("import-units").addEventListener("change", (e) => { $("import-scale").hidden = e.target.value !== "custom"; });
     $("pipeline").addEventListener("change", (e) => setOption("/options/pipeline", e.target.value));
     $("shading").addEventListener("change", (e) => setOption("/options/shading", e.target.value));
     $("shadows").addEventListener("change", (e) => setOption("/options/shadows", e.target.checked));
@@ -78,6 +79,15 @@ export class Controls {
     $("open-file").title = supported
       ? "Open a request (.json) or import a Sweet Home 3D home (.xml, .sh3d, or a .zip of its XML and furniture/), an OBJ model (.obj, or a .zip of it and its .mtl) or an R2V plan (.txt)"
       : "Open a request (.json). Importing other formats needs POST /v1/import/{format}, which this server lacks.";
+  }
+
+  // The import options: {models} (a home's furniture as models, else boxes) and {scale} (metres per
+  // unit of an OBJ; null keeps the format's own).
+  importOptions() {
+    const units = $("import-units").value;
+    const factor = Number($("import-scale").value);
+    const scale = units === "custom" ? (factor > 0 ? factor : null) : units ? Number(units) : null;
+    return { models: $("import-furniture").value === "models", scale };
   }
 
   // A .zip is taken for a home with its furniture unless named *.obj.zip (the import retries a zip

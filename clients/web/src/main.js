@@ -284,11 +284,13 @@ async function importFileNow(file) {
       }
     } else {
       // Stored by the server and rendered by id: an interior's meshes never travel back as JSON.
-      const receipt = await sharing.importStored(format, file).catch((error) => {
-        // A zip of an OBJ and its .mtl, named like a home's: the server finds no home XML in it.
-        if (format !== "sh3d" || !/\.zip$/i.test(file.name) || error.status !== 422 || !noHome(error)) throw error;
-        return sharing.importStored("obj", file);
-      });
+      const options = controls.importOptions();
+      const receipt = await sharing.importStored(format, file, { ...options, scale: format === "obj" ? options.scale : null })
+        .catch((error) => {
+          // A zip of an OBJ and its .mtl, named like a home's: the server finds no home XML in it.
+          if (format !== "sh3d" || !/\.zip$/i.test(file.name) || error.status !== 422 || !noHome(error)) throw error;
+          return sharing.importStored("obj", file, options);
+        });
       if (receipt.warnings?.length) setStatus(`Imported ${file.name} with ${receipt.warnings.length} repair(s).`);
       showImportHint(missingModelsHint(file.name, receipt.warnings));
       yourScenes.refreshIfOpen();
