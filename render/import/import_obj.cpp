@@ -374,7 +374,6 @@ std::optional<json> camera_inside(const ObjData& obj, const Box3& box, double sc
               {"fov_y", 60.0},
               {"near", 0.05},
               {"far", round_m(std::max(2.0 * diagonal, 1.0))}};
-  return std::nullopt;
 }
 
 }  // namespace
