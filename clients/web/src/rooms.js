@@ -2,6 +2,8 @@
 // walls ({start, end, thickness}) in plan metres. Out: polygons [[x, z], ...] to the millimetre.
 // Walls meet where their ends coincide (to the millimetre); a wall ending in the middle of another
 // makes no corner there, so a room closed that way is not found.
+import { pointInPolygon } from "./plan_math.js";
+
 const key = ([x, z]) => `${Math.round(x * 1000)},${Math.round(z * 1000)}`;
 const mm = (v) => Math.round(v * 1000) / 1000;
 
@@ -13,16 +15,6 @@ export function signedArea(points) {
 }
 
 export const polygonArea = (points) => Math.abs(signedArea(points));
-
-function inside(p, poly) {
-  let hit = false;
-  for (let i = 0, j = poly.length - 1; i < poly.length; j = i++) {
-    const [xi, zi] = poly[i];
-    const [xj, zj] = poly[j];
-    if ((zi > p[1]) !== (zj > p[1]) && p[0] < ((xj - xi) * (p[1] - zi)) / (zj - zi) + xi) hit = !hit;
-  }
-  return hit;
-}
 
 // The faces of the walls' plan graph: each a cycle of corners with the wall along each side.
 function faces(walls) {
@@ -74,7 +66,7 @@ export function roomAt(walls, p) {
   let best = null;
   for (const cycle of faces(walls || [])) {
     const pts = cycle.map((c) => c.p);
-    if (!inside(p, pts)) continue;
+    if (!pointInPolygon(p, pts)) continue;
     const area = polygonArea(pts);
     if (area > 1e-9 && (!best || area < best.area)) best = { cycle, area };
   }
