@@ -172,7 +172,8 @@ export class PlanView {
     this.drawScaleBar(h);
   }
 
-  // A room's name (its id) and floor area at its centroid.
+  // A room's name and floor area at its centroid. The name is its id, less an imported room's
+  // "room " prefix and "(/home/room/N)" source suffix.
   drawRoomLabel(room) {
     let a = 0;
     let cx = 0;
@@ -187,8 +188,9 @@ export class PlanView {
     if (Math.abs(a) < 1e-12) return;
     const [x, y] = this.toSvg([cx / (3 * a), cz / (3 * a)]);
     const text = el("text", { x, y, class: "room-label", "text-anchor": "middle" }, this.svg);
-    if (room.id) el("tspan", { x, dy: "-0.2em" }, text).textContent = room.id;
-    el("tspan", { x, dy: room.id ? "1.1em" : "0.35em", class: "room-area" }, text).textContent = `${polygonArea(pts).toFixed(2)} m²`;
+    const name = typeof room.id === "string" ? room.id.replace(/\s*\([^()]*\)$/, "").replace(/^room\s+/, "") : "";
+    if (name) el("tspan", { x, dy: "-0.2em" }, text).textContent = name;
+    el("tspan", { x, dy: name ? "1.1em" : "0.35em", class: "room-area" }, text).textContent = `${polygonArea(pts).toFixed(2)} m²`;
   }
 
   drawGrid(w, h) {
