@@ -3,9 +3,9 @@
 // Walls meet where their ends coincide (to the millimetre); a wall ending in the middle of another
 // makes no corner there, so a room closed that way is not found.
 import { pointInPolygon } from "./plan_math.js";
+import { mm, roundPoint } from "./plan_point.js";
 
-const key = ([x, z]) => `${Math.round(x * 1000)},${Math.round(z * 1000)}`;
-const mm = (v) => Math.round(v * 1000) / 1000;
+const key = (p) => roundPoint(p).join(",");
 
 // Signed area, positive for a polygon counter-clockwise with x right and z up (clockwise on screen).
 export function signedArea(points) {
@@ -21,7 +21,7 @@ function faces(walls) {
   const corners = new Map();  // key -> {p, out: [{to, wall, angle}]}
   const corner = (p) => {
     const k = key(p);
-    if (!corners.has(k)) corners.set(k, { p: [mm(p[0]), mm(p[1])], k, out: [] });
+    if (!corners.has(k)) corners.set(k, { p: roundPoint(p), k, out: [] });
     return corners.get(k);
   };
   for (const w of walls) {
