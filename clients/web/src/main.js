@@ -42,6 +42,7 @@ const app = {
   queued: null,         // the options of a drag's render waiting for the one in flight
   warnedScene: null,    // the scene whose warnings are shown: the same scene's answers repeat them
   loading: 0,           // examples, imports or the start-up being fetched: a render will follow
+  busy: false,          // the progress bar shows (setBusy)
 };
 
 // Counts `work` (a promise-returning function) as loading while it runs, for idle().
@@ -56,10 +57,19 @@ async function loading(work) {
 
 const showProblemList = (items) => showProblems(items, (pointer) => editor.reveal(pointer));
 
+// Touches the page only when the state changes: a drag's images end a render each, and every
+// attribute written on the body restyles the page.
 function setBusy(busy) {
+  if (app.busy === busy) return;
+  app.busy = busy;
   $("progress").hidden = !busy;
   document.body.toggleAttribute("data-busy", busy);
   $("render").setAttribute("aria-busy", String(busy));
+}
+
+// Writes a text only when it differs: replacing a text node lays the page out again.
+function setText(element, text) {
+  if (element.textContent !== text) element.textContent = text;
 }
 
 function setStatus(text) {
@@ -178,7 +188,7 @@ async function display(request, [a, b], seq, { preview = false } = {}) {
   const url = replaceImage(img, app.shown, a.imageBlob);
   app.shown = { blob: a.imageBlob, url, result: a, pipeline: pipelineA };
   await img.decode().catch(() => {});
-  $("caption-a").textContent = pipelineA;
+  setText($("caption-a"), pipelineA);
   const series = [{ label: pipelineA, timings: a.timings }];
   if (b) {
     const imgB = $("image-b");
@@ -188,7 +198,7 @@ async function display(request, [a, b], seq, { preview = false } = {}) {
     series.push({ label: controls.comparePipeline(), timings: b.timings });
     await showComparison(img, imgB, $("diff"), $("metrics"), [pipelineA, controls.comparePipeline()]);
   } else {
-    clearComparison($("metrics"));
+    if ($("metrics").hasChildNodes()) clearComparison($("metrics"));
   }
   if (!preview) drawTimingChart($("timings"), series);
   // The same scene has the same warnings: a camera move redraws neither the notes nor the plan.

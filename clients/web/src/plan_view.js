@@ -253,39 +253,60 @@ export class PlanView {
     el("title", {}, g).textContent = detail;
   }
 
-  // Moves the camera's mark alone (the rest of the plan stays as drawn).
+  // Moves the camera's mark alone (the rest of the plan stays as drawn): a mark of the same shape is
+  // moved by its transform, so a camera step changes one attribute of the plan.
   placeCamera(c) {
-    for (const g of this.svg.querySelectorAll(":scope > g.camera")) g.remove();
+    const mark = this.svg.querySelector(":scope > g.camera");
+    if (mark && mark.dataset.shape === this.cameraShape(c) && this.poseCamera(mark, c)) return;
+    if (mark) mark.remove();
     const bar = this.svg.querySelector(":scope > g.scale-bar");
     this.drawCamera(c);
     if (bar) this.svg.append(bar);
   }
 
-  drawCamera(c) {
+  // What the mark's shape depends on (its pose aside).
+  cameraShape(c) {
+    return this.visitor ? `visitor ${c.fov_y ?? 60} ${this.s} ${this.visitor.radiusM}` : "camera";
+  }
+
+  // Places a mark drawn at the origin looking along +x at the camera's position and heading, and
+  // names it in its title. False when the camera has no position or target to place it by.
+  poseCamera(g, c) {
     const p = c.position || [0, 1.6, 5];
     const t = c.target || [0, 1, 0];
-    if (!Array.isArray(p) || !Array.isArray(t)) return;
+    if (!Array.isArray(p) || !Array.isArray(t)) return false;
     const [ex, ey] = this.toSvg([p[0], p[2]]);
     const dx = t[0] - p[0];
     const dz = t[2] - p[2];
-    const len = Math.hypot(dx, dz) || 1;
+    const degrees = dx === 0 && dz === 0 ? 0 : (Math.atan2(dz, dx) * 180) / Math.PI;
+    g.setAttribute("transform", `translate(${ex.toFixed(2)} ${ey.toFixed(2)}) rotate(${degrees.toFixed(3)})`);
+    g.querySelector(":scope > title").textContent = `${this.visitor ? "visitor" : "camera"} at [${p.join(", ")}]` +
+      (this.visitor ? `, eye ${p[1]} m` : "");
+    return true;
+  }
+
+  drawCamera(c) {
+    const p = c.position;
+    const t = c.target;
+    if ((p && !Array.isArray(p)) || (t && !Array.isArray(t))) return;
+    let g;
     if (this.visitor) {
       // The visitor: a body of its real size (at least 6 px) and the wedge it sees, 1.5 m long.
-      const g = el("g", { class: "camera visitor", "data-testid": "visitor" }, this.svg);
+      g = el("g", { class: "camera visitor", "data-testid": "visitor" }, this.svg);
       const half = (((c.fov_y ?? 60) / 2) * Math.PI) / 180 * 1.2;
-      const a = Math.atan2(dz, dx);
       const r = 1.5 * this.s;
-      const wedge = [[ex, ey], [ex + r * Math.cos(a - half), ey + r * Math.sin(a - half)], [ex + r * Math.cos(a + half), ey + r * Math.sin(a + half)]];
+      const wedge = [[0, 0], [r * Math.cos(-half), r * Math.sin(-half)], [r * Math.cos(half), r * Math.sin(half)]];
       el("polygon", { points: wedge.map((q) => q.map((v) => v.toFixed(1)).join(",")).join(" "), class: "view" }, g);
-      el("circle", { cx: ex, cy: ey, r: Math.max(6, this.visitor.radiusM * this.s), class: "body" }, g);
-      el("line", { x1: ex, y1: ey, x2: ex + (dx / len) * Math.max(10, 0.35 * this.s), y2: ey + (dz / len) * Math.max(10, 0.35 * this.s) }, g);
-      el("title", {}, g).textContent = `visitor at [${p.join(", ")}], eye ${p[1]} m`;
-      return;
+      el("circle", { cx: 0, cy: 0, r: Math.max(6, this.visitor.radiusM * this.s), class: "body" }, g);
+      el("line", { x1: 0, y1: 0, x2: Math.max(10, 0.35 * this.s), y2: 0 }, g);
+    } else {
+      g = el("g", { class: "camera" }, this.svg);
+      el("line", { x1: 0, y1: 0, x2: 22, y2: 0 }, g);
+      el("circle", { cx: 0, cy: 0, r: 5 }, g);
     }
-    const g = el("g", { class: "camera" }, this.svg);
-    el("line", { x1: ex, y1: ey, x2: ex + (dx / len) * 22, y2: ey + (dz / len) * 22 }, g);
-    el("circle", { cx: ex, cy: ey, r: 5 }, g);
-    el("title", {}, g).textContent = `camera at [${p.join(", ")}]`;
+    el("title", {}, g);
+    g.dataset.shape = this.cameraShape(c);
+    this.poseCamera(g, c);
   }
 
   drawPreview({ chain, cursor }) {
