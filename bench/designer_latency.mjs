@@ -10,7 +10,8 @@
 // pointermove event to the first animation frame after the new image was decoded and put in place.
 // Then a live orbit, as a hand drags: pointer moves every 16.7 ms for 2 s, not waiting for images,
 // on the apartment example and on a Sweet Home 3D home of ../shared imported with its furniture/
-// (--home, default 3BedroomApartment; skipped without ../shared): images shown a second while the
+// (--home, default 3BedroomApartment; skipped without ../shared), and on that home again with Phong
+// and exact shadows (shadow method rays) chosen in the toolbar: images shown a second while the
 // drag goes on, main-thread task time per camera step (Chromium's TaskDuration between two moves,
 // so it counts the answers' handling too), and the time from the release to the full-size image.
 import fs from "node:fs";
@@ -194,6 +195,7 @@ try {
   await page.waitForFunction(() => window.roomrenderDesigner && Number(document.getElementById("views").dataset.renderSeq || 0) > 0);
   const liveApartment = await measureLiveOrbit(page, cdp, server);
   let liveHome = null;
+  let liveHomeShadows = null;
   if (fs.existsSync(path.join(homesDir, `${homeName}.xml`))) {
     const seq = await seqOf(page);
     await page.setInputFiles("#file", homeZip(homeName));
@@ -203,12 +205,25 @@ try {
     await page.evaluate(() => window.roomrenderDesigner.idle());
     const chars = await page.evaluate(() => JSON.stringify(window.roomrenderDesigner.request()).length);
     liveHome = { home: homeName, request_chars: chars, ...(await measureLiveOrbit(page, cdp, server)) };
+    // The same orbit with Phong and exact shadows, chosen in the toolbar as a person would.
+    for (const [selector, value] of [["#shading", "phong"], ["#shadow-method", "rays"]]) {
+      await page.selectOption(selector, value);
+      await page.evaluate(() => window.roomrenderDesigner.idle());
+    }
+    await page.check("#shadows");
+    await page.evaluate(() => window.roomrenderDesigner.idle());
+    const options = await page.evaluate(() => window.roomrenderDesigner.request().options);
+    if (options.shading !== "phong" || options.shadows !== true || options.shadow?.method !== "rays") {
+      throw new Error(`the toolbar did not set Phong with exact shadows: ${JSON.stringify(options)}`);
+    }
+    liveHomeShadows = { home: homeName, options: { shading: "phong", shadows: true, shadow: { method: "rays" } },
+      ...(await measureLiveOrbit(page, cdp, server)) };
   }
 
   const result = {
     what: "time from one drag step (pointermove) to the 320×240 image of that step on screen (first frame after it is decoded); apartment example, 640×480, zbuffer, flat",
     machine: { cpus: os.cpus().length, load_average_before: loadBefore.map(round), load_average_after: os.loadavg().map(round),
-      note: "shared 2-core machine, other engineers compiling C++ meanwhile: the numbers include their load" },
+      note: "shared 2-core machine: the load averages say what else ran" },
     notes: "Steps are paced by their images (the next move waits for the last step's image). When a step's half-size image " +
       "takes over 0.25 s, the page asks for the full size at rest; the next move aborts that request, but the server still " +
       "draws it, and the next step waits behind it: that is the slow mode of the orbit samples (~1 s). The plan drag asks " +
@@ -219,14 +234,14 @@ try {
     plan_move_chair: { ...summary(plan), chair_back_at_start: Math.abs(moved.center[0] - chair.center[0]) < 1e-6 },
     view_move_chair: { ...summary(view), chair_back_at_start: Math.abs(movedInView.center[0] - chair.center[0]) < 0.051 },
     live_orbit: { what: "pointer moves every 16.7 ms for 2 s, not paced by images; 4 px each (1.6° of azimuth); 640×480, the page's pipeline and options",
-      apartment: liveApartment, home: liveHome },
+      apartment: liveApartment, home: liveHome, home_phong_exact_shadows: liveHomeShadows },
   };
   fs.mkdirSync(path.dirname(outPath), { recursive: true });
   fs.writeFileSync(outPath, JSON.stringify(result, null, 2) + "\n");
   console.log(`orbit: median ${result.orbit.median_ms} ms, p90 ${result.orbit.p90_ms} ms; ` +
     `plan (chair): median ${result.plan_move_chair.median_ms} ms, p90 ${result.plan_move_chair.p90_ms} ms; ` +
     `3D image (chair): median ${result.view_move_chair.median_ms} ms, p90 ${result.view_move_chair.p90_ms} ms; ` +
-    [["apartment", liveApartment], [homeName, liveHome]].filter(([, r]) => r).map(([n, r]) =>
+    [["apartment", liveApartment], [homeName, liveHome], [`${homeName} phong+rays`, liveHomeShadows]].filter(([, r]) => r).map(([n, r]) =>
       `live orbit ${n}: ${r.images_per_second} images/s, main thread p90 ${r.main_thread_per_step.p90_ms} ms a step, ` +
       `full size ${r.full_size_after_release_ms} ms after release; `).join("") +
     `load ${loadBefore[0].toFixed(1)} -> ${os.loadavg()[0].toFixed(1)}; wrote ${outPath}`);
