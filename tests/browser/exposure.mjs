@@ -2,13 +2,35 @@
 // slider up a stop sends options.exposure 2 and the image on screen gets brighter (its mean
 // luminance, measured from the pixels shown); Auto sends "auto", disables the slider and shows
 // another image; unticking it goes back to the slider's multiplier.
+// home_exact_shadows: Sweet Home 3D's 3BedroomApartment imported with its furniture/ (from
+// ROOMRENDER_SHARED, default ../shared; skipped without it), Phong chosen, Shadows ticked, exact
+// shadows chosen, then the exposure moved up a stop: each sends its option and changes the image.
 //   node tests/browser/exposure.mjs BUILD/roomrender OUT_DIR SCENARIO
-import { runScenario, assert, imageSummary, waitForRender } from "./support.mjs";
+//   node tests/browser/exposure.mjs BUILD/roomrender OUT_DIR --screenshot docs/images/home-exact-shadows.png
+//   (home_exact_shadows, then the page as it ends, at 1400 × 900)
+import fs from "node:fs";
+import path from "node:path";
+import { runScenario, assert, skip, serverHas, imageSummary, waitForRender, renderSeq } from "./support.mjs";
+import { homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
 
-const [binary, outDir, scenario] = process.argv.slice(2);
+const [binary, outDir, scenarioArg, screenshotPath] = process.argv.slice(2);
+const scenario = scenarioArg === "--screenshot" ? "home_exact_shadows" : scenarioArg;
 
 // The request the page holds, as the next render would send it.
 const sentOptions = (request) => JSON.parse(request.postData()).options || {};
+// A render of the scene inline or of its stored copy.
+const isRender = (r) => r.method() === "POST" && /\/render$/.test(new URL(r.url()).pathname);
+const home = "3BedroomApartment";
+
+// Does `change` (a person's action) send a render whose options pass `wanted`, and show a new image?
+async function changeAndRender(page, change, wanted, what) {
+  const seq = await renderSeq(page);
+  const sent = page.waitForRequest((r) => isRender(r) && wanted(sentOptions(r)), { timeout: 60000 });
+  await change();
+  await sent.catch(() => { throw new Error(`${what}: no render sent with the option`); });
+  await waitForNewRender(page, seq, { timeout: 120000 });
+  return imageSummary(page);
+}
 
 const scenarios = {
   async exposure_control({ page, server }) {
@@ -50,9 +72,50 @@ const scenarios = {
   },
 };
 
+scenarios.home_exact_shadows = async ({ page }) => {
+  const seq = await renderSeq(page);
+  await page.setInputFiles("#file", homeZip(home));
+  await waitForNewRender(page, seq, { timeout: 120000 });
+  const flat = await imageSummary(page);
+
+  const phong = await changeAndRender(page, () => page.selectOption("#shading", "phong"), (o) => o.shading === "phong", "Phong");
+  assert(phong.hash !== flat.hash, "Phong shows another image than flat");
+  const map = await changeAndRender(page, () => page.click("#shadows"), (o) => o.shadows === true, "Shadows");
+  assert(map.hash !== phong.hash, "shadows change the image");
+  assert((await page.inputValue("#shadow-method")) === "map", "maps are the default shadow method");
+  const exact = await changeAndRender(page, () => page.selectOption("#shadow-method", "rays"),
+    (o) => o.shadows === true && o.shadow?.method === "rays", "exact shadows");
+  assert(exact.hash !== map.hash, "exact shadows show another image than the maps");
+
+  await page.focus("#exposure");
+  const brighter = await changeAndRender(page, async () => {
+    await page.keyboard.press("ArrowRight");
+    await page.keyboard.press("ArrowRight");
+  }, (o) => o.exposure === 2 && o.shadow?.method === "rays", "exposure");
+  assert(brighter.mean > exact.mean * 1.1, `a stop up brightens the home: mean ${exact.mean.toFixed(3)} -> ${brighter.mean.toFixed(3)}`);
+  assert((await page.textContent("#exposure-value")) === "2×", `the control reads 2×: ${await page.textContent("#exposure-value")}`);
+};
+
+const prechecks = {
+  async home_exact_shadows(server) {
+    if (!fs.existsSync(path.join(homesDir, `${home}.xml`))) skip(`no ${homesDir}/${home}.xml (set ROOMRENDER_SHARED)`);
+    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+  },
+};
+
 const body = scenarios[scenario];
-if (!binary || !outDir || !body) {
-  console.error(`usage: exposure.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")})`);
+if (!binary || !outDir || !body || (scenarioArg === "--screenshot" && !screenshotPath)) {
+  console.error(`usage: exposure.mjs ROOMRENDER OUT_DIR (${Object.keys(scenarios).join("|")}|--screenshot FILE)`);
   process.exit(2);
 }
-process.exit(await runScenario(scenario, { binary, outDir }, body));
+process.exit(await runScenario(scenario, { binary, outDir, precheck: prechecks[scenario] }, async ({ page, server }) => {
+  if (scenario === "home_exact_shadows") {
+    await page.goto(`${server.url}/`);
+    await designerReady(page);
+  }
+  await body({ page, server });
+  if (scenarioArg === "--screenshot") {
+    await page.screenshot({ path: screenshotPath });
+    console.log(`wrote ${screenshotPath}`);
+  }
+}));
