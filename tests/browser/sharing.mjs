@@ -332,6 +332,17 @@ const scenarios = {
     await idle(page);
     const seq = await renderSeq(page);
     await page.click(".import-options summary");
+    // A custom factor of 0 is refused by the page, saying so, and nothing is sent.
+    let imports = 0;
+    page.on("request", (r) => { if (new URL(r.url()).pathname === "/v1/import/obj") imports++; });
+    await page.selectOption("#import-units", "custom");
+    await page.fill("#import-scale", "0");
+    const [refused] = await Promise.all([page.waitForEvent("filechooser"), page.click("#open-file")]);
+    await refused.setFiles(conferenceObj);
+    await page.waitForFunction(() => /not a number of metres per unit above 0/.test(document.getElementById("status").textContent));
+    await idle(page);
+    assert(imports === 0, `a scale of 0 sends no import: ${imports} sent`);
+    assert(await page.getAttribute("#import-scale", "aria-invalid") !== null, "the scale field is marked invalid");
     await page.selectOption("#import-units", "0.001");
     const answer = page.waitForResponse((res) => new URL(res.url()).pathname === "/v1/import/obj");
     const [chooser] = await Promise.all([page.waitForEvent("filechooser"), page.click("#open-file")]);

@@ -81,13 +81,20 @@ export class Controls {
       : "Open a request (.json). Importing other formats needs POST /v1/import/{format}, which this server lacks.";
   }
 
-  // The import options: {models} (a home's furniture as models, else boxes) and {scale} (metres per
-  // unit of an OBJ; null keeps the format's own).
+  // The import options: {models} (a home's furniture as models, else boxes), {scale} (metres per
+  // unit of an OBJ; null keeps the format's own) and {scaleError}: why a custom factor that is not a
+  // number above 0 cannot be used (null when it can), also marked on the field.
   importOptions() {
     const units = $("import-units").value;
-    const factor = Number($("import-scale").value);
-    const scale = units === "custom" ? (factor > 0 ? factor : null) : units ? Number(units) : null;
-    return { models: $("import-furniture").value === "models", scale };
+    const field = $("import-scale");
+    const factor = Number(field.value);
+    const custom = units === "custom";
+    const usable = Number.isFinite(factor) && factor > 0;
+    field.toggleAttribute("aria-invalid", custom && !usable);
+    const scaleError = custom && !usable
+      ? `The custom scale "${field.value}" is not a number of metres per unit above 0.` : null;
+    const scale = custom ? (usable ? factor : null) : units ? Number(units) : null;
+    return { models: $("import-furniture").value === "models", scale, scaleError };
   }
 
   // A .zip is taken for a home with its furniture unless named *.obj.zip (the import retries a zip

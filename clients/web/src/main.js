@@ -294,7 +294,11 @@ async function importFileNow(file) {
       }
     } else {
       // Stored by the server and rendered by id: an interior's meshes never travel back as JSON.
-      const options = controls.importOptions();
+      const { scaleError, ...options } = controls.importOptions();
+      if (format === "obj" && scaleError) {
+        setStatus(`${scaleError} Nothing was imported: correct it under Import… and open the file again.`);
+        return;
+      }
       const receipt = await sharing.importStored(format, file, { ...options, scale: format === "obj" ? options.scale : null })
         .catch((error) => {
           // A zip of an OBJ and its .mtl, named like a home's: the server finds no home XML in it.
