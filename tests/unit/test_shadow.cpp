@@ -1,7 +1,7 @@
 // Shadow maps against exact shadows: a box on a floor under a directional light and under a point
 // light (its shadow crosses cube faces), ray cast per pixel; self-shadowing (acne) at a grazing
 // light; the gap at a box's base (peter-panning); when the pass is skipped; the memory bound; no
-// sunlight inside a closed room, with maps and rays.
+// sunlight inside a closed room, with maps and rays; with a doorway open, exactly its patch lit.
 // The floor is one grey #808080 cell, ambient 0.2, flat shading and pcf 1, so a floor pixel is
 // either lit or at the ambient value and the threshold between them classifies it.
 #include "render/core/shadow.hpp"
@@ -385,6 +385,120 @@ TEST(ClosedRoomSun, CeilingKeepsAnOutlineWhoseGrowthWouldCrossItself) {
   const auto [lo, hi] = ceiling_extent(request);
   EXPECT_EQ(lo, Vec2(0.05, 0.05));
   EXPECT_EQ(hi, Vec2(3.95, 2.95));
+}
+
+// The closed room with a 1 x 2.1 m doorway (no leaf) in the wall along z = 3, whose outer face the
+// sun lights: the sunlight that passes lands on the floor as a parallelogram. A ray that reaches the
+// floor crosses the opening's outer and inner rectangles (the wall is T thick); per metre of descent
+// it moves a = 0.35 m along -x and b = 0.55 m along -z, so it spends T / b of height and a T / b of
+// width inside the wall. The patch is {(u - a s, 2.95 - b s) : u in [x0, x1 - a T / b],
+// s in [0, h - T / b]}: area b (w - a T / b)(h - T / b). The camera looks down at it from inside.
+constexpr double kDoorX0 = 1.5, kDoorWidth = 1.0, kDoorHeight = 2.1, kWallThickness = 0.1;
+constexpr double kSunA = 0.35, kSunB = 0.55;  // the sun's (-0.35, -1, -0.55): x and z per unit of descent
+
+json room_with_open_door() {
+  json request = closed_room_in_sun(room_at_inner_faces);
+  // wall2 runs from (4, 3) to (0, 3): the offset is measured from (4, 3).
+  request["scene"]["walls"][2]["openings"] = {{{"type", "door"},
+                                               {"offset", 4.0 - (kDoorX0 + kDoorWidth)},
+                                               {"width", kDoorWidth},
+                                               {"height", kDoorHeight},
+                                               {"leaf", false}}};
+  request["camera"] = {{"position", {2.6, 2.3, 0.4}}, {"target", {1.4, 0.0, 2.4}}, {"fov_y", 60}};
+  request["options"]["width"] = 1280;
+  request["options"]["height"] = 720;
+  return request;
+}
+
+// Is the floor point (x, z) in the analytic patch?
+bool in_door_patch(double x, double z) {
+  const double inner_face = 3.0 - kWallThickness / 2;
+  const double s = (inner_face - z) / kSunB;  // height at which the ray crosses the inner face
+  const double u = x + kSunA * s;             // where it crosses it along x
+  return s >= 0.0 && s <= kDoorHeight - kWallThickness / kSunB && u >= kDoorX0 &&
+         u <= kDoorX0 + kDoorWidth - kSunA * kWallThickness / kSunB;
+}
+
+// Every pipeline, Phong, with rays (area within 1 % of the analytic patch's pixels, every differing
+// pixel within a pixel of its edge) and with maps (within their 2-pixel edge band). The analytic
+// patch is classified per pixel centre: the floor point the centre's ray meets, in the patch or not.
+TEST(OpenDoorSun, ExactlyThePatchTheDoorwayLetsThroughIsLit) {
+  const double patch_area =
+      kSunB * (kDoorWidth - kSunA * kWallThickness / kSunB) * (kDoorHeight - kWallThickness / kSunB);
+  for (const PipelineInfo& p : pipeline_table()) {
+    for (const char* method : {"rays", "map"}) {
+      json request = room_with_open_door();
+      request["options"]["pipeline"] = p.name;
+      request["options"]["shading"] = "phong";
+      request["options"]["shadow"]["method"] = method;
+      const SceneRender on = render_json(request);
+      request["scene"]["lights"][0]["intensity"] = 0;
+      const SceneRender off = render_json(request);
+      const int w = on.view.width, h = on.view.height;
+      // Per pixel: the floor point its centre sees inside the room, in the analytic patch or not,
+      // and lit (the sun changes a channel by more than 2 levels) or not. -1: not the floor.
+      std::vector<int> truth(size_t(w) * size_t(h), -1), lit(truth.size(), -1);
+      size_t truth_area = 0, lit_area = 0, lit_elsewhere = 0;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          const size_t i = size_t(y) * size_t(w) + size_t(x);
+          bool sun = false;
+          for (int c = 0; c < 3; ++c) {
+            sun |= std::abs(int(on.result.frame.image.rgb[3 * i + c]) - int(off.result.frame.image.rgb[3 * i + c])) > 2;
+          }
+          const auto q = testing::pixel_on_plane(on.view, x, y, {0, 1, 0}, 0.0);
+          const bool floor = q && q->x > 0.06 && q->x < 3.94 && q->z > 0.06 && q->z < 2.94;
+          if (!floor) {
+            continue;
+          }
+          truth[i] = in_door_patch(q->x, q->z) ? 1 : 0;
+          lit[i] = sun ? 1 : 0;
+          truth_area += size_t(truth[i]);
+          lit_area += size_t(lit[i]);
+        }
+      }
+      // The farthest a misclassified floor pixel lies from the patch's boundary (a floor pixel with a
+      // 4-neighbour of the other class), in pixels.
+      std::vector<Vec2> boundary;
+      for (int y = 1; y + 1 < h; ++y) {
+        for (int x = 1; x + 1 < w; ++x) {
+          const size_t i = size_t(y) * size_t(w) + size_t(x);
+          if (truth[i] < 0) continue;
+          for (long n : {-1L, 1L, -long(w), long(w)}) {
+            const int o = truth[size_t(long(i) + n)];
+            if (o >= 0 && o != truth[i]) {
+              boundary.push_back({x, y});
+              break;
+            }
+          }
+        }
+      }
+      size_t mismatched = 0;
+      double worst = 0.0;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          const size_t i = size_t(y) * size_t(w) + size_t(x);
+          if (truth[i] < 0 || truth[i] == lit[i]) continue;
+          ++mismatched;
+          lit_elsewhere += size_t(lit[i] == 1 && truth[i] == 0);
+          double nearest = 1e9;
+          for (const Vec2& b : boundary) nearest = std::min(nearest, glm::length(b - Vec2(x, y)));
+          worst = std::max(worst, nearest);
+        }
+      }
+      std::cout << p.name << " " << method << ": patch " << truth_area << " px (analytic " << patch_area << " m2), lit "
+                << lit_area << " px, " << mismatched << " differ (" << lit_elsewhere << " lit outside), at most "
+                << worst << " px from the edge\n";
+      ASSERT_GT(truth_area, 20000u) << "the camera sees the patch";
+      if (std::string(method) == "rays") {
+        EXPECT_NEAR(double(lit_area), double(truth_area), 0.01 * double(truth_area)) << p.name;
+        EXPECT_LE(worst, 1.0) << p.name << ": rays decide within a pixel of the exact edge";
+      } else {
+        // The maps' edge band of docs/accuracy.md: 2 pixels.
+        EXPECT_LE(worst, 2.0) << p.name << ": the map misplaces the edge by more than its band";
+      }
+    }
+  }
 }
 
 }  // namespace
