@@ -10,8 +10,8 @@
 // pointermove event to the first animation frame after the new image was decoded and put in place.
 // Then a live orbit, as a hand drags: pointer moves every 16.7 ms for 2 s, not waiting for images,
 // on the apartment example and on a Sweet Home 3D home of ../shared imported with its furniture/
-// (--home, default 3BedroomApartment; skipped without ../shared), and on that home again with Phong
-// and exact shadows (shadow method rays) chosen in the toolbar: images shown a second while the
+// (--home, default 3BedroomApartment; skipped without ../shared) as it opens (Phong with exact
+// shadows), then flat without shadows chosen in the toolbar: images shown a second while the
 // drag goes on, main-thread task time per camera step (Chromium's TaskDuration between two moves,
 // so it counts the answers' handling too), and the time from the release to the full-size image.
 import fs from "node:fs";
@@ -204,19 +204,24 @@ try {
     await page.selectOption("#size", "640x480");
     await page.evaluate(() => window.roomrenderDesigner.idle());
     const chars = await page.evaluate(() => JSON.stringify(window.roomrenderDesigner.request()).length);
-    liveHome = { home: homeName, request_chars: chars, ...(await measureLiveOrbit(page, cdp, server)) };
-    // The same orbit with Phong and exact shadows, chosen in the toolbar as a person would.
-    for (const [selector, value] of [["#shading", "phong"], ["#shadow-method", "rays"]]) {
-      await page.selectOption(selector, value);
-      await page.evaluate(() => window.roomrenderDesigner.idle());
-    }
+    // The home with Phong and exact shadows (as it opens; a page that opens it otherwise gets them
+    // chosen in the toolbar), then flat without shadows, chosen in the toolbar as a person would.
+    const opened = await page.evaluate(() => window.roomrenderDesigner.request().options);
+    await page.selectOption("#shading", "phong");
+    await page.selectOption("#shadow-method", "rays");
     await page.check("#shadows");
     await page.evaluate(() => window.roomrenderDesigner.idle());
     const options = await page.evaluate(() => window.roomrenderDesigner.request().options);
     if (options.shading !== "phong" || options.shadows !== true || options.shadow?.method !== "rays") {
       throw new Error(`the toolbar did not set Phong with exact shadows: ${JSON.stringify(options)}`);
     }
-    liveHomeShadows = { home: homeName, options: { shading: "phong", shadows: true, shadow: { method: "rays" } },
+    liveHomeShadows = { home: homeName, opened_with: opened, options: { shading: "phong", shadows: true, shadow: { method: "rays" } },
+      ...(await measureLiveOrbit(page, cdp, server)) };
+    await page.selectOption("#shading", "flat");
+    await page.evaluate(() => window.roomrenderDesigner.idle());
+    await page.uncheck("#shadows");
+    await page.evaluate(() => window.roomrenderDesigner.idle());
+    liveHome = { home: homeName, request_chars: chars, options: { shading: "flat", shadows: false },
       ...(await measureLiveOrbit(page, cdp, server)) };
   }
 

@@ -3,8 +3,9 @@
 // luminance, measured from the pixels shown); Auto sends "auto", disables the slider and shows
 // another image; unticking it goes back to the slider's multiplier.
 // home_exact_shadows: Sweet Home 3D's 3BedroomApartment imported with its furniture/ (from
-// ROOMRENDER_SHARED, default ../shared; skipped without it), Phong chosen, Shadows ticked, exact
-// shadows chosen, then the exposure moved up a stop: each sends its option and changes the image.
+// ROOMRENDER_SHARED, default ../shared; skipped without it) opens with Phong and exact shadows, shown
+// in the toolbar; shadow maps chosen, then exact again, then the exposure moved up a stop: each
+// sends its option and changes the image (exact again gives the first image back).
 //   node tests/browser/exposure.mjs BUILD/roomrender OUT_DIR SCENARIO
 //   node tests/browser/exposure.mjs BUILD/roomrender OUT_DIR --screenshot docs/images/home-exact-shadows.png
 //   (home_exact_shadows, then the page as it ends, at 1400 × 900)
@@ -76,16 +77,21 @@ scenarios.home_exact_shadows = async ({ page }) => {
   const seq = await renderSeq(page);
   await page.setInputFiles("#file", homeZip(home));
   await waitForNewRender(page, seq, { timeout: 120000 });
-  const flat = await imageSummary(page);
+  // A home opens with Phong and exact shadows, and the toolbar says so.
+  const { options } = await page.evaluate(() => window.roomrenderDesigner.request());
+  assert(options.shading === "phong" && options.shadows === true && options.shadow?.method === "rays",
+    `the home opens with Phong and exact shadows: ${JSON.stringify(options)}`);
+  assert((await page.inputValue("#shading")) === "phong", "the toolbar shows Phong");
+  assert(await page.isChecked("#shadows"), "the toolbar shows Shadows ticked");
+  assert((await page.inputValue("#shadow-method")) === "rays", "the toolbar shows exact shadows");
+  const exact = await imageSummary(page);
 
-  const phong = await changeAndRender(page, () => page.selectOption("#shading", "phong"), (o) => o.shading === "phong", "Phong");
-  assert(phong.hash !== flat.hash, "Phong shows another image than flat");
-  const map = await changeAndRender(page, () => page.click("#shadows"), (o) => o.shadows === true, "Shadows");
-  assert(map.hash !== phong.hash, "shadows change the image");
-  assert((await page.inputValue("#shadow-method")) === "map", "maps are the default shadow method");
-  const exact = await changeAndRender(page, () => page.selectOption("#shadow-method", "rays"),
+  const map = await changeAndRender(page, () => page.selectOption("#shadow-method", "map"),
+    (o) => o.shadows === true && o.shadow?.method === "map", "shadow maps");
+  assert(map.hash !== exact.hash, "shadow maps show another image than exact shadows");
+  const again = await changeAndRender(page, () => page.selectOption("#shadow-method", "rays"),
     (o) => o.shadows === true && o.shadow?.method === "rays", "exact shadows");
-  assert(exact.hash !== map.hash, "exact shadows show another image than the maps");
+  assert(again.hash === exact.hash, "exact shadows again give the same image");
 
   await page.focus("#exposure");
   const brighter = await changeAndRender(page, async () => {

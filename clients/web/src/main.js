@@ -277,6 +277,11 @@ function importFile(file) {
   return loading(() => importFileNow(file));
 }
 
+// How a Sweet Home 3D home opens: its lamps come at the power its photo renderer gives them, which
+// assumes shadows (without them every lamp lights every surface through the walls), so Phong with
+// exact shadows, the fastest shadows on a home.
+const homeLook = { shading: "phong", shadows: true, shadow: { method: "rays" } };
+
 const noHome = (error) => /archive holds no home/.test([error.message, ...(error.errors || []).map((e) => e.detail)].join(" "));
 
 async function importFileNow(file) {
@@ -299,7 +304,8 @@ async function importFileNow(file) {
         setStatus(`${scaleError} Nothing was imported: correct it under Import… and open the file again.`);
         return;
       }
-      const receipt = await sharing.importStored(format, file, { ...options, scale: format === "obj" ? options.scale : null })
+      const look = format === "sh3d" ? homeLook : {};
+      const receipt = await sharing.importStored(format, file, { ...options, scale: format === "obj" ? options.scale : null, look })
         .catch((error) => {
           // A zip of an OBJ and its .mtl, named like a home's: the server finds no home XML in it.
           if (format !== "sh3d" || !/\.zip$/i.test(file.name) || error.status !== 422 || !noHome(error)) throw error;

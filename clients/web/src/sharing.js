@@ -141,11 +141,12 @@ export class Sharing {
   // before the first render; else it renders by id at once, with the camera and options of the
   // server's answer, and fills the editor when it comes (GET /v1/scenes/{id}: the server compresses
   // an interior's megabytes first, which takes it a while).
-  // `models`: a home's furniture drawn with its models (else boxes); `scale`: metres per file unit.
-  async importStored(format, file, { waitMs = 1500, models = true, scale = null } = {}) {
+  // `models`: a home's furniture drawn with its models (else boxes); `scale`: metres per file unit;
+  // `look`: options the view starts with where the server's answer sets none.
+  async importStored(format, file, { waitMs = 1500, models = true, scale = null, look = {} } = {}) {
     const receipt = await this.api.importStored(format, file, { models: models && format === "sh3d", scale });
     if (!/^[0-9a-f]{16}$/.test(receipt.id || "")) throw new Error("the import answer names no stored scene");
-    const view = { camera: receipt.camera, options: receipt.options };
+    const view = { camera: receipt.camera, options: { ...look, ...receipt.options } };
     const fetched = this.api.storedSceneText(receipt.id).then((text) => ({ text }), (error) => ({ error }));
     const early = await Promise.race([fetched, new Promise((done) => setTimeout(() => done(null), waitMs))]);
     if (early?.text) {
