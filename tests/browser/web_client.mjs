@@ -301,7 +301,10 @@ const scenarios = {
     const request = await requestInPage(page);
     assert(request.scene.walls.length === 5, `the home's five walls were imported: ${request.scene.walls.length}`);
     assert(request.scene.walls.some((w) => (w.openings || []).some((o) => o.type === "door")), "with its door");
-    assert((await imageSummary(page, "#image")).colours > 5, "and rendered");
+    // A home opens with Phong and exact shadows: this one has no lamp and its ceiling keeps the sun
+    // out, so its walls, floor and furniture show in a few flat ambient colours.
+    const shown = await imageSummary(page, "#image");
+    assert(shown.colours >= 3, `and rendered: ${shown.colours} colours`);
   },
 
   // A narrow window shows the image on its first screen; a wide one keeps the toolbar to one row.
