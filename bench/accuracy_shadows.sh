@@ -9,7 +9,7 @@
 # Environment: BUILD (default build-bench; an existing Release build is reused as configured), JOBS
 # (build parallelism, default 2), SHARED (default ../shared/data), BEFORE (bench_accuracy's JSON of an
 # earlier commit, for the homes' before/after table; default bench/results/accuracy_shadows_before.json
-# when it exists) and BEFORE_COMMIT (its commit, for the doc; default 07aea72, that file's).
+# when it exists) and BEFORE_COMMIT (its commit, for the doc; default "07aea72 + bench/results/accuracy_shadows_before.patch", that file's).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD:-build-bench}
@@ -23,7 +23,7 @@ nice "$build"/bench/bench_accuracy --out bench/results/accuracy_shadows.json --c
   --gen-manifest "$build"/scenes/accuracy_manifest.json --shared "${SHARED:-../shared/data}" "$@"
 before=${BEFORE:-bench/results/accuracy_shadows_before.json}
 before_args=()
-if [ -f "$before" ]; then before_args=(--before "$before" --before-commit "${BEFORE_COMMIT:-07aea72}"); fi
+if [ -f "$before" ]; then before_args=(--before "$before" --before-commit "${BEFORE_COMMIT:-07aea72 + bench/results/accuracy_shadows_before.patch}"); fi
 python3 bench/accuracy_shadows.py bench/results/accuracy_shadows.json --csv bench/results/accuracy_shadows.csv \
   --doc docs/accuracy.md --commit "$(git rev-parse --short HEAD)" "${before_args[@]}"
 echo "wrote bench/results/accuracy_shadows.{json,csv} and docs/accuracy.md's shadow-error section"
