@@ -3,7 +3,9 @@
 // (bench/accuracy/runs.hpp), and measures each frame against the `reference` pipeline's frame of the
 // same scene, camera and options. Writes one JSON document of all runs to --out.
 //   bench_accuracy --out FILE [--size 640x360] [--frames 5] [--timeout 120] [--gen-manifest FILE]
-//                  [--shared DIR] [--only NAME,NAME] [--r2v N] [--images DIR]
+//                  [--shared DIR] [--only NAME,NAME] [--configs LABEL,LABEL] [--r2v N] [--images DIR]
+// --configs keeps the configurations whose label contains one of the given strings (e.g. "shadows"
+// for every shadow setting); the reference frames they need are rendered as always.
 // --images writes each scene's reference image (flat, no shadows) and its painter-mean frame as PNGs
 // for a look at the cameras; they are not part of the results.
 #include "bench/accuracy/errors.hpp"
@@ -14,6 +16,7 @@
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -33,6 +36,7 @@ struct Args {
   int frames = 5;
   double timeout_s = 120.0;
   std::string images_dir;
+  std::vector<std::string> configs;  // keep configurations whose label contains one of these; empty: all
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -42,6 +46,13 @@ std::vector<std::string> split_list(const std::string& text) {
     if (!item.empty()) items.push_back(item);
   }
   return items;
+}
+
+// True when `filters` is empty or `text` contains one of them.
+bool contains_any(const std::string& text, const std::vector<std::string>& filters) {
+  if (filters.empty()) return true;
+  return std::any_of(filters.begin(), filters.end(),
+                     [&](const std::string& f) { return text.find(f) != std::string::npos; });
 }
 
 Args parse_args(int argc, char** argv) {
@@ -56,6 +67,7 @@ Args parse_args(int argc, char** argv) {
     else if (flag == "--gen-manifest") a.suite.gen_manifest = value;
     else if (flag == "--shared") a.suite.shared_dir = value;
     else if (flag == "--only") a.suite.only = split_list(value);
+    else if (flag == "--configs") a.configs = split_list(value);
     else if (flag == "--r2v") a.suite.r2v_plans = std::stoi(value);
     else if (flag == "--images") a.images_dir = value;
     else if (flag == "--size" && std::sscanf(value.c_str(), "%dx%d", &a.suite.width, &a.suite.height) == 2) continue;
@@ -145,6 +157,7 @@ void bench_scene(const BenchScene& scene, const Args& args, ordered_json& runs) 
   const std::string id = scene.prepared.static_id;
   ReferenceCache references{scene, id, args.timeout_s, {}};
   for (rr::bench::BenchConfig config : rr::bench::make_configs(scene)) {
+    if (!contains_any(config.label, args.configs)) continue;
     config.options.width = scene.request.options.width;
     config.options.height = scene.request.options.height;
     // The reference shades every pixel (Blinn-Phong, interpolated normals) whatever the shading mode,

@@ -15,7 +15,8 @@ CLASSES = [("classic", "Classic test scenes (intersecting and overlapping solids
            ("interiors", "Real interiors (OBJ meshes)")]
 COLOURS = {"zbuffer": "#1f77b4", "painter": "#d62728", "bsp": "#2ca02c", "shading": "#9467bd", "reference": "#000000"}
 ERROR_KEYS = ["visibility_all", "visibility_non_edge", "rmse", "psnr_db", "shadow_disagreement",
-              "shadow_disagreement_band", "shadow_disagreement_away"]
+              "shadow_disagreement_band", "shadow_disagreement_away", "shadow_band_pixels", "shadow_band_differing",
+              "shadow_away_pixels", "shadow_away_differing"]
 BEGIN, END = "<!-- accuracy-bench:begin -->", "<!-- accuracy-bench:end -->"
 
 

@@ -29,6 +29,11 @@ nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame
   if (m.shadow && m.shadow->split) {  // within shadow_edge_band pixels of the reference's shadow edges, and away
     j["shadow_disagreement_band"] = m.shadow->band_share();
     j["shadow_disagreement_away"] = m.shadow->away_share();
+    // The pixel counts behind the two shares: a few pixels away from the edges is a share near 0.
+    j["shadow_band_pixels"] = m.shadow->band_pixels;
+    j["shadow_band_differing"] = m.shadow->band_differing;
+    j["shadow_away_pixels"] = m.shadow->away_pixels;
+    j["shadow_away_differing"] = m.shadow->away_differing;
   }
   return j;
 }

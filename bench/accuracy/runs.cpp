@@ -45,6 +45,18 @@ BenchConfig shading_config(ShadingMode mode, const char* name, int shadow_size, 
   return c;
 }
 
+// Phong with exact shadow rays instead of maps: away from the reference's shadow edges its lit/unlit
+// decisions are the reference's own, so its shadow disagreement there must be 0.
+BenchConfig rays_config() {
+  BenchConfig c = shading_config(ShadingMode::phong, "phong", 0, 1);
+  c.options.shadows = true;
+  c.options.shadow.method = ShadowMethod::rays;
+  c.label += " shadows rays";
+  c.options_json["shadows"] = true;
+  c.options_json["shadow"] = {{"method", "rays"}};
+  return c;
+}
+
 }  // namespace
 
 std::vector<BenchConfig> make_configs(const BenchScene& scene) {
@@ -83,6 +95,7 @@ std::vector<BenchConfig> make_configs(const BenchScene& scene) {
     configs.push_back(shading_config(ShadingMode::phong, "phong", 2048, 5));
   }
   configs.push_back(shading_config(ShadingMode::phong, "phong", 2048, 3));
+  configs.push_back(rays_config());
   return configs;
 }
 

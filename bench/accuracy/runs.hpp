@@ -26,7 +26,7 @@ struct BenchConfig {
 // of more than large_scene_polygons polygons gets two BSP settings instead of five (its trees take
 // seconds to minutes to build), and a scene with more than many_lights lights (the Sweet Home 3D
 // homes: 7-17 point lights, six shadow-map faces each) or a large one gets three shadow settings
-// instead of eight.
+// instead of eight. Every scene also gets Phong with exact shadow rays (`shadow.method` rays).
 constexpr size_t large_scene_polygons = 100'000;
 constexpr size_t many_lights = 4;
 inline bool is_large(const BenchScene& s) { return s.prepared.soup.polygons.size() > large_scene_polygons; }

@@ -3,7 +3,9 @@
 # tiny scenes (examples/tri_intersecting.json and bench_gen_scenes' 1000-triangle soup at 96x72, one
 # frame, ../shared absent), then the report script. Checks every configuration ran and was measured, the known answers on this scene (zbuffer,
 # BSP and painter-newell exact away from edges; painter-mean wrong: no order of whole triangles is
-# right for two triangles that pierce each other), and that the CSV, the doc section and plots exist.
+# right for two triangles that pierce each other; exact shadow rays decide as the reference away from
+# its shadow edges), that the CSV, the doc section and plots exist, that --configs keeps only the
+# configurations named, and that the shadow-error section (bench/accuracy_shadows.py) is written.
 #   tests/bench/accuracy_smoke.sh BENCH_ACCURACY_EXE BENCH_GEN_SCENES_EXE SOURCE_DIR
 set -euo pipefail
 exe=$1 gen=$2 src=$3
@@ -15,6 +17,10 @@ trap 'rm -rf "$work"' EXIT
 grep -q "skipped: no $work/no-shared" "$work/log" || { cat "$work/log"; echo "no skip message for absent ../shared"; exit 1; }
 python3 "$src/bench/accuracy_report.py" "$work/a.json" --csv "$work/a.csv" --doc "$work/accuracy.md" \
   --svg-dir "$work/svg" --commit smoke
+"$exe" --out "$work/rays.json" --only tri_intersecting --size 96x72 --frames 1 --shared "$work/no-shared" \
+  --configs "shadows rays" 2>/dev/null
+python3 "$src/bench/accuracy_shadows.py" "$work/a.json" --before "$work/a.json" --doc "$work/accuracy.md" \
+  --commit smoke --before-commit smoke
 python3 - "$work" <<'PY'
 import csv, json, math, os, sys
 work = sys.argv[1]
@@ -24,7 +30,8 @@ assert [s["name"] for s in doc["scenes"]] == ["tri_intersecting", "gen_soup_1000
 soup = [r for r in doc["runs"] if r["scene"] == "gen_soup_1000"]
 assert len(soup) == len(runs) + 2 and all(r["status"] == "ok" for r in soup), soup  # + 2 reference rows
 for name in ["zbuffer", "painter-mean", "painter-min", "painter-max", "painter-newell", "bsp w=1/4/-1 eps=1e-07",
-             "gouraud", "phong", "phong shadows 2048 pcf1", "phong shadows 512 pcf1", "phong shadows 2048 pcf5"]:
+             "gouraud", "phong", "phong shadows 2048 pcf1", "phong shadows 512 pcf1", "phong shadows 2048 pcf5",
+             "phong shadows rays"]:
     r = runs[name]
     assert r["status"] == "ok" and r["frames"] == 1 and r["frame_ms"] > 0, r
     e = r["errors"]
@@ -35,10 +42,24 @@ for exact in ["zbuffer", "painter-newell", "bsp w=1/4/-1 eps=1e-07"]:
     assert runs[exact]["errors"]["visibility_non_edge"] == 0.0, (exact, runs[exact]["errors"])
 assert runs["painter-mean"]["errors"]["visibility_non_edge"] > 0.01, runs["painter-mean"]["errors"]
 assert runs["bsp w=1/4/-1 eps=1e-07"]["build_ms"] > 0, "the BSP build is reported apart from the frame"
+for r in doc["runs"]:
+    e = r.get("errors", {})
+    if e.get("shadow_disagreement_band") is None:
+        continue
+    assert e["shadow_band_pixels"] + e["shadow_away_pixels"] == 96 * 72, (r["config"], e)
+    for where in ["band", "away"]:
+        n, d = e["shadow_%s_pixels" % where], e["shadow_%s_differing" % where]
+        assert d <= n and math.isclose(e["shadow_disagreement_" + where], d / n if n else 0.0), (r["config"], e)
+    if r["config"] == "phong shadows rays":  # the reference's own decisions away from its shadow edges
+        assert e["shadow_away_differing"] == 0 and e["shadow_away_pixels"] > 0, (r["scene"], e)
+rays_only = json.load(open(os.path.join(work, "rays.json")))["runs"]
+assert [r["config"] for r in rays_only] == ["phong shadows rays", "reference"], rays_only
 rows = list(csv.DictReader(open(os.path.join(work, "a.csv"))))
 assert len(rows) == len(doc["runs"]), (len(rows), len(doc["runs"]))
 md = open(os.path.join(work, "accuracy.md")).read()
 assert "## Run time against error" in md and "tri_intersecting" in md
+assert md.count("<!-- accuracy-shadows:begin -->") == 1 and md.index("accuracy-shadows:end") < md.index("accuracy-bench:begin")
+assert "Rays away from the edges: 0 on 2 of 2 scenes." in md, md
 for svg in ["classic_visibility.svg", "classic_shading.svg"]:
     assert open(os.path.join(work, "svg", svg)).read().startswith("<svg"), svg
 print("accuracy smoke: %d runs checked" % len(doc["runs"]))
