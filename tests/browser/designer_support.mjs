@@ -1,15 +1,22 @@
 // Steps shared by the designer's browser tests (designer.mjs, designer_view.mjs, sharing.mjs,
-// pieces.mjs, visitor.mjs) and bench/designer_latency.mjs: a home of ../shared zipped with its
-// furniture/, the page's hooks (window.roomrenderDesigner), choosing furniture, clicks and drags in
-// the plan by world coordinates, and the empty 5 m × 4 m room drawn with the wall tool.
+// pieces.mjs, visitor.mjs, levels.mjs, exposure.mjs) and bench/designer_latency.mjs: a home of
+// ../shared zipped with its furniture/ (skipped when ../shared lacks it), the page's hooks
+// (window.roomrenderDesigner), choosing furniture, clicks and drags in the plan by world
+// coordinates, and the empty 5 m × 4 m room drawn with the wall tool.
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
-import { assert, repoRoot } from "./support.mjs";
+import { assert, repoRoot, skip, serverHas } from "./support.mjs";
 
 // Sweet Home 3D homes of ../shared (ROOMRENDER_SHARED names another parent directory).
 export const homesDir = path.join(process.env.ROOMRENDER_SHARED || path.resolve(repoRoot, "../shared"), "data/floorplans/sweethome3d");
+
+// Skips the scenario when home `name` is not in ../shared or the server cannot import homes.
+export async function requireHome(server, name) {
+  if (!fs.existsSync(path.join(homesDir, `${name}.xml`))) skip(`no ${homesDir}/${name}.xml (set ROOMRENDER_SHARED)`);
+  if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+}
 
 // A zip of the home's XML and the furniture/ folder beside it, as a person would zip a home.
 export function homeZip(name) {

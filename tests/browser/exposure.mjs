@@ -9,10 +9,8 @@
 //   node tests/browser/exposure.mjs BUILD/roomrender OUT_DIR SCENARIO
 //   node tests/browser/exposure.mjs BUILD/roomrender OUT_DIR --screenshot docs/images/home-exact-shadows.png
 //   (home_exact_shadows, then the page as it ends, at 1400 × 900)
-import fs from "node:fs";
-import path from "node:path";
-import { runScenario, assert, skip, serverHas, imageSummary, waitForRender, renderSeq } from "./support.mjs";
-import { homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
+import { runScenario, assert, imageSummary, waitForRender, renderSeq } from "./support.mjs";
+import { homeZip, designerReady, waitForNewRender, requireHome } from "./designer_support.mjs";
 
 const [binary, outDir, scenarioArg, screenshotPath] = process.argv.slice(2);
 const scenario = scenarioArg === "--screenshot" ? "home_exact_shadows" : scenarioArg;
@@ -104,8 +102,7 @@ scenarios.home_exact_shadows = async ({ page }) => {
 
 const prechecks = {
   async home_exact_shadows(server) {
-    if (!fs.existsSync(path.join(homesDir, `${home}.xml`))) skip(`no ${homesDir}/${home}.xml (set ROOMRENDER_SHARED)`);
-    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+    await requireHome(server, home);
   },
 };
 

@@ -5,10 +5,8 @@
 // and the tab, then All (every viewable storey, every wall in the plan).
 //   node tests/browser/levels.mjs BUILD/roomrender OUT_DIR designer_levels
 // Reads the home from ROOMRENDER_SHARED (default ../shared next to the repository); skipped without it.
-import fs from "node:fs";
-import path from "node:path";
-import { runScenario, assert, skip, serverHas, imageSummary, renderSeq } from "./support.mjs";
-import { request, homeZip, homesDir, designerReady, waitForNewRender, chooseItem, clickPlan } from "./designer_support.mjs";
+import { runScenario, assert, imageSummary, renderSeq } from "./support.mjs";
+import { request, homeZip, designerReady, waitForNewRender, chooseItem, clickPlan, requireHome } from "./designer_support.mjs";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
 const home = "3BedroomHouseWithAttic";
@@ -77,8 +75,7 @@ const scenarios = {
 
 const prechecks = {
   async designer_levels(server) {
-    if (!fs.existsSync(path.join(homesDir, `${home}.xml`))) skip(`no ${homesDir}/${home}.xml (set ROOMRENDER_SHARED)`);
-    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+    await requireHome(server, home);
   },
 };
 

@@ -10,7 +10,7 @@ import fs from "node:fs";
 import path from "node:path";
 import { execFileSync } from "node:child_process";
 import { runScenario, assert, skip, repoRoot, httpRequest, serverHas, imageSummary, renderSeq } from "./support.mjs";
-import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
+import { hooks, idle, request, near, clickPlan, dragPlan, openEmpty, drawRoom, chooseItem, worldToPage, homeZip, designerReady, waitForNewRender, requireHome } from "./designer_support.mjs";
 import { hitTest, resizeHandles } from "../../clients/web/src/plan_math.js";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
@@ -282,8 +282,7 @@ const scenarios = {
 
 const prechecks = {
   async pieces_home(server) {
-    if (!fs.existsSync(path.join(homesDir, "3BedroomApartment.xml"))) skip(`no ${homesDir}/3BedroomApartment.xml (set ROOMRENDER_SHARED)`);
-    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+    await requireHome(server, "3BedroomApartment");
     if (!(await serverHas(server, "/v1/pick"))) skip("needs POST /v1/pick");
   },
   async pieces_catalogue(server) {

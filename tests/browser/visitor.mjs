@@ -5,10 +5,8 @@
 // the arrow keys: into a wall (it stops in front of it) and through a door (it passes).
 //   node tests/browser/visitor.mjs BUILD/roomrender OUT_DIR visitor_home
 // Reads the home from ROOMRENDER_SHARED (default ../shared next to the repository); skipped without it.
-import fs from "node:fs";
-import path from "node:path";
-import { runScenario, assert, skip, serverHas, imageSummary, renderSeq } from "./support.mjs";
-import { hooks, idle, request, homeZip, homesDir, designerReady, waitForNewRender } from "./designer_support.mjs";
+import { runScenario, assert, imageSummary, renderSeq } from "./support.mjs";
+import { hooks, idle, request, homeZip, designerReady, waitForNewRender, requireHome } from "./designer_support.mjs";
 import { pointInPolygon } from "../../clients/web/src/plan_math.js";
 import { collides } from "../../clients/web/src/visitor.js";
 
@@ -162,8 +160,7 @@ const scenarios = {
 
 const prechecks = {
   async visitor_home(server) {
-    if (!fs.existsSync(path.join(homesDir, `${home}.xml`))) skip(`no ${homesDir}/${home}.xml (set ROOMRENDER_SHARED)`);
-    if (!(await serverHas(server, "/v1/import/{format}"))) skip("needs POST /v1/import/{format}");
+    await requireHome(server, home);
   },
 };
 
