@@ -162,6 +162,9 @@ struct FrameInput {
   const ShadowMaps* shadows = nullptr;  // null: no shadow lookups (none needed or shadows off)
   // shadow.method rays: the shadow-ray tree of `soup` (null: no shadow rays). Never set with `shadows`.
   const ShadowBvh* shadow_rays = nullptr;
+  // Shadow maps with translucent polygons in `soup`: its shadow-ray tree, whose panes' tree tints
+  // the light that the maps let through (null: nothing to tint). Never set with `shadow_rays`.
+  const ShadowBvh* glass_rays = nullptr;
   // Per scene light, 1 when the light is skipped altogether (rays only: it sees no cell the view
   // reaches, so every ray it would get is blocked); null: none is.
   const std::vector<uint8_t>* lights_skipped = nullptr;

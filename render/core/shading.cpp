@@ -67,6 +67,9 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
       lights_evaluated_(input.lights_evaluated),
       maps_(input.shadows && !input.shadows->empty() ? input.shadows : nullptr),
       rays_(maps_ ? nullptr : input.shadow_rays),
+      glass_(rays_ ? (rays_->glass.nodes.empty() ? nullptr : rays_)
+             : maps_ && input.glass_rays && !input.glass_rays->glass.nodes.empty() ? input.glass_rays
+                                                                                   : nullptr),
       mode_(input.options.shading),
       slots_(maps_   ? maps_->lights.size()
              : rays_ ? input.scene.lights.size()
@@ -84,6 +87,7 @@ SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evalu
       lights_evaluated_(lights_evaluated),
       maps_(prepared.maps_),
       rays_(prepared.rays_),
+      glass_(prepared.glass_),
       mode_(prepared.mode_),
       slots_(prepared.slots_),
       slot_sums_(slots_),

@@ -1,6 +1,7 @@
 // Lighting and shading shared by every pipeline (docs/lighting.md). The model: ambient + Blinn-Phong
 // (Lambert diffuse and a specular lobe on the half vector) from directional and point lights, each
-// light scaled by its shadow-map visibility, or by 0 or 1 from an exact shadow ray (shadow.method rays). Input:
+// light scaled by its shadow-map visibility, or by 0 or 1 from an exact shadow ray (shadow.method rays), and tinted
+// by the panes it passes through (shadow_ray_transmittance, with either method). Input:
 // world-space positions and unit normals; output: display colours (no gamma; to_byte clamps). Open surfaces (not part
 // of a closed object) are lit on the side facing the eye, so a single triangle seen from behind is not black.
 #pragma once
@@ -133,25 +134,34 @@ class SurfaceShader {
     const ShadowLight* light;  // shadow maps; null for a shadow ray
     ShadowReceiver receiver;
     int32_t slot;                      // index into ShadowMaps::lights, or the scene light with rays
-    const Light* ray_light = nullptr;  // shadow rays: the light the ray goes toward
+    const Light* ray_light = nullptr;  // shadow rays and tints: the light the ray goes toward
   };
   // The terms slot of scene light l: its index among the lights with maps, l itself with shadow
   // rays, -1 when it is never shadowed.
   int32_t slot_of(uint32_t l) const { return maps_ ? maps_->slot_of_light[l] : rays_ ? int32_t(l) : -1; }
   bool skipped(uint32_t l) const { return input_.lights_skipped && (*input_.lights_skipped)[l]; }
   float ray_visibility(const Shadowed& light, Vec3 p_world) const;
+  Vec3 world_at(const Fragment& f, size_t k) const {
+    return f.b[0] * world_[0] + f.b[1] * world_[k + 1] + f.b[2] * world_[k + 2];
+  }
+  // What the panes between the fragment and shadowed light s let through (glass_ only).
+  Color tint(size_t s, const Fragment& f, size_t k) const {
+    return shadow_ray_transmittance(*glass_, input_.soup, self_, world_at(f, k), *shadowed_[s].ray_light);
+  }
 
   Color shade_pixel(const Fragment& f, size_t k) const;
   void write_mask(const Fragment& f, size_t k) const;
   float visibility(size_t s, const Fragment& f, size_t k) const;
   Color shade_phong(const Fragment& f, size_t k) const;
   void span_visibility(const Span& span, size_t s, float* vis) const;
+  // Per pixel of the span where vis > 0, the tint of shadowed light s; 1 elsewhere (glass_ only).
+  void span_tint(const Span& span, size_t s, const float* vis, SpanColors& tint) const;
   void span_flat(const Span& span, SpanColors& out) const;
   void span_gouraud(const Span& span, SpanColors& out) const;
   void span_phong(const Span& span, SpanColors& out) const;
   struct PhongPixels;
   void span_phong_light(const ActiveLight& a, const PhongPixels& p, size_t count, const float* vis,
-                        SpanColors& out) const;
+                        const SpanColors* tint, SpanColors& out) const;
   size_t bind_specular_table(float shininess);
   void collect_reaching(const Polygon& source);
   void add_terms(const Material& material, Vec3 p, Vec3 n, Color* terms);
@@ -164,6 +174,7 @@ class SurfaceShader {
   size_t* lights_evaluated_;
   const ShadowMaps* maps_;
   const ShadowBvh* rays_;  // shadow.method rays: the tree of input_.soup (never with maps_)
+  const ShadowBvh* glass_;  // a tree of input_.soup with panes, which tint shadowed lights; else null
   ShadingMode mode_;
   size_t slots_;                       // lights with shadow maps, or every scene light with rays
   std::vector<uint32_t> term_begin_;   // per polygon: its first entry in terms_
@@ -182,8 +193,8 @@ class SurfaceShader {
   std::vector<Shadowed> shadowed_;
   std::vector<Color> bound_terms_;  // flat: 1 + shadowed; Gouraud: that per clipped vertex
   std::vector<Vec3> coords_;        // per clipped vertex x shadowed_: shadow_coords
-  std::vector<Vec3> world_;         // shadow rays: per clipped vertex, its world position
-  uint32_t self_ = 0;               // shadow rays: the bound polygon's id (casts on itself never)
+  std::vector<Vec3> world_;         // shadow rays or glass_: per clipped vertex, its world position
+  uint32_t self_ = 0;               // shadow rays or glass_: the bound polygon's id (casts on itself never)
   // Shadow rays, per scene light: the caster that last blocked one of this shader's rays (each
   // binding copy is one thread's). Any blocker proves a ray blocked, so it is tried first.
   mutable std::vector<ShadowRayMemo> memos_;

@@ -32,8 +32,9 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
     const int32_t slot = slot_of(l);
     if (slot >= 0 && maps_) {
       const ShadowLight& sl = maps_->lights[size_t(slot)];
-      shadowed_.push_back(
-          {&sl, make_shadow_receiver(*maps_, sl, poly.normal, poly.offset, (poly.flags & polygon_closed) != 0), slot});
+      shadowed_.push_back({&sl,
+                           make_shadow_receiver(*maps_, sl, poly.normal, poly.offset, (poly.flags & polygon_closed) != 0),
+                           slot, &light});
       a.shadow = int32_t(shadowed_.size() - 1);
     } else if (slot >= 0) {
       shadowed_.push_back({nullptr, {}, slot, &light});
@@ -53,11 +54,12 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   }
   const auto& clipped = scratch.clipped;
   const size_t shadowed = shadowed_.size();
-  if (rays_) {
+  if (rays_ || glass_) {
     self_ = poly.id;
     world_.resize(clipped.size());
     for (size_t j = 0; j < clipped.size(); ++j) world_[j] = clipped[j].p_world;
-  } else {
+  }
+  if (!rays_) {
     coords_.resize(clipped.size() * shadowed);
     for (size_t j = 0; j < clipped.size(); ++j) {
       for (size_t s = 0; s < shadowed; ++s)
@@ -128,7 +130,7 @@ float SurfaceShader::ray_visibility(const Shadowed& light, Vec3 p_world) const {
 }
 
 float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {
-  if (rays_) return ray_visibility(shadowed_[s], f.b[0] * world_[0] + f.b[1] * world_[k + 1] + f.b[2] * world_[k + 2]);
+  if (rays_) return ray_visibility(shadowed_[s], world_at(f, k));
   const size_t n = shadowed_.size();
   const Vec3 coords = f.b[0] * coords_[s] + f.b[1] * coords_[(k + 1) * n + s] + f.b[2] * coords_[(k + 2) * n + s];
   return shadow_visibility(*maps_, *shadowed_[s].light, shadowed_[s].receiver, coords);
@@ -148,7 +150,10 @@ Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {
   const size_t n = shadowed_.size();
   if (mode_ == ShadingMode::flat) {
     Color c = bound_terms_[0];
-    for (size_t s = 0; s < n; ++s) c += visibility(s, f, k) * bound_terms_[1 + s];
+    for (size_t s = 0; s < n; ++s) {
+      const float v = visibility(s, f, k);
+      c += glass_ && v > 0.0f ? (v * tint(s, f, k)) * bound_terms_[1 + s] : v * bound_terms_[1 + s];
+    }
     return c;
   }
   // Gouraud: the fan triangle (0, k+1, k+2) of the clipped polygon, perspective-correct weights.
@@ -160,7 +165,9 @@ Color SurfaceShader::shade_pixel(const Fragment& f, size_t k) const {
   Color c = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
   for (size_t s = 0; s < n; ++s) {
     const float v = visibility(s, f, k);
-    if (v > 0.0f) c += v * (b0 * t0[1 + s] + b1 * t1[1 + s] + b2 * t2[1 + s]);
+    if (v <= 0.0f) continue;
+    const Color term = b0 * t0[1 + s] + b1 * t1[1 + s] + b2 * t2[1 + s];
+    c += glass_ ? (v * tint(s, f, k)) * term : v * term;
   }
   return c;
 }
@@ -199,7 +206,8 @@ Color SurfaceShader::shade_phong(const Fragment& f, size_t k) const {
       const float n_dot_h = h_len > 0.0f ? glm::dot(n, h) / h_len : 0.0f;
       if (n_dot_h > 0.0f) term += a.specular * specular_tables_[table_](n_dot_h);
     }
-    c += term * (attenuation * vis);
+    c += glass_ && a.shadow >= 0 ? term * ((attenuation * vis) * tint(size_t(a.shadow), f, k))
+                                 : term * (attenuation * vis);
   }
   return c;
 }

@@ -132,6 +132,18 @@ void SurfaceShader::span_visibility(const Span& span, size_t s, float* vis) cons
   }
 }
 
+void SurfaceShader::span_tint(const Span& span, size_t s, const float* vis, SpanColors& tint) const {
+  const size_t k = span.k;
+  const Vec3 w0 = world_[0], w1 = world_[k + 1], w2 = world_[k + 2];
+  for (size_t i = 0; i < span.count; ++i) {
+    const Color t = vis[i] > 0.0f ? shadow_ray_transmittance(*glass_, input_.soup, self_,
+                                                             span.b[0][i] * w0 + span.b[1][i] * w1 + span.b[2][i] * w2,
+                                                             *shadowed_[s].ray_light)
+                                  : Color(1.0f);
+    tint.r[i] = t.r, tint.g[i] = t.g, tint.b[i] = t.b;
+  }
+}
+
 void SurfaceShader::shade_span(const Span& span, SpanColors& out) const {
   if (mask_) [[unlikely]] {
     Fragment f;
@@ -157,9 +169,18 @@ void SurfaceShader::shade_span(const Span& span, SpanColors& out) const {
 void SurfaceShader::span_flat(const Span& span, SpanColors& out) const {
   fill(out, span.count, bound_terms_[0]);
   alignas(16) float vis[cap];
+  SpanColors tint;
   for (size_t s = 0; s < shadowed_.size(); ++s) {
     span_visibility(span, s, vis);
     const Color t = bound_terms_[1 + s];
+    if (glass_) {
+      span_tint(span, s, vis, tint);
+      for (size_t i = 0; i < span.count; ++i) {
+        out.r[i] += (vis[i] * tint.r[i]) * t.r, out.g[i] += (vis[i] * tint.g[i]) * t.g;
+        out.b[i] += (vis[i] * tint.b[i]) * t.b;
+      }
+      continue;
+    }
     for (size_t i = 0; i < span.count; ++i) {
       out.r[i] += vis[i] * t.r, out.g[i] += vis[i] * t.g, out.b[i] += vis[i] * t.b;
     }
@@ -172,6 +193,7 @@ void SurfaceShader::span_flat(const Span& span, SpanColors& out) const {
 void SurfaceShader::span_gouraud(const Span& span, SpanColors& out) const {
   const size_t n = shadowed_.size(), width = 1 + n, count = span.count;
   alignas(16) float b0[cap], b1[cap], b2[cap], vis[cap];
+  SpanColors tint;
   to_float(span.b[0], count, b0), to_float(span.b[1], count, b1), to_float(span.b[2], count, b2);
   const Color* t0 = &bound_terms_[0];
   const Color* t1 = &bound_terms_[(span.k + 1) * width];
@@ -184,6 +206,19 @@ void SurfaceShader::span_gouraud(const Span& span, SpanColors& out) const {
   for (size_t s = 0; s < n; ++s) {
     span_visibility(span, s, vis);
     const Color a = t0[1 + s], b = t1[1 + s], c = t2[1 + s];
+    if (glass_) {
+      span_tint(span, s, vis, tint);
+      for (size_t i = 0; i < count; ++i) {
+        const float v = vis[i];
+        const float r = (v * tint.r[i]) * (b0[i] * a.r + b1[i] * b.r + b2[i] * c.r);
+        const float g = (v * tint.g[i]) * (b0[i] * a.g + b1[i] * b.g + b2[i] * c.g);
+        const float bl = (v * tint.b[i]) * (b0[i] * a.b + b1[i] * b.b + b2[i] * c.b);
+        out.r[i] += v > 0.0f ? r : 0.0f;
+        out.g[i] += v > 0.0f ? g : 0.0f;
+        out.b[i] += v > 0.0f ? bl : 0.0f;
+      }
+      continue;
+    }
     for (size_t i = 0; i < count; ++i) {
       const float v = vis[i];
       const float r = v * (b0[i] * a.r + b1[i] * b.r + b2[i] * c.r);
@@ -208,6 +243,7 @@ void SurfaceShader::span_phong(const Span& span, SpanColors& out) const {
   const size_t count = span.count, k = span.k;
   PhongPixels p;
   alignas(16) float b0[cap], b1[cap], b2[cap], vis[cap];
+  SpanColors tint;
   to_float(span.b[0], count, b0), to_float(span.b[1], count, b1), to_float(span.b[2], count, b2);
   const glm::vec3 q0 = eye_to_p_[0], q1 = eye_to_p_[k + 1], q2 = eye_to_p_[k + 2];
   const glm::vec3 n0 = normal_[0], n1 = normal_[k + 1], n2 = normal_[k + 2];
@@ -234,19 +270,22 @@ void SurfaceShader::span_phong(const Span& span, SpanColors& out) const {
   fill(out, count, ambient_);
   evaluated_per_pixel_ += count * active_.size();
   for (const ActiveLight& a : active_) {
+    const SpanColors* tinted = nullptr;
     if (a.shadow >= 0) {
       span_visibility(span, size_t(a.shadow), vis);
+      if (glass_) span_tint(span, size_t(a.shadow), vis, tint), tinted = &tint;
     } else {
       for (size_t i = 0; i < count; ++i) vis[i] = 1.0f;
     }
-    span_phong_light(a, p, count, vis, out);
+    span_phong_light(a, p, count, vis, tinted, out);
   }
 }
 
-// One light's Blinn-Phong term at every pixel of the span, scaled by its attenuation and visibility;
-// nothing where the light is behind the shading normal or fully shadowed.
+// One light's Blinn-Phong term at every pixel of the span, scaled by its attenuation and visibility
+// (and by `tint`, the panes' per pixel, when given); nothing where the light is behind the shading
+// normal or fully shadowed.
 void SurfaceShader::span_phong_light(const ActiveLight& a, const PhongPixels& p, size_t count, const float* vis,
-                                     SpanColors& out) const {
+                                     const SpanColors* tint, SpanColors& out) const {
   alignas(16) float lx[cap], ly[cap], lz[cap], attenuation[cap];
   if (a.point) {
     for (size_t i = 0; i < count; ++i) {
@@ -274,6 +313,19 @@ void SurfaceShader::span_phong_light(const ActiveLight& a, const PhongPixels& p,
   if (a.has_specular) {
     const SpecularTable& table = specular_tables_[table_];
     for (size_t i = 0; i < count; ++i) spec[i] = table(n_dot_h[i]);
+  }
+  if (tint) {
+    for (size_t i = 0; i < count; ++i) {
+      const float s = a.has_specular ? spec[i] : 0.0f;
+      const float w = weight[i];
+      const float r = (a.diffuse.r * n_dot_l[i] + a.specular.r * s) * (w * tint->r[i]);
+      const float g = (a.diffuse.g * n_dot_l[i] + a.specular.g * s) * (w * tint->g[i]);
+      const float b = (a.diffuse.b * n_dot_l[i] + a.specular.b * s) * (w * tint->b[i]);
+      out.r[i] += w > 0.0f ? r : 0.0f;
+      out.g[i] += w > 0.0f ? g : 0.0f;
+      out.b[i] += w > 0.0f ? b : 0.0f;
+    }
+    return;
   }
   for (size_t i = 0; i < count; ++i) {
     const float s = a.has_specular ? spec[i] : 0.0f;

@@ -96,6 +96,48 @@ int entered(const ShadowBvhNode& node, const FloatRay& r) {
 }
 #endif
 
+
+// Calls leaf(l) for each leaf of `tree` whose box the segment from p enters, depth first, until one
+// returns true; returns whether one did. Depth-first: each level leaves at most 3 entries on the
+// stack, so 3 x depth + 1 hold it; a tree too deep for the fixed stack (a degenerate soup) takes
+// the thread's growing one.
+template <class Leaf>
+bool walk(const ShadowBvhTree& tree, Vec3 p, const Segment& s, ShadowRayStats* stats, Leaf&& leaf) {
+  if (tree.nodes.empty()) return false;
+  FloatRay r;
+  for (int a = 0; a < 3; ++a) {
+    r.origin[a] = float(p[a]);
+    r.inv[a] = 1.0f / float(s.direction[a]);  // +-infinity where the ray runs parallel to the slabs
+    r.negative[a] = std::signbit(r.inv[a]);
+  }
+  r.t_far = s.t_max == std::numeric_limits<double>::infinity() ? inf_f : float(s.t_max) * (1.0f + 1e-6f);
+  std::array<int32_t, 256> fixed;
+  thread_local std::vector<int32_t> deep;
+  int32_t* stack = fixed.data();
+  if (3 * tree.depth + 1 > fixed.size()) deep.resize(3 * tree.depth + 1), stack = deep.data();
+  size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const ShadowBvhNode& node = tree.nodes[size_t(stack[--top])];
+    if (stats) ++stats->nodes;
+    for (int bits = entered(node, r); bits != 0; bits &= bits - 1) {
+      const int32_t child = node.child[__builtin_ctz(unsigned(bits))];
+      if (child >= 0) {
+        stack[top++] = child;
+      } else if (leaf(uint32_t(~child))) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+// Whether pane q lets through less than all of the segment's light: it crosses the segment and
+// counts by the casters' rule.
+bool crosses_pane(const PolygonSoup& soup, const Polygon& q, const Light& light, Vec3 p, const Segment& s) {
+  return casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max);
+}
+
 }  // namespace
 
 double shadow_ray_epsilon(const PolygonSoup& soup) {
@@ -105,18 +147,26 @@ double shadow_ray_epsilon(const PolygonSoup& soup) {
   return 1e-9 * glm::length(hi - lo) + 1e-12 * std::max(glm::length(lo), glm::length(hi));
 }
 
-ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierarchy) {
-  ShadowBvh bvh;
-  bvh.ray_epsilon = shadow_ray_epsilon(soup);
-  bvh.leaf_begin.push_back(0);
-  if (hierarchy.nodes.empty()) return bvh;
-  const HierarchyNode& root = hierarchy.nodes[0];
-  // Padding that holds the exact ray inside every box it enters despite float rounding: the origin
-  // and the direction rounded to floats move the ray by at most 2^-24 of the coordinates' and the
-  // travelled distance's size, and each slab distance has three roundings. Far above both.
-  const glm::dvec3 rlo(root.lo), rhi(root.hi);
-  const double magnitude = std::max(glm::length(rlo), glm::length(rhi));
-  const double pad = 1e-5 * glm::length(rhi - rlo) + 64.0 * double(std::numeric_limits<float>::epsilon()) * magnitude;
+namespace {
+
+// One tree of build_shadow_bvh: the polygons for which `keep` holds, under the hierarchy's nodes
+// that have at least one of them.
+template <class Keep>
+ShadowBvhTree build_tree(const SceneHierarchy& hierarchy, double pad, Keep&& keep) {
+  ShadowBvhTree tree;
+  tree.leaf_begin.push_back(0);
+  // Whether a node has a kept polygon below it: children follow their parent, so a backward pass
+  // sees them first.
+  std::vector<uint8_t> has(hierarchy.nodes.size(), 0);
+  for (size_t h = hierarchy.nodes.size(); h-- > 0;) {
+    const HierarchyNode& n = hierarchy.nodes[h];
+    if (n.leaf()) {
+      for (uint32_t j = n.first; j < n.first + n.count && !has[h]; ++j) has[h] = keep(hierarchy.polygons[j]);
+    } else {
+      has[h] = has[h + 1] || has[n.second];
+    }
+  }
+  if (has.empty() || !has[0]) return tree;
   auto area = [](const HierarchyNode& n) {
     const glm::vec3 e = n.hi - n.lo;
     return e.x * e.y + e.y * e.z + e.z * e.x;
@@ -125,17 +175,20 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
     uint32_t hierarchy_node, node, depth;
   };
   std::vector<Work> work{{0u, 0u, 1u}};
-  bvh.nodes.emplace_back();
+  tree.nodes.emplace_back();
   while (!work.empty()) {
     const auto [h, n, depth] = work.back();
     work.pop_back();
-    bvh.depth = std::max(bvh.depth, size_t(depth));
+    tree.depth = std::max(tree.depth, size_t(depth));
     std::array<uint32_t, 4> kids{};
     size_t count = 0;
+    auto add = [&](uint32_t kid) {
+      if (has[kid]) kids[count++] = kid;
+    };
     if (hierarchy.nodes[h].leaf()) {
-      kids[count++] = h;
+      add(h);
     } else {
-      kids[count++] = h + 1, kids[count++] = hierarchy.nodes[h].second;
+      add(h + 1), add(hierarchy.nodes[h].second);
     }
     while (count < 4) {  // open the largest inner child
       size_t best = count;
@@ -145,7 +198,12 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
       }
       if (best == count) break;
       const uint32_t opened = kids[best];
-      kids[best] = opened + 1, kids[count++] = hierarchy.nodes[opened].second;
+      const uint32_t first = opened + 1, second = hierarchy.nodes[opened].second;
+      if (has[first] && has[second]) {
+        kids[best] = first, kids[count++] = second;
+      } else {
+        kids[best] = has[first] ? first : second;  // one side only: it takes the opened node's slot
+      }
     }
     ShadowBvhNode node;
     for (int a = 0; a < 3; ++a)
@@ -154,18 +212,18 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
     for (size_t i = 0, slot = 0; i < count; ++i) {
       const HierarchyNode& k = hierarchy.nodes[kids[i]];
       if (k.leaf()) {
-        const size_t before = bvh.items.size();
+        const size_t before = tree.items.size();
         for (uint32_t j = k.first; j < k.first + k.count; ++j) {
           const uint32_t polygon = hierarchy.polygons[j];
-          if (!(soup.polygons[polygon].flags & polygon_translucent)) bvh.items.push_back(polygon);
+          if (keep(polygon)) tree.items.push_back(polygon);
         }
-        if (bvh.items.size() == before) continue;  // casts nothing: an empty slot
-        node.child[slot] = ~int32_t(bvh.leaf_begin.size() - 1);
-        bvh.leaf_begin.push_back(uint32_t(bvh.items.size()));
+        if (tree.items.size() == before) continue;  // holds nothing: an empty slot
+        node.child[slot] = ~int32_t(tree.leaf_begin.size() - 1);
+        tree.leaf_begin.push_back(uint32_t(tree.items.size()));
       } else {
-        node.child[slot] = int32_t(bvh.nodes.size());
-        work.push_back({kids[i], uint32_t(bvh.nodes.size()), depth + 1});
-        bvh.nodes.emplace_back();
+        node.child[slot] = int32_t(tree.nodes.size());
+        work.push_back({kids[i], uint32_t(tree.nodes.size()), depth + 1});
+        tree.nodes.emplace_back();
       }
       for (int a = 0; a < 3; ++a) {
         node.lo[a][slot] = std::nextafter(float(double(k.lo[a]) - pad), -inf_f);
@@ -173,14 +231,38 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
       }
       ++slot;
     }
-    bvh.nodes[n] = node;
+    tree.nodes[n] = node;
   }
+  return tree;
+}
+
+}  // namespace
+
+ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierarchy) {
+  ShadowBvh bvh;
+  bvh.ray_epsilon = shadow_ray_epsilon(soup);
+  bvh.leaf_begin.push_back(0);
+  bvh.glass.leaf_begin.push_back(0);
+  if (hierarchy.nodes.empty()) return bvh;
+  const HierarchyNode& root = hierarchy.nodes[0];
+  // Padding that holds the exact ray inside every box it enters despite float rounding: the origin
+  // and the direction rounded to floats move the ray by at most 2^-24 of the coordinates' and the
+  // travelled distance's size, and each slab distance has three roundings. Far above both.
+  const glm::dvec3 rlo(root.lo), rhi(root.hi);
+  const double magnitude = std::max(glm::length(rlo), glm::length(rhi));
+  const double pad = 1e-5 * glm::length(rhi - rlo) + 64.0 * double(std::numeric_limits<float>::epsilon()) * magnitude;
+  auto translucent = [&](uint32_t polygon) { return (soup.polygons[polygon].flags & polygon_translucent) != 0; };
+  static_cast<ShadowBvhTree&>(bvh) = build_tree(hierarchy, pad, [&](uint32_t p) { return !translucent(p); });
+  bvh.glass = build_tree(hierarchy, pad, translucent);
   return bvh;
 }
 
 size_t ShadowBvh::bytes() const {
-  return sizeof(ShadowBvh) + nodes.capacity() * sizeof(ShadowBvhNode) + leaf_begin.capacity() * sizeof(uint32_t) +
-         items.capacity() * sizeof(uint32_t);
+  auto tree_bytes = [](const ShadowBvhTree& t) {
+    return t.nodes.capacity() * sizeof(ShadowBvhNode) + t.leaf_begin.capacity() * sizeof(uint32_t) +
+           t.items.capacity() * sizeof(uint32_t);
+  };
+  return sizeof(ShadowBvh) + tree_bytes(*this) + tree_bytes(glass);
 }
 
 bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light,
@@ -198,39 +280,28 @@ bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t 
     }
     if (stats) ++stats->polygons;
   }
-  FloatRay r;
-  for (int a = 0; a < 3; ++a) {
-    r.origin[a] = float(p[a]);
-    r.inv[a] = 1.0f / float(s.direction[a]);  // +-infinity where the ray runs parallel to the slabs
-    r.negative[a] = std::signbit(r.inv[a]);
-  }
-  r.t_far = s.t_max == std::numeric_limits<double>::infinity() ? inf_f : float(s.t_max) * (1.0f + 1e-6f);
-  // Depth-first: each level leaves at most 3 entries on the stack, so 3 x depth + 1 hold it; a tree
-  // too deep for the fixed stack (a degenerate soup) takes the thread's growing one.
-  std::array<int32_t, 256> fixed;
-  thread_local std::vector<int32_t> deep;
-  int32_t* stack = fixed.data();
-  if (3 * bvh.depth + 1 > fixed.size()) deep.resize(3 * bvh.depth + 1), stack = deep.data();
-  size_t top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const ShadowBvhNode& node = bvh.nodes[size_t(stack[--top])];
-    if (stats) ++stats->nodes;
-    for (int bits = entered(node, r); bits != 0; bits &= bits - 1) {
-      const int32_t child = node.child[__builtin_ctz(unsigned(bits))];
-      if (child >= 0) {
-        stack[top++] = child;
-        continue;
-      }
-      const uint32_t blocker = leaf_blocker(bvh, soup, uint32_t(~child), self, p, light, s, stats);
-      if (blocker != UINT32_MAX) {
-        if (memo) memo->blocker = blocker;
-        if (stats) ++stats->blocked;
-        return true;
-      }
+  return walk(bvh, p, s, stats, [&](uint32_t leaf) {
+    const uint32_t blocker = leaf_blocker(bvh, soup, leaf, self, p, light, s, stats);
+    if (blocker == UINT32_MAX) return false;
+    if (memo) memo->blocker = blocker;
+    if (stats) ++stats->blocked;
+    return true;
+  });
+}
+
+Color shadow_ray_transmittance(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p,
+                               const Light& light) {
+  const Segment s = segment_toward(p, light, bvh.ray_epsilon);
+  if (s.empty || bvh.glass.nodes.empty()) return Color(1.0f);
+  glm::dvec3 through(1.0);
+  walk(bvh.glass, p, s, nullptr, [&](uint32_t leaf) {
+    for (uint32_t i = bvh.glass.leaf_begin[leaf]; i < bvh.glass.leaf_begin[leaf + 1]; ++i) {
+      const Polygon& q = soup.polygons[bvh.glass.items[i]];
+      if (q.id != self && crosses_pane(soup, q, light, p, s)) through *= pane_transmittance(soup.materials[q.material]);
     }
-  }
-  return false;
+    return false;
+  });
+  return Color(through);
 }
 
 bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
@@ -243,6 +314,18 @@ bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon,
     if (intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return true;
   }
   return false;
+}
+
+Color shadow_ray_transmittance_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
+                                           const Light& light) {
+  const Segment s = segment_toward(p, light, ray_epsilon);
+  glm::dvec3 through(1.0);
+  if (s.empty) return Color(through);
+  for (const Polygon& q : soup.polygons) {
+    if (q.id != self && (q.flags & polygon_translucent) && crosses_pane(soup, q, light, p, s))
+      through *= pane_transmittance(soup.materials[q.material]);
+  }
+  return Color(through);
 }
 
 }  // namespace rr

@@ -1,6 +1,9 @@
 // The pipelines' shadow rays: a four-wide bounding-volume hierarchy of one static soup's shadow
 // casters (every polygon that is not translucent), collapsed from its SceneHierarchy (binned SAH,
-// hierarchy.hpp) and traversed four boxes at a time in floats, any hit ending the walk. Boxes are
+// hierarchy.hpp) and traversed four boxes at a time in floats, any hit ending the walk. A second
+// tree of the same kind holds the translucent polygons (window panes): they do not block a ray but
+// let through pane_transmittance of the light, so a ray that no caster blocks is tinted by the
+// product over every pane it crosses. Boxes are
 // padded so that float rounding of the ray never loses a box the exact ray enters; the polygons are
 // then tested in doubles with intersect_polygon and the casters of shadow.cpp (as the reference's
 // shadow rays are), so a ray's answer is exactly the brute-force search's, whatever the traversal
@@ -12,6 +15,7 @@
 #include "render/core/scene.hpp"
 #include "render/core/tessellate.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -24,17 +28,33 @@ struct alignas(16) ShadowBvhNode {
   int32_t child[4];
 };
 
-struct ShadowBvh {
-  std::vector<ShadowBvhNode> nodes;  // nodes[0] is the root; empty when the soup casts nothing
+struct ShadowBvhTree {
+  std::vector<ShadowBvhNode> nodes;  // nodes[0] is the root; empty when the tree holds no polygon
   std::vector<uint32_t> leaf_begin;  // leaf l holds items[leaf_begin[l], leaf_begin[l + 1])
-  std::vector<uint32_t> items;       // soup polygon indices, casters only
-  double ray_epsilon = 0.0;          // shadow rays start this far from their surface point
+  std::vector<uint32_t> items;       // soup polygon indices
   size_t depth = 0;                  // levels of nodes (the traversal's stack holds 3 per level)
-  size_t bytes() const;              // what it costs against a cache budget
 };
 
-// The casters' tree of `soup` from its hierarchy. Deterministic; linear in the hierarchy's size.
+// The opaque casters' tree (its own members), and the panes' tree beside it.
+struct ShadowBvh : ShadowBvhTree {
+  ShadowBvhTree glass;       // translucent polygons; empty when the soup has none
+  double ray_epsilon = 0.0;  // shadow rays start this far from their surface point
+  size_t bytes() const;      // what both trees cost against a cache budget
+};
+
+// The casters' and the panes' trees of `soup` from its hierarchy (subtrees without a polygon of a
+// tree are left out of it). Deterministic; linear in the hierarchy's size.
 ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierarchy);
+
+// The fraction of light, per channel, that a pane of `material` lets through: (1 - opacity) of it,
+// tinted by the pane's colour scaled to a maximum of 1 (a clear pane's white passes everything its
+// opacity lets through; a green one passes the green of it). 0 for a black pane.
+inline glm::dvec3 pane_transmittance(const Material& material) {
+  const glm::dvec3 c(material.color);
+  const double top = std::max({c.r, c.g, c.b});
+  if (!(top > 0.0)) return glm::dvec3(0.0);
+  return (1.0 - std::clamp(double(material.opacity), 0.0, 1.0)) * (c / top);
+}
 
 // Whether a caster other than the polygon whose id is `self` (Polygon::id: the source polygon's index
 // in the tessellated soup, which a view's selection and a pipeline's fragments keep) blocks the segment from p toward
@@ -55,9 +75,18 @@ struct ShadowRayStats {
 bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light,
                         ShadowRayMemo* memo = nullptr, ShadowRayStats* stats = nullptr);
 
+// The light that reaches p from `light` through the panes on the same segment (the same epsilon, the
+// same own-id exclusion, and the casters' rule for which faces count: a closed pane counts once):
+// the product of pane_transmittance over every pane the segment crosses, 1 where it crosses none.
+// Says nothing about the opaque casters: a pixel's light is its visibility times this.
+Color shadow_ray_transmittance(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p,
+                               const Light& light);
+
 // The same by testing every polygon of `soup` (the tests' oracle).
 bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
                                     const Light& light);
+Color shadow_ray_transmittance_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
+                                           const Light& light);
 
 // The reference's ray epsilon for `soup`: 1e-9 of its size plus 1e-12 of its distance from the origin.
 double shadow_ray_epsilon(const PolygonSoup& soup);

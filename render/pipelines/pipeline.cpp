@@ -260,8 +260,20 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
   } else if (options.shadows && !scene.lights.empty() && pipeline.shadow_maps) {
     Stopwatch shadow_clock;
     shadow_maps = obtain_shadow_maps(scene, soup, view, options, context, result.stats);
+    if (!shadow_maps->empty()) {
+      input.shadows = shadow_maps.get();
+      // The maps hold the opaque casters; light through panes is tinted by exact rays against the
+      // panes' tree, the same that shadow.method rays casts.
+      const bool panes = std::any_of(soup.polygons.begin(), soup.polygons.end(),
+                                     [](const Polygon& p) { return (p.flags & polygon_translucent) != 0; });
+      if (panes && context.shadow_bvh && context.shadow_bvh_soup == &soup) {
+        input.glass_rays = context.shadow_bvh;
+      } else if (panes) {
+        private_rays = build_shadow_bvh(soup, build_hierarchy(soup, context.cancel));
+        input.glass_rays = &private_rays;
+      }
+    }
     result.timings.shadow_ms = shadow_clock.elapsed_ms();
-    if (!shadow_maps->empty()) input.shadows = shadow_maps.get();
   }
   result.stats.shadow_skipped = input.shadows == nullptr && input.shadow_rays == nullptr;
   // Whole objects outside the frustum, and what lies behind what is drawn first, are skipped before

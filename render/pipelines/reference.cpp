@@ -66,11 +66,12 @@ ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
   rs.view_bvh = build_polygon_bvh(soup, visible);
   rs.shadows = input.options.shadows && !input.scene.lights.empty();
   if (rs.shadows) {
-    std::vector<uint32_t> casters;
+    std::vector<uint32_t> casters, panes;
     for (uint32_t i = 0; i < soup.polygons.size(); ++i) {
-      if (!(soup.polygons[i].flags & polygon_translucent)) casters.push_back(i);
+      (soup.polygons[i].flags & polygon_translucent ? panes : casters).push_back(i);
     }
     rs.shadow_bvh = build_polygon_bvh(soup, casters);
+    rs.glass_bvh = build_polygon_bvh(soup, panes);
   }
   Box scene_box;
   for (const Vec3& p : soup.positions) scene_box.grow(p);

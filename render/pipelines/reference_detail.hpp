@@ -16,6 +16,7 @@ struct ReferenceScene {
   std::vector<Vec2> screen_xy;         // clipped and projected as the rasterizer does (pixels)
   Bvh view_bvh;                        // polygons that are not back-facing and survive clipping
   Bvh shadow_bvh;                      // every opaque polygon (shadows on only)
+  Bvh glass_bvh;                       // every translucent polygon (shadows on only)
   bool shadows = false;
   double scene_size = 1.0;          // bounding-box diagonal of all vertices
   double scene_magnitude = 0.0;     // largest distance of the box corners from the origin

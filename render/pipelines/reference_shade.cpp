@@ -5,6 +5,7 @@
 
 #include "render/core/shading.hpp"
 #include "render/core/shading_detail.hpp"
+#include "render/core/shadow_rays.hpp"
 
 #include <algorithm>
 
@@ -23,6 +24,30 @@ Vec3 interpolated_normal(const PolygonSoup& soup, const Polygon& poly, Vec3 p) {
   return length > 0.0 ? n / length : poly.normal;
 }
 
+// The segment from p to the light, as occluded() and transmitted() cast it.
+struct ShadowSegment {
+  Vec3 direction;
+  double t_min, t_max;
+  bool empty;  // a point light within 2 eps of p: never blocked
+};
+
+ShadowSegment shadow_segment(const ReferenceScene& rs, Vec3 p, const Light& light) {
+  const double eps = 1e-9 * rs.scene_size + 1e-12 * rs.scene_magnitude;
+  if (light.type == LightType::directional) return {-light.direction, eps, std::numeric_limits<double>::infinity(), false};
+  const Vec3 direction = light.position - p;
+  const double distance = glm::length(direction);
+  if (!(distance > 2.0 * eps)) return {direction, 0.0, 0.0, true};
+  return {direction, eps / distance, 1.0 - eps / distance, false};
+}
+
+// Whether polygon q counts as a caster of `light`: not edge-on to it, and for a closed object only
+// the faces turned away from it (the same silhouette).
+bool casts(const Polygon& q, const Light& light) {
+  const double facing = light.type == LightType::directional ? glm::dot(q.normal, light.direction)
+                                                             : q.offset - glm::dot(q.normal, light.position);
+  return facing != 0.0 && !((q.flags & polygon_closed) && facing < 0.0);
+}
+
 // Whether an opaque polygon other than `self` blocks the segment from p to the light. Casters are
 // those the shadow pass draws (shadow.cpp's caster_side): not translucent, not edge-on to the
 // light, and for closed objects only the faces turned away from it (same silhouette). The ray
@@ -31,29 +56,33 @@ Vec3 interpolated_normal(const PolygonSoup& soup, const Polygon& poly, Vec3 p) {
 // rounding of p itself far from the origin).
 bool occluded(const ReferenceScene& rs, uint32_t self, Vec3 p, const Light& light) {
   const PolygonSoup& soup = rs.input.soup;
-  const bool directional = light.type == LightType::directional;
-  const double eps = 1e-9 * rs.scene_size + 1e-12 * rs.scene_magnitude;
-  Vec3 direction = -light.direction;
-  double t_min = eps, t_max = std::numeric_limits<double>::infinity();
-  if (!directional) {
-    direction = light.position - p;
-    const double distance = glm::length(direction);
-    if (!(distance > 2.0 * eps)) return false;
-    t_min = eps / distance;
-    t_max = 1.0 - t_min;
-  }
-  const BvhRay ray(p, direction);
+  ShadowSegment s = shadow_segment(rs, p, light);
+  if (s.empty) return false;
+  const BvhRay ray(p, s.direction);
   bool blocked = false;
-  traverse_bvh(rs.shadow_bvh, ray, t_min, t_max, [&](uint32_t j, double&) {
-    if (j == self) return false;
-    const Polygon& q = soup.polygons[j];
-    const double facing =
-        directional ? glm::dot(q.normal, light.direction) : q.offset - glm::dot(q.normal, light.position);
-    if (facing == 0.0 || ((q.flags & polygon_closed) && facing < 0.0)) return false;
-    blocked = intersect_polygon(soup, q, p, direction, t_min, t_max).has_value();
+  traverse_bvh(rs.shadow_bvh, ray, s.t_min, s.t_max, [&](uint32_t j, double&) {
+    if (j == self || !casts(soup.polygons[j], light)) return false;
+    blocked = intersect_polygon(soup, soup.polygons[j], p, s.direction, s.t_min, s.t_max).has_value();
     return blocked;
   });
   return blocked;
+}
+
+// The light that the panes (translucent polygons) between p and the light let through: the product
+// of pane_transmittance over every pane other than `self` the segment crosses, by the casters' rule.
+glm::dvec3 transmitted(const ReferenceScene& rs, uint32_t self, Vec3 p, const Light& light) {
+  const PolygonSoup& soup = rs.input.soup;
+  glm::dvec3 through(1.0);
+  ShadowSegment s = shadow_segment(rs, p, light);
+  if (s.empty || rs.glass_bvh.nodes.empty()) return through;
+  const BvhRay ray(p, s.direction);
+  traverse_bvh(rs.glass_bvh, ray, s.t_min, s.t_max, [&](uint32_t j, double&) {
+    const Polygon& q = soup.polygons[j];
+    if (j != self && casts(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max))
+      through *= pane_transmittance(soup.materials[q.material]);
+    return false;
+  });
+  return through;
 }
 
 }  // namespace
@@ -73,6 +102,12 @@ Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, std::span<uint
     if (rs.shadows && occluded(rs, hit.polygon, p, lights[l])) continue;
     if (!lit.empty()) lit[l / 8] |= uint8_t(1u << (l % 8));
     const LightTerms t = light_terms(lights[l], material, p, n, in.view.eye);
+    if (rs.shadows && !rs.glass_bvh.nodes.empty()) {
+      const glm::dvec3 through = transmitted(rs, hit.polygon, p, lights[l]);
+      irradiance += t.irradiance * through;
+      specular += t.specular * through;
+      continue;
+    }
     irradiance += t.irradiance;
     specular += t.specular;
   }

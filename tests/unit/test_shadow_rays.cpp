@@ -1,5 +1,5 @@
 // The pipelines' shadow-ray tree (render/core/shadow_rays.hpp) against the brute-force search over
-// every polygon: the same answer for every ray, since both end in the same exact polygon test and
+// every polygon: the same answer for every ray (and the same tint through the panes), since both end in the same exact polygon test and
 // the tree's padded float boxes must never lose a polygon the ray meets. Seeded random rooms (the
 // studio's walls, windows and door with random boxes and lights), rays from random points of random
 // polygons, and axis-aligned rays whose slab products meet 0 x infinity. Then options.shadow.method
@@ -96,6 +96,33 @@ TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
   EXPECT_GT(open, 10000u);
 }
 
+// The panes' tree tints a ray as the brute-force search over every translucent polygon does: the
+// same panes crossed, so the same product (to the rounding of its order).
+TEST(ShadowRays, PanesTintAsTheBruteForceSearchOnSeededRandomRooms) {
+  size_t tinted = 0, clear = 0;
+  for_each_random_room(3121, 8, [&](std::mt19937& rng, const PreparedScene& prepared, const ShadowBvh& bvh) {
+    const PolygonSoup& soup = prepared.soup;
+    ASSERT_FALSE(bvh.glass.nodes.empty());
+    std::uniform_real_distribution<double> anywhere(-0.5, 6.5), up(-0.2, 3.0);
+    for (int i = 0; i < 3000; ++i) {
+      const bool on_surface = i % 3 != 0;
+      const uint32_t self = on_surface ? uint32_t(rng() % soup.polygons.size()) : 0xFFFFFFFFu;
+      const Vec3 p =
+          on_surface ? random_point_on(soup, soup.polygons[self], rng) : Vec3(anywhere(rng), up(rng), anywhere(rng));
+      for (const Light& light : prepared.scene.lights) {
+        const Color fast = shadow_ray_transmittance(bvh, soup, self, p, light);
+        const Color slow = shadow_ray_transmittance_brute_force(soup, bvh.ray_epsilon, self, p, light);
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_NEAR(fast[c], slow[c], 1e-6f) << "ray " << i << " from " << p.x << "," << p.y << "," << p.z;
+        }
+        (fast == Color(1.0f) ? clear : tinted)++;
+      }
+    }
+  });
+  EXPECT_GT(tinted, 1000u);  // rays through the windows and rays past them are both common
+  EXPECT_GT(clear, 10000u);
+}
+
 // The memo (the last blocker tried first) changes the work, never an answer: with one memo per light
 // kept across every ray of a room, each answer is the brute-force search's, also for a ray that
 // starts on the memo's own polygon (which it must leave out, as the walk does).
@@ -131,10 +158,11 @@ TEST(ShadowRays, MemoOfTheLastBlockerGivesTheBruteForceAnswers) {
   EXPECT_GT(from_memo_polygon, 1000u);
 }
 
-TEST(ShadowRays, TranslucentPanesCastNothingAndAnEmptySoupNothingAtAll) {
+TEST(ShadowRays, TranslucentPanesCastNothingButTintAndAnEmptySoupNothingAtAll) {
   const PreparedScene empty = prepare_scene(Scene{});
   const ShadowBvh none = build_shadow_bvh(empty.soup, *empty.hierarchy);
   EXPECT_TRUE(none.nodes.empty());
+  EXPECT_TRUE(none.glass.nodes.empty());
   Light sun;
   sun.type = LightType::directional;
   sun.direction = Vec3(0.0, -1.0, 0.0);
@@ -148,6 +176,9 @@ TEST(ShadowRays, TranslucentPanesCastNothingAndAnEmptySoupNothingAtAll) {
   ASSERT_GT(translucent, 0u);
   EXPECT_EQ(bvh.items.size(), studio.soup.polygons.size() - translucent);
   for (uint32_t j : bvh.items) EXPECT_FALSE(studio.soup.polygons[j].flags & polygon_translucent);
+  // They are the panes' tree's items, every one of them.
+  EXPECT_EQ(bvh.glass.items.size(), translucent);
+  for (uint32_t j : bvh.glass.items) EXPECT_TRUE(studio.soup.polygons[j].flags & polygon_translucent);
   EXPECT_GT(bvh.bytes(), bvh.items.size() * sizeof(uint32_t));
   // The prepared scene holds the same tree (built once, shared by every view of it).
   ASSERT_TRUE(studio.shadow_bvh);

@@ -6,9 +6,11 @@
 // so where two surfaces are within a float rounding of each other the other one may win; that is
 // bounded by 1 pixel in 10,000.
 #include "render/core/draw.hpp"
+#include "render/core/hierarchy.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/shading.hpp"
 #include "render/core/shadow.hpp"
+#include "render/core/shadow_rays.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/test_support.hpp"
@@ -28,6 +30,12 @@ Frame draw_reference(const RenderRequest& req, const PolygonSoup& soup) {
   if (req.options.shadows && !req.scene.lights.empty()) maps = build_shadow_maps(req.scene, soup, view, req.options);
   RenderContext context;
   FrameInput input{req.scene, soup, view, req.options, context, maps.empty() ? nullptr : &maps};
+  // As render_frame: with maps, the panes' tree tints the light they let through.
+  ShadowBvh panes;
+  if (!maps.empty()) {
+    panes = build_shadow_bvh(soup, build_hierarchy(soup));
+    input.glass_rays = &panes;
+  }
   Frame frame{Image(w, h, req.scene.background), IdBuffer(w, h)};
   std::vector<float> depth(size_t(w) * size_t(h), 0.0f);
   FrameTarget target{frame.image, frame.ids, &depth, {0, 0, w, h}};
