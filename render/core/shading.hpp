@@ -173,7 +173,7 @@ class SurfaceShader {
   const SurfaceShader* prepared_ = this;  // holds term_begin_ and terms_
   size_t* lights_evaluated_;
   const ShadowMaps* maps_;
-  const ShadowBvh* rays_;  // shadow.method rays: the tree of input_.soup (never with maps_)
+  const ShadowBvh* rays_;   // shadow.method rays: the tree of input_.soup (never with maps_)
   const ShadowBvh* glass_;  // a tree of input_.soup with panes, which tint shadowed lights; else null
   ShadingMode mode_;
   size_t slots_;                       // lights with shadow maps, or every scene light with rays

@@ -32,9 +32,9 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
     const int32_t slot = slot_of(l);
     if (slot >= 0 && maps_) {
       const ShadowLight& sl = maps_->lights[size_t(slot)];
-      shadowed_.push_back({&sl,
-                           make_shadow_receiver(*maps_, sl, poly.normal, poly.offset, (poly.flags & polygon_closed) != 0),
-                           slot, &light});
+      shadowed_.push_back(
+          {&sl, make_shadow_receiver(*maps_, sl, poly.normal, poly.offset, (poly.flags & polygon_closed) != 0), slot,
+           &light});
       a.shadow = int32_t(shadowed_.size() - 1);
     } else if (slot >= 0) {
       shadowed_.push_back({nullptr, {}, slot, &light});

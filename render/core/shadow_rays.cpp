@@ -96,7 +96,6 @@ int entered(const ShadowBvhNode& node, const FloatRay& r) {
 }
 #endif
 
-
 // Calls leaf(l) for each leaf of `tree` whose box the segment from p enters, depth first, until one
 // returns true; returns whether one did. Depth-first: each level leaves at most 3 entries on the
 // stack, so 3 x depth + 1 hold it; a tree too deep for the fixed stack (a degenerate soup) takes

@@ -33,7 +33,8 @@ struct ShadowSegment {
 
 ShadowSegment shadow_segment(const ReferenceScene& rs, Vec3 p, const Light& light) {
   const double eps = 1e-9 * rs.scene_size + 1e-12 * rs.scene_magnitude;
-  if (light.type == LightType::directional) return {-light.direction, eps, std::numeric_limits<double>::infinity(), false};
+  if (light.type == LightType::directional)
+    return {-light.direction, eps, std::numeric_limits<double>::infinity(), false};
   const Vec3 direction = light.position - p;
   const double distance = glm::length(direction);
   if (!(distance > 2.0 * eps)) return {direction, 0.0, 0.0, true};

@@ -429,9 +429,7 @@ json room_with_opening(const json& opening) {
   return request;
 }
 
-json room_with_open_door() {
-  return room_with_opening({{"type", "door"}, {"height", kDoorHeight}, {"leaf", false}});
-}
+json room_with_open_door() { return room_with_opening({{"type", "door"}, {"height", kDoorHeight}, {"leaf", false}}); }
 
 // A pane of opacity 0.4 tinted #99ccff: it lets through 0.6 x (0.6, 0.8, 1.0).
 const Color kPaneTransmittance{0.36f, 0.48f, 0.6f};
@@ -561,8 +559,8 @@ TEST(SunThroughGlass, AWindowCastsItsPatchTintedByThePane) {
         EXPECT_NEAR(through[c] / all[c], double(kPaneTransmittance[c]), 0.01)
             << p.name << " " << method << ", channel " << c;
       }
-      std::cout << p.name << " " << method << ": transmitted " << through.r / all.r << ", " << through.g / all.g
-                << ", " << through.b / all.b << "\n";
+      std::cout << p.name << " " << method << ": transmitted " << through.r / all.r << ", " << through.g / all.g << ", "
+                << through.b / all.b << "\n";
     }
   }
 }

@@ -1,6 +1,6 @@
 // The pipelines' shadow-ray tree (render/core/shadow_rays.hpp) against the brute-force search over
-// every polygon: the same answer for every ray (and the same tint through the panes), since both end in the same exact polygon test and
-// the tree's padded float boxes must never lose a polygon the ray meets. Seeded random rooms (the
+// every polygon: the same answer for every ray (and the same tint through the panes), since both end in the same exact
+// polygon test and the tree's padded float boxes must never lose a polygon the ray meets. Seeded random rooms (the
 // studio's walls, windows and door with random boxes and lights), rays from random points of random
 // polygons, and axis-aligned rays whose slab products meet 0 x infinity. Then options.shadow.method
 // rays through every raster pipeline against the reference's own shadow rays on the same rooms.
