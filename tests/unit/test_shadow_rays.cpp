@@ -71,19 +71,29 @@ void for_each_random_room(unsigned first, unsigned count, Fn&& fn) {
   }
 }
 
+// Where random ray i of a room starts: two rays in three from a random polygon's surface (the ray
+// leaves that polygon out as `self`), the rest from anywhere in and around the room (self: none).
+struct RayOrigin {
+  uint32_t self;
+  Vec3 p;
+};
+RayOrigin random_ray_origin(const PolygonSoup& soup, int i, std::mt19937& rng) {
+  std::uniform_real_distribution<double> anywhere(-0.5, 6.5), up(-0.2, 3.0);
+  const bool on_surface = i % 3 != 0;
+  const uint32_t self = on_surface ? uint32_t(rng() % soup.polygons.size()) : 0xFFFFFFFFu;
+  const Vec3 p =
+      on_surface ? random_point_on(soup, soup.polygons[self], rng) : Vec3(anywhere(rng), up(rng), anywhere(rng));
+  return {self, p};
+}
+
 TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
   size_t blocked = 0, open = 0;
   for_each_random_room(3101, 12, [&](std::mt19937& rng, const PreparedScene& prepared, const ShadowBvh& bvh) {
     const PolygonSoup& soup = prepared.soup;
     ASSERT_FALSE(bvh.nodes.empty());
     EXPECT_EQ(bvh.ray_epsilon, shadow_ray_epsilon(soup));
-    std::uniform_real_distribution<double> anywhere(-0.5, 6.5), up(-0.2, 3.0);
     for (int i = 0; i < 3000; ++i) {
-      // Two rays in three from a polygon's surface (itself excluded), the rest from anywhere.
-      const bool on_surface = i % 3 != 0;
-      const uint32_t self = on_surface ? uint32_t(rng() % soup.polygons.size()) : 0xFFFFFFFFu;
-      const Vec3 p =
-          on_surface ? random_point_on(soup, soup.polygons[self], rng) : Vec3(anywhere(rng), up(rng), anywhere(rng));
+      const auto [self, p] = random_ray_origin(soup, i, rng);
       for (const Light& light : prepared.scene.lights) {
         const bool fast = shadow_ray_blocked(bvh, soup, self, p, light);
         ASSERT_EQ(fast, shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, self, p, light))
@@ -103,12 +113,8 @@ TEST(ShadowRays, PanesTintAsTheBruteForceSearchOnSeededRandomRooms) {
   for_each_random_room(3121, 8, [&](std::mt19937& rng, const PreparedScene& prepared, const ShadowBvh& bvh) {
     const PolygonSoup& soup = prepared.soup;
     ASSERT_FALSE(bvh.glass.nodes.empty());
-    std::uniform_real_distribution<double> anywhere(-0.5, 6.5), up(-0.2, 3.0);
     for (int i = 0; i < 3000; ++i) {
-      const bool on_surface = i % 3 != 0;
-      const uint32_t self = on_surface ? uint32_t(rng() % soup.polygons.size()) : 0xFFFFFFFFu;
-      const Vec3 p =
-          on_surface ? random_point_on(soup, soup.polygons[self], rng) : Vec3(anywhere(rng), up(rng), anywhere(rng));
+      const auto [self, p] = random_ray_origin(soup, i, rng);
       for (const Light& light : prepared.scene.lights) {
         const Color fast = shadow_ray_transmittance(bvh, soup, self, p, light);
         const Color slow = shadow_ray_transmittance_brute_force(soup, bvh.ray_epsilon, self, p, light);
