@@ -264,11 +264,12 @@ RenderResult render_frame(const Scene& scene, const PolygonSoup& soup, const Cam
       input.shadows = shadow_maps.get();
       // The maps hold the opaque casters; light through panes is tinted by exact rays against the
       // panes' tree, the same that shadow.method rays casts.
-      const bool panes = std::any_of(soup.polygons.begin(), soup.polygons.end(),
-                                     [](const Polygon& p) { return (p.flags & polygon_translucent) != 0; });
-      if (panes && context.shadow_bvh && context.shadow_bvh_soup == &soup) {
-        input.glass_rays = context.shadow_bvh;
-      } else if (panes) {
+      // The prepared scene's tree says whether it has panes; only a view's selection of the soup
+      // is searched for them, and given a private tree when it has some.
+      if (context.shadow_bvh && context.shadow_bvh_soup == &soup) {
+        if (!context.shadow_bvh->glass.nodes.empty()) input.glass_rays = context.shadow_bvh;
+      } else if (std::any_of(soup.polygons.begin(), soup.polygons.end(),
+                             [](const Polygon& p) { return (p.flags & polygon_translucent) != 0; })) {
         private_rays = build_shadow_bvh(soup, build_hierarchy(soup, context.cancel));
         input.glass_rays = &private_rays;
       }
