@@ -22,6 +22,7 @@ struct MeshData {
   std::vector<Vec3> vertices;                // object space, in order of first use by the faces
   std::vector<std::vector<uint32_t>> faces;  // as given, indices renumbered to that order
   std::vector<Vec3> normals;                 // empty, or one unit shading normal per vertex
+  std::vector<glm::dvec2> uvs;               // empty, or texture coordinates (texture.hpp) per vertex
   Vec3 bounds_min{0.0};
   Vec3 bounds_max{0.0};
   size_t index_count = 0;  // sum of the faces' sizes

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,20 @@ struct MaterialParams {
   float shininess = 32.0f;  // Blinn-Phong exponent
 };
 
+struct TextureImage;  // texture.hpp
+
+// An image on a surface. Floors, rooms, wall sides and solids (other than meshes with texture
+// coordinates) place it by a planar mapping: tiles of width x height metres, shifted by the offsets (in
+// tiles) and turned by `angle` (docs/scene-format.md says along which axes, per surface). A surface's
+// colour multiplies the texel (a textured surface's colour defaults to white).
+struct SurfaceTexture {
+  std::string image;                            // as the request named it: a data: URI
+  std::shared_ptr<const TextureImage> decoded;  // never null once read
+  double width = 1.0, height = 1.0;             // one tile, metres
+  double x_offset = 0.0, y_offset = 0.0;        // fractions of a tile
+  double angle = 0.0;                           // radians, counter-clockwise seen from the front
+};
+
 struct Floor {
   std::string id;
   Vec2 origin{0.0, 0.0};  // (x, z) of the corner of cell (0, 0): its minimum x and z
@@ -28,6 +43,7 @@ struct Floor {
   double elevation = 0.0;
   std::vector<Color> colors;  // >= 2; cell (i, j) takes colors[(i + j) % n]
   MaterialParams material;
+  std::shared_ptr<const SurfaceTexture> texture;  // null: untextured; else over every cell
   int level = -1;  // index into StaticGeometry::levels, -1: on no level (always drawn)
 };
 
@@ -54,6 +70,12 @@ struct Wall {
   double base = 0.0;
   Color color{0.902f, 0.882f, 0.839f};
   MaterialParams material;
+  // Its two long sides, seen walking from start to end in the plan (x right, z down, as Sweet Home 3D
+  // draws it): the left side faces (dz, -dx) for a direction (dx, dz), the right side the opposite.
+  // A side without a colour of its own takes `color`; reveals, end caps and the top keep `color`,
+  // untextured.
+  std::optional<Color> left_color, right_color;
+  std::shared_ptr<const SurfaceTexture> left_texture, right_texture;  // null: untextured
   std::vector<Opening> openings;
   int level = -1;
 };
@@ -68,6 +90,7 @@ struct PiecePart {
   std::string mesh_ref;                  // the stored mesh's id when placed by "ref"; empty when inline
   Color color{0.7f, 0.7f, 0.7f};
   MaterialParams material;
+  std::shared_ptr<const SurfaceTexture> texture;  // null: untextured; by the mesh's uvs when it has them
   bool transformed = false;
   Mat3 linear{1.0};  // unit-box point = linear * mesh point + offset
   Vec3 offset{0.0};
@@ -78,6 +101,7 @@ struct Solid {
   std::string id;
   Color color{0.7f, 0.7f, 0.7f};
   MaterialParams material;
+  std::shared_ptr<const SurfaceTexture> texture;  // null: untextured; a mesh with uvs uses them
   // Footprint solids (box, cylinder, pyramid, piece).
   Vec2 center{0.0, 0.0};
   double base = 0.0;
@@ -122,9 +146,11 @@ struct Room {
   bool floor = true;
   Color floor_color{0.851f, 0.831f, 0.780f};
   MaterialParams floor_material;
+  std::shared_ptr<const SurfaceTexture> floor_texture;  // null: untextured
   bool ceiling = true;
   double ceiling_height = 2.5;
   Color ceiling_color{0.941f, 0.941f, 0.941f};
+  std::shared_ptr<const SurfaceTexture> ceiling_texture;  // null: untextured
   int level = -1;
 };
 
@@ -240,6 +266,9 @@ inline constexpr double min_auto_exposure = 1.0 / 16.0;
 inline constexpr double max_auto_exposure = 16.0;
 inline constexpr double auto_exposure_target = 0.45;
 
+// How textured surfaces are filtered (texture.hpp, sample_texture).
+enum class TextureFilter { nearest, bilinear, trilinear, anisotropic };
+
 struct RenderOptions {
   int width = 640;
   int height = 480;
@@ -249,6 +278,7 @@ struct RenderOptions {
   BspOptions bsp;
   bool shadows = false;
   ShadowOptions shadow;
+  TextureFilter texture_filter = TextureFilter::trilinear;
   PngCompression png_compression = PngCompression::fast;
   bool levels_given = false;        // false: the viewable levels are drawn
   std::vector<std::string> levels;  // ids of StaticGeometry::levels to draw

@@ -4,7 +4,10 @@
 // - a mesh as its content id (mesh_data.hpp), itself a hash of all of its geometry;
 // - enums (opening and solid types) as their integer in scene.hpp's declaration order;
 // - every vector prefixed by its length (64 bits), so [[1,2],[3]] and [[1],[2,3]] differ;
-// - names (`id` members) left out: they label warnings but draw nothing; the floor only when present.
+// - names (`id` members) left out: they label warnings but draw nothing; the floor only when present;
+// - an optional member (a texture, a wall side's colour) only when present, after its name, so a
+//   scene that uses none of them keeps the id it had before they existed; a texture as its image's
+//   content id and its mapping.
 // Every member of a solid is hashed, whatever its type reads: the parser leaves the members a type
 // does not read at their defaults, so they cannot split one scene's id, and no member the tessellator
 // reads can be forgotten. The structured bindings name every member, so a member added to one of
@@ -12,8 +15,11 @@
 #include "render/core/scene_id.hpp"
 
 #include "render/core/hash.hpp"
+#include "render/core/texture.hpp"
 
 #include <bit>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace rr {
@@ -43,6 +49,24 @@ void add(Fnv1a& h, Color c) {
 // A mesh by its content id, which hashes all of its geometry: a stored mesh placed by ref and the
 // same mesh inline draw alike and share the id, and a different mesh behind a ref changes it.
 void add(Fnv1a& h, const std::shared_ptr<const MeshData>& m) { h.add_bytes(m ? m->content_id : std::string(16, '-')); }
+// An optional member: nothing when absent, else its name and its value.
+void add(Fnv1a& h, std::string_view name, const std::optional<Color>& c) {
+  if (!c) return;
+  h.add_bytes(name);
+  add(h, *c);
+}
+void add(Fnv1a& h, std::string_view name, const std::shared_ptr<const SurfaceTexture>& t) {
+  if (!t) return;
+  const auto& [image, decoded, width, height, x_offset, y_offset, angle] = *t;
+  (void)image;  // names the image that `decoded` holds
+  h.add_bytes(name);
+  h.add_bytes(decoded ? decoded->content_id : std::string(16, '-'));
+  add(h, width);
+  add(h, height);
+  add(h, x_offset);
+  add(h, y_offset);
+  add(h, angle);
+}
 void add(Fnv1a& h, const MaterialParams& m);
 void add(Fnv1a& h, const Opening& o);
 void add(Fnv1a& h, const Wall& w);
@@ -65,7 +89,7 @@ void add(Fnv1a& h, const MaterialParams& m) {
 }
 
 void add(Fnv1a& h, const Floor& f) {
-  const auto& [id, origin, cells_x, cells_z, cell_size, elevation, colors, material, level] = f;
+  const auto& [id, origin, cells_x, cells_z, cell_size, elevation, colors, material, texture, level] = f;
   (void)id;
   add(h, origin);
   add(h, cells_x);
@@ -74,6 +98,7 @@ void add(Fnv1a& h, const Floor& f) {
   add(h, elevation);
   add(h, colors);
   add(h, material);
+  add(h, "texture", texture);
   add(h, level);
 }
 
@@ -91,7 +116,8 @@ void add(Fnv1a& h, const Opening& o) {
 }
 
 void add(Fnv1a& h, const Wall& w) {
-  const auto& [id, start, end, thickness, height, base, color, material, openings, level] = w;
+  const auto& [id, start, end, thickness, height, base, color, material, left_color, right_color, left_texture,
+               right_texture, openings, level] = w;
   (void)id;
   add(h, start);
   add(h, end);
@@ -100,6 +126,10 @@ void add(Fnv1a& h, const Wall& w) {
   add(h, base);
   add(h, color);
   add(h, material);
+  add(h, "left color", left_color);
+  add(h, "right color", right_color);
+  add(h, "left texture", left_texture);
+  add(h, "right texture", right_texture);
   add(h, openings);
   add(h, level);
 }
@@ -109,25 +139,27 @@ void add(Fnv1a& h, const Mat3& m) {
 }
 
 void add(Fnv1a& h, const PiecePart& p) {
-  const auto& [name, mesh, mesh_ref, color, material, transformed, linear, offset] = p;
+  const auto& [name, mesh, mesh_ref, color, material, texture, transformed, linear, offset] = p;
   (void)name;
   (void)mesh_ref;  // names the mesh that `mesh` holds
   add(h, mesh);
   add(h, color);
   add(h, material);
+  add(h, "texture", texture);
   add(h, transformed);
   add(h, linear);
   add(h, offset);
 }
 
 void add(Fnv1a& h, const Solid& s) {
-  const auto& [type, id, color, material, center, base, rotation_y_deg, size, radius, height, segments, smooth, caps,
+  const auto& [type, id, color, material, texture, center, base, rotation_y_deg, size, radius, height, segments, smooth, caps,
                points, mesh, mesh_ref, position, scale, closed, parts, mirrored, level] = s;
   (void)id;
   (void)mesh_ref;  // names the mesh that `mesh` holds
   add(h, type);
   add(h, color);
   add(h, material);
+  add(h, "texture", texture);
   add(h, center);
   add(h, base);
   add(h, rotation_y_deg);
@@ -158,17 +190,19 @@ void add(Fnv1a& h, const Level& l) {
 }
 
 void add(Fnv1a& h, const Room& r) {
-  const auto& [id, points, elevation, floor, floor_color, floor_material, ceiling, ceiling_height, ceiling_color,
-               level] = r;
+  const auto& [id, points, elevation, floor, floor_color, floor_material, floor_texture, ceiling, ceiling_height,
+               ceiling_color, ceiling_texture, level] = r;
   (void)id;
   add(h, points);
   add(h, elevation);
   add(h, floor);
   add(h, floor_color);
   add(h, floor_material);
+  add(h, "floor texture", floor_texture);
   add(h, ceiling);
   add(h, ceiling_height);
   add(h, ceiling_color);
+  add(h, "ceiling texture", ceiling_texture);
   add(h, level);
 }
 
