@@ -22,6 +22,7 @@ PolygonSoup make_fragment_soup(const PolygonSoup& source) {
   PolygonSoup soup;
   soup.materials = source.materials;
   soup.objects = source.objects;
+  soup.uv_maps = source.uv_maps;
   return soup;
 }
 

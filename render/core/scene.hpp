@@ -18,6 +18,7 @@ struct MaterialParams {
   float specular = 0.0f;  // Blinn-Phong specular strength, 0..1
   Color specular_color{1.0f, 1.0f, 1.0f};
   float shininess = 32.0f;  // Blinn-Phong exponent
+  friend bool operator==(const MaterialParams&, const MaterialParams&) = default;
 };
 
 struct TextureImage;  // texture.hpp

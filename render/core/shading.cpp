@@ -76,6 +76,9 @@ SurfaceShader::SurfaceShader(const FrameInput& input, const PolygonSoup& soup)
                      : 0),
       term_begin_(mode_ == ShadingMode::phong ? 0 : soup.polygons.size(), 0),
       slot_sums_(slots_),
+      textured_soup_(!soup.uv_maps.empty()),
+      pixel_rays_(pixel_rays(input.view)),
+      sampling_{input.options.texture_filter, false},
       memos_(rays_ ? slots_ : 0),
       mask_(input.shadow_mask),
       mask_bytes_(input.shadow_mask_bytes) {}
@@ -91,6 +94,9 @@ SurfaceShader::SurfaceShader(const SurfaceShader& prepared, size_t* lights_evalu
       mode_(prepared.mode_),
       slots_(prepared.slots_),
       slot_sums_(slots_),
+      textured_soup_(prepared.textured_soup_),
+      pixel_rays_(prepared.pixel_rays_),
+      sampling_(prepared.sampling_),
       memos_(rays_ ? slots_ : 0),
       mask_(prepared.mask_),
       mask_bytes_(prepared.mask_bytes_) {}
@@ -110,7 +116,29 @@ void SurfaceShader::collect_reaching(const Polygon& source) {
 
 // Writes [unshadowed sum incl. ambient, one term per shadow slot] for one point: the colour is
 // material * irradiance + specular, summed in doubles in light order (as shade_point does).
-void SurfaceShader::add_terms(const Material& material, Vec3 p, Vec3 n, Color* out) {
+void SurfaceShader::add_terms(const Material& material, Vec3 p, Vec3 n, Color* out, Color* specular_out) {
+  if (specular_out) {
+    std::fill(slot_sums_.begin(), slot_sums_.end(), glm::dvec3(0.0));
+    std::vector<glm::dvec3>& slot_specular = slot_specular_;
+    slot_specular.assign(slots_, glm::dvec3(0.0));
+    glm::dvec3 irradiance = ambient_irradiance(input_.scene), specular(0.0);
+    for (uint32_t l : reaching_) {
+      const LightTerms t = light_terms(input_.scene.lights[l], material, p, n, input_.view.eye);
+      ++evaluated_;
+      const int32_t slot = slot_of(l);
+      if (slot < 0) {
+        irradiance += t.irradiance;
+        specular += t.specular;
+      } else {
+        slot_sums_[size_t(slot)] += t.irradiance;
+        slot_specular[size_t(slot)] += t.specular;
+      }
+    }
+    out[0] = Color(irradiance);
+    specular_out[0] = Color(specular);
+    for (size_t s = 0; s < slots_; ++s) out[1 + s] = Color(slot_sums_[s]), specular_out[1 + s] = Color(slot_specular[s]);
+    return;
+  }
   const glm::dvec3 color(material.color);
   glm::dvec3 irradiance = ambient_irradiance(input_.scene), specular(0.0);
   std::fill(slot_sums_.begin(), slot_sums_.end(), glm::dvec3(0.0));
@@ -162,8 +190,9 @@ void SurfaceShader::prepare(uint32_t index) {
   Vec3 centroid(0.0);
   for (const Vec3& p : input_.soup.points(source)) centroid += p;
   centroid /= double(source.vertex_count);
-  terms_.resize(terms_.size() + width);
-  add_terms(material, centroid, sign_ * source.normal, &terms_[term_begin_[index]]);
+  terms_.resize(terms_.size() + width * layers(poly));
+  Color* terms = &terms_[term_begin_[index]];
+  add_terms(material, centroid, sign_ * source.normal, terms, poly.uv_map != 0 ? terms + width : nullptr);
 }
 
 // Lighting at the source polygon's vertices; a fragment's vertices take the source's colour field
@@ -172,28 +201,32 @@ void SurfaceShader::prepare_gouraud(uint32_t index, const Polygon& source) {
   const Polygon& poly = soup_.polygons[index];
   const Material& material = soup_.materials[poly.material];
   const size_t width = 1 + slots_;
+  const bool textured = poly.uv_map != 0;
+  const size_t stride = width * layers(poly);  // per vertex
   const auto points = input_.soup.points(source);
   const auto normals = input_.soup.vertex_normals(source);
   const size_t begin = terms_.size();
-  terms_.resize(begin + size_t(poly.vertex_count) * width);
+  terms_.resize(begin + size_t(poly.vertex_count) * stride);
   if (&soup_ == &input_.soup) {
     for (size_t j = 0; j < points.size(); ++j) {
-      add_terms(material, points[j], sign_ * Vec3(normals[j]), &terms_[begin + j * width]);
+      Color* terms = &terms_[begin + j * stride];
+      add_terms(material, points[j], sign_ * Vec3(normals[j]), terms, textured ? terms + width : nullptr);
     }
     return;
   }
-  scratch_terms_.resize(points.size() * width);
+  scratch_terms_.resize(points.size() * stride);
   for (size_t j = 0; j < points.size(); ++j) {
-    add_terms(material, points[j], sign_ * Vec3(normals[j]), &scratch_terms_[j * width]);
+    Color* terms = &scratch_terms_[j * stride];
+    add_terms(material, points[j], sign_ * Vec3(normals[j]), terms, textured ? terms + width : nullptr);
   }
   const auto own = soup_.points(poly);
   for (size_t j = 0; j < own.size(); ++j) {
     const FanPoint at = locate_in_fan(points, source.normal, own[j]);
     const size_t corner[3] = {0, at.j, at.j + 1};
-    for (size_t t = 0; t < width; ++t) {
+    for (size_t t = 0; t < stride; ++t) {
       glm::dvec3 sum(0.0);
-      for (int c = 0; c < 3; ++c) sum += at.w[c] * glm::dvec3(scratch_terms_[corner[c] * width + t]);
-      terms_[begin + j * width + t] = Color(sum);
+      for (int c = 0; c < 3; ++c) sum += at.w[c] * glm::dvec3(scratch_terms_[corner[c] * stride + t]);
+      terms_[begin + j * stride + t] = Color(sum);
     }
   }
 }

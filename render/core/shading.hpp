@@ -11,6 +11,7 @@
 #include "render/core/scene.hpp"
 #include "render/core/shadow.hpp"
 #include "render/core/shadow_rays.hpp"
+#include "render/core/surface.hpp"
 #include "render/core/tessellate.hpp"
 
 #include <algorithm>
@@ -97,7 +98,7 @@ class SurfaceShader {
   }
   // True when every polygon has one colour (flat shading, no shadow map, no shadow mask asked for):
   // then polygon_color(index) is the colour of a prepared polygon, and drawing it needs no bind().
-  bool constant_per_polygon() const { return mode_ == ShadingMode::flat && slots_ == 0 && !mask_; }
+  bool constant_per_polygon() const { return mode_ == ShadingMode::flat && slots_ == 0 && !mask_ && !textured_soup_; }
   Color polygon_color(uint32_t index) const { return prepared_->terms_[prepared_->term_begin_[index]]; }
 
   // The span API (shading_span.cpp): the colours of up to span_capacity pixels of one row of fan
@@ -150,6 +151,20 @@ class SurfaceShader {
   }
 
   Color shade_pixel(const Fragment& f, size_t k) const;
+  // A textured polygon's pixel: its albedo (surface_albedo) times the diffuse light, plus the
+  // specular light, each summed as the untextured modes sum their folded terms.
+  Color shade_textured(const Fragment& f, size_t k) const;
+  struct PhongLight {
+    glm::vec3 diffuse{0.0f}, specular{0.0f};  // unattenuated, unshadowed
+    float attenuation = 1.0f;
+  };
+  // Light a's Blinn-Phong terms at q (relative to the eye) with unit normal n; false when it adds
+  // nothing there.
+  bool phong_light(const ActiveLight& a, glm::vec3 q, glm::vec3 n, glm::vec3 to_eye, PhongLight& out) const;
+  struct PhongPoint {
+    glm::vec3 q, n, to_eye;
+  };
+  PhongPoint phong_point(const Fragment& f, size_t k) const;
   void write_mask(const Fragment& f, size_t k) const;
   float visibility(size_t s, const Fragment& f, size_t k) const;
   Color shade_phong(const Fragment& f, size_t k) const;
@@ -164,7 +179,11 @@ class SurfaceShader {
                         const SpanColors* tint, SpanColors& out) const;
   size_t bind_specular_table(float shininess);
   void collect_reaching(const Polygon& source);
-  void add_terms(const Material& material, Vec3 p, Vec3 n, Color* terms);
+  // With `specular` (textured polygons): `terms` gets the irradiance alone (white albedo) and
+  // `specular` the specular terms, in the same layout.
+  void add_terms(const Material& material, Vec3 p, Vec3 n, Color* terms, Color* specular = nullptr);
+  // Entries of terms_ per polygon (flat) or vertex (Gouraud): 1 + slots_, twice for a textured one.
+  size_t layers(const Polygon& poly) const { return poly.uv_map != 0 ? 2 : 1; }
   void prepare_gouraud(uint32_t index, const Polygon& source);
   void bind_gouraud(uint32_t index, const DrawScratch& scratch);
 
@@ -182,8 +201,14 @@ class SurfaceShader {
   std::vector<Color> scratch_terms_;   // source vertex terms while preparing a fragment
   std::vector<uint32_t> reaching_;     // lights that reach the polygon being prepared
   std::vector<glm::dvec3> slot_sums_;  // per slot, while adding terms
+  std::vector<glm::dvec3> slot_specular_;  // per slot, a textured polygon's specular terms
   double sign_ = 1.0;                  // lit side of the polygon being prepared or bound
+  bool textured_soup_ = false;  // some polygon has a texture
+  PixelRays pixel_rays_;
+  TextureSampling sampling_;
   // The bound polygon.
+  const Polygon* bound_ = nullptr;
+  bool textured_ = false;  // it has a texture: bound_terms_ holds a diffuse and a specular layer
   bool constant_ = true;
   Color current_{0.0f};
   Color ambient_{0.0f};

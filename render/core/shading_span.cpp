@@ -154,6 +154,17 @@ void SurfaceShader::shade_span(const Span& span, SpanColors& out) const {
       write_mask(f, span.k);
     }
   }
+  if (textured_) {  // per pixel: the texture lookup does not vectorize
+    Fragment f;
+    f.y = span.y;
+    for (size_t i = 0; i < span.count; ++i) {
+      f.x = span.x + int(i);
+      for (int c = 0; c < 3; ++c) f.b[c] = span.b[c][i];
+      const Color c = shade_textured(f, span.k);
+      out.r[i] = c.r, out.g[i] = c.g, out.b[i] = c.b;
+    }
+    return;
+  }
   if (constant_) return fill(out, span.count, current_);
   switch (mode_) {
     case ShadingMode::flat:

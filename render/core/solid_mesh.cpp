@@ -107,21 +107,27 @@ void add_placed_mesh(SoupBuilder& out, const MeshData& mesh, const MeshPlacement
   std::vector<Vec3> world(mesh.vertices.size());
   for (size_t i = 0; i < world.size(); ++i) world[i] = placed.point(mesh.vertices[i]);
   const std::vector<glm::vec3> vertex_shading = placed_shading(mesh, plan, placed, smooth);
+  // Per-vertex texture coordinates matter only under a textured material; without them a textured
+  // mesh takes the texture's planar mapping.
+  const bool uvs = !mesh.uvs.empty() && out.textured(material);
   std::vector<Vec3> points;
   std::vector<glm::vec3> shading;
+  std::vector<glm::dvec2> face_uvs;
   for (const MeshPlan::Face& f : plan.faces) {
     const Vec3 outward = placed.normal(f.newell);
     points.clear();
     shading.clear();
+    face_uvs.clear();
     for (uint32_t v : mesh.faces[f.face]) {
       points.push_back(world[v]);
+      if (uvs) face_uvs.push_back(mesh.uvs[v]);
       if (vertex_shading.empty()) continue;
       const glm::vec3 n = vertex_shading[v];
       shading.push_back(n != glm::vec3(0.0f) ? n : glm::vec3(glm::normalize(outward)));
     }
     const std::span<const std::array<uint32_t, 3>> triangles(plan.triangles.data() + f.first_triangle,
                                                              f.triangle_count);
-    add_face_pieces(out, points, shading, triangles, outward, material, object);
+    add_face_pieces(out, points, shading, triangles, outward, material, object, face_uvs);
   }
 }
 

@@ -21,7 +21,7 @@ void add_piece(SoupBuilder& out, const Solid& s, uint32_t, uint32_t object) {
   for (const PiecePart& part : s.parts) {
     out.begin_part(object);
     place.pre = part.transformed ? &part : nullptr;
-    const uint32_t material = out.add_material({part.color, 1.0f, part.material});
+    const uint32_t material = out.add_material({part.color, 1.0f, part.material, part.texture});
     add_placed_mesh(out, *part.mesh, place, false, material, object);
   }
 }

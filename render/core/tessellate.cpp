@@ -3,10 +3,12 @@
 // indices, in the order of docs/scene-format.md "Polygon ids"; every polygon is convex, planar, CCW seen from its
 // front.
 #include "render/core/coplanar.hpp"
+#include "render/core/hash.hpp"
 #include "render/core/solids.hpp"
 #include "render/core/tessellate_detail.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -29,24 +31,80 @@ uint32_t SoupBuilder::add_object(ElementRef element, bool closed, bool smooth) {
   return uint32_t(soup_.objects.size() - 1);
 }
 
+namespace {
+
+// A hash of the members that usually differ; equality (Material's operator==) decides.
+uint64_t material_hash(const Material& m) {
+  Fnv1a h;
+  for (float v : {m.color.r, m.color.g, m.color.b, m.opacity, m.params.specular}) h.add_u64(std::bit_cast<uint32_t>(v));
+  h.add_u64(uint64_t(reinterpret_cast<uintptr_t>(m.texture.get())));
+  return h.value();
+}
+
+// The affine map that gives the three points their coordinates, within their plane.
+UvMap uv_map_through(const Vec3 p[3], const glm::dvec2 uv[3]) {
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const double a = glm::dot(e1, e1), b = glm::dot(e1, e2), c = glm::dot(e2, e2);
+  const double det = a * c - b * b;
+  UvMap m;
+  if (!(det > 0.0)) return m;
+  auto axis = [&](double d1, double d2) {
+    const double x = (c * d1 - b * d2) / det, y = (a * d2 - b * d1) / det;
+    return x * e1 + y * e2;
+  };
+  m.u_axis = axis(uv[1].x - uv[0].x, uv[2].x - uv[0].x);
+  m.v_axis = axis(uv[1].y - uv[0].y, uv[2].y - uv[0].y);
+  m.u0 = uv[0].x - glm::dot(m.u_axis, p[0]);
+  m.v0 = uv[0].y - glm::dot(m.v_axis, p[0]);
+  return m;
+}
+
+// Per-vertex coordinates of a planar polygon: the map through its fan triangle of largest area
+// (exact for a triangle; a polygon whose coordinates are not affine over it takes that triangle's).
+UvMap uv_map_of(std::span<const Vec3> points, std::span<const glm::dvec2> uvs) {
+  size_t best = 1;
+  double best_area = -1.0;
+  for (size_t j = 1; j + 1 < points.size(); ++j) {
+    const double area = glm::length(glm::cross(points[j] - points[0], points[j + 1] - points[0]));
+    if (area > best_area) best_area = area, best = j;
+  }
+  const Vec3 p[3] = {points[0], points[best], points[best + 1]};
+  const glm::dvec2 uv[3] = {uvs[0], uvs[best], uvs[best + 1]};
+  return uv_map_through(p, uv);
+}
+
+}  // namespace
+
+UvMap planar_uv_map(const SurfaceTexture& texture, Vec3 n) {
+  Vec3 s_axis{1.0, 0.0, 0.0}, t_axis{0.0, 0.0, -1.0};
+  if (std::abs(n.y) < std::sqrt(0.5)) {
+    s_axis = glm::normalize(Vec3(n.z, 0.0, -n.x));
+    t_axis = {0.0, 1.0, 0.0};
+  }
+  const double c = std::cos(texture.angle), s = std::sin(texture.angle);
+  UvMap m;
+  m.u_axis = (c * s_axis + s * t_axis) / texture.width;
+  m.v_axis = (c * t_axis - s * s_axis) / texture.height;
+  m.u0 = texture.x_offset;
+  m.v0 = texture.y_offset;
+  return m;
+}
+
 uint32_t SoupBuilder::add_material(const Material& m) {
-  const std::array<float, 9> key{m.color.r,
-                                 m.color.g,
-                                 m.color.b,
-                                 m.opacity,
-                                 m.params.specular,
-                                 m.params.shininess,
-                                 m.params.specular_color.r,
-                                 m.params.specular_color.g,
-                                 m.params.specular_color.b};
-  auto [it, inserted] = material_index_.try_emplace(key, uint32_t(soup_.materials.size()));
-  if (inserted) soup_.materials.push_back(m);
-  return it->second;
+  const uint64_t key = material_hash(m);
+  for (auto [it, end] = material_index_.equal_range(key); it != end; ++it) {
+    if (soup_.materials[it->second] == m) return it->second;
+  }
+  const uint32_t index = uint32_t(soup_.materials.size());
+  soup_.materials.push_back(m);
+  material_index_.emplace(key, index);
+  return index;
 }
 
 bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material, uint32_t object,
-                              std::span<const glm::vec3> shading) {
+                              std::span<const glm::vec3> shading, std::span<const glm::dvec2> uvs) {
   assert(shading.empty() || shading.size() == points.size());
+  assert(uvs.empty() || uvs.size() == points.size());
   if (points.size() < 3) return false;
   // Merge tolerance: 1e-12 of the polygon's own extent (pieces computed as exactly zero-sized in
   // local coordinates), plus ~64 ulp of the coordinates' magnitude (the same pieces after the
@@ -59,14 +117,17 @@ bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32
   const double tol = 1e-12 * extent + 1e-14 * magnitude;
   points_.clear();
   shading_.clear();
+  uvs_.clear();
   for (size_t i = 0; i < points.size(); ++i) {
     if (!points_.empty() && glm::length(points[i] - points_.back()) <= tol) continue;
     points_.push_back(points[i]);
     if (!shading.empty()) shading_.push_back(shading[i]);
+    if (!uvs.empty()) uvs_.push_back(uvs[i]);
   }
   while (points_.size() >= 3 && glm::length(points_.front() - points_.back()) <= tol) {
     points_.pop_back();
     if (!shading_.empty()) shading_.pop_back();
+    if (!uvs_.empty()) uvs_.pop_back();
   }
   if (points_.size() < 3) return false;
   Vec3 n = newell_vector(points_);
@@ -76,6 +137,7 @@ bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32
   if (glm::dot(n, outward) < 0.0) {
     std::reverse(points_.begin(), points_.end());
     std::reverse(shading_.begin(), shading_.end());
+    std::reverse(uvs_.begin(), uvs_.end());
     n = -n;
   }
   Polygon poly;
@@ -90,6 +152,10 @@ bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32
   poly.offset /= double(points_.size());
   if (soup_.objects[object].closed) poly.flags |= polygon_closed;
   if (soup_.materials[material].opacity < 1.0f) poly.flags |= polygon_translucent;
+  if (const SurfaceTexture* texture = soup_.materials[material].texture.get()) {
+    soup_.uv_maps.push_back(uvs_.empty() ? planar_uv_map(*texture, poly.normal) : uv_map_of(points_, uvs_));
+    poly.uv_map = uint32_t(soup_.uv_maps.size());
+  }
   soup_.positions.insert(soup_.positions.end(), points_.begin(), points_.end());
   if (shading_.empty()) {
     soup_.normals.insert(soup_.normals.end(), points_.size(), glm::vec3(poly.normal));
@@ -118,14 +184,14 @@ namespace {
 
 using detail::SoupBuilder;
 
-Material solid_material(const Solid& s) { return {s.color, 1.0f, s.material}; }
+Material solid_material(const Solid& s) { return {s.color, 1.0f, s.material, s.texture}; }
 
 void add_floor(SoupBuilder& out, const Floor& f) {
   static const Color fallback[2] = {{0.851f, 0.831f, 0.780f}, {0.549f, 0.522f, 0.475f}};
   std::span<const Color> colors = f.colors;
   if (colors.empty()) colors = fallback;  // the documented default; the parser normally fills it
   std::vector<uint32_t> materials;
-  for (const Color& c : colors) materials.push_back(out.add_material({c, 1.0f, f.material}));
+  for (const Color& c : colors) materials.push_back(out.add_material({c, 1.0f, f.material, f.texture}));
   const uint32_t object = out.add_object(ElementRef::floor(), false, false);
   for (int j = 0; j < f.cells_z; ++j) {
     for (int i = 0; i < f.cells_x; ++i) {

@@ -15,10 +15,26 @@
 
 namespace rr {
 
+// A surface's appearance: one owner for everything that decides its colour. Equal materials (by
+// every member; a texture by identity) are one entry of PolygonSoup::materials.
 struct Material {
-  Color color{0.7f, 0.7f, 0.7f};
-  float opacity = 1.0f;  // < 1: drawn translucent, after the opaque polygons
+  Color color{0.7f, 0.7f, 0.7f};  // multiplies the texel when textured
+  float opacity = 1.0f;           // < 1: drawn translucent, after the opaque polygons
   MaterialParams params;
+  // The image and its planar mapping; the texture coordinates of each polygon are its UvMap
+  // (PolygonSoup::uv_maps), made from this mapping or from a mesh's per-vertex coordinates.
+  std::shared_ptr<const SurfaceTexture> texture = nullptr;
+  friend bool operator==(const Material&, const Material&) = default;
+};
+
+// Texture coordinates as an affine function of the world position on a polygon's plane:
+// (u, v) = (dot(u_axis, p) + u0, dot(v_axis, p) + v0), in tiles (texture.hpp). Exact under clipping
+// and splitting: a fragment keeps its source's map.
+struct UvMap {
+  Vec3 u_axis{0.0}, v_axis{0.0};
+  double u0 = 0.0, v0 = 0.0;
+  glm::dvec2 at(Vec3 p) const { return {glm::dot(u_axis, p) + u0, glm::dot(v_axis, p) + v0}; }
+  glm::dvec2 along(Vec3 d) const { return {glm::dot(u_axis, d), glm::dot(v_axis, d)}; }  // a direction's change
 };
 
 // A scene element that polygons belong to (the floor, a wall, an opening's leaf or pane, a solid).
@@ -52,6 +68,7 @@ struct Polygon {
   uint32_t object = 0;         // into PolygonSoup::objects
   uint32_t flags = 0;          // PolygonFlags
   uint32_t plane_group = 0;    // > 0: overlaps a polygon in its own plane (coplanar.hpp); 0: none
+  uint32_t uv_map = 0;         // textured: 1 + its index in PolygonSoup::uv_maps; 0: untextured
   Vec3 normal{0.0, 1.0, 0.0};  // unit, outward
   double offset = 0.0;         // plane: dot(normal, p) == offset
 };
@@ -62,6 +79,7 @@ struct PolygonSoup {
   std::vector<Polygon> polygons;
   std::vector<Material> materials;
   std::vector<SceneObject> objects;
+  std::vector<UvMap> uv_maps;  // of the textured polygons (Polygon::uv_map)
 
   std::span<const Vec3> points(const Polygon& p) const { return {positions.data() + p.first_vertex, p.vertex_count}; }
   std::span<const glm::vec3> vertex_normals(const Polygon& p) const {

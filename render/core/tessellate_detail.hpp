@@ -6,7 +6,7 @@
 #include "render/core/tessellate.hpp"
 
 #include <array>
-#include <map>
+#include <unordered_map>
 #include <span>
 #include <string>
 #include <vector>
@@ -21,9 +21,11 @@ class SoupBuilder {
   // Appends one convex planar polygon. Its winding is chosen so that the normal agrees with
   // `outward` (any vector on the outward side of the plane: builders need not track handedness).
   // Near-duplicate consecutive vertices are merged first; a polygon left without area is dropped
-  // (returns false) and takes no id. `shading` is per vertex, or empty for the face normal.
+  // (returns false) and takes no id. `shading` is per vertex, or empty for the face normal. A
+  // polygon of a textured material gets a UvMap: from `uvs` (per vertex) when given, else from the
+  // texture's planar mapping (planar_uv_map).
   bool add_polygon(std::span<const Vec3> points, Vec3 outward, uint32_t material, uint32_t object,
-                   std::span<const glm::vec3> shading = {});
+                   std::span<const glm::vec3> shading = {}, std::span<const glm::dvec2> uvs = {});
 
   // The polygons added to `object` from now on belong to its next part (a piece's).
   void begin_part(uint32_t object) {
@@ -33,14 +35,23 @@ class SoupBuilder {
   // Tags `object` as a room's ceiling: the views that leave ceilings out skip its polygons.
   void mark_ceiling(uint32_t object) { soup_.objects[object].ceiling = true; }
 
+  bool textured(uint32_t material) const { return soup_.materials[material].texture != nullptr; }
+
   PolygonSoup take() { return std::move(soup_); }
 
  private:
   PolygonSoup soup_;
-  std::map<std::array<float, 9>, uint32_t> material_index_;
+  std::unordered_multimap<uint64_t, uint32_t> material_index_;  // material_hash -> index
   std::vector<Vec3> points_;  // scratch, reused so emitting allocates nothing per polygon
   std::vector<glm::vec3> shading_;
+  std::vector<glm::dvec2> uvs_;
 };
+
+// The planar mapping of a texture on a polygon of unit normal n (docs/scene-format.md "Textures"):
+// tiles anchored at the world origin; on a face within 45 degrees of horizontal, s along +x and t
+// along -z (the plan's up as Sweet Home 3D draws it); on any other face, s to the right of someone
+// facing it and t up. Then turned by the texture's angle, scaled to tiles and shifted by the offsets.
+UvMap planar_uv_map(const SurfaceTexture& texture, Vec3 n);
 
 // Twice the area times the unit normal of a closed polygon (Newell's method, taken about the first
 // vertex so far-from-origin coordinates keep their precision). Right-hand rule: CCW -> toward viewer.
@@ -70,7 +81,7 @@ void add_face(SoupBuilder& out, std::span<const Vec3> points, std::span<const gl
 bool split_face(std::span<const Vec3> points, std::vector<std::array<uint32_t, 3>>& triangles);
 void add_face_pieces(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
                      std::span<const std::array<uint32_t, 3>> triangles, Vec3 outward, uint32_t material,
-                     uint32_t object);
+                     uint32_t object, std::span<const glm::dvec2> uvs = {});
 
 // Where a mesh's object space goes: p -> position + rotate_y(scale * (linear * p + offset)), the
 // affine step only when `pre` is set (a piece's part in its unit box). `scale` may be negative on an

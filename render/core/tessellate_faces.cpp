@@ -118,19 +118,21 @@ bool split_face(std::span<const Vec3> points, std::vector<std::array<uint32_t, 3
 
 void add_face_pieces(SoupBuilder& out, std::span<const Vec3> points, std::span<const glm::vec3> shading,
                      std::span<const std::array<uint32_t, 3>> triangles, Vec3 outward, uint32_t material,
-                     uint32_t object) {
+                     uint32_t object, std::span<const glm::dvec2> uvs) {
   if (triangles.empty()) {
-    out.add_polygon(points, outward, material, object, shading);
+    out.add_polygon(points, outward, material, object, shading, uvs);
     return;
   }
   for (const auto& t : triangles) {
     const Vec3 tri[3] = {points[t[0]], points[t[1]], points[t[2]]};
-    if (shading.empty()) {
-      out.add_polygon(tri, outward, material, object);
-    } else {
-      const glm::vec3 tri_shading[3] = {shading[t[0]], shading[t[1]], shading[t[2]]};
-      out.add_polygon(tri, outward, material, object, tri_shading);
+    glm::vec3 tri_shading[3];
+    glm::dvec2 tri_uvs[3];
+    for (int c = 0; c < 3; ++c) {
+      if (!shading.empty()) tri_shading[c] = shading[t[size_t(c)]];
+      if (!uvs.empty()) tri_uvs[c] = uvs[t[size_t(c)]];
     }
+    out.add_polygon(tri, outward, material, object, shading.empty() ? std::span<const glm::vec3>{} : tri_shading,
+                    uvs.empty() ? std::span<const glm::dvec2>{} : tri_uvs);
   }
 }
 

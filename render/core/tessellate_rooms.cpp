@@ -106,13 +106,13 @@ void add_rooms(SoupBuilder& out, const std::vector<Room>& rooms, const std::vect
     const Room& room = rooms[i];
     if (room.floor) {
       const uint32_t object = out.add_object(ElementRef::room(i), false, false);
-      const uint32_t material = out.add_material({room.floor_color, 1.0f, room.floor_material});
+      const uint32_t material = out.add_material({room.floor_color, 1.0f, room.floor_material, room.floor_texture});
       add_room_surface(out, room.points, room.elevation, {0.0, 1.0, 0.0}, material, object);
     }
     if (room.ceiling) {
       const uint32_t object = out.add_object(ElementRef::room(i), true, false);
       out.mark_ceiling(object);
-      const uint32_t material = out.add_material({room.ceiling_color, 1.0f, {}});
+      const uint32_t material = out.add_material({room.ceiling_color, 1.0f, {}, room.ceiling_texture});
       const double y = room.elevation + room.ceiling_height;
       add_room_surface(out, ceiling_outline(room.points, y, walls), y, {0.0, -1.0, 0.0}, material, object);
     }

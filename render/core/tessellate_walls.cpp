@@ -284,6 +284,7 @@ struct WallBuild {
   WallCuts cuts;
   std::vector<Column> cols;
   uint32_t material = 0, object = 0;
+  uint32_t side_material[2] = {0, 0};  // the left and the right long face's
 
   Vec3 at(double u, double v, double y) const {
     const Vec2 p = f.point(u, v);
@@ -299,10 +300,11 @@ struct WallBuild {
     if (col.solid_count == 0) return false;
     return top ? col.solid[size_t(col.solid_count - 1)].hi == wall.height : col.solid[0].lo == 0.0;
   }
-  void quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d, Vec3 outward) const {
+  void quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d, Vec3 outward, uint32_t face_material) const {
     const Vec3 q[4] = {a, b, c, d};
-    out.add_polygon(q, outward, material, object);
+    out.add_polygon(q, outward, face_material, object);
   }
+  void quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d, Vec3 outward) const { quad(a, b, c, d, outward, material); }
 };
 
 // The two long faces (left first), each piece by piece along u: a column's pieces bottom to top.
@@ -313,7 +315,8 @@ void add_long_faces(const WallBuild& b) {
       for (int i = 0; i < b.cols[c].solid_count; ++i) {
         const Interval s = b.cols[c].solid[size_t(i)];
         const double u0 = b.u0(c, sigma), u1 = b.u1(c, sigma);
-        b.quad(b.at(u0, v, s.lo), b.at(u1, v, s.lo), b.at(u1, v, s.hi), b.at(u0, v, s.hi), sigma * b.leftward());
+        b.quad(b.at(u0, v, s.lo), b.at(u1, v, s.lo), b.at(u1, v, s.hi), b.at(u0, v, s.hi), sigma * b.leftward(),
+               b.side_material[sigma > 0.0 ? 0 : 1]);
       }
     }
   }
@@ -416,6 +419,8 @@ void add_walls(SoupBuilder& out, const std::vector<Wall>& walls) {
     b.cols = build_columns(w, b.cuts, eps);
     b.object = out.add_object(ElementRef::wall(i), true, false);
     b.material = out.add_material({w.color, 1.0f, w.material});
+    b.side_material[0] = out.add_material({w.left_color.value_or(w.color), 1.0f, w.material, w.left_texture});
+    b.side_material[1] = out.add_material({w.right_color.value_or(w.color), 1.0f, w.material, w.right_texture});
     add_long_faces(b);
     add_top_and_bottom(b);
     add_end_faces(b);

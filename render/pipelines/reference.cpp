@@ -81,6 +81,7 @@ ReferenceScene prepare_reference(const FrameInput& input, RenderStats& stats) {
   }
   rs.coplanar_tolerance = coplanar_tolerance(soup);
   rs.world_from_clip = glm::inverse(input.view.clip_from_world);
+  rs.pixel_rays = pixel_rays(input.view);
   return rs;
 }
 
@@ -164,7 +165,7 @@ bool paint_ray(const ReferenceScene& rs, double sx, double sy, std::vector<Hit>&
   const PixelHits px = cast_ray(rs, sx, sy, translucent);
   auto paint = [&](const Hit& hit, float alpha) {
     const std::span<uint8_t> lit = out.mask ? std::span<uint8_t>(out.mask, out.mask_bytes) : std::span<uint8_t>();
-    const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, lit);
+    const Color c = shade_hit(rs, hit, px.ray_origin + hit.t * px.ray_direction, sx, sy, lit);
     *out.id = soup.polygons[hit.polygon].id;
     for (int ch = 0; ch < 3; ++ch) {
       out.rgb[ch] =

@@ -2,6 +2,7 @@
 // (projected polygons, BVHs) and one pixel's hits. Nothing else includes it.
 #pragma once
 
+#include "render/core/surface.hpp"
 #include "render/pipelines/reference.hpp"
 
 #include <span>
@@ -22,6 +23,7 @@ struct ReferenceScene {
   double scene_magnitude = 0.0;     // largest distance of the box corners from the origin
   double coplanar_tolerance = 0.0;  // coplanar.hpp: how far a plane group's polygons may lie apart
   Mat4 world_from_clip{1.0};
+  PixelRays pixel_rays;  // textures: the footprints of pixels
 };
 
 struct Hit {
@@ -42,6 +44,7 @@ PixelHits cast_ray(const ReferenceScene& rs, double sx, double sy, std::vector<H
 // Colour of `hit` at world point p (ambient + each light reaching its lit side, scaled by an exact
 // shadow ray when shadows are on); `lit` (empty: not recorded) gets bit l % 8 of byte l / 8 set for
 // each light l that reaches p, and every other bit cleared.
-Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, std::span<uint8_t> lit);
+// `sx`, `sy`: the screen point of the ray, whose pixel's footprint a texture is averaged over.
+Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, double sx, double sy, std::span<uint8_t> lit);
 
 }  // namespace rr::reference_detail

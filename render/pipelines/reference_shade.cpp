@@ -6,6 +6,7 @@
 #include "render/core/shading.hpp"
 #include "render/core/shading_detail.hpp"
 #include "render/core/shadow_rays.hpp"
+#include "render/core/surface.hpp"
 
 #include <algorithm>
 
@@ -88,7 +89,7 @@ glm::dvec3 transmitted(const ReferenceScene& rs, uint32_t self, Vec3 p, const Li
 
 }  // namespace
 
-Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, std::span<uint8_t> lit) {
+Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, double sx, double sy, std::span<uint8_t> lit) {
   const FrameInput& in = rs.input;
   const Polygon& poly = in.soup.polygons[hit.polygon];
   const Material& material = in.soup.materials[poly.material];
@@ -111,6 +112,10 @@ Color shade_hit(const ReferenceScene& rs, const Hit& hit, Vec3 p, std::span<uint
     }
     irradiance += t.irradiance;
     specular += t.specular;
+  }
+  if (poly.uv_map != 0) {
+    const Color albedo = surface_albedo(in.soup, poly, rs.pixel_rays, sx, sy, {in.options.texture_filter, true});
+    return Color(glm::dvec3(albedo) * irradiance + specular);
   }
   return Color(glm::dvec3(material.color) * irradiance + specular);
 }

@@ -64,6 +64,7 @@ PolygonSoup selected_soup(const PolygonSoup& soup, const SoupSelection& selectio
   PolygonSoup out;
   out.materials = soup.materials;
   out.objects = soup.objects;
+  out.uv_maps = soup.uv_maps;
   // At most the whole soup: one allocation each instead of repeated growth.
   out.polygons.reserve(soup.polygons.size());
   out.positions.reserve(soup.positions.size());
