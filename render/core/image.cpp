@@ -1,6 +1,8 @@
-// Framebuffer encoding. This is the only translation unit that compiles stb_image_write and
-// stb_image (static, so they cannot clash with Debian's libstb.so if something else links it).
+// Framebuffer encoding. This is the only translation unit that compiles stb_image_write (static, so
+// it cannot clash with Debian's libstb.so if something else links it); stb_image lives in
+// texture_decode.cpp, behind image_decode.hpp.
 #include "render/core/image.hpp"
+#include "render/core/image_decode.hpp"
 
 #include <cstring>
 #include <stdexcept>
@@ -8,11 +10,6 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
 #include <stb_image_write.h>
-
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#include <stb_image.h>
 
 namespace rr {
 
@@ -37,15 +34,16 @@ std::string encode_png(const Image& image) {
 }
 
 Image decode_png(std::string_view png) {
-  int w = 0, h = 0, channels = 0;
-  stbi_uc* pixels =
-      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(png.data()), int(png.size()), &w, &h, &channels, 3);
-  if (!pixels) throw std::runtime_error(std::string("not a readable PNG: ") + stbi_failure_reason());
+  // The decoder also reads JPEG; without the PNG signature this refuses with the reason stb_image
+  // gave when it was compiled for PNG alone.
+  if (!png.starts_with(std::string_view("\x89PNG\r\n\x1a\n", 8))) {
+    throw std::runtime_error("not a readable PNG: unknown image type");
+  }
   Image image;
-  image.width = w;
-  image.height = h;
-  image.rgb.assign(pixels, pixels + size_t(w) * size_t(h) * 3);
-  stbi_image_free(pixels);
+  std::string failure;
+  if (!decode_rgb8({reinterpret_cast<const uint8_t*>(png.data()), png.size()}, image, &failure)) {
+    throw std::runtime_error("not a readable PNG: " + failure);
+  }
   return image;
 }
 

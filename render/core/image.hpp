@@ -1,5 +1,5 @@
-// Framebuffers and their file formats: RGB8 images <-> PNG (stb_image_write / stb_image; image.cpp
-// is the only translation unit that holds their implementations), and the raw id-buffer format:
+// Framebuffers and their file formats: RGB8 images <-> PNG (stb_image_write, compiled in image.cpp
+// alone / stb_image, compiled in texture_decode.cpp alone), and the raw id-buffer format:
 // little-endian uint32 width, uint32 height, then width*height uint32 polygon ids, row-major from
 // the top-left, 0xFFFFFFFF for background.
 #pragma once

@@ -26,7 +26,7 @@ namespace rr {
 
 // Bounds checked on an encoded image's header, before anything is decoded.
 struct TextureLimits {
-  int max_side = 8192;                // pixels, either dimension
+  int max_side = 8192;                  // pixels, either dimension
   size_t max_pixels = size_t{1} << 24;  // width x height
 };
 
@@ -38,11 +38,14 @@ struct MipLevel {
 
 // A decoded image with its mip chain, immutable once made and shared by every material that uses it.
 struct TextureImage {
-  std::vector<MipLevel> levels;  // [0]: the image; each next one halves each side (at least 1) down to 1 x 1
-  std::string content_id;        // 16 hex digits: FNV-1a (hash.hpp) of the encoded bytes
+  // [0]: the image; each next one halves each side (rounding down, at least 1) down to 1 x 1, each texel
+  // the mean of the area of the previous level it covers (a partly covered texel of an odd side weighs
+  // its share), rounded to the nearest byte.
+  std::vector<MipLevel> levels;
+  std::string content_id;  // 16 hex digits: FNV-1a (hash.hpp) of the encoded bytes
   int width() const { return levels.front().width; }
   int height() const { return levels.front().height; }
-  size_t bytes() const;  // heap bytes of every level
+  size_t bytes() const;  // heap bytes of the levels: their texels and the array holding them
 };
 
 // Why an encoded image was refused.
@@ -52,9 +55,9 @@ struct TextureError {
   std::string message;  // for the user: what was wrong ("PNG header says 100000 x 100000 pixels; ...")
 };
 
-// Decodes a PNG or JPEG (sniffed from its first bytes; nothing else is accepted) to RGB and builds its
-// mip chain. Reads the header first and refuses an image over `limits` without decoding it. Returns
-// null and fills *error when refused.
+// Decodes a PNG or JPEG (sniffed from its first bytes; nothing else is accepted) to RGB, dropping
+// any alpha, and builds its mip chain. Reads the header first and refuses an image over `limits`
+// without decoding it. Returns null and fills *error when refused.
 std::shared_ptr<const TextureImage> decode_texture(std::span<const uint8_t> encoded, const TextureLimits& limits,
                                                    TextureError* error);
 
@@ -69,8 +72,9 @@ bool decode_data_uri(std::string_view uri, size_t max_bytes, std::vector<uint8_t
 //   bilinear     the four nearest texels of level 0, weighted by distance;
 //   trilinear    bilinear in the two levels around lambda = log2(rho), rho the longer footprint axis
 //                in level-0 texels, blended linearly (level 0 alone when lambda <= 0);
-//   anisotropic  up to 16 trilinear taps along the longer axis, at the level of the shorter one
-//                (rho_max / rho_min taps, rounded up, clamped to 16).
+//   anisotropic  N = rho_max / rho_min rounded up, at most 16, trilinear taps spread evenly along the
+//                longer axis, each at lambda = log2(rho_max / N): the shorter axis's level, or a
+//                coarser one when N was clamped; their mean.
 Color sample_texture(const TextureImage& image, TextureFilter filter, glm::dvec2 uv, glm::dvec2 duv_dx,
                      glm::dvec2 duv_dy);
 
