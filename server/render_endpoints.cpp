@@ -232,6 +232,7 @@ constexpr QueryParam query_params[] = {
     {"png", "/options/png/compression", ParamKind::text},
     {"antialias", "/options/antialias", ParamKind::integer},
     {"culling", "/options/culling", ParamKind::text},
+    {"texture_filter", "/options/texture_filter", ParamKind::text},
     {"exposure", "/options/exposure", ParamKind::number_or_auto},
 };
 

@@ -19,7 +19,7 @@ void add(Fnv1a& h, const std::vector<Vec3>& points) {
 }  // namespace
 
 std::shared_ptr<const MeshData> make_mesh_data(std::vector<Vec3> vertices, std::vector<std::vector<uint32_t>> faces,
-                                               std::vector<Vec3> normals) {
+                                               std::vector<Vec3> normals, std::vector<glm::dvec2> uvs) {
   auto mesh = std::make_shared<MeshData>();
   constexpr uint32_t unused = std::numeric_limits<uint32_t>::max();
   std::vector<uint32_t> renumber(vertices.size(), unused);
@@ -29,6 +29,7 @@ std::shared_ptr<const MeshData> make_mesh_data(std::vector<Vec3> vertices, std::
         renumber[index] = uint32_t(mesh->vertices.size());
         mesh->vertices.push_back(vertices[index]);
         if (!normals.empty()) mesh->normals.push_back(normals[index]);
+        if (!uvs.empty()) mesh->uvs.push_back(uvs[index]);
       }
       index = renumber[index];
     }
@@ -56,11 +57,17 @@ std::string mesh_content_id(const MeshData& mesh) {
     for (uint32_t index : face) h.add_u32(index);
   }
   add(h, mesh.normals);
+  if (!mesh.uvs.empty()) {
+    h.add_bytes("uvs");
+    h.add_u64(mesh.uvs.size());
+    for (const glm::dvec2& uv : mesh.uvs) add(h, uv.x), add(h, uv.y);
+  }
   return hex64(h.value());
 }
 
 size_t mesh_bytes(const MeshData& mesh) {
-  size_t bytes = sizeof(MeshData) + (mesh.vertices.capacity() + mesh.normals.capacity()) * sizeof(Vec3);
+  size_t bytes = sizeof(MeshData) + (mesh.vertices.capacity() + mesh.normals.capacity()) * sizeof(Vec3) +
+                 mesh.uvs.capacity() * sizeof(glm::dvec2);
   bytes += mesh.faces.capacity() * sizeof(std::vector<uint32_t>) + mesh.index_count * sizeof(uint32_t);
   return bytes;
 }

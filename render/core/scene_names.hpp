@@ -76,4 +76,12 @@ inline constexpr std::array<NameRow<CullingMode>, 2> culling_mode_rows = {{
 }};
 inline constexpr NameTable<NameRow<CullingMode>> culling_mode_names{culling_mode_rows};
 
+inline constexpr std::array<NameRow<TextureFilter>, 4> texture_filter_rows = {{
+    {TextureFilter::nearest, "nearest"},
+    {TextureFilter::bilinear, "bilinear"},
+    {TextureFilter::trilinear, "trilinear"},
+    {TextureFilter::anisotropic, "anisotropic"},
+}};
+inline constexpr NameTable<NameRow<TextureFilter>> texture_filter_names{texture_filter_rows};
+
 }  // namespace rr

@@ -1,5 +1,6 @@
 // Wavefront OBJ text -> a request with one mesh solid per (o/g name, usemtl material) group, in order
-// of first appearance, coloured by the .mtl diffuse colour (Kd). Object space is the file's (Y up,
+// of first appearance, coloured by the .mtl diffuse colour (Kd) and textured by its map_Kd image (a
+// data: URI of the file's bytes) with the group's vt as the mesh's uvs. Object space is the file's (Y up,
 // counter-clockwise fronts); the scale goes into each mesh's "scale". Faces are repaired so the
 // validator accepts them: repeated corners dropped, faces that are not planar within 1e-7 of their
 // group's size (the validator allows 1e-6) fan-triangulated, faces of zero area dropped; each repair
@@ -7,6 +8,7 @@
 // from inside when the model has a floor and a ceiling (docs/import.md), else frames it from outside.
 #include "render/import/import_obj.hpp"
 #include "render/import/import.hpp"
+#include "render/scene_io/scene_json.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -72,13 +74,28 @@ void parse_face(const std::vector<std::string_view>& fields, size_t line, ObjDat
     if (slash1 != std::string_view::npos) {
       size_t slash2 = token.find('/', slash1 + 1);
       std::string_view vt = token.substr(slash1 + 1, slash2 == std::string_view::npos ? slash2 : slash2 - slash1 - 1);
-      if (!vt.empty()) resolve_index(vt, obj.texcoords, "texture coordinate", line);
+      if (!vt.empty()) c.vt = resolve_index(vt, obj.texcoords.size(), "texture coordinate", line);
       if (slash2 != std::string_view::npos)
         c.vn = resolve_index(token.substr(slash2 + 1), obj.normals.size(), "normal", line);
     }
     obj.corners.push_back(c);
   }
   group.faces.push_back(face);
+}
+
+// "vt u [v [w]]": v is 0 when absent, w is ignored.
+Vec2 parse_texcoord(const std::vector<std::string_view>& fields, size_t line) {
+  if (fields.size() < 2) throw_at_line(Kind::malformed, line, "texture coordinate needs at least 1 number");
+  Vec2 uv{0.0};
+  for (size_t k = 1; k < std::min<size_t>(fields.size(), 3); ++k) {
+    std::optional<double> value = parse_double(fields[k]);
+    if (!value || std::abs(*value) > 1e7) {
+      throw_at_line(Kind::invalid, line,
+                    "texture coordinate '" + quote_input(fields[k]) + "' is not a finite number within 1e7");
+    }
+    uv[int(k) - 1] = *value;
+  }
+  return uv;
 }
 
 // Everything after the keyword, trimmed (names may contain spaces).
@@ -109,7 +126,7 @@ ObjData parse_obj(std::string_view text) {
     } else if (key == "vn") {
       obj.normals.push_back(parse_vector(fields, n, "normal"));
     } else if (key == "vt") {
-      ++obj.texcoords;
+      obj.texcoords.push_back(parse_texcoord(fields, n));
     } else if (key == "f") {
       if (++face_count > max_faces) {
         throw_at_line(Kind::too_large, n, "more than " + std::to_string(max_faces) + " faces");
@@ -134,7 +151,40 @@ ObjData parse_obj(std::string_view text) {
   return obj;
 }
 
-void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materials) {
+namespace {
+
+// How many fields after a texture map option (from fields[at]) are its arguments: -o, -s and -t take
+// up to three numbers, -mm up to two, the other options of the format one word; an unknown option
+// takes the numbers and on/off words that follow it. The last field is never taken: it is the file.
+size_t option_arguments(std::string_view option, const std::vector<std::string_view>& fields, size_t at) {
+  for (std::string_view one :
+       {"-blendu", "-blendv", "-bm", "-boost", "-cc", "-clamp", "-imfchan", "-texres", "-type"}) {
+    if (option == one) return at + 1 < fields.size() ? 1 : 0;
+  }
+  const size_t most = option == "-o" || option == "-s" || option == "-t" ? 3 : option == "-mm" ? 2 : SIZE_MAX;
+  auto is_argument = [](std::string_view f) { return parse_double(f) || f == "on" || f == "off"; };
+  size_t taken = 0;
+  while (taken < most && at + taken + 1 < fields.size() && is_argument(fields[at + taken])) ++taken;
+  return taken;
+}
+
+// The file a texture map line names, after its options (the rest of the line: names may hold spaces).
+std::string map_path(std::string_view line, const std::vector<std::string_view>& fields, bool& options_changing_uvs) {
+  size_t k = 1;
+  while (k + 1 < fields.size() && fields[k].front() == '-') {
+    const std::string_view option = fields[k];
+    if (option == "-o" || option == "-s" || option == "-t") options_changing_uvs = true;
+    k += 1 + option_arguments(option, fields, k + 1);
+  }
+  if (k >= fields.size()) return "";
+  std::string_view rest = line.substr(size_t(fields[k].data() - line.data()));
+  while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
+  return std::string(rest);
+}
+
+}  // namespace
+
+void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materials, const std::string& library_dir) {
   std::string current;
   LineReader lines(text);
   // The first three numbers after the keyword, each clamped to 0..1; nullopt when one is missing.
@@ -151,13 +201,17 @@ void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materi
     if (fields.empty() || fields[0].front() == '#') continue;
     if (fields[0] == "newmtl") {
       current = rest_of_line(*line, "newmtl");
-      materials.try_emplace(current);
+      materials.try_emplace(current).first->second.library_dir = library_dir;
       continue;
     }
     if (current.empty()) continue;
     MtlMaterial& m = materials[current];
     if (fields[0] == "Kd") {
-      if (auto c = rgb(fields)) m.diffuse = *c;
+      if (auto c = rgb(fields)) m.diffuse = *c, m.has_diffuse = true;
+    } else if (fields[0] == "map_Kd") {
+      m.diffuse_map = map_path(*line, fields, m.map_options);
+    } else if (fields[0] == "map_d") {
+      m.alpha_map = true;
     } else if (fields[0] == "Ks") {
       if (auto c = rgb(fields)) {
         const float strength = std::max({c->r, c->g, c->b});
@@ -212,28 +266,44 @@ std::pair<double, double> area_and_flatness(const std::vector<Vec3>& p) {
 }  // namespace
 
 json group_mesh(const Group& g, const ObjData& obj, const std::vector<Vec3>& positions,
-                const std::vector<Vec3>& normals_in, bool mirrored, Color color, RepairCounts& repairs, Box3& box) {
+                const std::vector<Vec3>& normals_in, bool mirrored, Color color, RepairCounts& repairs, Box3& box,
+                bool want_uvs) {
   bool with_normals = !obj.normals.empty();
+  bool with_uvs = want_uvs;
   Box3 group_box;
   for (const Face& f : g.faces) {
     for (uint32_t k = 0; k < f.corner_count; ++k) {
       const Corner& c = obj.corners[f.first_corner + k];
       group_box.add(positions[c.v]);
       if (c.vn == no_normal || !(glm::length(obj.normals[c.vn]) > 0.0)) with_normals = false;
+      if (c.vt == no_texcoord) with_uvs = false;
     }
   }
   if (!obj.normals.empty() && !with_normals) ++repairs.dropped_normals;
+  if (want_uvs && !with_uvs) ++repairs.dropped_uvs;
   box.add(group_box.lo), box.add(group_box.hi);
   const double size = glm::length(group_box.hi - group_box.lo);
   // 4x the validator's zero-area threshold, so rounding in either computation cannot disagree.
   const double min_twice_area = 8.0 * (1e-8 * size) * (1e-8 * size);
 
+  // Without uvs the key is (position, normal), as before texture coordinates were read; with them
+  // each vt of a (position, normal) gets its own vertex, numbered in the same order of first use.
   std::unordered_map<uint64_t, uint32_t> local;
-  json vertices = json::array(), normals = json::array(), faces = json::array();
+  std::map<std::pair<uint64_t, uint32_t>, uint32_t> local_uv;
+  json vertices = json::array(), normals = json::array(), faces = json::array(), uvs = json::array();
   auto local_index = [&](const Corner& c) {
     uint64_t key = (uint64_t(c.v) << 32) | (with_normals ? c.vn : 0u);
-    auto [it, inserted] = local.try_emplace(key, uint32_t(local.size()));
+    uint32_t index = 0;
+    bool inserted = false;
+    if (with_uvs) {
+      auto [it, added] = local_uv.try_emplace({key, c.vt}, uint32_t(local_uv.size()));
+      index = it->second, inserted = added;
+    } else {
+      auto [it, added] = local.try_emplace(key, uint32_t(local.size()));
+      index = it->second, inserted = added;
+    }
     if (inserted) {
+      if (with_uvs) uvs.push_back({obj.texcoords[c.vt].x, obj.texcoords[c.vt].y});
       const Vec3& p = positions[c.v];
       vertices.push_back({p.x, p.y, p.z});
       if (with_normals) {
@@ -241,7 +311,7 @@ json group_mesh(const Group& g, const ObjData& obj, const std::vector<Vec3>& pos
         normals.push_back(json_vec3(n));
       }
     }
-    return it->second;
+    return index;
   };
   std::vector<Corner> ring;
   std::vector<Vec3> points;
@@ -287,7 +357,25 @@ json group_mesh(const Group& g, const ObjData& obj, const std::vector<Vec3>& pos
   if (!id.empty()) mesh["id"] = id;
   mesh["color"] = json_color(color);
   if (with_normals) mesh["normals"] = std::move(normals);
+  if (with_uvs) mesh["uvs"] = std::move(uvs);
   return mesh;
+}
+
+std::optional<std::string> image_data_uri(std::string_view bytes) {
+  const char* media_type = nullptr;
+  if (bytes.starts_with("\x89PNG\r\n\x1a\n")) media_type = "image/png";
+  if (bytes.starts_with("\xff\xd8\xff")) media_type = "image/jpeg";
+  if (!media_type) return std::nullopt;
+  static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out = std::string("data:") + media_type + ";base64,";
+  out.reserve(out.size() + (bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const size_t n = std::min<size_t>(3, bytes.size() - i);
+    uint32_t chunk = 0;
+    for (size_t k = 0; k < 3; ++k) chunk = (chunk << 8) | (k < n ? uint8_t(bytes[i + k]) : 0u);
+    for (size_t k = 0; k < 4; ++k) out += k <= n ? alphabet[(chunk >> (18 - 6 * k)) & 63u] : '=';
+  }
+  return out;
 }
 
 void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& warnings) {
@@ -299,6 +387,10 @@ void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& 
     warnings.push_back(std::to_string(repairs.dropped_normals) +
                        " groups had faces without (or with zero) normals: their normals were dropped");
   }
+  if (repairs.dropped_uvs) {
+    warnings.push_back(std::to_string(repairs.dropped_uvs) +
+                       " textured groups had faces without texture coordinates (vt): drawn untextured");
+  }
 }
 
 }  // namespace import_detail
@@ -306,6 +398,70 @@ void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& 
 using namespace import_detail;
 
 namespace {
+
+std::string directory_of(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? "" : path.substr(0, slash + 1);
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+// The data: URI of the image file at `path` (as read_companion takes it), or nullopt with a warning
+// when it is missing, over the request's per-image cap, or not a PNG or JPEG.
+std::optional<std::string> load_texture(const std::string& path, const ImportOptions& options,
+                                        std::vector<std::string>& warnings) {
+  std::optional<std::string> bytes = options.read_companion ? options.read_companion(path) : std::nullopt;
+  const std::string what = "texture '" + path + "' ";
+  if (!bytes) {
+    warnings.push_back(what + "is not available: its materials are drawn untextured");
+    return std::nullopt;
+  }
+  if (bytes->size() > texture_image_bytes_cap) {
+    warnings.push_back(what + "has " + std::to_string(bytes->size()) + " bytes, more than the " +
+                       std::to_string(texture_image_bytes_cap) +
+                       " a request takes per image: its materials are drawn untextured");
+    return std::nullopt;
+  }
+  std::optional<std::string> uri = image_data_uri(*bytes);
+  if (!uri) warnings.push_back(what + "is neither a PNG nor a JPEG image: its materials are drawn untextured");
+  return uri;
+}
+
+// Material name -> the data: URI of its map_Kd, for the materials `groups` use; each file read once.
+// Warns once about the alpha maps (map_d) and texture options that are not applied.
+std::map<std::string, std::string> material_textures(const std::vector<Group>& groups,
+                                                     const std::map<std::string, MtlMaterial>& materials,
+                                                     const ImportOptions& options, std::vector<std::string>& warnings) {
+  std::set<std::string> used;
+  for (const Group& g : groups) used.insert(g.material);
+  std::map<std::string, std::optional<std::string>> by_path;
+  std::map<std::string, std::string> out;
+  std::vector<std::string> alpha, options_skipped;
+  for (const std::string& name : used) {
+    auto m = materials.find(name);
+    if (m == materials.end()) continue;
+    if (m->second.alpha_map) alpha.push_back(name);
+    if (m->second.diffuse_map.empty()) continue;
+    const std::string path = m->second.library_dir + m->second.diffuse_map;
+    auto [file, first] = by_path.try_emplace(path);
+    if (first) file->second = load_texture(path, options, warnings);
+    if (!file->second) continue;
+    out.emplace(name, *file->second);
+    if (m->second.map_options) options_skipped.push_back(name);
+  }
+  if (!alpha.empty()) {
+    warnings.push_back("alpha cut-outs (map_d) are not supported, these materials are drawn opaque: " + joined(alpha));
+  }
+  if (!options_skipped.empty()) {
+    warnings.push_back("texture options -o, -s and -t are not applied (the image is used as it is): " +
+                       joined(options_skipped));
+  }
+  return out;
+}
 
 constexpr double eye_height_m = 1.6;
 constexpr double level_step_m = 0.01;       // horizontal faces within 1 cm make one level
@@ -386,7 +542,7 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
   for (const std::string& library : obj.libraries) {
     std::optional<std::string> mtl = options.read_companion ? options.read_companion(library) : std::nullopt;
     if (mtl) {
-      parse_mtl(*mtl, colors);
+      parse_mtl(*mtl, colors, directory_of(library));
     } else {
       result.warnings.push_back("material library '" + library + "' is not available: its groups are grey");
     }
@@ -400,13 +556,20 @@ ImportResult import_obj(std::string_view text, const ImportOptions& options) {
     for (const std::string& n : unknown) names += (names.empty() ? "" : ", ") + n;
     result.warnings.push_back("materials without a Kd colour, drawn grey: " + names);
   }
+  const std::map<std::string, std::string> textures = material_textures(obj.groups, colors, options, result.warnings);
   RepairCounts repairs;
   Box3 box;  // in file units; the meshes keep them and carry the scale
   json solids = json::array();
   for (const Group& g : obj.groups) {
-    auto color = colors.find(g.material);
-    json mesh = group_mesh(g, obj, obj.positions, obj.normals, false,
-                           color != colors.end() ? color->second.diffuse : Color{0.7f}, repairs, box);
+    auto material = colors.find(g.material);
+    auto texture = textures.find(g.material);
+    const bool textured = texture != textures.end();
+    Color color{0.7f};
+    if (material != colors.end()) color = material->second.diffuse;
+    // Kd multiplies map_Kd; a textured material without Kd shows its image as it is.
+    if (textured && (material == colors.end() || !material->second.has_diffuse)) color = Color{1.0f};
+    json mesh = group_mesh(g, obj, obj.positions, obj.normals, false, color, repairs, box, textured);
+    if (textured && mesh.contains("uvs")) mesh["texture"] = {{"image", texture->second}};
     if (scale != 1.0) mesh["scale"] = scale;
     if (!mesh["faces"].empty()) solids.push_back(std::move(mesh));
   }

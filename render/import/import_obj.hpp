@@ -7,6 +7,7 @@
 #include "render/import/import_common.hpp"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,11 +15,13 @@
 namespace rr::import_detail {
 
 constexpr uint32_t no_normal = UINT32_MAX;
+constexpr uint32_t no_texcoord = UINT32_MAX;
 constexpr size_t max_faces = 2'000'000;  // the request's polygon limit: more could never render
 
 struct Corner {
   uint32_t v = 0;
   uint32_t vn = no_normal;
+  uint32_t vt = no_texcoord;
 };
 
 struct Face {
@@ -35,7 +38,7 @@ struct Group {
 struct ObjData {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
-  size_t texcoords = 0;
+  std::vector<Vec2> texcoords;  // vt: (u, v), v up as texture.hpp's (a w coordinate is ignored)
   std::vector<Corner> corners;
   std::vector<Group> groups;
   std::vector<std::string> libraries;
@@ -45,16 +48,33 @@ struct ObjData {
 ObjData parse_obj(std::string_view text);
 
 // A material of a .mtl file as we draw it: Kd as the colour; Ks as the specular strength (its
-// largest channel) and colour, Ns as the shininess (clamped to 1..128, as Java 3D does), when given.
+// largest channel) and colour, Ns as the shininess (clamped to 1..128, as Java 3D does), when given;
+// map_Kd as the image the colour multiplies, its path relative to the .mtl file (options before it
+// are skipped: the image is used as it is). map_d is noted only to warn that cut-outs are not drawn.
 struct MtlMaterial {
   Color diffuse{0.7f};
+  bool has_diffuse = false;  // Kd was given (a textured material without it is white)
   MaterialParams params;
-  bool specular = false;  // Ks or Ns was given: `params` holds them
+  bool specular = false;     // Ks or Ns was given: `params` holds them
+  std::string diffuse_map;   // map_Kd's path as written, "" without one
+  std::string library_dir;   // the folder of the .mtl that defined the material ("" or ending in '/')
+  bool map_options = false;  // map_Kd had -o, -s or -t, which are not applied
+  bool alpha_map = false;    // map_d was given
 };
+
+// A material of one colour and nothing else.
+inline MtlMaterial plain_material(Color diffuse) {
+  MtlMaterial m;
+  m.diffuse = diffuse;
+  m.has_diffuse = true;
+  return m;
+}
 
 // newmtl name -> material, from the text of one .mtl file (unknown lines are ignored; a material
 // without Kd keeps the grey).
-void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materials);
+// `library_dir` is the folder of the .mtl, recorded in each material for its map_Kd path.
+void parse_mtl(std::string_view text, std::map<std::string, MtlMaterial>& materials,
+               const std::string& library_dir = "");
 
 // Sweet Home 3D's default material library, which it resolves models' material names from when they
 // have no .mtl of their own: catalogue/default-materials.mtl, compiled in (134 materials).
@@ -69,14 +89,21 @@ struct RepairCounts {
   size_t triangulated = 0;     // non-planar faces split into triangles
   size_t degenerate = 0;       // faces or triangles of zero area dropped
   size_t dropped_normals = 0;  // groups whose normals were incomplete or zero
+  size_t dropped_uvs = 0;      // textured groups with a face lacking texture coordinates
 };
 
-// One group as a mesh solid {"type", "id", "color", "vertices", "faces"[, "normals"]}: vertices split
-// per (position, normal) pair, faces repaired. `positions` and `normals` are obj's, already placed
-// (normals need not be unit); `mirrored` placements reverse every face. Grows `box` by the vertices.
+// One group as a mesh solid {"type", "id", "color", "vertices", "faces"[, "normals"][, "uvs"]}: vertices
+// split per (position, normal) pair, faces repaired. `positions` and `normals` are obj's, already
+// placed (normals need not be unit); `mirrored` placements reverse every face. Grows `box` by the
+// vertices. With `want_uvs` (a textured group) and a vt on every corner, vertices split per (position,
+// normal, vt) and carry "uvs"; without, the mesh is what it was before texture coordinates were read.
 nlohmann::json group_mesh(const Group& g, const ObjData& obj, const std::vector<Vec3>& positions,
                           const std::vector<Vec3>& normals, bool mirrored, Color color, RepairCounts& repairs,
-                          Box3& box);
+                          Box3& box, bool want_uvs = false);
+
+// A data: URI of an image file's bytes ("data:image/png;base64,..."), or nullopt when they are not a
+// PNG or JPEG (by their first bytes).
+std::optional<std::string> image_data_uri(std::string_view bytes);
 
 void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& warnings);
 

@@ -124,8 +124,10 @@ json variant_parts(const Sh3dModel* model, const Sh3dModelVariant& variant,
     const std::map<std::string, MtlMaterial>& library = default_materials();
     if (auto it = library.find(material_name); it != library.end()) material = it->second;
     if (auto it = model->mtl_materials.find(material_name); it != model->mtl_materials.end()) material = it->second;
-    if (auto it = piece_materials.find(material_name); it != piece_materials.end()) material = {it->second, {}, false};
-    if (piece_color) material = {*piece_color, {}, false};
+    // A colour of the piece's own replaces the model's material: no specular term, no texture.
+    if (auto it = piece_materials.find(material_name); it != piece_materials.end())
+      material = plain_material(it->second);
+    if (piece_color) material = plain_material(*piece_color);
     json part = {{"name", material_name}, {"ref", variant.mesh_keys[g]}, {"color", json_color(material.diffuse)}};
     if (json m = material_json(material); !m.is_null()) part["material"] = std::move(m);
     parts.push_back(std::move(part));

@@ -1,6 +1,6 @@
-// JSON mesh <-> MeshData (mesh_json.hpp). Each vertex, face and normal is checked on its own and the
-// rules over the whole mesh (planar faces of non-zero area, one normal per vertex) run only when every
-// element read, so one pass lists every independent problem.
+// JSON mesh <-> MeshData (mesh_json.hpp). Each vertex, face, normal and uv is checked on its own and
+// the rules over the whole mesh (planar faces of non-zero area, one normal and one uv per vertex) run
+// only when every element read, so one pass lists every independent problem.
 #include "render/scene_io/mesh_json.hpp"
 
 #include "render/scene_io/errors.hpp"
@@ -56,6 +56,21 @@ std::vector<Vec3> read_normals(const ObjectReader& r, size_t vertex_count) {
   return out;
 }
 
+// Optional per-vertex texture coordinates (texture.hpp: in tiles, v up): one [u, v] per vertex.
+std::vector<glm::dvec2> read_uvs(const ObjectReader& r, size_t vertex_count, const NumberRange& range) {
+  const json& uvs = r.array("uvs");
+  std::vector<glm::dvec2> out;
+  if (uvs.empty()) return out;
+  if (uvs.size() != vertex_count) {
+    throw_invalid(r.at("uvs"), "must hold one [u, v] per vertex (" + std::to_string(vertex_count) + "), not " +
+                                   std::to_string(uvs.size()));
+  }
+  out.reserve(uvs.size());
+  for_each_element(uvs, r.at("uvs"), r.errors(),
+                   [&](const json& value, const std::string& at) { out.push_back(read_vec2(value, at, range)); });
+  return out;
+}
+
 }  // namespace
 
 std::shared_ptr<const MeshData> read_mesh_geometry(const ObjectReader& r, const Bounds& b) {
@@ -84,9 +99,12 @@ std::shared_ptr<const MeshData> read_mesh_geometry(const ObjectReader& r, const 
   if (auto bad = find_bad_mesh_face(points, indices)) {
     throw_invalid(pointer_append(r.at("faces"), bad->face), bad->problem);
   }
-  std::vector<Vec3> normals = read_normals(r, points.size());
+  std::vector<Vec3> normals;
+  std::vector<glm::dvec2> uvs;
+  b.errors.attempt([&] { normals = read_normals(r, points.size()); });
+  b.errors.attempt([&] { uvs = read_uvs(r, points.size(), b.coordinate); });
   if (b.errors.size() != errors_before) return nullptr;
-  return make_mesh_data(std::move(points), std::move(indices), std::move(normals));
+  return make_mesh_data(std::move(points), std::move(indices), std::move(normals), std::move(uvs));
 }
 
 std::shared_ptr<const MeshData> mesh_from_json(const json& document, const ParseLimits& limits) {
@@ -94,7 +112,7 @@ std::shared_ptr<const MeshData> mesh_from_json(const json& document, const Parse
   std::shared_ptr<const MeshData> mesh;
   try {
     errors.attempt([&] {
-      ObjectReader r(document, "", errors, {"vertices", "faces", "normals"});
+      ObjectReader r(document, "", errors, {"vertices", "faces", "normals", "uvs"});
       mesh = read_mesh_geometry(r, Bounds(limits, errors));
     });
   } catch (const ErrorList::Full&) {
@@ -112,6 +130,10 @@ json mesh_to_json(const MeshData& mesh) {
   };
   json out = {{"vertices", points(mesh.vertices)}, {"faces", mesh.faces}};
   if (!mesh.normals.empty()) out["normals"] = points(mesh.normals);
+  if (!mesh.uvs.empty()) {
+    json& uvs = out["uvs"] = json::array();
+    for (const glm::dvec2& uv : mesh.uvs) uvs.push_back({uv.x, uv.y});
+  }
   return out;
 }
 

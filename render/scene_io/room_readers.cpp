@@ -94,8 +94,8 @@ void check_level_ids(const std::vector<Level>& levels, const std::string& pointe
 
 Room read_room(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"id", "points", "elevation", "floor", "floor_color", "material", "ceiling", "ceiling_height",
-                  "ceiling_color", "level"});
+                 {"id", "points", "elevation", "floor", "floor_color", "floor_texture", "material", "ceiling",
+                  "ceiling_height", "ceiling_color", "ceiling_texture", "level"});
   Room room;
   room.id = r.string("id", "");
   read_room_points(r, room, b);
@@ -103,11 +103,13 @@ Room read_room(const json& value, const std::string& pointer, const Bounds& b) {
   const Level* level = room.level >= 0 ? &(*b.levels)[size_t(room.level)] : nullptr;
   room.elevation = r.number("elevation", level ? level->elevation : 0.0, b.coordinate);
   room.floor = r.boolean("floor", true);
-  room.floor_color = r.color("floor_color", read_color(json("#d9d4c7"), ""));
+  room.floor_color = read_surface_color(r, "floor_color", "floor_texture", read_color(json("#d9d4c7"), ""));
+  room.floor_texture = read_texture(r, "floor_texture", b);
   room.floor_material = read_material(r);
   room.ceiling = r.boolean("ceiling", true);
   room.ceiling_height = r.number("ceiling_height", level ? level->height : 2.5, b.length);
-  room.ceiling_color = r.color("ceiling_color", read_color(json("#f0f0f0"), ""));
+  room.ceiling_color = read_surface_color(r, "ceiling_color", "ceiling_texture", read_color(json("#f0f0f0"), ""));
+  room.ceiling_texture = read_texture(r, "ceiling_texture", b);
   return room;
 }
 

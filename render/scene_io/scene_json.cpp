@@ -96,7 +96,7 @@ void read_cells(const ObjectReader& r, Floor& floor, const ParseLimits& limits) 
 
 Floor read_floor(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"id", "origin", "cells", "cell_size", "elevation", "colors", "material", "level"});
+                 {"id", "origin", "cells", "cell_size", "elevation", "colors", "material", "texture", "level"});
   Floor floor;
   floor.level = read_level_ref(value, pointer, b);
   floor.id = r.string("id", "");
@@ -104,7 +104,10 @@ Floor read_floor(const json& value, const std::string& pointer, const Bounds& b)
   b.errors.attempt([&] { read_cells(r, floor, b.limits); });
   floor.cell_size = r.number("cell_size", 1.0, b.length);
   floor.elevation = r.number("elevation", 0.0, b.coordinate);
-  floor.colors = {hex("#d9d4c7"), hex("#8c8579")};
+  floor.texture = read_texture(r, "texture", b);
+  // A textured floor shows its image as it is unless colours are given to multiply it.
+  floor.colors = r.find("texture") ? std::vector<Color>{textured_default_color, textured_default_color}
+                                   : std::vector<Color>{hex("#d9d4c7"), hex("#8c8579")};
   r.member("colors", [&](const json& colors, const std::string& at) {
     expect_array(colors, at);
     if (colors.size() < 2) throw_invalid(at, "must hold at least 2 colours");
@@ -173,7 +176,8 @@ Opening read_opening(const json& value, const std::string& pointer, const Wall& 
 Wall read_wall(const json& value, const std::string& pointer, const Bounds& b) {
   const size_t errors_before = b.errors.size();
   ObjectReader r(value, pointer, b.errors,
-                 {"id", "start", "end", "thickness", "height", "base", "color", "openings", "material", "level"});
+                 {"id", "start", "end", "thickness", "height", "base", "color", "left_color", "right_color",
+                  "left_texture", "right_texture", "openings", "material", "level"});
   Wall wall;
   wall.level = read_level_ref(value, pointer, b);
   wall.id = r.string("id", "");
@@ -188,6 +192,15 @@ Wall read_wall(const json& value, const std::string& pointer, const Bounds& b) {
   wall.base = r.number("base", 0.0, b.coordinate);
   wall.color = r.color("color", hex("#e6e1d6"));
   wall.material = read_material(r);
+  // A side's own colour; a textured side without one is white (the image as it is), not `color`.
+  auto read_side_color = [&](const char* key, const char* texture_key) -> std::optional<Color> {
+    if (!r.find(key) && !r.find(texture_key)) return std::nullopt;
+    return read_surface_color(r, key, texture_key, wall.color);
+  };
+  wall.left_color = read_side_color("left_color", "left_texture");
+  wall.right_color = read_side_color("right_color", "right_texture");
+  wall.left_texture = read_texture(r, "left_texture", b);
+  wall.right_texture = read_texture(r, "right_texture", b);
   const bool wall_read = b.errors.size() == errors_before;
   r.member("openings", [&](const json& openings, const std::string& at) {
     expect_array(openings, at);
@@ -388,7 +401,7 @@ void read_view_levels(const json& value, const std::string& pointer, ErrorList& 
 RenderOptions read_options(const json& value, const std::string& pointer, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
                  {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png", "levels",
-                  "ceilings", "antialias", "culling", "exposure"});
+                  "ceilings", "antialias", "culling", "exposure", "texture_filter"});
   RenderOptions o;
   NumberRange side{1.0, double(b.limits.max_image_side)};
   side.kind_above = Kind::too_large;
@@ -412,6 +425,7 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
   o.antialias = int(r.integer("antialias", o.antialias, NumberRange{1.0, 16.0}));
   if (!is_sample_count(o.antialias)) throw_invalid(r.at("antialias"), "must be 1, 4, 8 or 16");
   o.culling = read_choice(r, "culling", o.culling, culling_mode_names);
+  o.texture_filter = read_choice(r, "texture_filter", o.texture_filter, texture_filter_names);
   r.member("exposure", [&](const json& v, const std::string& p) {
     if (v.is_string() && v.get<std::string>() == "auto") {
       o.auto_exposure = true;
@@ -465,8 +479,11 @@ RenderRequest read_request(const json& request, const Bounds& b) {
 RenderRequest request_from_json(const json& request, const ParseLimits& limits) {
   ErrorList errors;
   RenderRequest out;
+  TextureImages images;
+  Bounds bounds(limits, errors);
+  bounds.images = &images;
   try {
-    errors.attempt([&] { out = read_request(request, Bounds(limits, errors)); });
+    errors.attempt([&] { out = read_request(request, bounds); });
   } catch (const ErrorList::Full&) {
     // The list holds max_listed_errors problems and is marked truncated: answer with what it has.
   }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "render/core/scene.hpp"
+#include "render/core/texture.hpp"
 #include "render/scene_io/errors.hpp"
 
 #include <nlohmann/json.hpp>
@@ -16,6 +17,11 @@
 
 namespace rr {
 
+// The bytes one texture image may have, as its data: URI decodes (docs/scene-format.md, "Textures"):
+// 4 MiB is about 5.6 MiB of base64, so an image fits in a request under the server's 8 MiB body limit.
+// The importers skip larger image files with a warning.
+inline constexpr size_t texture_image_bytes_cap = size_t{4} << 20;
+
 struct ParseLimits {
   size_t max_depth = 64;                     // JSON nesting, checked while parsing
   int max_image_side = 4096;                 // width and height
@@ -27,6 +33,11 @@ struct ParseLimits {
   double max_abs_coordinate = 1e7;  // metres, every position-like number (national grids reach 1e7)
   double max_far_over_near = 1e7;
   size_t max_mesh_vertices = 4'000'000;  // one mesh's vertices (its faces count against max_polygons)
+  size_t max_texture_image_bytes = texture_image_bytes_cap;  // one image's encoded bytes
+  TextureLimits texture;                                     // one image's sides and pixels, from its header
+  // Every distinct image of a request decoded, mip chains counted as 4/3 of their level 0 (RGB): four
+  // images of the largest size TextureLimits allows.
+  size_t max_texture_decoded_bytes = size_t{256} << 20;
   // Finds a stored mesh for a mesh solid's "ref" (nullptr: none). Unset, every ref is refused (422).
   std::function<std::shared_ptr<const MeshData>(const std::string& id)> resolve_mesh;
   // Whether a ref names a mesh that is always there (the server's catalogue): a stored scene placing

@@ -9,10 +9,23 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <span>
 #include <string>
+#include <unordered_map>
 
 namespace rr {
+
+// The images of one request: each distinct `image` string decoded once and its result shared by
+// every surface naming it; the decoded bytes count against ParseLimits::max_texture_decoded_bytes.
+struct TextureImages {
+  struct Entry {
+    std::shared_ptr<const TextureImage> image;  // null: refused as unreadable, for `problem`
+    std::string problem;
+  };
+  std::unordered_map<std::string, Entry> by_image;
+  size_t decoded_bytes = 0;
+};
 
 // Ranges derived from the limits, shared by every reader, and the request's list of problems.
 struct Bounds {
@@ -28,6 +41,7 @@ struct Bounds {
   NumberRange length;                          // sizes, thickness, heights, radii: > 0
   NumberRange distance;                        // offsets and sills: >= 0
   const std::vector<Level>* levels = nullptr;  // the scene's levels, once read: "level" members name them
+  TextureImages* images = nullptr;             // the request's images; null where no texture is read
 };
 
 // Runs read(items[i], pointer of i) for each element of an array, adding what it throws to `errors`,
@@ -41,7 +55,15 @@ void for_each_element(const nlohmann::json& items, const std::string& pointer, E
 
 MaterialParams read_material(const ObjectReader& owner);  // the optional "material" member
 
-// An inline mesh's "vertices", "faces" and "normals" (mesh_json.cpp): the mesh, or nullptr after
+// The optional texture member `key` of an object (texture_json.cpp): null when absent or refused
+// (its problems added to b.errors; too_large is thrown). A surface whose colour member is absent
+// takes white when it has a texture (textured_color), so the image shows as it is.
+std::shared_ptr<const SurfaceTexture> read_texture(const ObjectReader& owner, std::string_view key, const Bounds& b);
+inline constexpr Color textured_default_color{1.0f, 1.0f, 1.0f};
+// The colour member `key`: as given; else white when the texture member `texture_key` is present; else fallback.
+Color read_surface_color(const ObjectReader& owner, std::string_view key, std::string_view texture_key, Color fallback);
+
+// An inline mesh's "vertices", "faces", "normals" and "uvs" (mesh_json.cpp): the mesh, or nullptr after
 // adding its problems to b.errors. Throws too_large and what stops reading.
 std::shared_ptr<const MeshData> read_mesh_geometry(const ObjectReader& r, const Bounds& b);
 

@@ -22,10 +22,11 @@ namespace {
 // Above this many footprint points the O(n^2) simplicity test would cost more than a request should.
 constexpr size_t max_prism_points = 4096;
 
-void read_common(const ObjectReader& r, Solid& s) {
+void read_common(const ObjectReader& r, Solid& s, const Bounds& b) {
   s.id = r.string("id", "");
-  s.color = r.color("color", Color{0.7f, 0.7f, 0.7f});  // the schema's default; the doc gives none
+  s.color = read_surface_color(r, "color", "texture", Color{0.7f, 0.7f, 0.7f});  // the schema's default
   s.material = read_material(r);
+  s.texture = read_texture(r, "texture", b);
 }
 
 void read_footprint(const ObjectReader& r, Solid& s, const Bounds& b) {
@@ -36,17 +37,17 @@ void read_footprint(const ObjectReader& r, Solid& s, const Bounds& b) {
 
 void read_box_or_pyramid(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "size"});
-  read_common(r, s);
+                 {"type", "id", "level", "color", "material", "texture", "center", "base", "rotation_y", "size"});
+  read_common(r, s, b);
   read_footprint(r, s, b);
   s.size = r.vec3("size", b.length);
 }
 
 void read_cylinder(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "radius", "height",
-                  "segments", "smooth", "caps"});
-  read_common(r, s);
+                 {"type", "id", "level", "color", "material", "texture", "center", "base", "rotation_y", "radius",
+                  "height", "segments", "smooth", "caps"});
+  read_common(r, s, b);
   read_footprint(r, s, b);
   s.radius = r.number("radius", b.length);
   s.height = r.number("height", b.length);
@@ -58,8 +59,9 @@ void read_cylinder(const json& value, const std::string& pointer, Solid& s, cons
 }
 
 void read_prism(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(value, pointer, b.errors, {"type", "id", "level", "color", "material", "points", "height", "base"});
-  read_common(r, s);
+  ObjectReader r(value, pointer, b.errors,
+                 {"type", "id", "level", "color", "material", "texture", "points", "height", "base"});
+  read_common(r, s, b);
   const size_t errors_before = b.errors.size();
   b.errors.attempt([&] {
     const json& points = r.array("points", true);
@@ -93,7 +95,7 @@ Vec3 read_scale(const ObjectReader& r, const Bounds& b) {
 void read_ref(const ObjectReader& r, std::shared_ptr<const MeshData>& mesh, std::string& mesh_ref, const Bounds& b) {
   const json& ref = r.require("ref");
   if (!ref.is_string()) throw_invalid(r.at("ref"), "must be the id of a stored mesh (a string)");
-  for (const char* key : {"vertices", "faces", "normals"}) {
+  for (const char* key : {"vertices", "faces", "normals", "uvs"}) {
     if (r.find(key)) throw_invalid(r.at(key), "a mesh placed by \"ref\" takes its geometry from the stored mesh");
   }
   mesh_ref = ref.get<std::string>();
@@ -103,9 +105,9 @@ void read_ref(const ObjectReader& r, std::shared_ptr<const MeshData>& mesh, std:
 
 void read_mesh(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"type", "id", "level", "color", "material", "vertices", "faces", "position", "scale", "rotation_y",
-                  "smooth", "closed", "normals", "ref"});
-  read_common(r, s);
+                 {"type", "id", "level", "color", "material", "texture", "vertices", "faces", "position", "scale",
+                  "rotation_y", "smooth", "closed", "normals", "uvs", "ref"});
+  read_common(r, s, b);
   b.errors.attempt([&] {
     if (r.find("ref")) {
       read_ref(r, s.mesh, s.mesh_ref, b);
@@ -146,11 +148,14 @@ void read_part_transform(const json& value, const std::string& pointer, PiecePar
 
 PiecePart read_part(const json& value, const std::string& pointer, const Solid& piece, const Bounds& b) {
   ObjectReader r(value, pointer, b.errors,
-                 {"name", "ref", "vertices", "faces", "normals", "color", "material", "transform"});
+                 {"name", "ref", "vertices", "faces", "normals", "uvs", "color", "material", "texture", "transform"});
   PiecePart part;
   part.name = r.string("name", "");
-  part.color = r.color("color", piece.color);
+  // A part takes the piece's colour, material and texture unless it has its own; a part with a texture
+  // of its own and no colour is white.
+  part.color = read_surface_color(r, "color", "texture", piece.color);
   part.material = r.find("material") ? read_material(r) : piece.material;
+  part.texture = r.find("texture") ? read_texture(r, "texture", b) : piece.texture;
   b.errors.attempt([&] {
     if (r.find("ref")) {
       read_ref(r, part.mesh, part.mesh_ref, b);
@@ -163,10 +168,10 @@ PiecePart read_part(const json& value, const std::string& pointer, const Solid& 
 }
 
 void read_piece(const json& value, const std::string& pointer, Solid& s, const Bounds& b) {
-  ObjectReader r(
-      value, pointer, b.errors,
-      {"type", "id", "level", "color", "material", "center", "base", "rotation_y", "size", "mirrored", "parts"});
-  read_common(r, s);
+  ObjectReader r(value, pointer, b.errors,
+                 {"type", "id", "level", "color", "material", "texture", "center", "base", "rotation_y", "size",
+                  "mirrored", "parts"});
+  read_common(r, s, b);
   read_footprint(r, s, b);
   s.size = r.vec3("size", b.length);
   s.mirrored = r.boolean("mirrored", false);

@@ -100,6 +100,37 @@ valid("bsp weights", ["options/bsp", { w1: 2, w2: 8, w3: 0, epsilon: 0.001, max_
 valid("exposure 2", ["options/exposure", 2]);
 valid("exposure at its limit", ["options/exposure", 64]);
 valid("exposure auto", ["options/exposure", "auto"]);
+// Textures: a real 1 x 1 PNG, and a PNG header alone claiming 100,000 x 100,000 pixels (refused from
+// the header, 413 at its image member).
+const pngUri = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGP438AAAAQBAYDFKhhdAAAAAElFTkSuQmCC";
+function crc32(bytes) {
+  let c = 0xffffffff;
+  for (const b of bytes) {
+    c ^= b;
+    for (let k = 0; k < 8; ++k) c = (c >>> 1) ^ (0xedb88320 & -(c & 1));
+  }
+  return (c ^ 0xffffffff) >>> 0;
+}
+function hugePngUri() {
+  const be32 = (v) => [(v >>> 24) & 255, (v >>> 16) & 255, (v >>> 8) & 255, v & 255];
+  const chunk = [...Buffer.from("IHDR"), ...be32(100000), ...be32(100000), 8, 2, 0, 0, 0];
+  const bytes = [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, ...be32(13), ...chunk, ...be32(crc32(chunk))];
+  return "data:image/png;base64," + Buffer.from(bytes).toString("base64");
+}
+valid("textures on every kind of surface",
+  ["scene/floor/texture", { image: pngUri, width: 0.5, height: 0.5, x_offset: 0.25, angle: 45 }],
+  ["scene/walls/0/left_texture", { image: pngUri }], ["scene/walls/0/right_color", "#ff0000"],
+  ["scene/solids/0/texture", { image: pngUri, width: 2 }],
+  ["scene/solids/4/texture", { image: pngUri }], ["scene/solids/4/uvs", [[0, 0], [1, 0], [0, 1], [1, 1]]]);
+for (const filter of requestOptions.texture_filter.enum) valid(`texture_filter ${filter}`, ["options/texture_filter", filter]);
+invalid("texture without an image", ["scene/solids/0/texture", { width: 1 }]);
+invalid("texture image a URL", ["scene/solids/0/texture", { image: "https://example.com/a.png" }]);
+invalid("texture width 0", ["scene/solids/0/texture", { image: pngUri, width: 0 }]);
+invalid("unknown texture key", ["scene/solids/0/texture", { image: pngUri, scale: 2 }]);
+invalid("texture_filter cubic", ["options/texture_filter", "cubic"]);
+semantic("texture image not an image", ["scene/solids/0/texture", { image: "data:image/png;base64,aGVsbG8=" }]);
+semantic("texture image a stored id", ["scene/solids/0/texture", { image: "0123456789abcdef" }]);
+limit("texture header 100000 x 100000", ["scene/solids/0/texture", { image: hugePngUri() }]);
 valid("material on a solid", ["scene/solids/0/material", { specular: 0.5, specular_color: "#ffffff", shininess: 64 }]);
 
 invalid("unknown top-level key", ["extra", 1]);

@@ -15,6 +15,7 @@
 
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -61,6 +62,7 @@ TEST(SchemaTables, RequestEnumsEqualTheTables) {
   EXPECT_EQ(strings(options["png"]["properties"]["compression"]["enum"]), names_of(png_compression_names));
   EXPECT_EQ(strings(options["ceilings"]["enum"]), names_of(ceiling_mode_names));
   EXPECT_EQ(strings(options["culling"]["enum"]), names_of(culling_mode_names));
+  EXPECT_EQ(strings(options["texture_filter"]["enum"]), names_of(texture_filter_names));
 }
 
 TEST(SchemaTables, SceneTypesEqualTheTables) {
@@ -85,10 +87,10 @@ TEST(SchemaTables, EverySolidTypeHasAReader) {
 TEST(SchemaTables, OpenApiParameterEnumsEqualTheTables) {
   const json parameters = read_schema("openapi.json")["paths"]["/v1/scenes/{id}/render.png"]["get"]["parameters"];
   const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
-      {"pipeline", names_of(pipeline_table())},        {"shading", names_of(shading_names)},
-      {"painter_key", names_of(painter_key_names)},    {"bsp_traversal", names_of(bsp_traversal_names)},
-      {"shadow_fit", names_of(shadow_fit_names)},      {"png", names_of(png_compression_names)},
-      {"shadow_method", names_of(shadow_method_names)}};
+      {"pipeline", names_of(pipeline_table())},         {"shading", names_of(shading_names)},
+      {"painter_key", names_of(painter_key_names)},     {"bsp_traversal", names_of(bsp_traversal_names)},
+      {"shadow_fit", names_of(shadow_fit_names)},       {"png", names_of(png_compression_names)},
+      {"shadow_method", names_of(shadow_method_names)}, {"texture_filter", names_of(texture_filter_names)}};
   for (const json& p : parameters) {
     if (!p["schema"].contains("enum")) continue;
     for (const auto& [name, table] : tables) {
@@ -133,6 +135,14 @@ class Dump {
     for (const T& item : v) put(item), out_ << ' ';
     out_ << ']';
   }
+  void put(const std::optional<Color>& c) {
+    if (c) put(*c);
+  }
+  void put(const std::shared_ptr<const SurfaceTexture>& t) {
+    if (!t) return;
+    (*this)("image", t->image)("width", t->width)("height", t->height)("x_offset", t->x_offset)(
+        "y_offset", t->y_offset)("angle", t->angle);
+  }
   void put(const MaterialParams& m) {
     (*this)("specular", m.specular)("specular_color", m.specular_color)("shininess", m.shininess);
   }
@@ -142,30 +152,33 @@ class Dump {
   }
   void put(const Wall& w) {
     (*this)("id", w.id)("start", w.start)("end", w.end)("thickness", w.thickness)("height", w.height)("base", w.base)(
-        "color", w.color)("material", w.material)("openings", w.openings);
+        "color", w.color)("material", w.material)("left_color", w.left_color)("right_color", w.right_color)(
+        "left_texture", w.left_texture)("right_texture", w.right_texture)("openings", w.openings);
   }
   void put(const Solid& s) {
-    (*this)("type", s.type)("id", s.id)("color", s.color)("material", s.material)("center", s.center)("base", s.base)(
-        "rotation_y", s.rotation_y_deg)("size", s.size)("radius", s.radius)("height", s.height)("segments", s.segments)(
-        "smooth", s.smooth)("caps", s.caps)("points", s.points)("mesh", s.mesh)("mesh_ref", s.mesh_ref)(
-        "position", s.position)("scale", s.scale)("closed", s.closed)("parts", s.parts)("mirrored", s.mirrored);
+    (*this)("type", s.type)("id", s.id)("color", s.color)("material", s.material)("texture", s.texture)(
+        "center", s.center)("base", s.base)("rotation_y", s.rotation_y_deg)("size", s.size)("radius", s.radius)(
+        "height", s.height)("segments", s.segments)("smooth", s.smooth)("caps", s.caps)("points", s.points)(
+        "mesh", s.mesh)("mesh_ref", s.mesh_ref)("position", s.position)("scale", s.scale)("closed", s.closed)(
+        "parts", s.parts)("mirrored", s.mirrored);
   }
   void put(const PiecePart& p) {
     (*this)("name", p.name)("mesh", p.mesh)("mesh_ref", p.mesh_ref)("color", p.color)("material", p.material)(
-        "transformed", p.transformed)("linear.x", p.linear[0])("linear.y", p.linear[1])("linear.z", p.linear[2])(
-        "offset", p.offset);
+        "texture", p.texture)("transformed", p.transformed)("linear.x", p.linear[0])("linear.y", p.linear[1])(
+        "linear.z", p.linear[2])("offset", p.offset);
   }
   void put(const std::shared_ptr<const MeshData>& m) {
     if (!m) return;
-    (*this)("vertices", m->vertices)("faces", m->faces)("normals", m->normals);
+    (*this)("vertices", m->vertices)("faces", m->faces)("normals", m->normals)("uvs", m->uvs);
   }
   void put(const std::vector<uint32_t>& face) {
     for (uint32_t i : face) out_ << i << ',';
   }
   void put(const Room& r) {
     (*this)("id", r.id)("points", r.points)("elevation", r.elevation)("floor", r.floor)("floor_color", r.floor_color)(
-        "material", r.floor_material)("ceiling", r.ceiling)("ceiling_height", r.ceiling_height)(
-        "ceiling_color", r.ceiling_color)("level", r.level);
+        "floor_texture", r.floor_texture)("material", r.floor_material)("ceiling", r.ceiling)(
+        "ceiling_height", r.ceiling_height)("ceiling_color", r.ceiling_color)("ceiling_texture", r.ceiling_texture)(
+        "level", r.level);
   }
   void put(const Level& l) {
     (*this)("id", l.id)("elevation", l.elevation)("height", l.height)("viewable", l.viewable);
@@ -185,7 +198,7 @@ std::string dump(const RenderRequest& r) {
   d("background", s.background)("ambient.color", s.ambient.color)("ambient.intensity", s.ambient.intensity);
   d("has_floor", s.geometry.has_floor)("floor.id", f.id)("floor.origin", f.origin)("floor.cells_x", f.cells_x)(
       "floor.cells_z", f.cells_z)("floor.cell_size", f.cell_size)("floor.elevation", f.elevation)(
-      "floor.colors", f.colors)("floor.material", f.material);
+      "floor.colors", f.colors)("floor.material", f.material)("floor.texture", f.texture);
   d("walls", s.geometry.walls)("solids", s.geometry.solids)("lights", s.lights);
   d("rooms", s.geometry.rooms)("levels", s.geometry.levels);
   const Camera& c = r.camera;
@@ -194,7 +207,8 @@ std::string dump(const RenderRequest& r) {
   const RenderOptions& o = r.options;
   d("width", o.width)("height", o.height)("pipeline", o.pipeline)("shading", o.shading)("painter_key", o.painter_key)(
       "shadows", o.shadows)("png", o.png_compression);
-  d("levels_given", o.levels_given)("levels", o.levels)("ceilings", o.ceilings)("culling", o.culling);
+  d("levels_given", o.levels_given)("levels", o.levels)("ceilings", o.ceilings)("culling", o.culling)("texture_filter",
+                                                                                                      o.texture_filter);
   d("bsp.w1", o.bsp.w1)("bsp.w2", o.bsp.w2)("bsp.w3", o.bsp.w3)("bsp.epsilon", o.bsp.epsilon)(
       "bsp.max_candidates", o.bsp.max_candidates)("bsp.traversal", o.bsp.traversal);
   d("shadow.size", o.shadow.size)("shadow.pcf", o.shadow.pcf)("shadow.bias", o.shadow.bias)(
@@ -232,6 +246,10 @@ std::vector<Site> sites() {
   };
   auto with_solid = [](json solid) { return json{{"scene", {{"solids", {std::move(solid)}}}}}; };
   auto with_light = [](json light) { return json{{"scene", {{"lights", {std::move(light)}}}}}; };
+  // A 1 x 1 PNG.
+  const json texture = {{"image",
+                         "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGP438AAAAQBAYD"
+                         "FKhhdAAAAAElFTkSuQmCC"}};
   const json piece = {{"type", "piece"},
                       {"center", {0, 0}},
                       {"size", {1, 1, 1}},
@@ -265,6 +283,8 @@ std::vector<Site> sites() {
        with_solid({{"type", "mesh"}, {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}}}, {"faces", {{0, 1, 2}}}})},
       {"scene.schema.json", "piece", json::json_pointer("/scene/solids/0"), with_solid(piece)},
       {"scene.schema.json", "piece_part", json::json_pointer("/scene/solids/0/parts/0"), with_solid(piece)},
+      {"scene.schema.json", "texture", json::json_pointer("/scene/solids/0/texture"),
+       with_solid({{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"texture", texture}})},
       {"scene.schema.json", "directional_light", json::json_pointer("/scene/lights/0"),
        with_light({{"type", "directional"}})},
       {"scene.schema.json", "point_light", json::json_pointer("/scene/lights/0"),
