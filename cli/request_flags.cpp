@@ -13,7 +13,7 @@ namespace {
 using nlohmann::json;
 
 enum class Kind { vec3, number, number_or_auto, integer, size, name, boolean, light };
-enum class Names { none, pipelines, shadings, png, culling, shadow_methods };
+enum class Names { none, pipelines, shadings, png, culling, shadow_methods, texture_filters };
 
 struct RequestFlag {
   const char* name;
@@ -40,6 +40,8 @@ constexpr RequestFlag request_flag_rows[] = {
     {"--shadows", "/options/shadows", Kind::boolean, "true|false", Names::none, "shadows"},
     {"--shadow-method", "/options/shadow/method", Kind::name, nullptr, Names::shadow_methods,
      "shadows from maps, or exact rays toward each light"},
+    {"--texture-filter", "/options/texture_filter", Kind::name, nullptr, Names::texture_filters,
+     "how textures are filtered"},
     {"--antialias", "/options/antialias", Kind::integer, "S", Names::none,
      "coverage sub-samples per pixel: 1, 4, 8 or 16"},
     {"--exposure", "/options/exposure", Kind::number_or_auto, "E|auto", Names::none,
@@ -71,6 +73,9 @@ std::string value_names(Names names) {
       break;
     case Names::shadow_methods:
       for (const auto& row : shadow_method_names) add(row.name);
+      break;
+    case Names::texture_filters:
+      for (const auto& row : texture_filter_names) add(row.name);
       break;
     case Names::none:
       break;

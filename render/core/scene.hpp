@@ -45,7 +45,7 @@ struct Floor {
   std::vector<Color> colors;  // >= 2; cell (i, j) takes colors[(i + j) % n]
   MaterialParams material;
   std::shared_ptr<const SurfaceTexture> texture;  // null: untextured; else over every cell
-  int level = -1;  // index into StaticGeometry::levels, -1: on no level (always drawn)
+  int level = -1;                                 // index into StaticGeometry::levels, -1: on no level (always drawn)
 };
 
 enum class OpeningType { door, window };

@@ -152,8 +152,8 @@ void add(Fnv1a& h, const PiecePart& p) {
 }
 
 void add(Fnv1a& h, const Solid& s) {
-  const auto& [type, id, color, material, texture, center, base, rotation_y_deg, size, radius, height, segments, smooth, caps,
-               points, mesh, mesh_ref, position, scale, closed, parts, mirrored, level] = s;
+  const auto& [type, id, color, material, texture, center, base, rotation_y_deg, size, radius, height, segments, smooth,
+               caps, points, mesh, mesh_ref, position, scale, closed, parts, mirrored, level] = s;
   (void)id;
   (void)mesh_ref;  // names the mesh that `mesh` holds
   add(h, type);

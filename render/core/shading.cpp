@@ -136,7 +136,8 @@ void SurfaceShader::add_terms(const Material& material, Vec3 p, Vec3 n, Color* o
     }
     out[0] = Color(irradiance);
     specular_out[0] = Color(specular);
-    for (size_t s = 0; s < slots_; ++s) out[1 + s] = Color(slot_sums_[s]), specular_out[1 + s] = Color(slot_specular[s]);
+    for (size_t s = 0; s < slots_; ++s)
+      out[1 + s] = Color(slot_sums_[s]), specular_out[1 + s] = Color(slot_specular[s]);
     return;
   }
   const glm::dvec3 color(material.color);

@@ -195,15 +195,15 @@ class SurfaceShader {
   const ShadowBvh* rays_;   // shadow.method rays: the tree of input_.soup (never with maps_)
   const ShadowBvh* glass_;  // a tree of input_.soup with panes, which tint shadowed lights; else null
   ShadingMode mode_;
-  size_t slots_;                       // lights with shadow maps, or every scene light with rays
-  std::vector<uint32_t> term_begin_;   // per polygon: its first entry in terms_
-  std::vector<Color> terms_;           // [unshadowed sum, one per slot], per polygon (flat) or vertex
-  std::vector<Color> scratch_terms_;   // source vertex terms while preparing a fragment
-  std::vector<uint32_t> reaching_;     // lights that reach the polygon being prepared
-  std::vector<glm::dvec3> slot_sums_;  // per slot, while adding terms
+  size_t slots_;                           // lights with shadow maps, or every scene light with rays
+  std::vector<uint32_t> term_begin_;       // per polygon: its first entry in terms_
+  std::vector<Color> terms_;               // [unshadowed sum, one per slot], per polygon (flat) or vertex
+  std::vector<Color> scratch_terms_;       // source vertex terms while preparing a fragment
+  std::vector<uint32_t> reaching_;         // lights that reach the polygon being prepared
+  std::vector<glm::dvec3> slot_sums_;      // per slot, while adding terms
   std::vector<glm::dvec3> slot_specular_;  // per slot, a textured polygon's specular terms
-  double sign_ = 1.0;                  // lit side of the polygon being prepared or bound
-  bool textured_soup_ = false;  // some polygon has a texture
+  double sign_ = 1.0;                      // lit side of the polygon being prepared or bound
+  bool textured_soup_ = false;             // some polygon has a texture
   PixelRays pixel_rays_;
   TextureSampling sampling_;
   // The bound polygon.

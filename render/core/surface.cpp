@@ -45,8 +45,8 @@ Color mean_of(const TextureImage& image) {
   return Color(last.rgb[0], last.rgb[1], last.rgb[2]) / 255.0f;
 }
 
-Color box_filtered(const TextureImage& image, const UvMap& map, const PixelRays& rays, Vec3 n, double offset,
-                   double sx, double sy, int taps) {
+Color box_filtered(const TextureImage& image, const UvMap& map, const PixelRays& rays, Vec3 n, double offset, double sx,
+                   double sy, int taps) {
   glm::dvec3 sum(0.0);
   int count = 0;
   for (int j = 0; j < taps; ++j) {

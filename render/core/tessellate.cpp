@@ -75,18 +75,25 @@ UvMap uv_map_of(std::span<const Vec3> points, std::span<const glm::dvec2> uvs) {
 
 }  // namespace
 
-UvMap planar_uv_map(const SurfaceTexture& texture, Vec3 n) {
+UvMap planar_uv_map(const SurfaceTexture& texture, Vec3 n, const UvFrame& frame) {
+  const Vec2 n_plan = rotate_plan({n.x, n.z}, -frame.rotation_y_rad);
+  const Vec3 local(n_plan.x, n.y, n_plan.y);
   Vec3 s_axis{1.0, 0.0, 0.0}, t_axis{0.0, 0.0, -1.0};
-  if (std::abs(n.y) < std::sqrt(0.5)) {
-    s_axis = glm::normalize(Vec3(n.z, 0.0, -n.x));
-    t_axis = {0.0, 1.0, 0.0};
+  const double across = std::hypot(local.x, local.z);
+  if (across > 1e-6) {  // not horizontal: right of the viewer facing it, and up the face
+    s_axis = Vec3(local.z, 0.0, -local.x) / across;
+    t_axis = glm::cross(local, s_axis);
   }
+  auto to_world = [&](Vec3 v) {
+    const Vec2 xz = rotate_plan({v.x, v.z}, frame.rotation_y_rad);
+    return Vec3(xz.x, v.y, xz.y);
+  };
   const double c = std::cos(texture.angle), s = std::sin(texture.angle);
   UvMap m;
-  m.u_axis = (c * s_axis + s * t_axis) / texture.width;
-  m.v_axis = (c * t_axis - s * s_axis) / texture.height;
-  m.u0 = texture.x_offset;
-  m.v0 = texture.y_offset;
+  m.u_axis = to_world(c * s_axis + s * t_axis) / texture.width;
+  m.v_axis = to_world(c * t_axis - s * s_axis) / texture.height;
+  m.u0 = -texture.x_offset - glm::dot(m.u_axis, frame.origin);
+  m.v0 = -texture.y_offset - glm::dot(m.v_axis, frame.origin);
   return m;
 }
 
@@ -153,7 +160,7 @@ bool SoupBuilder::add_polygon(std::span<const Vec3> points, Vec3 outward, uint32
   if (soup_.objects[object].closed) poly.flags |= polygon_closed;
   if (soup_.materials[material].opacity < 1.0f) poly.flags |= polygon_translucent;
   if (const SurfaceTexture* texture = soup_.materials[material].texture.get()) {
-    soup_.uv_maps.push_back(uvs_.empty() ? planar_uv_map(*texture, poly.normal) : uv_map_of(points_, uvs_));
+    soup_.uv_maps.push_back(uvs_.empty() ? planar_uv_map(*texture, poly.normal, uv_frame_) : uv_map_of(points_, uvs_));
     poly.uv_map = uint32_t(soup_.uv_maps.size());
   }
   soup_.positions.insert(soup_.positions.end(), points_.begin(), points_.end());
@@ -210,7 +217,12 @@ void add_solid(SoupBuilder& out, const Solid& s, size_t index) {
   const bool smooth = type.smooth(s);
   const uint32_t object = out.add_object(ElementRef::solid(index), closed, smooth);
   const uint32_t material = out.add_material(solid_material(s));
+  // A solid's textures are mapped in its own space: meshes from their position, the others from
+  // the centre of their footprint at their base.
+  out.set_uv_frame(
+      {s.type == SolidType::mesh ? s.position : Vec3(s.center.x, s.base, s.center.y), radians(s.rotation_y_deg)});
   type.add(out, s, material, object);
+  out.set_uv_frame({});
 }
 
 // Each object takes its element's level, so a view can select polygons by level.

@@ -6,12 +6,19 @@
 #include "render/core/tessellate.hpp"
 
 #include <array>
-#include <unordered_map>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace rr::detail {
+
+// Where a planar mapping measures from: `origin`, with the plan's axes turned by rotation_y (a
+// solid's own space, so its texture turns and moves with it).
+struct UvFrame {
+  Vec3 origin{0.0};
+  double rotation_y_rad = 0.0;
+};
 
 class SoupBuilder {
  public:
@@ -36,6 +43,8 @@ class SoupBuilder {
   void mark_ceiling(uint32_t object) { soup_.objects[object].ceiling = true; }
 
   bool textured(uint32_t material) const { return soup_.materials[material].texture != nullptr; }
+  // The frame of the planar mappings of the polygons added from now on (the world's by default).
+  void set_uv_frame(const UvFrame& frame) { uv_frame_ = frame; }
 
   PolygonSoup take() { return std::move(soup_); }
 
@@ -45,13 +54,14 @@ class SoupBuilder {
   std::vector<Vec3> points_;  // scratch, reused so emitting allocates nothing per polygon
   std::vector<glm::vec3> shading_;
   std::vector<glm::dvec2> uvs_;
+  UvFrame uv_frame_;
 };
 
-// The planar mapping of a texture on a polygon of unit normal n (docs/scene-format.md "Textures"):
-// tiles anchored at the world origin; on a face within 45 degrees of horizontal, s along +x and t
-// along -z (the plan's up as Sweet Home 3D draws it); on any other face, s to the right of someone
-// facing it and t up. Then turned by the texture's angle, scaled to tiles and shifted by the offsets.
-UvMap planar_uv_map(const SurfaceTexture& texture, Vec3 n);
+// The planar mapping of a texture on a polygon of unit normal n (docs/scene-format.md "Textures"),
+// in `frame`: on a horizontal face s along +x and t along -z (the plan's up as Sweet Home 3D draws
+// it); on any other face s to the right of someone facing it and t up the face. Then turned by the
+// texture's angle, scaled to tiles and shifted by the offsets.
+UvMap planar_uv_map(const SurfaceTexture& texture, Vec3 n, const UvFrame& frame);
 
 // Twice the area times the unit normal of a closed polygon (Newell's method, taken about the first
 // vertex so far-from-origin coordinates keep their precision). Right-hand rule: CCW -> toward viewer.

@@ -311,6 +311,10 @@ struct WallBuild {
 void add_long_faces(const WallBuild& b) {
   for (double sigma : {1.0, -1.0}) {
     const double v = sigma * b.f.half_thickness;
+    // A side's texture measures from the wall's end at its viewer's left: the left side's end, the
+    // right side's start, at the wall's base.
+    const Vec2 anchor = sigma > 0.0 ? b.wall.end : b.wall.start;
+    b.out.set_uv_frame({{anchor.x, b.wall.base, anchor.y}, 0.0});
     for (size_t c = 0; c < b.cols.size(); ++c) {
       for (int i = 0; i < b.cols[c].solid_count; ++i) {
         const Interval s = b.cols[c].solid[size_t(i)];
@@ -320,6 +324,7 @@ void add_long_faces(const WallBuild& b) {
       }
     }
   }
+  b.out.set_uv_frame({});
 }
 
 // Top, then bottom: one convex piece per run of columns whose material reaches that face, along u.

@@ -19,8 +19,8 @@ size_t BspTree::bytes() const {
   return sizeof(BspTree) + fragments.positions.capacity() * sizeof(Vec3) +
          fragments.normals.capacity() * sizeof(glm::vec3) + fragments.polygons.capacity() * sizeof(Polygon) +
          fragments.materials.capacity() * sizeof(Material) + fragments.objects.capacity() * sizeof(SceneObject) +
-         fragments.uv_maps.capacity() * sizeof(UvMap) +
-         nodes.capacity() * sizeof(BspNode) + node_polygons.capacity() * sizeof(uint32_t);
+         fragments.uv_maps.capacity() * sizeof(UvMap) + nodes.capacity() * sizeof(BspNode) +
+         node_polygons.capacity() * sizeof(uint32_t);
 }
 
 std::string bsp_cache_key(const std::string& scene_id, const BspOptions& o) {

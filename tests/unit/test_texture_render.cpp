@@ -20,7 +20,8 @@ using nlohmann::json;
 
 // An image of w x h texels, texel (i, j) (j from the top row) coloured by `at`, decoded as a request's
 // would be.
-std::shared_ptr<SurfaceTexture> make_texture(int w, int h, const std::function<Color(int, int)>& at, double tile = 1.0) {
+std::shared_ptr<SurfaceTexture> make_texture(int w, int h, const std::function<Color(int, int)>& at,
+                                             double tile = 1.0) {
   Image image(w, h, Color(0.0f));
   for (int j = 0; j < h; ++j) {
     for (int i = 0; i < w; ++i) {
@@ -38,17 +39,19 @@ std::shared_ptr<SurfaceTexture> make_texture(int w, int h, const std::function<C
 }
 
 // Sixteen distinct colours: texel (i, j) of a 4 x 4 image.
-Color distinct(int i, int j) { return Color(0.1f + 0.25f * float(i), 0.1f + 0.25f * float(j), float((i * 7 + j * 3) % 16) / 15.0f); }
+Color distinct(int i, int j) {
+  return Color(0.1f + 0.25f * float(i), 0.1f + 0.25f * float(j), float((i * 7 + j * 3) % 16) / 15.0f);
+}
 
 // A 2 m floor cell seen from straight above, lit by an ambient of 1 alone, so a pixel is its albedo.
 RenderRequest top_view(TextureFilter filter, const std::shared_ptr<SurfaceTexture>& texture) {
-  RenderRequest r = request_from_json(json{
-      {"scene",
-       {{"ambient", {{"intensity", 1.0}}},
-        {"floor", {{"origin", {-1, -1}}, {"cells", {1, 1}}, {"cell_size", 2}, {"colors", {"#ffffff", "#ffffff"}}}},
-        {"lights", json::array()}}},
-      {"camera", {{"position", {0.0, 3.0, 0.0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fov_y", 40}}},
-      {"options", {{"width", 96}, {"height", 96}}}});
+  RenderRequest r = request_from_json(
+      json{{"scene",
+            {{"ambient", {{"intensity", 1.0}}},
+             {"floor", {{"origin", {-1, -1}}, {"cells", {1, 1}}, {"cell_size", 2}, {"colors", {"#ffffff", "#ffffff"}}}},
+             {"lights", json::array()}}},
+           {"camera", {{"position", {0.0, 3.0, 0.0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fov_y", 40}}},
+           {"options", {{"width", 96}, {"height", 96}}}});
   r.scene.geometry.floor.texture = texture;
   r.options.texture_filter = filter;
   return r;
@@ -139,15 +142,19 @@ RenderRequest textured_room(TextureFilter filter, const std::string& shading) {
         {"type": "point", "position": [-0.8, 2.1, 0.6], "intensity": 0.7, "attenuation": [1, 0.1, 0.05]}]},
     "camera": {"position": [-1.5, 1.6, 1.6], "target": [0.8, 0.7, -1.2], "fov_y": 70},
     "options": {"width": 160, "height": 120, "shadows": true}})"));
-  auto checker = make_texture(8, 8, [](int i, int j) { return (i + j) % 2 ? Color(0.9f, 0.85f, 0.7f) : Color(0.35f, 0.2f, 0.1f); }, 0.5);
-  auto stripes = make_texture(16, 4, [](int i, int) { return i % 4 < 2 ? Color(0.8f, 0.3f, 0.3f) : Color(0.95f); }, 0.8);
+  auto checker = make_texture(
+      8, 8, [](int i, int j) { return (i + j) % 2 ? Color(0.9f, 0.85f, 0.7f) : Color(0.35f, 0.2f, 0.1f); }, 0.5);
+  auto stripes = make_texture(
+      16, 4, [](int i, int) { return i % 4 < 2 ? Color(0.8f, 0.3f, 0.3f) : Color(0.95f); }, 0.8);
   StaticGeometry& g = r.scene.geometry;
   g.floor.texture = checker;
   for (size_t w = 0; w < g.walls.size(); ++w) (w % 2 ? g.walls[w].left_texture : g.walls[w].right_texture) = stripes;
   g.solids[0].texture = checker;
   g.solids[0].material.specular = 0.5f;
   r.options.texture_filter = filter;
-  r.options.shading = shading == "flat" ? ShadingMode::flat : shading == "gouraud" ? ShadingMode::gouraud : ShadingMode::phong;
+  r.options.shading = shading == "flat"      ? ShadingMode::flat
+                      : shading == "gouraud" ? ShadingMode::gouraud
+                                             : ShadingMode::phong;
   return r;
 }
 
