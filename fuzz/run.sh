@@ -6,6 +6,8 @@
 #   http_seam                 request bytes -> the connection front's parse against cpp-httplib's;
 #                             corpus seeded from fuzz/http_seeds/ and fuzz/http_regressions/,
 #                             dictionary fuzz/http.dict
+#   texture_decode            encoded image bytes -> decode_texture with the service's limits; corpus
+#                             seeded from fuzz/texture_seeds/ (small PNGs and JPEGs), no dictionary
 # The corpus persists in build-fuzz/corpus (render_request) or build-fuzz/corpus-http_seam; crashing,
 # leaking, slow or (http_seam) disagreeing inputs land in build-fuzz/artifacts/. Exits 77 when clang
 # or its libFuzzer runtime is missing, so ctest reports the bounded run as skipped.
@@ -20,7 +22,8 @@ target="${FUZZ_TARGET:-render_request}"
 case "$target" in
   render_request) corpus="$build/corpus" dict="$root/fuzz/request.dict" seeds=("$root"/examples/*.json "$root"/fuzz/seeds/* "$root"/fuzz/regressions/*) ;;
   http_seam) corpus="$build/corpus-http_seam" dict="$root/fuzz/http.dict" seeds=("$root"/fuzz/http_seeds/* "$root"/fuzz/http_regressions/*) ;;
-  *) echo "fuzz/run.sh: unknown FUZZ_TARGET '$target' (render_request or http_seam)" >&2; exit 2 ;;
+  texture_decode) corpus="$build/corpus-texture_decode" dict="" seeds=("$root"/fuzz/texture_seeds/*) ;;
+  *) echo "fuzz/run.sh: unknown FUZZ_TARGET '$target' (render_request, http_seam or texture_decode)" >&2; exit 2 ;;
 esac
 
 if ! command -v clang++ >/dev/null ||
@@ -48,6 +51,6 @@ done
 #  the 8190-byte cap.
 cd "$build"
 nice -n 10 "./fuzz/fuzz_$target" "$corpus" \
-  -dict="$dict" -max_total_time="$seconds" -error_exitcode=1 -timeout=10 -rss_limit_mb=2048 \
+  ${dict:+-dict="$dict"} -max_total_time="$seconds" -error_exitcode=1 -timeout=10 -rss_limit_mb=2048 \
   -max_len=16384 -workers=1 -artifact_prefix="$build/artifacts/" -print_final_stats=1 "$@" \
   2>&1 | tee -a "$build/fuzz.log"

@@ -4,6 +4,7 @@
 
 #include "render/core/hash.hpp"
 #include "render/core/scene_id.hpp"
+#include "render/core/texture.hpp"
 
 #include <map>
 #include <set>
@@ -13,8 +14,8 @@ namespace rr::server {
 namespace {
 
 // Approximate heap cost of a prepared scene: the text, the parsed scene (about as large as its text,
-// in practice smaller), the tessellation's arrays, its hierarchy, its cells, its shadow-ray tree and the
-// meshes it places
+// in practice smaller), the tessellation's arrays, its hierarchy, its cells, its shadow-ray tree, the
+// meshes it places and its decoded texture images with their mip chains
 // (counted with each scene that holds them, though the scenes placing one mesh share it: an overcount
 // keeps the cache's budget a bound on what it holds).
 size_t entry_bytes(const StoredScene& s) {
@@ -22,6 +23,12 @@ size_t entry_bytes(const StoredScene& s) {
   bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
   bytes += s.soup.polygons.capacity() * sizeof(Polygon) + s.soup.materials.capacity() * sizeof(Material);
   bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
+  bytes += s.soup.uv_maps.capacity() * sizeof(UvMap);
+  std::set<const TextureImage*> images;
+  for (const Material& m : s.soup.materials) {
+    const TextureImage* image = m.texture ? m.texture->decoded.get() : nullptr;
+    if (image && images.insert(image).second) bytes += image->bytes();
+  }
   if (s.hierarchy) bytes += s.hierarchy->bytes();
   if (s.cells) bytes += s.cells->bytes();
   if (s.shadow_bvh) bytes += s.shadow_bvh->bytes();

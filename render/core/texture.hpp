@@ -70,8 +70,11 @@ bool decode_data_uri(std::string_view uri, size_t max_bytes, std::vector<uint8_t
 // screen's x and (du_dy, dv_dy) along y:
 //   nearest      the texel of level 0 holding (u, v);
 //   bilinear     the four nearest texels of level 0, weighted by distance;
-//   trilinear    bilinear in the two levels around lambda = log2(rho), rho the longer footprint axis
-//                in level-0 texels, blended linearly (level 0 alone when lambda <= 0);
+//   trilinear    bilinear in the two levels around lambda = log2(rho), blended linearly (level 0
+//                alone when lambda <= 0), rho the geometric mean of the footprint's two axes in
+//                level-0 texels: the side of a square of the footprint's area, not OpenGL's longer
+//                axis, which blurs a surface seen at a grazing angle far more than the exact box
+//                filter does (docs/textures.md measures both);
 //   anisotropic  N = rho_max / rho_min rounded up, at most 16, trilinear taps spread evenly along the
 //                longer axis, each at lambda = log2(rho_max / N): the shorter axis's level, or a
 //                coarser one when N was clamped; their mean.

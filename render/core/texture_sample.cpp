@@ -123,7 +123,7 @@ Color sample_texture(const TextureImage& image, TextureFilter filter, glm::dvec2
     case TextureFilter::bilinear:
       return to_color(bilinear_uv(image.levels.front(), uv), 1.0);
     case TextureFilter::trilinear: {
-      const double rho = std::max(texels(image, duv_dx), texels(image, duv_dy));
+      const double rho = std::sqrt(texels(image, duv_dx) * texels(image, duv_dy));  // texture.hpp: the area's side
       return to_color(trilinear(image, uv, std::log2(rho)), 1.0);
     }
     case TextureFilter::anisotropic:

@@ -4,11 +4,13 @@
 // input bound answered with a 4xx at the field and no allocation proportional to the number asked
 // for, and idle keep-alive connections that cannot pin the connection threads.
 #include "server_fixture.hpp"
+#include "support/image_bytes.hpp"
 
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <thread>
 
@@ -105,6 +107,19 @@ TEST_F(LimitsTest, HundredThousandDeepJsonIsRefused) {
   objects.append(depth, '}');
   json nested = post_problem(objects, 400);
   EXPECT_EQ(nested["errors"][0]["pointer"].get<std::string>().rfind("/a/a/a/", 0), 0u) << nested;
+  expect_healthy(*server_);
+}
+
+// A texture whose PNG header claims 100,000 x 100,000 pixels (and holds nothing else) is refused
+// from that header: 413 at its pointer, not the 422 that decoding the missing pixels would give.
+TEST_F(LimitsTest, TextureDimensionBombIsRefusedFromItsHeader) {
+  const std::string uri = "data:image/png;base64," + base64_encode(png_head(100'000, 100'000));
+  const json request = {
+      {"scene", {{"walls", {{{"start", {0, 0}}, {"end", {4, 0}}, {"left_texture", {{"image", uri}}}}}}}}};
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(refused_at(request.dump(), 413), "/scene/walls/0/left_texture/image");
+  std::printf("refused in %.1f ms\n",
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   expect_healthy(*server_);
 }
 

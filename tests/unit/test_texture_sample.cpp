@@ -154,23 +154,27 @@ TEST(TextureSample, TrilinearPicksLevelOfFootprint) {
   auto level_k = [&](size_t k) { return texel_bilinear(level_alone(*texture, k), uv); };
   for (int k = 0; k < 5; ++k) {
     const double texels = std::ldexp(1.0, k);
-    // Along x, along y, or the longer of two: the footprint of 2^k texels picks level k.
-    EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {texels / 16, 0.0}, {0.0, 0.0}),
+    // A square footprint of 2^k texels a side, or a rectangle of the same area (its sides' geometric
+    // mean is 2^k), along the axes or turned: level k.
+    EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {texels / 16, 0.0}, {0.0, texels / 16}),
               level_k(size_t(k)));
-    EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {0.1 / 16, 0.0}, {0.0, -texels / 16}),
+    EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {0.0, -4 * texels / 16}, {texels / 64, 0.0}),
               level_k(size_t(k)));
+    const double c = std::sqrt(0.5) * texels / 16;
+    expect_color_near(sample_texture(*texture, TextureFilter::trilinear, uv, {2 * c, 2 * c}, {-c / 2, c / 2}),
+                      level_k(size_t(k)), 1e-6);
     if (k < 4) {
       // Half-way in log2 blends the two levels equally.
       const double between = texels * std::sqrt(2.0) / 16;
       const Color blend = 0.5f * level_k(size_t(k)) + 0.5f * level_k(size_t(k) + 1);
-      expect_color_near(sample_texture(*texture, TextureFilter::trilinear, uv, {between, 0.0}, {0.0, 0.0}), blend,
+      expect_color_near(sample_texture(*texture, TextureFilter::trilinear, uv, {between, 0.0}, {0.0, between}), blend,
                         1e-6);
     }
   }
-  // Below a texel: level 0 alone; beyond the last level: the 1 x 1 mean.
+  // Below a texel: level 0 alone (a footprint without area too); beyond the last level: the 1 x 1 mean.
   EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {0.2 / 16, 0.0}, {0.0, 0.3 / 16}), level_k(0));
   EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {0.0, 0.0}, {0.0, 0.0}), level_k(0));
-  EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {100.0, 0.0}, {0.0, 0.0}), level_k(4));
+  EXPECT_EQ(sample_texture(*texture, TextureFilter::trilinear, uv, {100.0, 0.0}, {0.0, 100.0}), level_k(4));
 }
 
 TEST(TextureSample, AnisotropicIsotropicIsTrilinear) {
