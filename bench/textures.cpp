@@ -142,9 +142,9 @@ int main(int argc, char** argv) {
                                                       {"papered_studio", papered_studio()}};
   if (auto fireplace = fireplace_room()) scenes.emplace_back("fireplace_room", *fireplace);
   const std::pair<const char*, rr::TextureFilter> filters[] = {{"nearest", rr::TextureFilter::nearest},
-                                                              {"bilinear", rr::TextureFilter::bilinear},
-                                                              {"trilinear", rr::TextureFilter::trilinear},
-                                                              {"anisotropic", rr::TextureFilter::anisotropic}};
+                                                               {"bilinear", rr::TextureFilter::bilinear},
+                                                               {"trilinear", rr::TextureFilter::trilinear},
+                                                               {"anisotropic", rr::TextureFilter::anisotropic}};
   json results = json::array();
   std::printf("%-16s %-12s %10s %10s %10s\n", "scene", "filter", "PSNR dB", "pixels", "frame ms");
   for (const auto& [name, request_json] : scenes) {

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <functional>
+#include <random>
 
 namespace rr {
 namespace {
@@ -122,6 +123,45 @@ TEST(TextureRender, BilinearMatchesTheAnalyticWeightsWithinOneLevel) {
   EXPECT_GT(checked, 4000);
 }
 
+// A perspective view of a finely textured floor: at each pixel, trilinear takes the level of the
+// footprint computed here independently, by central differences of the pixel rays' hits (their
+// error is second order in the pixel's size), so the level, the blend and the texel agree within one
+// grey level.
+TEST(TextureRender, TrilinearLevelFollowsTheAnalyticFootprint) {
+  std::mt19937 rng(35);
+  const auto texture = make_texture(
+      256, 256, [&](int, int) { return Color(float(rng() % 256) / 255.0f, float(rng() % 256) / 255.0f, 0.5f); }, 2.0);
+  RenderRequest r = top_view(TextureFilter::trilinear, texture);
+  r.camera.position = {0.0, 1.2, 1.6};
+  r.camera.target = {0.0, 0.0, -0.6};
+  r.camera.up = {0.0, 1.0, 0.0};
+  r.camera.fov_y_deg = 60.0;
+  const RenderResult out = draw(r);
+  const ViewTransform view = make_view(r.camera, r.options.width, r.options.height);
+  auto uv_at = [&](double sx, double sy) {
+    const double x_ndc = 2.0 * sx / view.width - 1.0, y_ndc = 1.0 - 2.0 * sy / view.height;
+    const Mat4 world_from_clip = glm::inverse(view.clip_from_world);
+    const Vec4 far = world_from_clip * Vec4(x_ndc, y_ndc, 1.0, 1.0);
+    const Vec3 d = Vec3(far) / far.w - view.eye;
+    return floor_uv(view.eye + (-view.eye.y / d.y) * d, 2.0);
+  };
+  int checked = 0, levels_above_zero = 0;
+  for (int y = 0; y < r.options.height; y += 3) {
+    for (int x = 0; x < r.options.width; x += 3) {
+      if (out.frame.ids.at(x, y) == background_id) continue;
+      const double sx = x + 0.5, sy = y + 0.5;
+      const glm::dvec2 d_dx = (uv_at(sx + 0.5, sy) - uv_at(sx - 0.5, sy));
+      const glm::dvec2 d_dy = (uv_at(sx, sy + 0.5) - uv_at(sx, sy - 0.5));
+      const Color want = sample_texture(*texture->decoded, TextureFilter::trilinear, uv_at(sx, sy), d_dx, d_dy);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(out.frame.image.pixel(x, y)[c], want[c] * 255.0, 1.0) << x << "," << y;
+      levels_above_zero += std::sqrt(glm::length(d_dx) * glm::length(d_dy)) * 256.0 > 1.0;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 400);
+  EXPECT_GT(levels_above_zero, 100);  // the far floor is drawn from coarser levels
+}
+
 // A room of four textured walls, a textured floor and a textured box, lit by a sun and a lamp, seen
 // from inside with Phong and shadows: nothing overlaps in its own plane, so every pipeline draws the
 // same surfaces.
@@ -172,6 +212,37 @@ TEST(TextureRender, EveryPipelineDrawsTheSameBytes) {
         }
       }
     }
+  }
+}
+
+// The A-buffer shades a pixel that one polygon covers wholly at its centre, as S = 1 does: every
+// pixel whose 3 x 3 neighbourhood shows one opaque polygon at S = 1 keeps its bytes at S = 4, 8 and
+// 16. (Behind a pane the A-buffer composites in its own order, textured or not.)
+TEST(TextureRender, AntialiasedPixelsInsideAPolygonKeepTheirBytes) {
+  const RenderRequest r = textured_room(TextureFilter::anisotropic, "phong");
+  const RenderResult one = draw(r);
+  const PolygonSoup soup = tessellate(r.scene.geometry);
+  for (int samples : {4, 8, 16}) {
+    RenderRequest aa = r;
+    aa.options.antialias = samples;
+    const RenderResult out = draw(aa);
+    int inside = 0;
+    for (int y = 1; y + 1 < r.options.height; ++y) {
+      for (int x = 1; x + 1 < r.options.width; ++x) {
+        bool uniform = true;
+        for (int j = -1; j <= 1; ++j) {
+          for (int i = -1; i <= 1; ++i) uniform = uniform && one.frame.ids.at(x + i, y + j) == one.frame.ids.at(x, y);
+        }
+        const uint32_t id = one.frame.ids.at(x, y);
+        if (!uniform || id == background_id || (soup.polygons[id].flags & polygon_translucent)) continue;
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_EQ(out.frame.image.pixel(x, y)[c], one.frame.image.pixel(x, y)[c])
+              << samples << " at " << x << "," << y;
+        }
+        ++inside;
+      }
+    }
+    EXPECT_GT(inside, 10000);
   }
 }
 
