@@ -40,10 +40,59 @@ std::string stb_reason() {
   return reason ? reason : "unknown failure";
 }
 
+// This stb_image trusts a Huffman table's code counts: a DHT segment whose 16 counts sum past 256
+// makes stbi__build_huffman write past its table (stb_image 2.28 added the check). So every table of
+// every DHT segment is checked first, reading its counts where stb reads them (a table may run past
+// its segment's length; stb reads 0 past the end of the input), through the entropy-coded data of
+// every scan, so the tables of a progressive JPEG's later scans are checked too. Returns the problem,
+// or an empty string.
+std::string jpeg_huffman_problem(std::span<const uint8_t> b) {
+  auto at = [&](size_t i) -> size_t { return i < b.size() ? b[i] : 0; };
+  size_t i = 2;  // after SOI
+  while (i + 4 <= b.size()) {
+    if (b[i] != 0xFF) {  // entropy-coded data after a scan's header
+      ++i;
+      continue;
+    }
+    const uint8_t marker = b[i + 1];
+    if (marker == 0xFF) {  // a fill byte before a marker
+      ++i;
+      continue;
+    }
+    if (marker == 0x00 || marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {  // stuffed zero, TEM, RSTn
+      i += 2;
+      continue;
+    }
+    if (marker == 0xD9) break;  // EOI
+    const size_t length = at(i + 2) << 8 | at(i + 3);
+    if (marker == 0xC4) {
+      long remaining = long(length) - 2;
+      size_t p = i + 4;
+      while (remaining > 0) {
+        size_t codes = 0;
+        for (size_t k = 1; k <= 16; ++k) codes += at(p + k);
+        if (codes > 256) {
+          return "a Huffman table of " + std::to_string(codes) + " codes (at most 256)";
+        }
+        p += 17 + codes;
+        remaining -= long(17 + codes);
+      }
+    }
+    i += 2 + std::max<size_t>(length, 2);
+  }
+  return "";
+}
+
 }  // namespace
 
 bool decode_rgb8(std::span<const uint8_t> encoded, Image& image, std::string* failure) {
   if (!fits_stb(encoded, failure)) return false;
+  if (encoded.size() >= 2 && encoded[0] == 0xFF && encoded[1] == 0xD8) {
+    if (std::string problem = jpeg_huffman_problem(encoded); !problem.empty()) {
+      *failure = "Corrupt JPEG: " + problem;
+      return false;
+    }
+  }
   int w = 0, h = 0, channels = 0;
   stbi_uc* pixels = stbi_load_from_memory(encoded.data(), int(encoded.size()), &w, &h, &channels, 3);
   if (!pixels) {

@@ -232,6 +232,19 @@ TEST(TextureDecode, EveryTruncationAndByteFlipOfTheSeedsDecodesOrIsRefused) {
   EXPECT_GT(decoded, seeds.size());  // every seed, and bytes past the data (a JPEG's tail) are not all checked
 }
 
+// A Huffman table whose 16 code counts sum past 256 would make this stb_image write past its table:
+// it is refused before stb reads it (found by the test above under UBSan).
+TEST(TextureDecode, HuffmanTableOfMoreThan256CodesIsRefused) {
+  std::string jpeg(reinterpret_cast<const char*>(colour_jpeg), sizeof colour_jpeg);
+  const size_t dht = jpeg.find("\xFF\xC4");
+  ASSERT_NE(dht, std::string::npos);
+  jpeg[dht + 5] = char(200);  // the first table's counts of 1- and 2-bit codes: 400 codes in all
+  jpeg[dht + 6] = char(200);
+  TextureError error = refusal(as_bytes(jpeg));
+  EXPECT_EQ(error.kind, TextureError::Kind::unreadable);
+  EXPECT_NE(error.message.find("Huffman table"), std::string::npos) << error.message;
+}
+
 TEST(TextureDecode, UnreadableBytesRefused) {
   const std::string png = encode_png(random_image(16, 16, 3));
   TextureError error = refusal(as_bytes(png.substr(0, png.size() / 2)));
