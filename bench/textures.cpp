@@ -10,6 +10,7 @@
 #include "render/core/error_metrics.hpp"
 #include "render/core/image.hpp"
 #include "render/import/import.hpp"
+#include "render/import/import_obj.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/pipeline_table.hpp"
 #include "render/scene_io/scene_json.hpp"
@@ -32,33 +33,20 @@ namespace fs = std::filesystem;
 
 const fs::path shared_data = fs::path(ROOMRENDER_SOURCE_DIR) / ".." / "shared" / "data";
 
-std::string base64(const std::string& bytes) {
-  static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    const size_t n = std::min<size_t>(3, bytes.size() - i);
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (n > 1) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    if (n > 2) v |= uint8_t(bytes[i + 2]);
-    for (size_t k = 0; k < 4; ++k) out.push_back(k <= n ? digits[(v >> (18 - 6 * k)) & 63] : '=');
-  }
-  return out;
-}
-
 // A 40 m floor tiled with Sweet Home 3D's black and white tiles (0.5 m a tile), or a checkerboard of
 // the same period without ../shared, seen from 0.3 m above it toward the horizon.
 json grazing_floor() {
   const fs::path tiles = shared_data / "textures" / "sweethome3d" / "blackAndWhiteTiles.jpg";
   std::string uri;
   if (fs::exists(tiles)) {
-    uri = "data:image/jpeg;base64," + base64(read_text(tiles.string()));
+    uri = *rr::import_detail::image_data_uri(read_text(tiles.string()));
   } else {
     // Eight texels a square, so one tile of the image holds 8 x 8 squares.
     rr::Image image(64, 64, rr::Color(0.0f));
     for (int y = 0; y < 64; ++y) {
       for (int x = 0; x < 64; ++x) std::memset(image.pixel(x, y), ((x / 8 + y / 8) % 2) ? 235 : 20, 3);
     }
-    uri = "data:image/png;base64," + base64(rr::encode_png(image));
+    uri = *rr::import_detail::image_data_uri(rr::encode_png(image));
   }
   return {{"scene",
            {{"ambient", {{"intensity", 1.0}}},

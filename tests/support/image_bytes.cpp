@@ -1,8 +1,10 @@
 #include "support/image_bytes.hpp"
 
+#include <gtest/gtest.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <random>
 
 namespace rr::testing {
 
@@ -39,5 +41,25 @@ std::string base64_encode(std::string_view bytes, bool pad) {
   }
   return out;
 }
+
+std::span<const uint8_t> as_bytes(std::string_view s) { return {reinterpret_cast<const uint8_t*>(s.data()), s.size()}; }
+
+Image random_image(int w, int h, uint32_t seed) {
+  std::mt19937 rng(seed);
+  Image image;
+  image.width = w, image.height = h;
+  image.rgb.resize(size_t(w) * size_t(h) * 3);
+  for (uint8_t& b : image.rgb) b = uint8_t(rng() & 0xFF);
+  return image;
+}
+
+std::shared_ptr<const TextureImage> decode_ok(std::span<const uint8_t> bytes) {
+  TextureError error;
+  std::shared_ptr<const TextureImage> image = decode_texture(bytes, {}, &error);
+  EXPECT_TRUE(image) << error.message;
+  return image;
+}
+
+std::shared_ptr<const TextureImage> texture_of(const Image& image) { return decode_ok(as_bytes(encode_png(image))); }
 
 }  // namespace rr::testing

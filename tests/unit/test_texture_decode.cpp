@@ -17,7 +17,10 @@ namespace rr {
 namespace texture_decode_tests {
 namespace {
 
-std::span<const uint8_t> as_bytes(std::string_view s) { return {reinterpret_cast<const uint8_t*>(s.data()), s.size()}; }
+using testing::as_bytes;
+using testing::decode_ok;
+using testing::random_image;
+using testing::texture_of;
 
 // A grey 16 x 8 JPEG (cjpeg -quality 100 -grayscale): the left 8 x 8 block 64, the right one 192.
 const uint8_t grey_jpeg[] = {
@@ -52,30 +55,12 @@ const uint8_t colour_jpeg[] = {
     0x07, 0xcd, 0x00, 0x21, 0xdf, 0xff, 0xd9,
 };
 
-std::shared_ptr<const TextureImage> decode_ok(std::span<const uint8_t> bytes) {
-  TextureError error;
-  std::shared_ptr<const TextureImage> image = decode_texture(bytes, {}, &error);
-  EXPECT_TRUE(image) << error.message;
-  return image;
-}
-
 TextureError refusal(std::span<const uint8_t> bytes, const TextureLimits& limits = {}) {
   TextureError error;
   error.message = "(not refused)";
   EXPECT_FALSE(decode_texture(bytes, limits, &error));
   return error;
 }
-
-Image random_image(int w, int h, uint32_t seed) {
-  std::mt19937 rng(seed);
-  Image image;
-  image.width = w, image.height = h;
-  image.rgb.resize(size_t(w) * size_t(h) * 3);
-  for (uint8_t& b : image.rgb) b = uint8_t(rng() & 0xFF);
-  return image;
-}
-
-std::shared_ptr<const TextureImage> texture_of(const Image& image) { return decode_ok(as_bytes(encode_png(image))); }
 
 // A complete RGBA PNG, rows unfiltered.
 std::string rgba_png(uint32_t w, uint32_t h, const std::vector<uint8_t>& rgba) {

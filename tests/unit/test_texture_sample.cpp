@@ -4,6 +4,7 @@
 // value in [0, 1]; wider ones say why where they are used.
 #include "render/core/image.hpp"
 #include "render/core/texture.hpp"
+#include "support/image_bytes.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,25 +16,10 @@ namespace rr {
 namespace texture_sample_tests {
 namespace {
 
-std::span<const uint8_t> as_bytes(std::string_view s) { return {reinterpret_cast<const uint8_t*>(s.data()), s.size()}; }
-
-std::shared_ptr<const TextureImage> decode_ok(std::span<const uint8_t> bytes) {
-  TextureError error;
-  std::shared_ptr<const TextureImage> image = decode_texture(bytes, {}, &error);
-  EXPECT_TRUE(image) << error.message;
-  return image;
-}
-
-Image random_image(int w, int h, uint32_t seed) {
-  std::mt19937 rng(seed);
-  Image image;
-  image.width = w, image.height = h;
-  image.rgb.resize(size_t(w) * size_t(h) * 3);
-  for (uint8_t& b : image.rgb) b = uint8_t(rng() & 0xFF);
-  return image;
-}
-
-std::shared_ptr<const TextureImage> texture_of(const Image& image) { return decode_ok(as_bytes(encode_png(image))); }
+using testing::as_bytes;
+using testing::decode_ok;
+using testing::random_image;
+using testing::texture_of;
 
 // Texel (i, j) of a level (j from the top) as a colour, and the (u, v) of its centre.
 Color texel_color(const MipLevel& level, int i, int j) {
