@@ -19,8 +19,6 @@ namespace {
 constexpr double plane_tolerance_m = 1e-3;
 // The walk stops and reaches everything past this many portal crossings (it never comes near on homes).
 constexpr size_t max_steps = 200000;
-// Regions remembered per cell before they are merged into their bounds.
-constexpr size_t explored_per_cell = 4;
 
 ViewRegion intersect(const ViewRegion& a, const ViewRegion& b) {
   return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
