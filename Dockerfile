@@ -22,9 +22,10 @@ RUN cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROOMRENDER_WERROR=ON -DROOM
 
 FROM docker.io/library/debian:bookworm AS runtime
 # libcpp-httplib0.11 pulls in OpenSSL, zlib and brotli; pugixml and libzip read Sweet Home 3D files;
-# libpq5 talks to the shared store (--store postgresql://...).
+# libpq5 talks to the shared store (--store postgresql://...); libpng16-16 and libturbojpeg0 decode
+# textures.
 RUN apt-get update \
- && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libcpp-httplib0.11 zlib1g libpugixml1v5 libzip4 libpq5 \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libcpp-httplib0.11 zlib1g libpugixml1v5 libzip4 libpq5 libpng16-16 libturbojpeg0 \
  && rm -rf /var/lib/apt/lists/* /var/cache/apt/* /var/log/apt /var/log/dpkg.log \
  && groupadd --system --gid 10001 roomrender \
  && useradd --system --uid 10001 --gid 10001 --no-create-home --shell /usr/sbin/nologin roomrender \

@@ -11,7 +11,7 @@ set -euo pipefail
 build_packages=(
   build-essential cmake pkg-config
   libcpp-httplib-dev nlohmann-json3-dev libglm-dev libstb-dev googletest libgtest-dev
-  zlib1g-dev libpugixml-dev libzip-dev
+  zlib1g-dev libpugixml-dev libzip-dev libpng-dev libturbojpeg0-dev
   libpq-dev
 )
 # clang-format-14 is pinned: another version formats differently and scripts/check-format.sh, run by

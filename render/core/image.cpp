@@ -1,5 +1,5 @@
 // Framebuffer encoding. This is the only translation unit that compiles stb_image_write (static, so
-// it cannot clash with Debian's libstb.so if something else links it); stb_image lives in
+// it cannot clash with Debian's libstb.so if something else links it); the decoders live in
 // texture_decode.cpp, behind image_decode.hpp.
 #include "render/core/image.hpp"
 #include "render/core/image_decode.hpp"
@@ -34,10 +34,9 @@ std::string encode_png(const Image& image) {
 }
 
 Image decode_png(std::string_view png) {
-  // The decoder also reads JPEG; without the PNG signature this refuses with the reason stb_image
-  // gave when it was compiled for PNG alone.
+  // The decoder also reads JPEG: without the PNG signature this refuses.
   if (!png.starts_with(std::string_view("\x89PNG\r\n\x1a\n", 8))) {
-    throw std::runtime_error("not a readable PNG: unknown image type");
+    throw std::runtime_error("not a readable PNG: no PNG signature");
   }
   Image image;
   std::string failure;

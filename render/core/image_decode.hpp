@@ -1,6 +1,7 @@
-// stb_image behind one function, so that one translation unit (texture_decode.cpp) compiles it, with
-// PNG and JPEG only: encoded bytes -> RGB8 rows from the top (grey expanded, alpha dropped), or
-// stb_image's reason for refusing them ("bad png sig", "too large", ...).
+// The image decoders behind one function, in one translation unit (texture_decode.cpp): PNG by
+// libpng, JPEG by libjpeg-turbo. Encoded bytes -> RGB8 rows from the top (grey expanded, alpha
+// dropped), or the decoder's reason for refusing them ("IHDR: CRC error", "Bogus Huffman table
+// definition", ...).
 #pragma once
 
 #include "render/core/image.hpp"

@@ -1,123 +1,173 @@
 // Encoded bytes -> images: PNG or JPEG -> TextureImage (RGB8 level 0 and its mip chain), `data:` URIs
-// -> bytes, and decode_png's decoder (image_decode.hpp). The only translation unit that compiles
-// stb_image: PNG and JPEG from memory, static so it cannot clash with Debian's libstb.so. Limits are
-// checked on the header before any pixel is decoded.
+// -> bytes, and decode_png's decoder (image_decode.hpp). PNG is read by libpng, JPEG by libjpeg-turbo's
+// TurboJPEG API: both fuzzed for years upstream, where Debian's stb_image wrote past a Huffman table
+// and passed a null pointer to memcpy on inputs libFuzzer found in seconds (docs/textures.md). Limits
+// are checked on the header before any pixel is decoded.
 #include "render/core/hash.hpp"
 #include "render/core/image_decode.hpp"
 #include "render/core/texture.hpp"
 
+#include <png.h>
+#include <turbojpeg.h>
+
 #include <algorithm>
 #include <cassert>
 #include <climits>
+#include <csetjmp>
 #include <cstdio>
+#include <cstring>
+#include <memory>
 #include <optional>
 #include <utility>
-
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#define STBI_ONLY_JPEG
-#define STBI_NO_STDIO
-// The scalar JPEG paths on every CPU, so a texture's texels are a function of its bytes alone.
-#define STBI_NO_SIMD
-// Sides beyond this are refused from the header, also by decode_png, which has no other limit: twice
-// the largest render side (65536, --max-image-side), so it still reads every image a render writes.
-#define STBI_MAX_DIMENSIONS (1 << 17)
-#include <stb_image.h>
 
 namespace rr {
 namespace {
 
-// stb_image counts bytes in int.
-bool fits_stb(std::span<const uint8_t> encoded, std::string* failure) {
-  if (encoded.size() <= size_t(INT_MAX)) return true;
-  *failure = "too large";
-  return false;
+bool is_jpeg(std::span<const uint8_t> bytes) { return bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8; }
+
+// Sides beyond this are refused from a PNG's header, also by decode_png, which has no other limit:
+// twice the largest render side (65536, --max-image-side), so it still reads every image a render
+// writes.
+constexpr uint32_t max_png_side = 1u << 17;
+// Ancillary chunks (text, ICC profiles) are never used; none may make libpng allocate more than this.
+constexpr png_alloc_size_t max_png_chunk_bytes = 8u << 20;
+
+struct PngInput {
+  const uint8_t* data;
+  size_t size;
+  size_t at;
+};
+
+void png_read_bytes(png_structp png, png_bytep out, size_t n) {
+  auto* in = static_cast<PngInput*>(png_get_io_ptr(png));
+  if (n > in->size - in->at) png_error(png, "truncated");
+  std::memcpy(out, in->data + in->at, n);
+  in->at += n;
 }
 
-std::string stb_reason() {
-  const char* reason = stbi_failure_reason();
-  return reason ? reason : "unknown failure";
+void png_on_error(png_structp png, png_const_charp message) {
+  static_cast<std::string*>(png_get_error_ptr(png))->assign(message);
+  png_longjmp(png, 1);
 }
 
-// This stb_image trusts a Huffman table's code counts: a DHT segment whose 16 counts sum past 256
-// makes stbi__build_huffman write past its table (stb_image 2.28 added the check). So every table of
-// every DHT segment is checked first, reading its counts where stb reads them (a table may run past
-// its segment's length; stb reads 0 past the end of the input), through the entropy-coded data of
-// every scan, so the tables of a progressive JPEG's later scans are checked too. Returns the problem,
-// or an empty string.
-std::string jpeg_huffman_problem(std::span<const uint8_t> b) {
-  auto at = [&](size_t i) -> size_t { return i < b.size() ? b[i] : 0; };
-  size_t i = 2;  // after SOI
-  while (i + 4 <= b.size()) {
-    if (b[i] != 0xFF) {  // entropy-coded data after a scan's header
-      ++i;
-      continue;
-    }
-    const uint8_t marker = b[i + 1];
-    if (marker == 0xFF) {  // a fill byte before a marker
-      ++i;
-      continue;
-    }
-    if (marker == 0x00 || marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {  // stuffed zero, TEM, RSTn
-      i += 2;
-      continue;
-    }
-    if (marker == 0xD9) break;  // EOI
-    const size_t length = at(i + 2) << 8 | at(i + 3);
-    if (marker == 0xC4) {
-      long remaining = long(length) - 2;
-      size_t p = i + 4;
-      while (remaining > 0) {
-        size_t codes = 0;
-        for (size_t k = 1; k <= 16; ++k) codes += at(p + k);
-        if (codes > 256) {
-          return "a Huffman table of " + std::to_string(codes) + " codes (at most 256)";
-        }
-        p += 17 + codes;
-        remaining -= long(17 + codes);
-      }
-    }
-    i += 2 + std::max<size_t>(length, 2);
+void png_on_warning(png_structp, png_const_charp) {}
+
+// One libpng read, destroyed on every path.
+struct PngReader {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  PngReader() = default;
+  PngReader(const PngReader&) = delete;
+  PngReader& operator=(const PngReader&) = delete;
+  ~PngReader() { png_destroy_read_struct(&png, info ? &info : nullptr, nullptr); }
+};
+
+// The header's size (`image` null) or the whole image as RGB8: 16-bit samples keep their high byte,
+// palettes and grey are expanded, alpha (and tRNS) is dropped, gamma and other colour chunks are
+// ignored (a texel is the file's 8-bit value). libpng reports errors by longjmp back here, so every
+// object with a destructor is made before setjmp and nothing the error path reads changes after it.
+bool read_png(std::span<const uint8_t> bytes, Image* image, int* width, int* height, std::string* failure) {
+  PngReader reader;
+  PngInput input{bytes.data(), bytes.size(), 0};
+  std::vector<uint8_t> rgb;
+  std::vector<png_bytep> rows;
+  reader.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, failure, png_on_error, png_on_warning);
+  if (reader.png) reader.info = png_create_info_struct(reader.png);
+  if (!reader.png || !reader.info) {
+    *failure = "cannot start the PNG decoder";
+    return false;
   }
-  return "";
+  if (setjmp(png_jmpbuf(reader.png))) return false;
+  png_set_read_fn(reader.png, &input, png_read_bytes);
+  png_set_user_limits(reader.png, max_png_side, max_png_side);
+  png_set_chunk_malloc_max(reader.png, max_png_chunk_bytes);
+  png_read_info(reader.png, reader.info);
+  const png_uint_32 w = png_get_image_width(reader.png, reader.info);
+  const png_uint_32 h = png_get_image_height(reader.png, reader.info);
+  *width = int(w);
+  *height = int(h);
+  if (!image) return true;
+  const int colour = png_get_color_type(reader.png, reader.info);
+  png_set_strip_16(reader.png);
+  png_set_expand(reader.png);  // palette -> RGB, grey under 8 bits -> 8, tRNS -> alpha
+  png_set_strip_alpha(reader.png);
+  if (colour == PNG_COLOR_TYPE_GRAY || colour == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(reader.png);
+  png_set_interlace_handling(reader.png);
+  png_read_update_info(reader.png, reader.info);
+  if (png_get_rowbytes(reader.png, reader.info) != size_t(w) * 3) png_error(reader.png, "unexpected row layout");
+  rgb.resize(size_t(w) * size_t(h) * 3);
+  rows.resize(h);
+  for (png_uint_32 y = 0; y < h; ++y) rows[y] = rgb.data() + size_t(y) * size_t(w) * 3;
+  png_read_image(reader.png, rows.data());
+  image->width = int(w);
+  image->height = int(h);
+  image->rgb = std::move(rgb);
+  return true;
+}
+
+// One TurboJPEG decompressor, destroyed on every path.
+struct JpegDecoder {
+  tjhandle handle = tjInitDecompress();
+  JpegDecoder() = default;
+  JpegDecoder(const JpegDecoder&) = delete;
+  JpegDecoder& operator=(const JpegDecoder&) = delete;
+  ~JpegDecoder() {
+    if (handle) tjDestroy(handle);
+  }
+  std::string reason() const { return handle ? tjGetErrorStr2(handle) : "cannot start the JPEG decoder"; }
+};
+
+// TurboJPEG counts bytes in unsigned long; the header gives the size and colour space.
+bool read_jpeg_header(JpegDecoder& decoder, std::span<const uint8_t> bytes, int* width, int* height) {
+  int subsampling = 0, colorspace = 0;
+  return decoder.handle && bytes.size() <= ULONG_MAX &&
+         tjDecompressHeader3(decoder.handle, bytes.data(), static_cast<unsigned long>(bytes.size()), width, height,
+                             &subsampling, &colorspace) == 0;
+}
+
+// The accurate integer IDCT and smooth chroma upsampling (TurboJPEG's defaults), whose SIMD paths
+// give the C code's bytes, so a texel depends on the file alone. A warning (corrupt or missing data,
+// which libjpeg would fill with grey) is a refusal, and so is a progressive file of more than 500
+// scans (TJFLAG_LIMITSCANS: a few bytes that would cost minutes of decoding).
+bool decode_jpeg(std::span<const uint8_t> bytes, Image& image, std::string* failure) {
+  JpegDecoder decoder;
+  int w = 0, h = 0;
+  if (!read_jpeg_header(decoder, bytes, &w, &h)) {
+    *failure = decoder.reason();
+    return false;
+  }
+  std::vector<uint8_t> rgb(size_t(w) * size_t(h) * 3);
+  if (tjDecompress2(decoder.handle, bytes.data(), static_cast<unsigned long>(bytes.size()), rgb.data(), w, w * 3, h,
+                    TJPF_RGB, TJFLAG_STOPONWARNING | TJFLAG_LIMITSCANS) != 0) {
+    *failure = decoder.reason();
+    return false;
+  }
+  image.width = w;
+  image.height = h;
+  image.rgb = std::move(rgb);
+  return true;
 }
 
 }  // namespace
 
 bool decode_rgb8(std::span<const uint8_t> encoded, Image& image, std::string* failure) {
-  if (!fits_stb(encoded, failure)) return false;
-  if (encoded.size() >= 2 && encoded[0] == 0xFF && encoded[1] == 0xD8) {
-    if (std::string problem = jpeg_huffman_problem(encoded); !problem.empty()) {
-      *failure = "Corrupt JPEG: " + problem;
-      return false;
-    }
-  }
-  int w = 0, h = 0, channels = 0;
-  stbi_uc* pixels = stbi_load_from_memory(encoded.data(), int(encoded.size()), &w, &h, &channels, 3);
-  if (!pixels) {
-    *failure = stb_reason();
-    return false;
-  }
-  image.width = w;
-  image.height = h;
-  image.rgb.assign(pixels, pixels + size_t(w) * size_t(h) * 3);
-  stbi_image_free(pixels);
-  return true;
+  int w = 0, h = 0;
+  return is_jpeg(encoded) ? decode_jpeg(encoded, image, failure) : read_png(encoded, &image, &w, &h, failure);
 }
 
 namespace {
 
-// The header's size. stbi_info gives no reason for a refusal (it tries every format and reports the
-// last: "unknown image type").
-bool read_image_size(std::span<const uint8_t> encoded, int* width, int* height) {
-  int channels = 0;
-  return encoded.size() <= size_t(INT_MAX) &&
-         stbi_info_from_memory(encoded.data(), int(encoded.size()), width, height, &channels);
+// The header's size, or the decoder's reason for refusing it.
+bool read_image_size(std::span<const uint8_t> encoded, int* width, int* height, std::string* reason) {
+  if (!is_jpeg(encoded)) return read_png(encoded, nullptr, width, height, reason);
+  JpegDecoder decoder;
+  if (read_jpeg_header(decoder, encoded, width, height)) return true;
+  *reason = decoder.reason();
+  return false;
 }
 
 // A PNG's size from the fixed offsets of its IHDR (signature, length, "IHDR", width, height), for
-// naming the size of one stb_image refused.
+// naming the size of one libpng refused (a side over max_png_side).
 std::optional<std::pair<uint32_t, uint32_t>> png_ihdr_size(std::span<const uint8_t> png) {
   if (png.size() < 24 || !std::equal(png.begin() + 12, png.begin() + 16, "IHDR")) return std::nullopt;
   auto u32 = [&](size_t at) {
@@ -237,20 +287,27 @@ std::shared_ptr<const TextureImage> decode_texture(std::span<const uint8_t> enco
   const std::string allowed = "textures may be at most " + std::to_string(limits.max_side) + " pixels a side and " +
                               std::to_string(limits.max_pixels) + " pixels in all";
   int w = 0, h = 0;
-  const bool header_read = read_image_size(encoded, &w, &h);
+  std::string reason;
+  const bool header_read = read_image_size(encoded, &w, &h, &reason);
   uint64_t width = uint64_t(w), height = uint64_t(h);
   if (!header_read) {
-    // stbi_info also refuses, without saying why, a PNG too large for stb_image to decode (a side over
-    // STBI_MAX_DIMENSIONS, over 2^30 bytes); its IHDR still names the size. A JPEG's sides fit 16 bits.
+    // libpng refuses a side over max_png_side; the IHDR still names the size. A JPEG's sides fit 16
+    // bits, and TurboJPEG reads them from any header it can parse.
     const auto ihdr = *format == Format::png ? png_ihdr_size(encoded) : std::nullopt;
-    if (!ihdr) return refuse(TextureError::Kind::unreadable, name + " header unreadable (truncated or corrupt)");
+    if (!ihdr) {
+      return refuse(TextureError::Kind::unreadable,
+                    name + " header unreadable (" + (reason.empty() ? "truncated or corrupt" : reason) + ")");
+    }
     width = ihdr->first, height = ihdr->second;
   }
   if (width > uint64_t(limits.max_side) || height > uint64_t(limits.max_side) || width * height > limits.max_pixels) {
     return refuse(TextureError::Kind::too_large, name + " header says " + std::to_string(width) + " x " +
                                                      std::to_string(height) + " pixels; " + allowed);
   }
-  if (!header_read) return refuse(TextureError::Kind::unreadable, name + " header unreadable (corrupt or unsupported)");
+  if (!header_read) {
+    return refuse(TextureError::Kind::unreadable,
+                  name + " header unreadable (" + (reason.empty() ? "corrupt or unsupported" : reason) + ")");
+  }
   // Decoded to RGB: an alpha channel is dropped (a texture colours an opaque surface), grey is expanded.
   Image decoded;
   std::string failure;

@@ -1,6 +1,7 @@
-// PNG encoders: every mode decodes to exactly the pixels it was given (checked with stb_image and,
-// for the container and zlib stream, independently with zlib, which verifies the CRCs and the
-// Adler-32 that stb_image skips), and `fast` is byte-identical for any thread count.
+// PNG encoders: every mode decodes to exactly the pixels it was given (checked with decode_png, which
+// is libpng, and, for the container and zlib stream, independently with zlib, which verifies the
+// Adler-32, and the test's own chunk reader, which checks the CRCs), and `fast` is byte-identical for
+// any thread count.
 #include "render/core/png.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/pipelines/pipeline.hpp"
@@ -104,7 +105,7 @@ void expect_round_trip(const Image& image, const std::string& what) {
     Image decoded = decode_png(png);
     ASSERT_EQ(decoded.width, image.width);
     ASSERT_EQ(decoded.height, image.height);
-    EXPECT_TRUE(decoded.rgb == image.rgb) << "stb_image decodes other pixels";
+    EXPECT_TRUE(decoded.rgb == image.rgb) << "decode_png (libpng) decodes other pixels";
     EXPECT_TRUE(decode_with_zlib(png, image.width, image.height) == image.rgb) << "zlib decodes other pixels";
   }
 }

@@ -153,7 +153,7 @@ TEST(TextureDecode, SweetHomeJpegsDecodeWithFullChains) {
 }
 
 TEST(TextureDecode, DecodePngStillRefusesJpeg) {
-  // decode_png reads PNGs only, as when stb_image was compiled for PNG alone.
+  // decode_png reads PNGs only.
   EXPECT_THROW(decode_png({reinterpret_cast<const char*>(grey_jpeg), sizeof grey_jpeg}), std::runtime_error);
   const Image image = random_image(4, 3, 5);
   EXPECT_EQ(decode_png(encode_png(image)).rgb, image.rgb);
@@ -168,7 +168,7 @@ TEST(TextureDecode, HugeHeaderRefusedBeforeDecoding) {
   EXPECT_NE(error.message.find("100000 x 100000"), std::string::npos) << error.message;
   EXPECT_NE(error.message.find("8192"), std::string::npos) << error.message;
 
-  // Within the side limit but over the pixel count; over stb_image's own side bound; over a caller's.
+  // Within the side limit but over the pixel count; over the PNG decoder's own side bound; over a caller's.
   EXPECT_EQ(refusal(as_bytes(testing::png_head(5000, 5000, 2))).kind, TextureError::Kind::too_large);
   error = refusal(as_bytes(testing::png_head(1000000, 1, 2)));
   EXPECT_EQ(error.kind, TextureError::Kind::too_large) << error.message;
@@ -181,8 +181,8 @@ TEST(TextureDecode, HugeHeaderRefusedBeforeDecoding) {
 }
 
 // Every prefix of the texture decoder's fuzz seeds (fuzz/texture_seeds: PNGs of three colour types,
-// baseline, grey and progressive JPEGs), and each with any one byte replaced by its complement: each
-// decodes or is refused with a reason, and a decoded image has a whole mip chain (the sanitized run
+// baseline, grey and progressive JPEGs, and the fuzzer's findings), and each with any one byte replaced by its
+// complement: each decodes or is refused with a reason, and a decoded image has a whole mip chain (the sanitized run
 // checks that no byte outside the input or the image is touched).
 TEST(TextureDecode, EveryTruncationAndByteFlipOfTheSeedsDecodesOrIsRefused) {
   std::vector<std::string> seeds;
@@ -217,9 +217,16 @@ TEST(TextureDecode, EveryTruncationAndByteFlipOfTheSeedsDecodesOrIsRefused) {
   EXPECT_GT(decoded, seeds.size());  // every seed, and bytes past the data (a JPEG's tail) are not all checked
 }
 
-// A Huffman table whose 16 code counts sum past 256 would make this stb_image write past its table:
-// it is refused before stb reads it (found by the test above under UBSan).
+// A Huffman table whose 16 code counts sum past 256 made Debian's stb_image write past its table,
+// after the scan header (found by the test above under UBSan) and, in a file from libFuzzer, before
+// the frame header, where reading the size alone wrote past it. Both are refused by their header.
 TEST(TextureDecode, HuffmanTableOfMoreThan256CodesIsRefused) {
+  const std::string found = testing::read_file(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "fuzz" / "texture_seeds" /
+                                               "dht_259_codes_before_sof.jpg");
+  TextureError before_frame = refusal(as_bytes(found));
+  EXPECT_EQ(before_frame.kind, TextureError::Kind::unreadable);
+  EXPECT_NE(before_frame.message.find("Huffman table"), std::string::npos) << before_frame.message;
+
   std::string jpeg(reinterpret_cast<const char*>(colour_jpeg), sizeof colour_jpeg);
   const size_t dht = jpeg.find("\xFF\xC4");
   ASSERT_NE(dht, std::string::npos);
@@ -228,6 +235,16 @@ TEST(TextureDecode, HuffmanTableOfMoreThan256CodesIsRefused) {
   TextureError error = refusal(as_bytes(jpeg));
   EXPECT_EQ(error.kind, TextureError::Kind::unreadable);
   EXPECT_NE(error.message.find("Huffman table"), std::string::npos) << error.message;
+}
+
+// A PNG from libFuzzer on which Debian's stb_image passed a null pointer to memcpy (it skips CRCs and
+// read on into a zero-length chunk): libpng refuses it at its IHDR's CRC.
+TEST(TextureDecode, PngWithABadHeaderCrcIsRefused) {
+  const std::string found = testing::read_file(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "fuzz" / "texture_seeds" /
+                                               "png_ihdr_bad_crc_empty_chunk.png");
+  TextureError error = refusal(as_bytes(found));
+  EXPECT_EQ(error.kind, TextureError::Kind::unreadable);
+  EXPECT_NE(error.message.find("CRC"), std::string::npos) << error.message;
 }
 
 TEST(TextureDecode, UnreadableBytesRefused) {
