@@ -6,6 +6,7 @@
 #include "cli/args.hpp"
 #include "cli/bench_render.hpp"
 #include "cli/request_flags.hpp"
+#include "render/core/error_metrics.hpp"
 #include "render/core/png.hpp"
 #include "render/core/sample_pattern.hpp"
 #include "render/core/scene_id.hpp"
@@ -24,6 +25,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <numeric>
@@ -47,7 +49,10 @@ constexpr const char* serve_synopsis =
     "roomrender serve [--port 8080] [--bind 127.0.0.1] [OPTIONS]  (roomrender serve --help lists them)";
 constexpr const char* compare_synopsis =
     "roomrender compare REFERENCE.ids TEST.ids | roomrender compare REFERENCE.png TEST.png [--edges REFERENCE.ids]\n"
-    "  --edges: also the edge error (mean and p99 colour error on the edge pixels of REFERENCE.ids)";
+    "                   [--request REQUEST.json | --obj MODEL.obj] [--test-ids TEST.ids]\n"
+    "  --edges: also the edge error (mean and p99 colour error on the edge pixels of REFERENCE.ids)\n"
+    "  --request/--obj (with --edges): also the texture error, on the pixels of REFERENCE.ids that show a\n"
+    "  textured polygon of that scene away from its edges; --test-ids: only where TEST drew the same polygon";
 
 // --reference-samples: any sample_pattern() count, for the reference pipeline only (the request
 // validator keeps options.antialias to 1, 4, 8 and 16; 256 rays per pixel is a measuring tool).
@@ -142,9 +147,15 @@ int run_render(std::span<const std::string> argv) {
 int run_compare(std::span<const std::string> argv) {
   ParsedArgs args;
   try {
-    args = parse_args(argv, {"--edges"});
+    args = parse_args(argv, {"--edges", "--request", "--obj", "--test-ids"});
     if (args.help) return std::printf("usage: %s\n", compare_synopsis), 0;
     if (args.positional.size() != 2) throw UsageError("expected two files: the reference, then the one to measure");
+    if (flag(args, "--request") && flag(args, "--obj")) throw UsageError("give either --request or --obj, not both");
+    const bool textured = flag(args, "--request") || flag(args, "--obj");
+    if (textured && !flag(args, "--edges")) {
+      throw UsageError("the texture error needs the reference's polygon ids: --edges REFERENCE.ids");
+    }
+    if (flag(args, "--test-ids") && !textured) throw UsageError("--test-ids goes with --request or --obj");
   } catch (const UsageError& e) {
     return usage_failure(compare_synopsis, e.what());
   }
@@ -165,6 +176,7 @@ int run_compare(std::span<const std::string> argv) {
     if (flag(args, "--edges") && !is_png(a)) throw std::runtime_error("--edges measures PNGs: give two PNGs");
     ErrorMeasures m;
     std::optional<EdgeError> edges;
+    std::optional<TexturedPixelError> texture;
     if (is_png(a)) {
       const Image ra = decode(a, 0, decode_png), rb = decode(b, 1, decode_png);
       m.width = ra.width, m.height = ra.height;
@@ -172,6 +184,16 @@ int run_compare(std::span<const std::string> argv) {
       if (auto path = flag(args, "--edges")) {
         const IdBuffer ids = decode_id_buffer(read_input(*path));
         edges = edge_error(ids, ra, rb);
+        if (flag(args, "--request") || flag(args, "--obj")) {
+          const std::string text = flag(args, "--obj")
+                                       ? imported_request_text(*flag(args, "--obj"), ImportFormat::obj, ImportOptions{})
+                                       : read_input(*flag(args, "--request"));
+          RenderRequest request = request_from_json(parse_json_text(text), request_limits());
+          const PreparedScene scene = prepare_scene(std::move(request.scene));
+          std::optional<IdBuffer> test_ids;
+          if (auto test_path = flag(args, "--test-ids")) test_ids = decode_id_buffer(read_input(*test_path));
+          texture = texture_error(ids, textured_polygons(scene.soup), ra, rb, test_ids ? &*test_ids : nullptr);
+        }
       }
     } else {
       const IdBuffer ra = decode(a, 0, decode_id_buffer), rb = decode(b, 1, decode_id_buffer);
@@ -185,6 +207,12 @@ int run_compare(std::span<const std::string> argv) {
                       {"mean", edges->mean},
                       {"p99", edges->p99},
                       {"max", edges->max}};
+    }
+    if (texture) {  // JSON has no infinity: a PSNR of identical pixels (or of none) is null
+      line["texture"] = {{"pixels", texture->pixels},
+                         {"rmse", texture->rmse},
+                         {"psnr_db", std::isfinite(texture->psnr_db) ? nlohmann::ordered_json(texture->psnr_db)
+                                                                     : nlohmann::ordered_json(nullptr)}};
     }
     print_json_line(stdout, line);
   });

@@ -59,6 +59,43 @@ ShadingError shading_error(const Image& reference, const Image& test) {
   return e;
 }
 
+TexturedPixelError texture_error(const IdBuffer& reference_ids, std::span<const uint8_t> textured,
+                                 const Image& reference, const Image& test, const IdBuffer* test_ids) {
+  require_same_size(reference_ids.width, reference_ids.height, reference.width, reference.height, "id buffer");
+  require_same_size(reference.width, reference.height, test.width, test.height, "image");
+  if (test_ids)
+    require_same_size(reference_ids.width, reference_ids.height, test_ids->width, test_ids->height, "id buffer");
+  double sum = 0.0;
+  TexturedPixelError e;
+  for (int y = 0; y < reference_ids.height; ++y) {
+    for (int x = 0; x < reference_ids.width; ++x) {
+      const uint32_t id = reference_ids.at(x, y);
+      if (id == background_id) continue;
+      if (id >= textured.size()) {
+        throw std::invalid_argument("polygon id " + std::to_string(id) + " is not among the " +
+                                    std::to_string(textured.size()) + " polygons of the scene");
+      }
+      if (!textured[id] || is_edge_pixel(reference_ids, x, y)) continue;
+      if (test_ids && test_ids->at(x, y) != id) continue;
+      const uint8_t* a = reference.pixel(x, y);
+      const uint8_t* b = test.pixel(x, y);
+      for (int c = 0; c < 3; ++c) sum += (double(a[c]) - double(b[c])) * (double(a[c]) - double(b[c]));
+      ++e.pixels;
+    }
+  }
+  e.rmse = e.pixels ? std::sqrt(sum / double(3 * e.pixels)) : 0.0;
+  e.psnr_db = e.rmse > 0.0 ? 20.0 * std::log10(255.0 / e.rmse) : std::numeric_limits<double>::infinity();
+  return e;
+}
+
+std::vector<uint8_t> textured_polygons(const PolygonSoup& soup) {
+  std::vector<uint8_t> textured(soup.polygons.size(), 0);
+  for (const Polygon& poly : soup.polygons) {
+    if (poly.id < textured.size()) textured[poly.id] = poly.uv_map != 0;
+  }
+  return textured;
+}
+
 ShadowError shadow_error(std::span<const uint8_t> reference, std::span<const uint8_t> test, size_t bytes_per_pixel,
                          int width) {
   if (reference.size() != test.size()) {

@@ -2,13 +2,15 @@
 // pixels whose polygon id differs, over all pixels and over pixels off the reference's id edges),
 // shading error (RMSE and PSNR of the 8-bit RGB image) and shadow error (share of pixels whose
 // per-light lit state differs), and edge error (colour error on the pixels around the reference's id
-// edges, against the 256-sample reference: docs/antialiasing.md). The first argument is always the
+// edges, against the 256-sample reference: docs/antialiasing.md) and texture error (colour error on
+// the textured pixels away from edges: docs/textures.md). The first argument is always the
 // reference; buffers must have one size (std::invalid_argument otherwise). `roomrender compare`
 // prints these as JSON.
 #pragma once
 
 #include "render/core/frame.hpp"
 #include "render/core/image.hpp"
+#include "render/core/tessellate.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -79,6 +81,22 @@ struct EdgeError {
   double max = 0.0;
 };
 EdgeError edge_error(const IdBuffer& reference_ids, const Image& reference, const Image& test);
+
+// Colour error on the textured pixels away from edges, so that filtering error is not mixed with
+// edge error: pixels whose reference polygon is textured (`textured[id]` non-zero), that are not
+// edge pixels of the reference (is_edge_pixel) and, when `test_ids` is given, where the test drew the
+// same polygon. RMSE and PSNR as shading_error's, over those pixels; infinite PSNR when they agree
+// (or there are none: `pixels` says which). A reference id past the end of `textured` is an error
+// (std::invalid_argument): the ids and the polygon list are not of one tessellation.
+struct TexturedPixelError {
+  size_t pixels = 0;
+  double rmse = 0.0;
+  double psnr_db = 0.0;
+};
+TexturedPixelError texture_error(const IdBuffer& reference_ids, std::span<const uint8_t> textured,
+                                 const Image& reference, const Image& test, const IdBuffer* test_ids = nullptr);
+// One byte per polygon id of `soup`: 1 where the polygon has texture coordinates (Polygon::uv_map).
+std::vector<uint8_t> textured_polygons(const PolygonSoup& soup);
 
 struct ErrorMeasures {
   int width = 0, height = 0;

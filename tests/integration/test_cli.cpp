@@ -302,6 +302,55 @@ TEST(Cli, CompareIdsAndPngsPrintsErrorMeasures) {
   EXPECT_TRUE(same["shading"]["psnr_db"].is_null()) << same;
 }
 
+// compare --request: the texture error over the textured pixels of the papered studio away from the
+// reference's edges. Nearest filtering against the reference's box filter differs there; a file
+// against itself does not; the untextured studio has no textured pixel; the test's ids keep only the
+// pixels where it drew the reference's polygon; ids of another scene are refused.
+TEST(Cli, CompareReportsTheTextureErrorOfTheRequestsTexturedPixels) {
+  fs::path dir = rr::testing::fresh_output_dir();
+  json request = rr::testing::example_request("studio_textured", 96, 72);
+  request["options"]["shadows"] = false;
+  write_request(dir, request);
+  json plain = rr::testing::example_request("studio", 96, 72);
+  rr::testing::write_file(dir / "plain.json", plain.dump());
+  ASSERT_EQ(run_roomrender("render request.json -o r.png --ids r.ids --pipeline reference", dir).exit_code, 0);
+  ASSERT_EQ(run_roomrender("render request.json -o n.png --ids n.ids --texture-filter nearest", dir).exit_code, 0);
+  ASSERT_EQ(
+      run_roomrender("render request.json -o m.png --ids m.ids --texture-filter nearest --fovy 62", dir).exit_code, 0);
+  RunResult run = run_roomrender("compare r.png n.png --edges r.ids --request request.json", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json t = json::parse(run.out)["texture"];
+  const int pixels = t["pixels"].get<int>();
+  EXPECT_GT(pixels, 96 * 72 / 4) << t;  // walls and floor fill most of the view
+  ASSERT_GT(t["rmse"].get<double>(), 0.0) << t;
+  EXPECT_NEAR(t["psnr_db"].get<double>(), 20.0 * std::log10(255.0 / t["rmse"].get<double>()), 1e-9);
+
+  const json same = json::parse(run_roomrender("compare r.png r.png --edges r.ids --request request.json", dir).out);
+  EXPECT_EQ(same["texture"]["pixels"], pixels);
+  EXPECT_EQ(same["texture"]["rmse"], 0.0);
+  EXPECT_TRUE(same["texture"]["psnr_db"].is_null()) << same;
+  // The same polygon ids, so the test's ids change nothing for the same view.
+  EXPECT_EQ(json::parse(run_roomrender("compare r.png n.png --edges r.ids --request request.json --test-ids n.ids", dir)
+                            .out)["texture"],
+            t);
+  // A wider view moves every polygon: far fewer pixels show the reference's polygon.
+  const json moved = json::parse(
+      run_roomrender("compare r.png m.png --edges r.ids --request request.json --test-ids m.ids", dir).out)["texture"];
+  EXPECT_LT(moved["pixels"].get<int>(), pixels) << moved;
+
+  ASSERT_EQ(run_roomrender("render plain.json -o p.png --ids p.ids --pipeline reference", dir).exit_code, 0);
+  const json none = json::parse(run_roomrender("compare p.png p.png --edges p.ids --request plain.json", dir).out);
+  EXPECT_EQ(none["texture"]["pixels"], 0) << none;
+
+  rr::testing::write_file(dir / "one.json", mesh_request().dump());  // six polygons: ids past them are refused
+  RunResult other = run_roomrender("compare r.png n.png --edges r.ids --request one.json", dir);
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("is not among the 6 polygons"), std::string::npos) << other.err;
+  RunResult usage = run_roomrender("compare r.png n.png --request request.json", dir);
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_NE(usage.err.find("--edges REFERENCE.ids"), std::string::npos) << usage.err;
+}
+
 TEST(Cli, CompareRejectsMismatchedSizesKindsAndUnreadableFiles) {
   fs::path dir = rr::testing::fresh_output_dir();
   write_request(dir, mesh_request());

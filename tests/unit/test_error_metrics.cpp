@@ -1,6 +1,6 @@
 // Error measures on hand-made tiny buffers: edge pixels of an ASCII-art id buffer, visibility
 // error over all and non-edge pixels, RMSE/PSNR by the stated formula, shadow-mask differences,
-// size checks and the JSON shape `roomrender compare` prints.
+// size checks, the texture error's choice of pixels and the JSON shape `roomrender compare` prints.
 #include "render/scene_io/measures_json.hpp"
 
 #include <gtest/gtest.h>
@@ -60,6 +60,35 @@ TEST(ErrorMetrics, RmseAndPsnrFollowTheStatedFormula) {
   EXPECT_DOUBLE_EQ(shading_error(a, b).psnr_db, 0.0);
   EXPECT_TRUE(std::isinf(shading_error(a, a).psnr_db));
   EXPECT_THROW(shading_error(a, Image(1, 2, Color(0.0f))), std::invalid_argument);
+}
+
+// Polygons 1 and 2 are textured, 3 is not. Pixels counted: the reference shows 1 or 2 there, no
+// 4-neighbour differs, and (with test ids) the test drew the same polygon.
+TEST(ErrorMetrics, TextureErrorCountsTexturedPixelsAwayFromEdges) {
+  const IdBuffer truth = ids_from({"11113", "11113", "1111.", "22222", "22222", "22222"});
+  const std::vector<uint8_t> textured = {0, 1, 1, 0};
+  // Counted: the 1s at x 0..2 of rows 0 and 1 (x 3 touches a 3, row 2 touches the 2s) and the 2s of
+  // rows 4 and 5 (row 3 touches the 1s and the background): 6 + 10.
+  Image ref(5, 6, Color(0.0f)), test(5, 6, Color(0.0f));
+  test.rgb[size_t((1 * 5 + 1) * 3)] = 6;   // (1,1): counted, one channel off by 6
+  test.rgb[size_t((3 * 5 + 3) * 3)] = 90;  // (3,3): an edge pixel of the 2s, not counted
+  test.rgb[size_t((0 * 5 + 4) * 3)] = 90;  // (4,0): polygon 3, untextured
+  TexturedPixelError e = texture_error(truth, textured, ref, test);
+  EXPECT_EQ(e.pixels, 16u);
+  EXPECT_DOUBLE_EQ(e.rmse, std::sqrt(36.0 / 48.0));
+  EXPECT_DOUBLE_EQ(e.psnr_db, 20.0 * std::log10(255.0 / e.rmse));
+  // The test drew polygon 3 over (1,1) and (0,5): both leave the count.
+  IdBuffer drawn = truth;
+  drawn.ids[size_t(1 * 5 + 1)] = 3;
+  drawn.ids[size_t(5 * 5 + 0)] = 3;
+  e = texture_error(truth, textured, ref, test, &drawn);
+  EXPECT_EQ(e.pixels, 14u);
+  EXPECT_EQ(e.rmse, 0.0);
+  EXPECT_TRUE(std::isinf(e.psnr_db));
+  EXPECT_EQ(textured_polygons(PolygonSoup{}).size(), 0u);
+  const std::vector<uint8_t> too_few = {0, 1};  // id 2 and 3 are not in it
+  EXPECT_THROW(texture_error(truth, too_few, ref, test), std::invalid_argument);
+  EXPECT_THROW(texture_error(truth, textured, ref, Image(4, 6, Color(0.0f))), std::invalid_argument);
 }
 
 TEST(ErrorMetrics, ShadowErrorComparesWholeMaskBytes) {
