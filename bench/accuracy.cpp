@@ -140,7 +140,7 @@ ordered_json run_row(const BenchScene& scene, const rr::bench::BenchConfig& conf
                       {"stage_ms", timed.stage_ms_median},
                       {"reference_ms", reference.frame_ms_median}};
   if (timed.status == "ok" && reference.status == "ok") {
-    row["errors"] = rr::bench::measure_errors(reference.last.frame, timed.last.frame);
+    row["errors"] = rr::bench::measure_errors(reference.last.frame, timed.last.frame, scene.prepared.soup);
   } else if (reference.status != "ok") {
     row["status"] = "reference " + reference.status;
   }

@@ -3,11 +3,12 @@
 
 #include "render/core/error_metrics.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rr::bench {
 
-nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame) {
+nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame, const PolygonSoup& soup) {
   const ErrorMeasures m = compare_frames(reference, frame);
   nlohmann::ordered_json j = {{"visibility_all", nullptr},
                               {"visibility_non_edge", nullptr},
@@ -34,6 +35,13 @@ nlohmann::ordered_json measure_errors(const Frame& reference, const Frame& frame
     j["shadow_band_differing"] = m.shadow->band_differing;
     j["shadow_away_pixels"] = m.shadow->away_pixels;
     j["shadow_away_differing"] = m.shadow->away_differing;
+  }
+  const std::vector<uint8_t> textured = textured_polygons(soup);
+  if (std::find(textured.begin(), textured.end(), 1) != textured.end()) {
+    const TexturedPixelError t = texture_error(reference.ids, textured, reference.image, frame.image, &frame.ids);
+    j["texture_pixels"] = t.pixels;
+    j["texture_rmse"] = t.rmse;
+    j["texture_psnr_db"] = std::isfinite(t.psnr_db) ? nlohmann::ordered_json(t.psnr_db) : nullptr;
   }
   return j;
 }

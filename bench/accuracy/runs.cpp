@@ -60,6 +60,22 @@ BenchConfig rays_config() {
 }  // namespace
 
 std::vector<BenchConfig> make_configs(const BenchScene& scene) {
+  if (scene.scene_class == "textures") {
+    std::vector<BenchConfig> configs;
+    const std::pair<TextureFilter, const char*> filters[] = {{TextureFilter::nearest, "nearest"},
+                                                             {TextureFilter::bilinear, "bilinear"},
+                                                             {TextureFilter::trilinear, "trilinear"},
+                                                             {TextureFilter::anisotropic, "anisotropic"}};
+    for (const auto& [filter, name] : filters) {
+      BenchConfig c = shading_config(ShadingMode::phong, "phong", 0, 1);
+      c.label = std::string("texture ") + name;
+      c.group = "texture";
+      c.options.texture_filter = filter;
+      c.options_json["texture_filter"] = name;
+      configs.push_back(c);
+    }
+    return configs;
+  }
   const bool large = is_large(scene), few_shadow_settings = has_few_shadow_settings(scene);
   std::vector<BenchConfig> configs;
   configs.push_back({"zbuffer", "visibility", {}, {{"pipeline", "zbuffer"}}});

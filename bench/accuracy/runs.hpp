@@ -16,9 +16,9 @@
 namespace rr::bench {
 
 struct BenchConfig {
-  std::string label;                    // e.g. "painter-newell", "bsp w=1/4/-1 eps=1e-7", "phong shadows 2048 pcf3"
-  std::string group;                    // "visibility" (flat, no shadows) or "shading" (zbuffer, lights and shadows)
-  RenderOptions options;                // width and height are the scene's
+  std::string label;      // e.g. "painter-newell", "bsp w=1/4/-1 eps=1e-7", "phong shadows 2048 pcf3"
+  std::string group;      // "visibility" (flat, no shadows), "shading" (zbuffer, lights and shadows) or "texture"
+  RenderOptions options;  // width and height are the scene's
   nlohmann::ordered_json options_json;  // the same options as the request's "options" would say them
 };
 
@@ -33,6 +33,8 @@ inline bool is_large(const BenchScene& s) { return s.prepared.soup.polygons.size
 inline bool has_few_shadow_settings(const BenchScene& s) {
   return is_large(s) || s.prepared.scene.lights.size() > many_lights;
 }
+// A scene of the "textures" class gets one configuration per texture filter instead (zbuffer, Phong,
+// no shadows: group "texture"): its visibility and lighting are measured on its untextured twin.
 std::vector<BenchConfig> make_configs(const BenchScene& scene);
 
 struct TimedRender {

@@ -3,14 +3,17 @@
 // only: each benchmark configuration sets the rest) and a light is added where none is given.
 #include "bench/accuracy/suite.hpp"
 
+#include "render/core/image.hpp"
 #include "render/import/import.hpp"
 #include "render/import/import_files.hpp"
+#include "render/import/import_obj.hpp"
 #include "render/scene_io/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 
 namespace rr::bench {
@@ -33,11 +36,12 @@ bool wanted(const SuiteOptions& options, const std::string& name) {
 }
 
 // Validates and tessellates `request` (its options replaced by the benchmark size) into a scene.
+// Without `add_light`, a scene without lights keeps none (lit by its ambient alone).
 BenchScene finish(std::string name, std::string scene_class, std::string source, json request,
-                  const SuiteOptions& options, std::string camera_note) {
+                  const SuiteOptions& options, std::string camera_note, bool add_light = true) {
   BenchScene scene;
   json& lights = request["scene"]["lights"];
-  if (!lights.is_array() || lights.empty()) {
+  if (add_light && (!lights.is_array() || lights.empty())) {
     // The shading and shadow measurements need a light: the importers' default sun.
     lights = json::array({{{"type", "directional"}, {"direction", {-0.35, -1.0, -0.55}}, {"intensity", 0.75}}});
     scene.light_added = true;
@@ -181,6 +185,63 @@ void add_interiors(const SuiteOptions& options, std::vector<BenchScene>& out) {
   }
 }
 
+// The textured class: a 40 m floor of Sweet Home 3D's black and white tiles (0.5 m a tile; without
+// ../shared, a checkerboard of the same period) seen from 0.3 m above it toward the horizon and lit
+// by an ambient of 1 alone, so a pixel is its filtered texel; the papered studio of examples/; the
+// fireplace room with its own UVs and images, from the camera of the untextured one.
+json grazing_floor(const SuiteOptions& options) {
+  const fs::path tiles = options.shared_dir / "textures" / "sweethome3d" / "blackAndWhiteTiles.jpg";
+  std::string uri;
+  if (fs::exists(tiles)) {
+    std::ifstream in(tiles, std::ios::binary);
+    uri = *import_detail::image_data_uri(std::string(std::istreambuf_iterator<char>(in), {}));
+  } else {
+    // Eight texels a square, so one tile of the image holds 8 x 8 squares.
+    Image image(64, 64, Color(0.0f));
+    for (int y = 0; y < 64; ++y) {
+      for (int x = 0; x < 64; ++x) std::memset(image.pixel(x, y), ((x / 8 + y / 8) % 2) ? 235 : 20, 3);
+    }
+    uri = *import_detail::image_data_uri(encode_png(image));
+  }
+  return {{"scene",
+           {{"ambient", {{"intensity", 1.0}}},
+            {"background", "#000000"},
+            {"floor",
+             {{"origin", {-20, -20}},
+              {"cells", {1, 1}},
+              {"cell_size", 40},
+              {"colors", {"#ffffff", "#ffffff"}},
+              {"texture", {{"image", uri}, {"width", 0.5}, {"height", 0.5}}}}},
+            {"lights", json::array()}}},
+          {"camera", {{"position", {0.0, 0.3, 18.0}}, {"target", {0.4, 0.0, 4.0}}, {"fov_y", 50}, {"far", 100}}}};
+}
+
+void add_textured(const SuiteOptions& options, std::vector<BenchScene>& out) {
+  if (wanted(options, "textured_grazing_floor")) {
+    const bool tiles = fs::exists(options.shared_dir / "textures" / "sweethome3d" / "blackAndWhiteTiles.jpg");
+    out.push_back(
+        finish("textured_grazing_floor", "textures",
+               tiles ? "sweethome3d/blackAndWhiteTiles.jpg on a 40 m floor" : "a checkerboard on a 40 m floor",
+               grazing_floor(options), options, "0.3 m above the floor, toward the horizon", false));
+  }
+  if (wanted(options, "textured_papered_studio")) {
+    out.push_back(finish("textured_papered_studio", "textures", "examples/studio_textured.json",
+                         read_json(options.source_dir / "examples" / "studio_textured.json"), options,
+                         "the example's own camera"));
+  }
+  const fs::path path = options.shared_dir / "meshes" / "fireplace_room" / "fireplace_room_uv.obj";
+  if (!wanted(options, "textured_fireplace_room")) return;
+  if (!fs::exists(path)) {
+    std::fprintf(stderr, "skipped: no %s\n", path.c_str());
+    return;
+  }
+  json request = import_request(path, ImportFormat::obj, options);
+  const InteriorView view = interior_view("fireplace_room");
+  request["camera"] = interior_camera(tessellate(request_from_json(request).scene.geometry), view);
+  out.push_back(finish("textured_fireplace_room", "textures", "fireplace_room/" + path.filename().string(), request,
+                       options, "the camera of mesh_fireplace_room"));
+}
+
 }  // namespace
 
 std::vector<BenchScene> load_suite(const SuiteOptions& options) {
@@ -189,6 +250,7 @@ std::vector<BenchScene> load_suite(const SuiteOptions& options) {
   add_generated(options, scenes);
   add_floorplans(options, scenes);
   add_interiors(options, scenes);
+  add_textured(options, scenes);
   return scenes;
 }
 

@@ -1,7 +1,7 @@
 // The accuracy benchmark's scene suite (bench/accuracy.cpp): every scene as a validated request plus
 // its tessellation, tagged with its class (classic test scenes, rooms, Sweet Home 3D homes, R2V
-// plans, real interiors). Sources: examples/, bench_gen_scenes' manifest, and ../shared/data (skipped
-// with a message when absent). Parsing, importing and tessellating happen here, outside any timing.
+// plans, real interiors, textured surfaces). Sources: examples/, bench_gen_scenes' manifest, and ../shared/data
+// (skipped with a message when absent). Parsing, importing and tessellating happen here, outside any timing.
 #pragma once
 
 #include "render/core/scene.hpp"
@@ -26,7 +26,7 @@ struct SuiteOptions {
 
 struct BenchScene {
   std::string name;
-  std::string scene_class;   // "classic", "rooms", "sh3d", "r2v", "interiors"
+  std::string scene_class;   // "classic", "rooms", "sh3d", "r2v", "interiors", "textures"
   std::string source;        // file it came from (and camera name), for the report
   RenderRequest request;     // camera and options (width/height set; otherwise defaults); scene moved out
   PreparedScene prepared;    // the scene, tessellated, with its id

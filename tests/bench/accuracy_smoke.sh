@@ -5,7 +5,9 @@
 # BSP and painter-newell exact away from edges; painter-mean wrong: no order of whole triangles is
 # right for two triangles that pierce each other; exact shadow rays decide as the reference away from
 # its shadow edges), that the CSV, the doc section and plots exist, that --configs keeps only the
-# configurations named, and that the shadow-error section (bench/accuracy_shadows.py) is written.
+# configurations named, and that the shadow-error section (bench/accuracy_shadows.py) is written. Then
+# the textured class alone (the grazing floor's checkerboard and the papered studio): one run per
+# texture filter with its texture error, and a report of it that rewrites the texture table alone.
 #   tests/bench/accuracy_smoke.sh BENCH_ACCURACY_EXE BENCH_GEN_SCENES_EXE SOURCE_DIR
 set -euo pipefail
 exe=$1 gen=$2 src=$3
@@ -21,6 +23,9 @@ python3 "$src/bench/accuracy_report.py" "$work/a.json" --csv "$work/a.csv" --doc
   --configs "shadows rays" 2>/dev/null
 python3 "$src/bench/accuracy_shadows.py" "$work/a.json" --before "$work/a.json" --doc "$work/accuracy.md" \
   --commit smoke --before-commit smoke
+"$exe" --out "$work/tex.json" --only textured_ --size 96x72 --frames 1 --shared "$work/no-shared" 2>/dev/null
+cp "$work/accuracy.md" "$work/before-textures.md"
+python3 "$src/bench/accuracy_report.py" "$work/tex.json" --doc "$work/accuracy.md" --svg-dir "$work/svg" --commit smoke
 python3 - "$work" <<'PY'
 import csv, json, math, os, sys
 work = sys.argv[1]
@@ -62,5 +67,28 @@ assert md.count("<!-- accuracy-shadows:begin -->") == 1 and md.index("accuracy-s
 assert "Rays away from the edges: 0 on 2 of 2 scenes." in md, md
 for svg in ["classic_visibility.svg", "classic_shading.svg"]:
     assert open(os.path.join(work, "svg", svg)).read().startswith("<svg"), svg
-print("accuracy smoke: %d runs checked" % len(doc["runs"]))
+tex = json.load(open(os.path.join(work, "tex.json")))
+assert [s["name"] for s in tex["scenes"]] == ["textured_grazing_floor", "textured_papered_studio"], tex["scenes"]
+floor_scene = tex["scenes"][0]  # lit by its ambient alone, its tiles a checkerboard without ../shared
+assert floor_scene["lights"] == 0 and not floor_scene["light_added"] and "checkerboard" in floor_scene["source"], floor_scene
+psnr = {}
+for r in tex["runs"]:
+    assert r["class"] == "textures" and r["status"] == "ok", r
+    if r["group"] == "reference":
+        continue
+    e = r["errors"]
+    assert r["group"] == "texture" and 0 < e["texture_pixels"] <= 96 * 72, r
+    assert e["texture_psnr_db"] is None or math.isclose(e["texture_psnr_db"], 20 * math.log10(255 / e["texture_rmse"])), e
+    psnr[(r["scene"], r["options"]["texture_filter"])] = e["texture_psnr_db"]
+assert sorted(f for s, f in psnr if s == "textured_papered_studio") == ["anisotropic", "bilinear", "nearest", "trilinear"]
+floor = {f: v for (s, f), v in psnr.items() if s == "textured_grazing_floor"}
+assert floor["anisotropic"] > floor["trilinear"] > floor["nearest"], floor  # nearest aliases at a grazing angle
+before = open(os.path.join(work, "before-textures.md")).read()
+after = open(os.path.join(work, "accuracy.md")).read()
+cut = lambda t: t[t.index("<!-- accuracy-bench:begin -->"):t.index("<!-- accuracy-bench:end -->")]
+assert cut(before) == cut(after), "a run of the textured class alone rewrote the main section"
+table = after[after.index("<!-- texture-bench:begin -->"):after.index("<!-- texture-bench:end -->")]
+assert "| textured_grazing_floor |" in table and "| textured_papered_studio |" in table, table
+print("accuracy smoke: %d runs checked" % (len(doc["runs"]) + len(tex["runs"])))
+
 PY
