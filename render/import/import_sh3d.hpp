@@ -134,10 +134,39 @@ struct Sh3dLampLight {
 Sh3dLampLight sh3d_lamp_light(double power, Color source_color, Color home_light_color, std::optional<double> diameter,
                               double lamp_width_m);
 
+// Sweet Home 3D's default texture `catalog_id` ("eTeks#redTiles") as its JPEG bytes; nullopt for any
+// other id (catalogue_textures.cpp, generated from catalogue/textures/).
+std::optional<std::string_view> catalogue_texture(std::string_view catalog_id);
+
+// The images of a home's <texture> elements, each read and encoded once (by `image` and catalogId),
+// and the textures that could not be used, for the warnings.
+struct Sh3dTextures {
+  std::map<std::string, std::optional<std::string>> uris;  // data: URIs
+  std::vector<std::string> missing;
+};
+
+// A plan rectangle in metres (x, z).
+struct PlanBox {
+  Vec2 lo, hi;
+};
+
+// The <texture attribute='`attribute`'> child of `e` as a request texture: {"image": a data: URI,
+// "width", "height" (the tile in metres, times `scale`), "x_offset", "y_offset" (fractions of a tile),
+// "angle" (degrees)}. Its image is the `image` entry read through options.read_companion, else the
+// default catalogue's image of its catalogId. With fittingArea and `fit` (a room's box), one tile
+// covers the box. nullopt without such a child, or when its image cannot be had (noted in
+// textures.missing).
+std::optional<nlohmann::json> sh3d_texture(const Sh3dElement& e, const char* attribute, const ImportOptions& options,
+                                           Sh3dTextures& textures, const std::optional<PlanBox>& fit = std::nullopt);
+
+// One warning per texture drawn untextured.
+void add_texture_warnings(const Sh3dTextures& textures, std::vector<std::string>& warnings);
+
 // Walls (arcs split into segments, sloped tops as a wall plus a wedge mesh) with every door and
-// window cut into the walls it intersects. Appends to `walls` and `solids`, warnings to `warnings`.
+// window cut into the walls it intersects, and the textures of their sides. Appends to `walls` and
+// `solids`, warnings to `warnings`.
 void add_sh3d_walls(const std::vector<Sh3dElement>& wall_elements, const std::vector<Sh3dOpening>& openings,
-                    const Sh3dHome& h, nlohmann::json& walls, nlohmann::json& solids,
-                    std::vector<std::string>& warnings, Box3& box);
+                    const Sh3dHome& h, const ImportOptions& options, Sh3dTextures& textures, nlohmann::json& walls,
+                    nlohmann::json& solids, std::vector<std::string>& warnings, Box3& box);
 
 }  // namespace rr::import_detail

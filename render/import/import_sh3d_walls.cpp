@@ -29,6 +29,7 @@ struct Piece {
   Vec2 start, end;
   double thickness = 0.1, base = 0.0, height_start = 2.5, height_end = 2.5;
   Color color{0.902f, 0.882f, 0.839f};
+  std::optional<json> left_texture, right_texture;
   json openings = json::array();
   std::vector<std::pair<double, double>> spans;  // taken [offset, offset + width]
 };
@@ -66,8 +67,9 @@ std::vector<Vec2> arc_points(Vec2 a, Vec2 b, double extent) {
 }
 
 // The pieces of one <wall>, or none (with a warning) when it is hidden or has no length.
-void read_wall(const Sh3dElement& e, size_t source, const Sh3dHome& h, std::vector<Piece>& pieces,
-               std::vector<WallSource>& sources, std::vector<std::string>& warnings) {
+void read_wall(const Sh3dElement& e, size_t source, const Sh3dHome& h, const ImportOptions& options,
+               Sh3dTextures& textures, std::vector<Piece>& pieces, std::vector<WallSource>& sources,
+               std::vector<std::string>& warnings) {
   const Sh3dLevel& level = element_level(e, h);
   std::string id = e.node.attribute("id").as_string("");
   sources.push_back({id.empty() ? e.pointer : id, 0.0});
@@ -89,6 +91,10 @@ void read_wall(const Sh3dElement& e, size_t source, const Sh3dHome& h, std::vect
   const double h1 = round_m(std::max(number_attribute(e, "heightAtEnd", h0 * 100.0) / 100.0, 0.001));
   if (auto c = color_attribute(e.node, "leftSideColor")) p.color = *c;
   else if (auto c2 = color_attribute(e.node, "rightSideColor")) p.color = *c2;
+  // Sweet Home 3D's left side is ours: walking from start to end, the side toward -y on its plan
+  // (y down), which is -z, the normal (dz, -dx).
+  p.left_texture = sh3d_texture(e, "leftSideTexture", options, textures);
+  p.right_texture = sh3d_texture(e, "rightSideTexture", options, textures);
   const double extent = number_attribute(e, "arcExtent", 0.0);
   std::vector<Vec2> points = std::abs(extent) > 1e-3 ? arc_points(a, b, extent) : std::vector<Vec2>{a, b};
   const size_t n = points.size() - 1;
@@ -220,10 +226,12 @@ void cut_opening(const Sh3dOpening& o, std::vector<Piece>& pieces, const std::ve
 }  // namespace
 
 void add_sh3d_walls(const std::vector<Sh3dElement>& wall_elements, const std::vector<Sh3dOpening>& openings,
-                    const Sh3dHome& h, json& walls, json& solids, std::vector<std::string>& warnings, Box3& box) {
+                    const Sh3dHome& h, const ImportOptions& options, Sh3dTextures& textures, json& walls, json& solids,
+                    std::vector<std::string>& warnings, Box3& box) {
   std::vector<Piece> pieces;
   std::vector<WallSource> sources;
-  for (size_t i = 0; i < wall_elements.size(); ++i) read_wall(wall_elements[i], i, h, pieces, sources, warnings);
+  for (size_t i = 0; i < wall_elements.size(); ++i)
+    read_wall(wall_elements[i], i, h, options, textures, pieces, sources, warnings);
   for (const Sh3dOpening& o : openings) cut_opening(o, pieces, sources, warnings);
   for (Piece& p : pieces) {
     // The format wants openings ordered by nothing, but sorted reads better and diffs stably.
@@ -238,6 +246,8 @@ void add_sh3d_walls(const std::vector<Sh3dElement>& wall_elements, const std::ve
                      {"base", round_m(p.base)},
                      {"color", json_color(p.color)},
                      {"openings", std::move(p.openings)}});
+    if (p.left_texture) walls.back()["left_texture"] = *p.left_texture;
+    if (p.right_texture) walls.back()["right_texture"] = *p.right_texture;
     tag_level(walls.back(), *p.scene_level);
     if (std::abs(p.height_start - p.height_end) > 1e-3) {
       solids.push_back(wedge_mesh(p));

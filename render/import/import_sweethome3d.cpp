@@ -211,7 +211,8 @@ std::vector<Sh3dOpening> read_openings(const Elements& all, const Sh3dHome& h) {
 
 // Rooms: the floor at the level's elevation, the ceiling at the level's height above it (the home's
 // wall height without levels), as Sweet Home 3D draws them; a room shows neither is left out.
-void add_rooms(const Elements& all, const Sh3dHome& h, json& rooms, std::vector<std::string>& warnings) {
+void add_rooms(const Elements& all, const Sh3dHome& h, const ImportOptions& options, Sh3dTextures& textures,
+               json& rooms, std::vector<std::string>& warnings) {
   for (const Sh3dElement& e : elements_named(all, "room")) {
     const Sh3dLevel& level = element_level(e, h);
     const bool floor = e.node.attribute("floorVisible").as_bool(true);
@@ -243,6 +244,17 @@ void add_rooms(const Elements& all, const Sh3dHome& h, json& rooms, std::vector<
                  {"ceiling", ceiling},
                  {"ceiling_height", round_m(height)}};
     if (auto c = color_attribute(e.node, "ceilingColor")) room["ceiling_color"] = json_color(*c);
+    PlanBox box{points.front(), points.front()};
+    for (Vec2 q : points) box.lo = glm::min(box.lo, q), box.hi = glm::max(box.hi, q);
+    // A textured side shows its image, not its colour (white under the image, as Sweet Home 3D draws it).
+    if (auto t = sh3d_texture(e, "floorTexture", options, textures, box)) {
+      room["floor_texture"] = std::move(*t);
+      room.erase("floor_color");
+    }
+    if (auto t = sh3d_texture(e, "ceilingTexture", options, textures, box)) {
+      room["ceiling_texture"] = std::move(*t);
+      room.erase("ceiling_color");
+    }
     tag_level(room, level);
     rooms.push_back(std::move(room));
   }
@@ -522,8 +534,11 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   json walls = json::array(), solids = json::array(), rooms = json::array(),
        lights = json::array({default_sun_light()});
   Box3 box;
-  add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, walls, solids, result.warnings, box);
-  add_rooms(all, h, rooms, result.warnings);
+  Sh3dTextures textures;
+  add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, options, textures, walls, solids,
+                 result.warnings, box);
+  add_rooms(all, h, options, textures, rooms, result.warnings);
+  add_texture_warnings(textures, result.warnings);
   add_furniture(root, all, h, options, solids, lights, result);
   const double aspect = double(options.width) / double(options.height);
   std::optional<json> camera = observer_camera(all, aspect, box);

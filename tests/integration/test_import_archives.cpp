@@ -2,7 +2,10 @@
 // zipped with the furniture it names (skipped without ../shared) imports with its models, stores and
 // renders with every pipeline (zbuffer and bsp under sanitizers); its furniture polygons equal those of `roomrender
 // import --furniture models`; a .sh3d laid out as Sweet Home 3D writes it (numbered model entries) imports the same; an
-// OBJ zip brings its .mtl colours; hostile and broken archives get the documented 4xx naming the entry, quickly.
+// OBJ zip brings its .mtl colours; a .sh3d with textures on a room floor and a wall side (one image in
+// the archive, one from the bundled catalogue) stores and renders textured; hostile and broken archives
+// get the documented 4xx naming the entry, quickly.
+#include "render/core/image.hpp"
 #include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
 #include "render/pipelines/pipeline.hpp"
@@ -281,6 +284,60 @@ const char* kHome = R"(<home><wall id='w' xStart='0' yStart='0' xEnd='400' yEnd=
 <pieceOfFurniture name='Chair' model='furniture/chair.obj' x='100' y='100' width='50' depth='50' height='90'/>
 </home>)";
 const char* kChair = "mtllib chair.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3 4\n";
+
+// A room whose floor names the default catalogue's red tiles (no image in the archive: the bundled
+// one is used) and a wall whose inner (right) side carries the archive's entry "0", Sweet Home 3D's
+// small bricks, seen from inside. Stored with store=1 and rendered, it shows far more colours than
+// the same home without its <texture> elements.
+TEST(ArchiveImport, Sh3dTexturesOnAFloorAndAWallSideRenderTextured) {
+  const std::string bricks = rr::testing::read_file(rr::testing::source_dir() / "catalogue/textures/smallBricks.jpg");
+  auto home = [](const std::string& floor, const std::string& wall) {
+    return "<home wallHeight='250'><observerCamera attribute='observerCamera' x='200' y='280' z='160' "
+           "yaw='3.1415927' pitch='0.25' fieldOfView='1.2'/>\n"
+           "<wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' height='250' thickness='10'>" +
+           wall +
+           "</wall>\n<room name='R'><point x='0' y='0'/><point x='400' y='0'/><point x='400' y='300'/>"
+           "<point x='0' y='300'/>" +
+           floor + "</room>\n</home>\n";
+  };
+  const std::string floor =
+      "<texture attribute='floorTexture' catalogId='eTeks#redTiles' name='Red tiles' width='40' height='40' "
+      "image='redTiles.jpg'/>";
+  const std::string wall =
+      "<texture attribute='rightSideTexture' catalogId='eTeks#smallBricks' name='Bricks' width='23' "
+      "height='14.9' image='0'/>";
+  TestServer server;
+  auto client = server.client(60);
+  auto distinct_colours = [&](const std::string& xml, const std::vector<ZipEntry>& more) {
+    std::vector<ZipEntry> entries{{"Home.xml", xml}};
+    entries.insert(entries.end(), more.begin(), more.end());
+    auto stored =
+        client.Post("/v1/import/sh3d?store=1&width=160&height=120", make_zip(entries), "application/vnd.sweethome3d");
+    EXPECT_TRUE(stored && stored->status == 201) << (stored ? stored->body.substr(0, 300) : "no answer");
+    if (!stored || stored->status != 201) return size_t{0};
+    const json receipt = json::parse(stored->body);
+    EXPECT_TRUE(receipt["warnings"].empty()) << receipt["warnings"];
+    const json view = {{"camera", receipt["camera"]}, {"options", {{"width", 160}, {"height", 120}}}};
+    auto png =
+        client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
+    EXPECT_TRUE(png && png->status == 200) << (png ? png->body.substr(0, 300) : "no answer");
+    if (!png || png->status != 200) return size_t{0};
+    const rr::Image image = rr::decode_png(png->body);
+    std::set<uint32_t> colours;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const uint8_t* p = image.pixel(x, y);
+        colours.insert(uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]);
+      }
+    }
+    return colours.size();
+  };
+  const size_t plain = distinct_colours(home("", ""), {});
+  const size_t textured = distinct_colours(home(floor, wall), {{"0", bricks}});
+  std::printf("[ textures ] distinct colours: %zu untextured, %zu textured\n", plain, textured);
+  EXPECT_GT(plain, 0u);
+  EXPECT_GT(textured, 10 * plain);
+}
 
 TEST(ArchiveImport, ObjZipAppliesItsMaterialLibrary) {
   TestServer server;

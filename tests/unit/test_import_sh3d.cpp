@@ -3,11 +3,15 @@
 // errors (malformed XML, an opening wider than its wall, a missing attribute), a .sh3d zip, furniture
 // models as pieces (groups, the default material library), and the nine example homes of
 // ../shared/data: one checked against its XML read independently with pugixml, each giving one piece
-// per top-level piece of its XML, all of them imported and rendered with every pipeline.
+// per top-level piece of its XML, all of them imported and rendered with every pipeline; textures on
+// rooms and wall sides, from the archive or the bundled default catalogue.
 #include "import_test_util.hpp"
 #include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
+#include "render/import/import_obj.hpp"
 #include "render/import/import_sh3d.hpp"
+#include "support/image_bytes.hpp"
+#include "support/zip_builder.hpp"
 
 #include <gtest/gtest.h>
 #include <zip.h>
@@ -610,3 +614,106 @@ INSTANTIATE_TEST_SUITE_P(SharedData, ExampleHome,
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(ExampleHome);
 
 }  // namespace
+
+namespace {
+
+// A 4 m x 3 m room and one wall along its north edge (from (0, 0) to (4, 0): its left side faces
+// -z, away from the room), with the textures given, seen from inside the room toward the wall.
+std::string textured_home(const std::string& room_textures, const std::string& wall_textures) {
+  return "<home wallHeight='250'><observerCamera attribute='observerCamera' x='200' y='280' z='160' "
+         "yaw='3.1415927' pitch='0.3' fieldOfView='1.2'/>\n"
+         "  <wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' height='250' thickness='10' "
+         "leftSideColor='FF00FF00'>" +
+         wall_textures +
+         "</wall>\n"
+         "  <room name='R' floorColor='FF0000FF'><point x='0' y='0'/><point x='400' y='0'/>"
+         "<point x='400' y='300'/><point x='0' y='300'/>" +
+         room_textures + "</room>\n</home>\n";
+}
+
+std::string data_uri_of_file(const std::filesystem::path& path) {
+  return *rr::import_detail::image_data_uri(rr::testing::read_file(path));
+}
+
+const std::filesystem::path catalogue_textures =
+    std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "catalogue" / "textures";
+
+}  // namespace
+
+// Without the images in the file, catalogue ids resolve to the bundled default textures. Sizes in cm
+// times `scale` become metres, angles radians -> degrees, offsets stay fractions of a tile; a textured
+// side loses its colour (white under the image).
+TEST(ImportSh3d, CatalogueTexturesOnRoomsAndWallSides) {
+  const std::string home = textured_home(
+      "<texture attribute='floorTexture' catalogId='eTeks#redTiles' name='Red tiles' width='40' height='40' "
+      "xOffset='0.25' angle='0.5235988' scale='2' image='redTiles.jpg'/>"
+      "<texture attribute='ceilingTexture' catalogId='eTeks#roughcast' name='Roughcast' width='20' height='20' "
+      "image='roughcast.jpg'/>",
+      "<texture attribute='leftSideTexture' catalogId='eTeks#smallBricks' name='Bricks' width='23' height='14.9' "
+      "yOffset='0.5' image='smallBricks.jpg'/>");
+  ImportResult r = rr::import_sweethome3d(home);
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+  const json& room = r.request["scene"]["rooms"][0];
+  ASSERT_TRUE(room.contains("floor_texture")) << room.dump().substr(0, 300);
+  const json& floor = room["floor_texture"];
+  EXPECT_EQ(floor["image"], data_uri_of_file(catalogue_textures / "redTiles.jpg"));
+  EXPECT_DOUBLE_EQ(floor["width"].get<double>(), 0.8);
+  EXPECT_DOUBLE_EQ(floor["height"].get<double>(), 0.8);
+  EXPECT_DOUBLE_EQ(floor["x_offset"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(floor["y_offset"].get<double>(), 0.0);
+  EXPECT_NEAR(floor["angle"].get<double>(), 30.0, 1e-5);
+  EXPECT_FALSE(room.contains("floor_color"));
+  EXPECT_EQ(room["ceiling_texture"]["image"], data_uri_of_file(catalogue_textures / "roughcast.jpg"));
+  const json& wall = r.request["scene"]["walls"][0];
+  ASSERT_TRUE(wall.contains("left_texture"));
+  EXPECT_FALSE(wall.contains("right_texture"));
+  EXPECT_EQ(wall["left_texture"]["image"], data_uri_of_file(catalogue_textures / "smallBricks.jpg"));
+  EXPECT_DOUBLE_EQ(wall["left_texture"]["width"].get<double>(), 0.23);
+  EXPECT_DOUBLE_EQ(wall["left_texture"]["y_offset"].get<double>(), 0.5);
+  // The request is valid and its textured polygons are the floor, the ceiling and the wall's left side.
+  const rr::RenderRequest request = rr::request_from_json(r.request);
+  const rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
+  size_t textured = 0;
+  for (const rr::Polygon& p : soup.polygons) textured += p.uv_map != 0;
+  EXPECT_GE(textured, 3u);
+  // Every one of the 26 catalogue ids resolves, and only those.
+  size_t bundled = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(catalogue_textures)) {
+    const std::string id = "eTeks#" + entry.path().stem().string();
+    ASSERT_TRUE(rr::import_detail::catalogue_texture(id)) << id;
+    EXPECT_EQ(*rr::import_detail::catalogue_texture(id), rr::testing::read_file(entry.path())) << id;
+    ++bundled;
+  }
+  EXPECT_EQ(bundled, 26u);
+  EXPECT_FALSE(rr::import_detail::catalogue_texture("eTeks#nothing"));
+  EXPECT_FALSE(rr::import_detail::catalogue_texture("redTiles"));
+}
+
+// The file's own image comes first (a .sh3d names its entries "0", "1", ...; the format is told from
+// the bytes); a missing image without a known catalogue id, or bytes that are no image, leave the
+// surface untextured with a warning naming the line; fittingArea stretches one tile over the room.
+TEST(ImportSh3d, TextureImagesComeFromTheArchiveThenTheCatalogue) {
+  const std::string png = rr::encode_png(rr::testing::random_image(8, 8, 3));
+  const std::string home = textured_home(
+      "<texture attribute='floorTexture' catalogId='eTeks#redTiles' name='Mine' width='40' height='40' "
+      "fittingArea='true' image='0'/>"
+      "<texture attribute='ceilingTexture' name='Lost' width='40' height='40' image='7'/>",
+      "<texture attribute='rightSideTexture' name='Text' width='40' height='40' image='1'/>");
+  const std::string zip = rr::testing::make_zip({{"Home.xml", home}, {"0", png}, {"1", "not an image"}});
+  ImportResult r = rr::import_file_text(zip, rr::ImportFormat::sweethome3d);
+  const json& room = r.request["scene"]["rooms"][0];
+  EXPECT_EQ(room["floor_texture"]["image"], *rr::import_detail::image_data_uri(png));
+  EXPECT_DOUBLE_EQ(room["floor_texture"]["width"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(room["floor_texture"]["height"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(room["floor_texture"]["x_offset"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(room["floor_texture"]["y_offset"].get<double>(), -1.0);  // the image's bottom at z = 3
+  EXPECT_FALSE(room.contains("ceiling_texture"));
+  EXPECT_FALSE(r.request["scene"]["walls"][0].contains("right_texture"));
+  ASSERT_EQ(r.warnings.size(), 2u) << json(r.warnings).dump();
+  EXPECT_NE(r.warnings[0].find("line 2: <wall> rightSideTexture image '1' is neither a PNG nor a JPEG"),
+            std::string::npos)
+      << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("line 3: <room> ceilingTexture image '7' is neither in the file nor in the default"),
+            std::string::npos)
+      << r.warnings[1];
+}
