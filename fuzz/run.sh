@@ -7,7 +7,8 @@
 #                             corpus seeded from fuzz/http_seeds/ and fuzz/http_regressions/,
 #                             dictionary fuzz/http.dict
 #   texture_decode            encoded image bytes -> decode_texture with the service's limits; corpus
-#                             seeded from fuzz/texture_seeds/ (small PNGs and JPEGs), no dictionary
+#                             seeded from fuzz/texture_seeds/ (small PNGs and JPEGs, and findings) and
+#                             the 26 default textures of catalogue/textures/, no dictionary
 # The corpus persists in build-fuzz/corpus (render_request) or build-fuzz/corpus-http_seam; crashing,
 # leaking, slow or (http_seam) disagreeing inputs land in build-fuzz/artifacts/. Exits 77 when clang
 # or its libFuzzer runtime is missing, so ctest reports the bounded run as skipped.
@@ -22,7 +23,7 @@ target="${FUZZ_TARGET:-render_request}"
 case "$target" in
   render_request) corpus="$build/corpus" dict="$root/fuzz/request.dict" seeds=("$root"/examples/*.json "$root"/fuzz/seeds/* "$root"/fuzz/regressions/*) ;;
   http_seam) corpus="$build/corpus-http_seam" dict="$root/fuzz/http.dict" seeds=("$root"/fuzz/http_seeds/* "$root"/fuzz/http_regressions/*) ;;
-  texture_decode) corpus="$build/corpus-texture_decode" dict="" seeds=("$root"/fuzz/texture_seeds/*) ;;
+  texture_decode) corpus="$build/corpus-texture_decode" dict="" seeds=("$root"/fuzz/texture_seeds/* "$root"/catalogue/textures/*) ;;
   *) echo "fuzz/run.sh: unknown FUZZ_TARGET '$target' (render_request, http_seam or texture_decode)" >&2; exit 2 ;;
 esac
 

@@ -8,8 +8,9 @@
 #      check, schemas and data directories, volume);
 #   4. the image's server run with buildah (`podman run` needs cgroups this kind of machine lacks)
 #      with the image's own environment: a render, the web page, /openapi.json, a schema, the
-#      furniture catalogue (its entries, an icon, a read-only catalogue mesh), an OBJ
-#      import stored with store=1, the stored scene rendered by id (also anti-aliased) and picked,
+#      furniture catalogue (its entries, an icon, a read-only catalogue mesh), textures (the
+#      textured example's PNGs; a Sweet Home 3D home whose catalogue textures, JPEGs compiled into
+#      the binary, are imported and rendered), an OBJ import stored with store=1, the stored scene rendered by id (also anti-aliased) and picked,
 #      /metrics, the health check;
 #   5. SIGTERM, a second start of the same container, and the stored scene still there (the data
 #      directory is the image's VOLUME, written by the image's user).
@@ -213,6 +214,39 @@ if [ -n "$chair_ref" ]; then
   got=$(fetch "/v1/meshes/$chair_ref" -X DELETE)
   [ "${got%% *}" = 403 ] && pass "DELETE /v1/meshes/$chair_ref (a catalogue mesh) -> $got" ||
     fail "DELETE /v1/meshes/$chair_ref -> $got"
+fi
+
+# Textures: the textured example (PNG images, libpng), then a Sweet Home 3D home whose floor and
+# wall side name default-catalogue textures (JPEGs compiled into the binary, libjpeg-turbo): the
+# import carries them as data: URIs, and the textured render is a PNG far larger than the same room
+# without them (texels do not compress as flat colours do).
+got=$(fetch /v1/render -H 'Content-Type: application/json' --data-binary @examples/studio_textured.json)
+[ "${got%% *}" = 200 ] && is_png "$work/out" && pass "POST /v1/render examples/studio_textured.json -> $got, PNG" ||
+  fail "POST /v1/render examples/studio_textured.json -> $got: $(head -c 300 "$work/out")"
+sh3d_room() {
+  printf '%s' "<home wallHeight='250'><observerCamera attribute='observerCamera' x='200' y='280' z='160' \
+yaw='3.1415927' pitch='0.25' fieldOfView='1.2'/><wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' height='250' \
+thickness='10'>$2</wall><room name='R'><point x='0' y='0'/><point x='400' y='0'/><point x='400' y='300'/>\
+<point x='0' y='300'/>$1</room></home>"
+}
+sh3d_room "<texture attribute='floorTexture' catalogId='eTeks#redTiles' name='t' width='40' height='40' image='r'/>" \
+  "<texture attribute='rightSideTexture' catalogId='eTeks#smallBricks' name='b' width='23' height='14.9' image='b'/>" \
+  >"$work/textured.xml"
+sh3d_room "" "" >"$work/plain.xml"
+for kind in textured plain; do
+  fetch '/v1/import/sh3d?width=320&height=240' -H 'Content-Type: application/xml' \
+    --data-binary @"$work/$kind.xml" >/dev/null
+  cp "$work/out" "$work/$kind.json"
+  fetch /v1/render -H 'Content-Type: application/json' --data-binary @"$work/$kind.json" >/dev/null
+  cp "$work/out" "$work/$kind.png"
+done
+jpegs=$(grep -o 'data:image/jpeg;base64,' "$work/textured.json" | wc -l)
+textured_bytes=$(stat -c %s "$work/textured.png") plain_bytes=$(stat -c %s "$work/plain.png")
+if [ "$jpegs" -ge 2 ] && is_png "$work/textured.png" && is_png "$work/plain.png" &&
+  [ "$textured_bytes" -gt $((4 * plain_bytes)) ]; then
+  pass "Sweet Home 3D catalogue textures imported ($jpegs JPEGs) and rendered: $textured_bytes-byte PNG, $plain_bytes untextured"
+else
+  fail "Sweet Home 3D catalogue textures: $jpegs JPEGs, PNGs of $textured_bytes and $plain_bytes bytes: $(head -c 300 "$work/textured.png")"
 fi
 
 # A unit cube as a Wavefront OBJ, imported and stored in one request.
