@@ -81,7 +81,11 @@ std::shared_ptr<const TextureImage> resolve_image(const std::string& id, const s
   TextureImages& images = *b.images;
   const ParseLimits& limits = b.limits;
   std::shared_ptr<const TextureImage> image = limits.resolve_texture ? limits.resolve_texture(id) : nullptr;
-  if (!image) throw_invalid(pointer, "there is no stored image \"" + id + "\"");
+  if (!image) {  // remembered, so another surface naming it is told the same without asking again
+    const std::string problem = "there is no stored image \"" + id + "\"";
+    images.by_image[id] = TextureImages::Entry{nullptr, problem};
+    throw_invalid(pointer, problem);
+  }
   const size_t bytes = size_t(image->width()) * size_t(image->height()) * decoded_bytes_per_pixel;
   if (images.decoded_bytes + bytes > limits.max_texture_decoded_bytes) {
     throw_too_large(pointer,

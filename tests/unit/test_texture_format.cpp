@@ -203,8 +203,22 @@ TEST(SceneJsonTextures, AnIdResolvesThroughTheLimitsOncePerRequest) {
   EXPECT_EQ(parsed.scene.geometry.solids[0].texture->decoded->content_id, stored->content_id);
   EXPECT_EQ(parsed.scene.geometry.solids[0].texture->decoded->levels[0].rgb, stored->levels[0].rgb);
 
-  const json unknown = {{"scene", {{"floor", {{"cells", {1, 1}}, {"texture", texture("00000000000000ff")}}}}}};
-  EXPECT_EQ(refusal(unknown, limits), std::pair(std::string("/scene/floor/texture/image"), InputError::Kind::invalid));
+  // An unknown id is told at every surface naming it, asking the resolver once.
+  const json unknown = {
+      {"scene",
+       {{"floor", {{"cells", {1, 1}}, {"texture", texture("00000000000000ff")}}},
+        {"solids",
+         {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"texture", texture("00000000000000ff")}}}}}}};
+  asked = 0;
+  try {
+    request_from_json(unknown, limits);
+    ADD_FAILURE() << "an unknown stored image was accepted";
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.errors().size(), 2u) << e.what();
+    EXPECT_EQ(e.errors()[0].pointer, "/scene/floor/texture/image");
+    EXPECT_EQ(e.errors()[1].pointer, "/scene/solids/0/texture/image");
+  }
+  EXPECT_EQ(asked, 1);
   // A stored image's pixels count against the request's decoded budget as an inline one's do.
   ParseLimits tight = limits;
   tight.max_texture_decoded_bytes = 4 * 2 * 4 - 1;
