@@ -62,4 +62,30 @@ TEST_F(PostgresStoreTest, StoredImagesReadBackByteIdenticalAndStayWhileAStoredSc
   EXPECT_EQ(unknown.at("errors").at(0).at("pointer"), "/floor/texture/image") << unknown.dump();
 }
 
+// A database of the schema before stored images (version 1: scenes and meshes only) is migrated
+// when a server first connects: its scenes stay, and images can be stored.
+TEST_F(PostgresStoreTest, ADatabaseWithoutTheImageTablesIsMigratedKeepingItsScenes) {
+  std::string scene_id;
+  {
+    TestServer first(config());
+    auto stored = first.client().Post("/v1/scenes", json::parse(small_request)["scene"].dump(), "application/json");
+    ASSERT_TRUE(stored);
+    ASSERT_EQ(stored->status, 201) << stored->body;
+    scene_id = json::parse(stored->body).at("id");
+  }
+  // Back to version 1 as that schema had it.
+  sql("DROP TABLE rr_texture_placements, rr_texture_owners, rr_textures; DELETE FROM rr_usage WHERE kind = "
+      "'texture'; DELETE FROM rr_schema_version WHERE version = 2");
+  ASSERT_EQ(sql("SELECT max(version) FROM rr_schema_version"), "1");
+
+  TestServer second(config());
+  auto posted = second.client().Post("/v1/textures", rr::encode_png(random_image(4, 4, 9)), "image/png");
+  ASSERT_TRUE(posted);
+  EXPECT_EQ(posted->status, 201) << posted->body;
+  EXPECT_EQ(sql("SELECT max(version) FROM rr_schema_version"), "2");
+  auto scene = second.client().Get(("/v1/scenes/" + scene_id).c_str());
+  ASSERT_TRUE(scene);
+  EXPECT_EQ(scene->status, 200);
+}
+
 }  // namespace
