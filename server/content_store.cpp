@@ -1,10 +1,11 @@
-// ContentStore (see content_store.hpp), instantiated for scenes and meshes at the end. Files are
+// ContentStore (see content_store.hpp), instantiated for scenes, meshes and images at the end. Files are
 // written with POSIX calls because the crash-safety argument needs fsync of the file before the
 // rename and of the directory after it, which iostreams cannot express.
 #include "server/content_store.hpp"
 
 #include "server/mesh_store.hpp"
 #include "server/scene_store.hpp"
+#include "server/texture_store.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -95,7 +96,7 @@ ContentStore<T>::ContentStore(Config config, Log log) : config_(std::move(config
 
 template <class T>
 fs::path ContentStore<T>::file_for(const std::string& id) const {
-  return config_.data_dir / config_.plural / (id + ".json");
+  return config_.data_dir / config_.plural / (id + config_.extension);
 }
 template <class T>
 fs::path ContentStore<T>::meta_for(const std::string& id) const {
@@ -141,7 +142,7 @@ template <class T>
 void ContentStore<T>::expire(Clock::time_point now, bool force) {
   if (config_.ttl.count() == 0 || (!force && now - last_sweep_ < std::chrono::seconds(1))) return;
   last_sweep_ = now;
-  std::vector<std::pair<std::string, std::vector<std::string>>> gone;  // id, refs
+  std::vector<std::tuple<std::string, std::vector<std::string>, std::vector<std::string>>> gone;  // id, meshes, images
   {
     std::lock_guard lock(mutex_);
     for (auto it = entries_.begin(); it != entries_.end();) {
@@ -149,14 +150,14 @@ void ContentStore<T>::expire(Clock::time_point now, bool force) {
         ++it;
         continue;
       }
-      gone.emplace_back(it->first, std::move(it->second.refs));
+      gone.emplace_back(it->first, std::move(it->second.refs), std::move(it->second.texture_refs));
       bytes_ -= it->second.bytes;
       it = entries_.erase(it);
     }
   }
-  for (const auto& [id, refs] : gone) {
+  for (const auto& [id, refs, texture_refs] : gone) {
     remove_files(id);
-    if (config_.on_change) config_.on_change(id, refs, false);
+    if (config_.on_change) config_.on_change(id, refs, texture_refs, false);
     log_("info", {{"event", config_.kind + "_expired"}, {config_.kind, id}});
   }
 }
@@ -188,7 +189,7 @@ size_t ContentStore<T>::load() {
   }
   std::vector<std::pair<fs::file_time_type, fs::path>> files;
   for (const auto& entry : fs::directory_iterator(config_.data_dir / config_.plural)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".json" &&
+    if (entry.is_regular_file() && entry.path().extension() == config_.extension &&
         std::regex_match(entry.path().stem().string(), id_pattern)) {
       files.emplace_back(entry.last_write_time(), entry.path());
     }
@@ -221,7 +222,8 @@ bool ContentStore<T>::load_one(const fs::path& path, Clock::time_point modified)
   StoredDocument document = config_.read(text);
   const std::string id = path.stem().string();
   if (document.id != id) throw std::runtime_error("content hashes to " + document.id + ", not to its file name");
-  Entry entry{text.size(), std::move(document.refs), nullptr, {""}, 0, modified, modified};
+  Entry entry{text.size(), std::move(document.refs), std::move(document.texture_refs), nullptr, {""}, 0, modified,
+              modified};
   entry.created_us = std::chrono::duration_cast<std::chrono::microseconds>(modified.time_since_epoch()).count();
   if (fs::exists(meta_for(id))) {
     nlohmann::json meta = nlohmann::json::parse(read_whole(meta_for(id)));
@@ -240,7 +242,7 @@ bool ContentStore<T>::load_one(const fs::path& path, Clock::time_point modified)
   auto [it, added] = entries_.emplace(id, std::move(entry));
   if (!added) return false;
   bytes_ += bytes;
-  if (config_.on_change) config_.on_change(id, it->second.refs, true);
+  if (config_.on_change) config_.on_change(id, it->second.refs, it->second.texture_refs, true);
   return true;
 }
 
@@ -283,7 +285,7 @@ typename ContentStore<T>::PutResult ContentStore<T>::put(const StoredDocument& d
     lock.lock();
     if (!fits()) return PutResult::full;
   }
-  Entry entry{bytes, document.refs, nullptr, {owner}, next_created_us(now), now, now};
+  Entry entry{bytes, document.refs, document.texture_refs, nullptr, {owner}, next_created_us(now), now, now};
   lock.unlock();
   // Metadata first: a document file is never there without its owners. A document of a server
   // without tokens or retention needs none (no file means owner "" created at the file's time),
@@ -305,7 +307,7 @@ typename ContentStore<T>::PutResult ContentStore<T>::put(const StoredDocument& d
   bytes_ += bytes;
   entries_.emplace(id, std::move(entry));
   lock.unlock();
-  if (config_.on_change) config_.on_change(id, document.refs, true);
+  if (config_.on_change) config_.on_change(id, document.refs, document.texture_refs, true);
   return PutResult::created;
 }
 
@@ -366,15 +368,16 @@ typename ContentStore<T>::ReleaseResult ContentStore<T>::release(const std::stri
     return ReleaseResult::reference_dropped;
   }
   if (config_.pinned && config_.pinned(id)) return ReleaseResult::pinned;
-  std::vector<std::string> refs;
+  std::vector<std::string> refs, texture_refs;
   {
     std::lock_guard lock(mutex_);
     refs = std::move(entry->refs);
+    texture_refs = std::move(entry->texture_refs);
     bytes_ -= entry->bytes;
     entries_.erase(id);
   }
   remove_files(id);
-  if (config_.on_change) config_.on_change(id, refs, false);
+  if (config_.on_change) config_.on_change(id, refs, texture_refs, false);
   return ReleaseResult::removed;
 }
 
@@ -435,5 +438,6 @@ CacheStats ContentStore<T>::stats() {
 
 template class ContentStore<StoredScene>;
 template class ContentStore<StoredMesh>;
+template class ContentStore<StoredTexture>;
 
 }  // namespace rr::server

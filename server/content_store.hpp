@@ -1,4 +1,4 @@
-// A content-addressed store of immutable documents (scenes, meshes: StoredDocument, document_store.hpp)
+// A content-addressed store of immutable documents (scenes, meshes, images: StoredDocument, document_store.hpp)
 // within a budget of document bytes and entries. Stored means kept: a store at its budget refuses
 // new documents rather than evict acknowledged ones; only an operator's retention (ttl, time since
 // last access) removes them, and never a pinned one. Each document has owners (one reference each);
@@ -31,18 +31,21 @@ template <class T>
 struct ContentStoreConfig {
   size_t max_entries = 100'000;
   size_t max_bytes = size_t{4} << 30;
-  std::filesystem::path data_dir;  // empty: memory only
-  std::chrono::seconds ttl{0};     // removed this long after the last access; 0: kept until deleted
-  std::string kind = "scene";      // metadata in <dir>/<kind>-meta; log events <kind>_...
-  std::string plural = "scenes";   // files in <dir>/<plural>
+  std::filesystem::path data_dir;   // empty: memory only
+  std::chrono::seconds ttl{0};      // removed this long after the last access; 0: kept until deleted
+  std::string kind = "scene";       // metadata in <dir>/<kind>-meta; log events <kind>_...
+  std::string plural = "scenes";    // files in <dir>/<plural>
+  std::string extension = ".json";  // of those files: ".json" for documents, ".img" for encoded images
   // A stored file's text -> its document: id and the meshes it places (load()). Throws when it
   // does not read.
   std::function<StoredDocument(const std::string& text)> read;
   // An entry something else depends on: not removed (release answers pinned) nor expired.
   std::function<bool(const std::string& id)> pinned;
   // Told of every document added (put, load) or removed (release, expiry) with the meshes it
-  // places, under the writer's lock.
-  std::function<void(const std::string& id, const std::vector<std::string>& refs, bool added)> on_change;
+  // places and the images its textures name, under the writer's lock.
+  std::function<void(const std::string& id, const std::vector<std::string>& refs,
+                     const std::vector<std::string>& texture_refs, bool added)>
+      on_change;
   // Up to `most` entries of another store that pin an entry (pinned_by()); null: none do.
   std::function<std::vector<std::string>(const std::string& id, size_t most)> pinned_by;
 };
@@ -94,6 +97,7 @@ class ContentStore : public DocumentStore<T> {
   struct Entry {
     size_t bytes = 0;
     std::vector<std::string> refs;
+    std::vector<std::string> texture_refs;
     std::shared_ptr<const std::string> text;  // without a data directory only: the one copy
     std::set<std::string> owners;
     int64_t created_us = 0;

@@ -1,6 +1,6 @@
-// What the handlers need of a store of content-addressed documents (stored scenes, stored meshes):
+// What the handlers need of a store of content-addressed documents (stored scenes, meshes, images):
 // each a StoredDocument, its canonical text charged against the store's budget of document bytes
-// and entries. T (StoredScene or StoredMesh) names the kind; what is prepared from a document lives
+// and entries. T (StoredScene, StoredMesh or StoredTexture) names the kind; what is prepared from a document lives
 // in the service's prepared cache (prepared_cache.hpp), never here. Two implementations:
 // ContentStore (embedded: memory, or files under --data-dir) and PostgresStore (one database
 // shared by every replica, --store postgresql://...). Both keep the same promises: stored means
@@ -34,9 +34,10 @@ class StoreUnavailable : public std::runtime_error {
 
 // One stored document as a store keeps it.
 struct StoredDocument {
-  std::string id;                 // the content id: hash_hex(text) for scenes, the mesh's content id for meshes
-  std::string text;               // the canonical document, served byte for byte
-  std::vector<std::string> refs;  // the stored meshes it places (scenes), each once, sorted
+  std::string id;    // the content id: hash_hex(text) for scenes and images, the mesh's content id for meshes
+  std::string text;  // the canonical document (an image's encoded bytes), served byte for byte
+  std::vector<std::string> refs;                // the stored meshes it places (scenes), each once, sorted
+  std::vector<std::string> texture_refs;        // the stored images its textures name (scenes), each once, sorted
   size_t bytes() const { return text.size(); }  // what it costs against the store's budget
 };
 
@@ -51,8 +52,8 @@ class DocumentStore {
   // meanwhile); each backend checks that itself (open_stores.hpp).
   enum class PutResult { created, existed, too_large, full, conflict, missing_reference };
   // not_owner: stored, but the caller holds no reference to it. pinned: the last reference, but
-  // something stored depends on it (a mesh that a stored scene places). read_only: part of what the
-  // server ships (a catalogue mesh, catalogue_store.hpp), never deleted.
+  // something stored depends on it (a mesh that a stored scene places, an image its textures name). read_only: part of
+  // what the server ships (a catalogue mesh, catalogue_store.hpp), never deleted.
   enum class ReleaseResult { removed, reference_dropped, not_found, not_owner, pinned, read_only };
 
   struct Listed {

@@ -127,10 +127,10 @@ bool answer_not_modified(const httplib::Request& req, httplib::Response& res, co
 }
 
 void send_stored_document(const httplib::Request& req, httplib::Response& res, const std::string& id,
-                          const std::string& text) {
+                          const std::string& text, std::string_view media_type) {
   res.set_header("Cache-Control", "public, max-age=31536000, immutable");
   if (answer_not_modified(req, res, "\"" + id + "\"")) return;
-  res.set_content(text, "application/json");
+  res.set_content(text, std::string(media_type));
 }
 
 std::optional<std::string> releasing_owner(const ServiceState& state) {

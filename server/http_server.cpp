@@ -208,11 +208,13 @@ Service::~Service() { stop(); }
 void Service::start() {
   if (server_) throw std::logic_error("Service::start called twice");
   state_ = std::make_unique<ServiceState>(config_);
-  // Meshes first: stored scenes place them by ref.
+  // Meshes and images first: stored scenes place them by ref and name them by id.
   size_t meshes_loaded = state_->stores.meshes->load();
+  size_t textures_loaded = state_->stores.textures->load();
   size_t loaded = state_->stores.scenes->load();
   if (!config_.data_dir.empty()) {
     state_->log("info", {{"event", "meshes_loaded"}, {"count", meshes_loaded}});
+    state_->log("info", {{"event", "textures_loaded"}, {"count", textures_loaded}});
     state_->log("info", {{"event", "scenes_loaded"}, {"count", loaded}});
   }
   if (config_.store_url.empty() && config_.data_dir.empty()) {  // said, so nobody trusts a restart with them

@@ -20,7 +20,7 @@ std::shared_ptr<const StoredMesh> read_stored_mesh(const std::string& text, cons
   return prepare_mesh(mesh_from_json(parse_json_text(text, limits), limits));
 }
 
-StoredDocument mesh_document(const StoredMesh& mesh) { return {mesh.id, mesh.text, {}}; }
+StoredDocument mesh_document(const StoredMesh& mesh) { return {mesh.id, mesh.text, {}, {}}; }
 
 StoredDocument read_mesh_document(const std::string& text, const ParseLimits& limits) {
   return mesh_document(*read_stored_mesh(text, limits));

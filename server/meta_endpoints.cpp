@@ -83,9 +83,11 @@ void handle_metrics(ServiceState& state, const Request&, Response& res, const Ro
                            state.cache.shadow.stats(),
                            state.cache.scene_stats(),
                            state.cache.mesh_stats(),
+                           state.cache.texture_stats(),
                            state.cache.all_stats(),
                            state.stores.scenes->stats(),
                            state.stores.meshes->stats(),
+                           state.stores.textures->stats(),
                            resident_bytes(),
                            std::string(version()),
                            state.front_stats ? state.front_stats() : FrontStats{}};

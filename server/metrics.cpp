@@ -80,11 +80,9 @@ const CacheFamily cache_families[] = {
 };
 
 void cache_samples(std::string& out, const MetricsSnapshot& snap) {
-  const std::pair<const char*, const CacheStats*> caches[] = {{"bsp", &snap.bsp_cache},
-                                                              {"shadow", &snap.shadow_cache},
-                                                              {"scenes", &snap.scene_cache},
-                                                              {"meshes", &snap.mesh_cache},
-                                                              {"all", &snap.all_cache}};
+  const std::pair<const char*, const CacheStats*> caches[] = {
+      {"bsp", &snap.bsp_cache},     {"shadow", &snap.shadow_cache},    {"scenes", &snap.scene_cache},
+      {"meshes", &snap.mesh_cache}, {"textures", &snap.texture_cache}, {"all", &snap.all_cache}};
   for (const CacheFamily& family : cache_families) {
     header(out, family.name, family.type, family.help);
     for (const auto& [cache, stats] : caches)
@@ -106,8 +104,8 @@ const CacheFamily store_families[] = {
 };
 
 void store_samples(std::string& out, const MetricsSnapshot& snap) {
-  const std::pair<const char*, const CacheStats*> stores[] = {{"scenes", &snap.scene_store},
-                                                              {"meshes", &snap.mesh_store}};
+  const std::pair<const char*, const CacheStats*> stores[] = {
+      {"scenes", &snap.scene_store}, {"meshes", &snap.mesh_store}, {"textures", &snap.texture_store}};
   for (const CacheFamily& family : store_families) {
     header(out, family.name, family.type, family.help);
     for (const auto& [store, stats] : stores)

@@ -35,10 +35,12 @@ struct MetricsSnapshot {
   CacheStats shadow_cache;
   CacheStats scene_cache;
   CacheStats mesh_cache;
+  CacheStats texture_cache;
   CacheStats all_cache;
   // The document stores (server/document_store.hpp): fill against their budgets, finds.
   CacheStats scene_store;
   CacheStats mesh_store;
+  CacheStats texture_store;
   double resident_bytes = 0.0;  // this process's RSS, from /proc/self/statm
   std::string version;
   FrontStats connections;

@@ -1,5 +1,5 @@
 // open_stores (open_stores.hpp): the table of store backends by URL scheme, and how each one opens
-// and wires its scene and mesh stores.
+// and wires its scene, mesh and image stores.
 #include "server/open_stores.hpp"
 
 #include "server/http_server.hpp"
@@ -15,38 +15,53 @@ namespace rr::server {
 
 namespace {
 
-// The embedded mesh store: deleting a mesh holds the pins' writer lock, so it cannot slip between
-// a scene's check of the meshes it places and that scene being stored (PlacingScenes).
-class PinnedMeshes final : public MeshStore {
+// The embedded stores' pins: which stored scenes place which meshes and name which images. One
+// writer lock (the meshes') serialises storing a scene with deleting a mesh or an image.
+struct EmbeddedPins {
+  MeshPins meshes;
+  TexturePins textures;
+  std::mutex& writers() { return meshes.writers(); }
+};
+
+// An embedded mesh or image store: deleting holds the pins' writer lock, so it cannot slip between
+// a scene's check of the documents it uses and that scene being stored (PlacingScenes).
+template <class T>
+class PinnedDocuments final : public ContentStore<T> {
  public:
-  PinnedMeshes(MeshStoreConfig config, Log log, MeshPins& pins)
-      : MeshStore(std::move(config), std::move(log)), pins_(pins) {}
+  using typename ContentStore<T>::ReleaseResult;
+  PinnedDocuments(ContentStoreConfig<T> config, typename ContentStore<T>::Log log, EmbeddedPins& pins)
+      : ContentStore<T>(std::move(config), std::move(log)), pins_(pins) {}
   ReleaseResult release(const std::string& id, const std::optional<std::string>& owner) override {
     std::lock_guard lock(pins_.writers());
-    return MeshStore::release(id, owner);
+    return ContentStore<T>::release(id, owner);
   }
 
  private:
-  MeshPins& pins_;
+  EmbeddedPins& pins_;
 };
 
-// The embedded scene store: a scene is stored only while every mesh it places is (else
-// missing_reference), checked and stored under the pins' writer lock; once stored, on_change pins them.
+// The embedded scene store: a scene is stored only while every mesh it places and every image it
+// names is (else missing_reference), checked and stored under the pins' writer lock; once stored,
+// on_change pins them.
 class PlacingScenes final : public SceneStore {
  public:
-  PlacingScenes(SceneStoreConfig config, Log log, MeshPins& pins, MeshDocuments& meshes)
-      : SceneStore(std::move(config), std::move(log)), pins_(pins), meshes_(meshes) {}
+  PlacingScenes(SceneStoreConfig config, Log log, EmbeddedPins& pins, MeshDocuments& meshes, TextureDocuments& textures)
+      : SceneStore(std::move(config), std::move(log)), pins_(pins), meshes_(meshes), textures_(textures) {}
   PutResult put(const StoredDocument& scene, const std::string& owner) override {
     std::lock_guard lock(pins_.writers());
     for (const std::string& mesh : scene.refs) {
       if (!meshes_.find(mesh, false)) return PutResult::missing_reference;
     }
+    for (const std::string& image : scene.texture_refs) {
+      if (!textures_.find(image, false)) return PutResult::missing_reference;
+    }
     return SceneStore::put(scene, owner);
   }
 
  private:
-  MeshPins& pins_;
+  EmbeddedPins& pins_;
   MeshDocuments& meshes_;
+  TextureDocuments& textures_;
 };
 
 // What every backend's store of T takes from the configuration: budgets, retention, names, reader.
@@ -69,6 +84,14 @@ MeshStoreConfig mesh_config(const ServerConfig& c) {
       [limits = c.limits](const std::string& text) { return read_mesh_document(text, limits); });
 }
 
+TextureStoreConfig texture_config(const ServerConfig& c) {
+  TextureStoreConfig out =
+      store_config<StoredTexture>(c, c.texture_store_entries, c.texture_store_bytes,
+                                  [](const std::string& bytes) { return read_texture_document(bytes); });
+  out.extension = ".img";
+  return out;
+}
+
 SceneStoreConfig scene_config(const ServerConfig& c) {
   return store_config<StoredScene>(
       c, c.scene_store_entries, c.scene_store_bytes,
@@ -77,20 +100,31 @@ SceneStoreConfig scene_config(const ServerConfig& c) {
 
 // Memory, and files under --data-dir; the pins between scenes and meshes are the two stores' shared part.
 Stores open_embedded(const ServerConfig& c, const StoreLog& log) {
-  auto pins = std::make_shared<MeshPins>();
+  auto pins = std::make_shared<EmbeddedPins>();
   Stores out;
   out.shared = pins;
   MeshStoreConfig meshes = mesh_config(c);
   meshes.data_dir = c.data_dir;
-  meshes.pinned = [&pins = *pins](const std::string& id) { return pins.pinned(id); };
-  meshes.pinned_by = [&pins = *pins](const std::string& id, size_t most) { return pins.scenes_placing(id, most); };
-  out.meshes = std::make_unique<PinnedMeshes>(std::move(meshes), log, *pins);
+  meshes.pinned = [&pins = pins->meshes](const std::string& id) { return pins.pinned(id); };
+  meshes.pinned_by = [&pins = pins->meshes](const std::string& id, size_t most) {
+    return pins.scenes_placing(id, most);
+  };
+  out.meshes = std::make_unique<PinnedDocuments<StoredMesh>>(std::move(meshes), log, *pins);
+  TextureStoreConfig textures = texture_config(c);
+  textures.data_dir = c.data_dir;
+  textures.pinned = [&pins = pins->textures](const std::string& id) { return pins.pinned(id); };
+  textures.pinned_by = [&pins = pins->textures](const std::string& id, size_t most) {
+    return pins.scenes_placing(id, most);
+  };
+  out.textures = std::make_unique<PinnedDocuments<StoredTexture>>(std::move(textures), log, *pins);
   SceneStoreConfig scenes = scene_config(c);
   scenes.data_dir = c.data_dir;
-  scenes.on_change = [&pins = *pins](const std::string& id, const std::vector<std::string>& refs, bool added) {
-    pins.change(id, refs, added);
+  scenes.on_change = [&pins = *pins](const std::string& id, const std::vector<std::string>& refs,
+                                     const std::vector<std::string>& texture_refs, bool added) {
+    pins.meshes.change(id, refs, added);
+    pins.textures.change(id, texture_refs, added);
   };
-  out.scenes = std::make_unique<PlacingScenes>(std::move(scenes), log, *pins, *out.meshes);
+  out.scenes = std::make_unique<PlacingScenes>(std::move(scenes), log, *pins, *out.meshes, *out.textures);
   return out;
 }
 
@@ -100,6 +134,7 @@ Stores open_postgresql(const ServerConfig& c, const StoreLog& log) {
   Stores out;
   out.shared = pool;
   out.meshes = std::make_unique<PostgresStore<StoredMesh>>(pool, mesh_config(c), log);
+  out.textures = std::make_unique<PostgresStore<StoredTexture>>(pool, texture_config(c), log);
   out.scenes = std::make_unique<PostgresStore<StoredScene>>(pool, scene_config(c), log);
   return out;
 }

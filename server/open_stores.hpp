@@ -1,14 +1,15 @@
-// The service's scene and mesh stores, opened from its configuration by the scheme of the --store
+// The service's scene, mesh and image stores, opened from its configuration by the scheme of the --store
 // URL: none given -> the embedded store (memory, and files under --data-dir when given);
 // postgresql: or postgres: (or libpq's key=value form) -> PostgreSQL, shared by every replica.
 // Handlers see only the DocumentStore interface: each backend keeps its own rules between the two
-// stores (the embedded one its MeshPins, PostgreSQL its foreign keys). Another backend is one row in
+// stores (the embedded one its MeshPins and TexturePins, PostgreSQL its foreign keys). Another backend is one row in
 // open_stores.cpp's table.
 #pragma once
 
 #include "server/document_store.hpp"
 #include "server/mesh_store.hpp"
 #include "server/scene_store.hpp"
+#include "server/texture_store.hpp"
 
 #include <memory>
 #include <string>
@@ -23,13 +24,16 @@ struct Stores {
   // first, so it outlives them.
   std::shared_ptr<void> shared;
   std::unique_ptr<MeshDocuments> meshes;
+  std::unique_ptr<TextureDocuments> textures;
   std::unique_ptr<SceneDocuments> scenes;
 
   template <class T>
   DocumentStore<T>& of() {
-    static_assert(std::is_same_v<T, StoredScene> || std::is_same_v<T, StoredMesh>);
+    static_assert(std::is_same_v<T, StoredScene> || std::is_same_v<T, StoredMesh> || std::is_same_v<T, StoredTexture>);
     if constexpr (std::is_same_v<T, StoredScene>) {
       return *scenes;
+    } else if constexpr (std::is_same_v<T, StoredTexture>) {
+      return *textures;
     } else {
       return *meshes;
     }

@@ -37,6 +37,19 @@ CREATE TABLE rr_usage (kind text PRIMARY KEY, entries bigint NOT NULL, bytes big
                        last_created_us bigint NOT NULL);
 INSERT INTO rr_usage VALUES ('scene', 0, 0, 0), ('mesh', 0, 0, 0);
 )sql",
+    // Stored images: the encoded PNG or JPEG bytes as the body, and the images scenes' textures name.
+    R"sql(
+CREATE TABLE rr_textures (id text PRIMARY KEY, body bytea NOT NULL, bytes bigint NOT NULL,
+                          created_us bigint NOT NULL, last_access timestamptz NOT NULL);
+CREATE TABLE rr_texture_owners (id text NOT NULL REFERENCES rr_textures ON DELETE CASCADE, owner text NOT NULL,
+                                PRIMARY KEY (id, owner));
+CREATE INDEX rr_textures_created ON rr_textures (created_us DESC, id DESC);
+CREATE TABLE rr_texture_placements (scene_id text NOT NULL REFERENCES rr_scenes ON DELETE CASCADE,
+                                    texture_id text NOT NULL REFERENCES rr_textures,
+                                    PRIMARY KEY (scene_id, texture_id));
+CREATE INDEX rr_texture_placements_texture ON rr_texture_placements (texture_id);
+INSERT INTO rr_usage VALUES ('texture', 0, 0, 0);
+)sql",
 };
 
 // SQLSTATE classes that mean "the database cannot answer now", not "this statement is wrong":

@@ -1,12 +1,14 @@
-// PostgresStore (postgres_store.hpp), instantiated for scenes and meshes at the end. Tables (schema in
-// postgres_pool.cpp): rr_<plural> (id, body, bytes, created_us, last_access), rr_<kind>_owners
-// (id, owner), rr_placements (scene_id, mesh_id: pins a mesh), rr_usage (kind, entries, bytes,
+// PostgresStore (postgres_store.hpp), instantiated for scenes, meshes and images at the end. Tables
+// (schema in postgres_pool.cpp): rr_<plural> (id, body, bytes, created_us, last_access; an image's
+// body is its encoded bytes), rr_<kind>_owners (id, owner), rr_placements (scene_id, mesh_id: pins
+// a mesh), rr_texture_placements (scene_id, texture_id: pins an image), rr_usage (kind, entries, bytes,
 // last_created_us: the fill, locked by every write of that kind).
 #include "server/postgres_store.hpp"
 
 #include "server/http_server.hpp"
 #include "server/mesh_store.hpp"
 #include "server/scene_store.hpp"
+#include "server/texture_store.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -35,11 +37,24 @@ std::pair<int64_t, std::string> parse_cursor(const std::string& cursor) {
   return after;
 }
 
-// The stored meshes a document places (scenes; none for meshes) as a PostgreSQL array.
-std::string references_array(const StoredDocument& document) {
+// Ids (the stored meshes or images a scene uses) as a PostgreSQL array.
+std::string references_array(const std::vector<std::string>& ids) {
   std::string out = "{";
-  for (const std::string& id : document.refs) out += (out.size() > 1 ? "," : "") + id;  // hex ids: no quoting
+  for (const std::string& id : ids) out += (out.size() > 1 ? "," : "") + id;  // hex ids: no quoting
   return out + "}";
+}
+
+// Where the stored scenes that pin an entry of `kind` are listed: table and column, or nullptr for
+// a kind nothing pins (scenes).
+struct Placements {
+  const char* table;
+  const char* column;
+};
+const Placements* placements_of(const std::string& kind) {
+  static constexpr Placements meshes{"rr_placements", "mesh_id"}, textures{"rr_texture_placements", "texture_id"};
+  if (kind == "mesh") return &meshes;
+  if (kind == "texture") return &textures;
+  return nullptr;
 }
 
 }  // namespace
@@ -58,9 +73,13 @@ template <class T>
 void PostgresStore<T>::add_statements() {
   const std::string items = "rr_" + config_.plural, owners = "rr_" + config_.kind + "_owners";
   const std::string kind = "'" + config_.kind + "'";
-  // $1 is the retention in seconds everywhere it appears; a mesh that a stored scene places never expires.
+  // $1 is the retention in seconds everywhere it appears; a mesh that a stored scene places, or an
+  // image that its textures name, never expires.
+  const Placements* pins = placements_of(config_.kind);
   std::string expired = "($1::float8 > 0 AND i.last_access < now() - make_interval(secs => $1::float8)";
-  if (config_.kind == "mesh") expired += " AND NOT EXISTS (SELECT 1 FROM rr_placements p WHERE p.mesh_id = i.id)";
+  if (pins) {
+    expired += " AND NOT EXISTS (SELECT 1 FROM " + std::string(pins->table) + " p WHERE p." + pins->column + " = i.id)";
+  }
   expired += ")";
   auto add = [&](const char* name, const std::string& sql) { pool_->add_statement(statement(name), sql); };
   add("lock", "SELECT entries, bytes FROM rr_usage WHERE kind = " + kind + " FOR UPDATE");
@@ -81,6 +100,7 @@ void PostgresStore<T>::add_statements() {
           kind + " RETURNING last_created_us");
   add("insert", "INSERT INTO " + items + " (id, body, bytes, created_us, last_access) VALUES ($1, $2, $3, $4, now())");
   add("place", "INSERT INTO rr_placements (scene_id, mesh_id) SELECT $1, unnest($2::text[])");
+  add("place_textures", "INSERT INTO rr_texture_placements (scene_id, texture_id) SELECT $1, unnest($2::text[])");
   // A read restarts the retention clock, written at most every $3 seconds (not on every read).
   add("find", "WITH touched AS (UPDATE " + items +
                   " i SET last_access = now() WHERE i.id = $2 AND $1::float8 > 0 AND "
@@ -95,7 +115,10 @@ void PostgresStore<T>::add_statements() {
                     " WHERE id = $1 RETURNING bytes) UPDATE rr_usage SET "
                     "entries = entries - 1, bytes = bytes - (SELECT bytes FROM gone) WHERE kind = " +
                     kind + " AND EXISTS (SELECT 1 FROM gone)");
-  add("pinned_by", "SELECT scene_id FROM rr_placements WHERE mesh_id = $1 ORDER BY scene_id LIMIT $2::bigint");
+  if (pins) {
+    add("pinned_by", "SELECT scene_id FROM " + std::string(pins->table) + " WHERE " + pins->column +
+                         " = $1 ORDER BY scene_id LIMIT $2::bigint");
+  }
   add("list", "SELECT i.id, i.created_us, (extract(epoch FROM i.last_access) * 1000000)::bigint, i.bytes FROM " +
                   items + " i WHERE NOT " + expired + " AND ($2::text IS NULL OR EXISTS (SELECT 1 FROM " + owners +
                   " o WHERE o.id = i.id AND o.owner = $2)) AND ($3::bigint IS NULL OR (i.created_us, i.id) < "
@@ -166,11 +189,12 @@ typename PostgresStore<T>::PutResult PostgresStore<T>::put_locked(PostgresSessio
   PostgresRows created = s.run(statement("reserve"), {{std::to_string(bytes)}});
   s.run(statement("insert"), {id, body, {std::to_string(bytes)}, PostgresParam{created.at(0, 0)}});
   s.run(statement("add_owner"), {id, {owner}});
-  if (const std::string refs = references_array(item); refs != "{}") {
+  for (const auto& [refs, place] : {std::pair{&item.refs, "place"}, std::pair{&item.texture_refs, "place_textures"}}) {
+    if (refs->empty()) continue;
     try {
-      s.run(statement("place"), {id, {refs}});
+      s.run(statement(place), {id, {references_array(*refs)}});
     } catch (const PostgresError& e) {
-      if (e.sqlstate() != "23503") throw;   // a foreign key: a mesh it places was deleted meanwhile
+      if (e.sqlstate() != "23503") throw;   // a foreign key: a mesh or image it uses was deleted meanwhile
       return PutResult::missing_reference;  // the commit that follows rolls the aborted transaction back
     }
   }
@@ -216,7 +240,9 @@ typename PostgresStore<T>::ReleaseResult PostgresStore<T>::release_locked(Postgr
       return ReleaseResult::reference_dropped;
     }
   }
-  if (config_.kind == "mesh" && s.run(statement("pinned_by"), {{id}, {"1"}}).size() > 0) return ReleaseResult::pinned;
+  if (placements_of(config_.kind) && s.run(statement("pinned_by"), {{id}, {"1"}}).size() > 0) {
+    return ReleaseResult::pinned;
+  }
   s.run(statement("remove"), {{id}});
   return ReleaseResult::removed;
 }
@@ -260,7 +286,7 @@ typename PostgresStore<T>::Page PostgresStore<T>::list(const std::optional<std::
 template <class T>
 std::vector<std::string> PostgresStore<T>::pinned_by(const std::string& id, size_t most) {
   std::vector<std::string> out;
-  if (config_.kind != "mesh") return out;
+  if (!placements_of(config_.kind)) return out;
   pool_->session([&](PostgresSession& s) {
     for (const auto& row : s.run(statement("pinned_by"), {{id}, {std::to_string(most)}}).rows) {
       out.push_back(row.at(0).value_or(""));
@@ -299,5 +325,6 @@ CacheStats PostgresStore<T>::stats() {
 
 template class PostgresStore<StoredScene>;
 template class PostgresStore<StoredMesh>;
+template class PostgresStore<StoredTexture>;
 
 }  // namespace rr::server

@@ -1,6 +1,6 @@
-// The shared store: content-addressed documents (scenes, meshes) in one PostgreSQL database that
+// The shared store: content-addressed documents (scenes, meshes, images) in one PostgreSQL database that
 // every replica uses (--store postgresql://...). Rows hold the canonical bytes (reads are
-// byte-identical), owners and the stored scenes' placements of meshes; the budget (507), owners,
+// byte-identical), owners and the stored scenes' placements of meshes and images; the budget (507), owners,
 // pins and retention are decided inside one transaction per write, under the row lock of the
 // kind's fill counter, so replicas never race on a read-modify-write. Every find() asks the database
 // whether the id is stored (a delete through another replica is seen at once) and fetches the text
@@ -27,7 +27,7 @@ class PostgresStore : public DocumentStore<T> {
   using typename Base::ReleaseResult;
   using Log = std::function<void(const std::string& level, nlohmann::ordered_json fields)>;
 
-  // Uses config's max_entries, max_bytes, ttl and kind ("scene" or "mesh"); data_dir, read, pinned
+  // Uses config's max_entries, max_bytes, ttl and kind ("scene", "mesh" or "texture"); data_dir, read, pinned
   // and on_change belong to the embedded store (pins live in the database here). Adds its
   // statements to `pool`.
   PostgresStore(std::shared_ptr<PostgresPool> pool, ContentStoreConfig<T> config, Log log);
@@ -47,7 +47,7 @@ class PostgresStore : public DocumentStore<T> {
   std::string statement(const char* name) const { return "rr_" + config_.kind + "_" + name; }
   void add_statements();
   PostgresParam ttl_param() const { return {std::to_string(config_.ttl.count())}; }
-  // Deletes the entries whose retention ran out (and, for meshes, that no scene places); at most
+  // Deletes the entries whose retention ran out (and, for meshes and images, that no scene uses); at most
   // once a second unless forced. Inside the caller's transaction, which holds the fill row.
   void sweep(PostgresSession& session, bool force);
   PutResult put_locked(PostgresSession& session, const StoredDocument& document, const std::string& owner);

@@ -1,4 +1,4 @@
-// PreparedCache (prepared_cache.hpp), instantiated for scenes and meshes at the end.
+// PreparedCache (prepared_cache.hpp), instantiated for scenes, meshes and images at the end.
 #include "server/prepared_cache.hpp"
 
 #include "render/pipelines/bsp.hpp"
@@ -21,6 +21,10 @@ std::shared_ptr<const StoredScene> read_prepared(const std::string& text, const 
 std::shared_ptr<const StoredMesh> read_prepared(const std::string& text, const ParseLimits& limits, const StoredMesh*) {
   return read_stored_mesh(text, limits);
 }
+std::shared_ptr<const StoredTexture> read_prepared(const std::string& bytes, const ParseLimits& limits,
+                                                   const StoredTexture*) {
+  return read_stored_texture(bytes, limits);
+}
 
 }  // namespace
 
@@ -29,6 +33,7 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
       pool_(std::make_shared<CachePool>(c.cache_bytes)),
       scenes_(pool_),
       meshes_(pool_),
+      textures_(pool_),
       limits_(c.limits),
       bsp(pool_, c.bsp_cache_entries),
       shadow(pool_, CachePool::unbounded, c.shadow_cache_bytes) {
@@ -41,6 +46,10 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
     auto stored = find<StoredMesh>(id);
     return stored ? stored->mesh : nullptr;
   };
+  limits_.resolve_texture = [this](const std::string& id) -> std::shared_ptr<const TextureImage> {
+    auto stored = find<StoredTexture>(id);
+    return stored ? stored->image : nullptr;
+  };
 }
 
 template <>
@@ -50,6 +59,11 @@ SharedLruCache<StoredScene>& PreparedCache::part<StoredScene>() {
 template <>
 SharedLruCache<StoredMesh>& PreparedCache::part<StoredMesh>() {
   return meshes_;
+}
+
+template <>
+SharedLruCache<StoredTexture>& PreparedCache::part<StoredTexture>() {
+  return textures_;
 }
 
 template <class T>
@@ -134,5 +148,9 @@ template void PreparedCache::keep(const std::shared_ptr<const StoredScene>&);
 template void PreparedCache::keep(const std::shared_ptr<const StoredMesh>&);
 template void PreparedCache::forget<StoredScene>(const std::string&);
 template void PreparedCache::forget<StoredMesh>(const std::string&);
+template std::shared_ptr<const StoredTexture> PreparedCache::find(const std::string&, bool*);
+template std::optional<std::string> PreparedCache::text<StoredTexture>(const std::string&);
+template void PreparedCache::keep(const std::shared_ptr<const StoredTexture>&);
+template void PreparedCache::forget<StoredTexture>(const std::string&);
 
 }  // namespace rr::server

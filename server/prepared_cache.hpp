@@ -1,10 +1,10 @@
 // The service's one memory cache of what is prepared, within one byte budget (--cache-bytes) and
 // one least-recently-used order (a CachePool, render/core/lru_cache.hpp): stored scenes prepared for
 // drawing (StoredScene: parsed, tessellated, with warnings and hierarchy), stored meshes parsed
-// (StoredMesh), and the BSP trees and shadow maps of static scenes, which inline renders share with
-// stored ones. Nothing acknowledged lives only here: what is evicted is rebuilt from its document in
-// the store (document_store.hpp) when next wanted, once however many requests want it at that moment
-// (single-flight), and draws the same bytes. Shadow maps may take at most --shadow-cache-bytes of it.
+// (StoredMesh), stored images decoded with their mip chains (StoredTexture), and the BSP trees and shadow maps of
+// static scenes, which inline renders share with stored ones. Nothing acknowledged lives only here: what is evicted is
+// rebuilt from its document in the store (document_store.hpp) when next wanted, once however many requests want it at
+// that moment (single-flight), and draws the same bytes. Shadow maps may take at most --shadow-cache-bytes of it.
 #pragma once
 
 #include "render/core/frame.hpp"
@@ -26,7 +26,7 @@ class PreparedCache {
   PreparedCache(const PreparedCache&) = delete;
   PreparedCache& operator=(const PreparedCache&) = delete;
 
-  // Document `id` of kind T (StoredScene or StoredMesh) prepared, counting as an access to the
+  // Document `id` of kind T (StoredScene, StoredMesh or StoredTexture) prepared, counting as an access to the
   // stored document: null when it is not stored. On a miss it is built from the document (`built`
   // then says so; a waiter on another request's build counts as built too). Throws what the store
   // throws (StoreUnavailable) and std::runtime_error when a stored document no longer reads.
@@ -46,12 +46,13 @@ class PreparedCache {
   template <class T>
   void forget(const std::string& id);
 
-  // The configuration's parse limits, with mesh references ("ref") resolved to stored meshes
-  // through this cache.
+  // The configuration's parse limits, with mesh references ("ref") resolved to stored meshes and
+  // texture images given by id to stored images, through this cache.
   const ParseLimits& limits() const { return limits_; }
 
   CacheStats scene_stats() const { return scenes_.stats(); }
   CacheStats mesh_stats() const { return meshes_.stats(); }
+  CacheStats texture_stats() const { return textures_.stats(); }
   CacheStats all_stats() const { return pool_->stats(); }
 
  private:
@@ -62,6 +63,7 @@ class PreparedCache {
   std::shared_ptr<CachePool> pool_;  // before the parts, which it outlives
   SharedLruCache<StoredScene> scenes_;
   SharedLruCache<StoredMesh> meshes_;
+  SharedLruCache<StoredTexture> textures_;
   ParseLimits limits_;
 
  public:

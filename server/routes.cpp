@@ -20,7 +20,7 @@ struct Placeholder {
 // under the same name (a schema's name, which allows '-' and is served from <name>.schema.json) gives
 // its own pattern instead.
 constexpr Placeholder placeholders[] = {
-    {"id", "[0-9a-f]{16}"},   // a stored scene's or mesh's id: 16 hex digits of its content hash
+    {"id", "[0-9a-f]{16}"},   // a stored scene's, mesh's or image's id: 16 hex digits of its content hash
     {"format", "[a-z0-9]+"},  // an importer's name
     {"name", "[a-z0-9_]+"},   // an example request's file stem, a catalogue entry's id
 };
@@ -56,8 +56,9 @@ std::string route_pattern(const Route& route) {
 
 std::vector<Route> service_routes(const ServerConfig& config) {
   std::vector<Route> routes;
-  for (std::vector<Route> list : {render_routes(), scene_routes(), mesh_routes(config), import_routes(config),
-                                  meta_routes(config), page_routes(config), pick_routes(), catalogue_routes()}) {
+  for (std::vector<Route> list :
+       {render_routes(), scene_routes(), mesh_routes(config), texture_routes(), import_routes(config),
+        meta_routes(config), page_routes(config), pick_routes(), catalogue_routes()}) {
     routes.insert(routes.end(), list.begin(), list.end());
   }
   for (Route& r : routes) r.regex = std::regex(route_pattern(r));

@@ -98,6 +98,7 @@ RequestContext& request_context();
 std::vector<Route> render_routes();                            // render_endpoints.cpp
 std::vector<Route> scene_routes();                             // scene_endpoints.cpp
 std::vector<Route> mesh_routes(const ServerConfig& config);    // mesh_endpoints.cpp
+std::vector<Route> texture_routes();                           // texture_endpoints.cpp
 std::vector<Route> import_routes(const ServerConfig& config);  // import_endpoints.cpp
 std::vector<Route> meta_routes(const ServerConfig& config);    // meta_endpoints.cpp
 std::vector<Route> pick_routes();                              // pick_endpoints.cpp
@@ -116,12 +117,12 @@ void send_json(httplib::Response& res, const nlohmann::json& body, int status = 
 bool answer_not_modified(const httplib::Request& req, httplib::Response& res, const std::string& etag);
 // A stored, content-addressed document (`id` is its hash): cacheable forever, ETag "id", 304 on a match.
 void send_stored_document(const httplib::Request& req, httplib::Response& res, const std::string& id,
-                          const std::string& text);
+                          const std::string& text, std::string_view media_type = "application/json");
 // Whose reference a DELETE drops: the caller's with tokens, every reference (nullopt) without.
 std::optional<std::string> releasing_owner(const ServiceState& state);
 // The request body as JSON, parsed with the configured depth bound (InputError -> 400).
 nlohmann::json parse_body(const ServiceState& state, const httplib::Request& req);
-// Where a stored scene or mesh is served: "/v1/scenes/{id}", "/v1/meshes/{id}".
+// Where a stored scene, mesh or image is served: "/v1/scenes/{id}", "/v1/meshes/{id}", "/v1/textures/{id}".
 template <class T>
 std::string location_of(const std::string& id) {
   return std::string("/v1/") + T::plural + "/" + id;

@@ -8,6 +8,7 @@
 
 #include <map>
 #include <set>
+#include <string_view>
 
 namespace rr::server {
 
@@ -64,6 +65,36 @@ std::vector<std::string> refs_of(const nlohmann::json& document, const ParseLimi
   return {refs.begin(), refs.end()};
 }
 
+bool is_stored_image_id(const nlohmann::json& value) {
+  if (!value.is_string()) return false;
+  const std::string& text = value.get_ref<const std::string&>();
+  return text.size() == 16 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
+// Adds to `refs` the stored images named by id in `value`: the "image" of every texture member
+// ("texture", "left_texture", "floor_texture", ...) anywhere in it (floors, rooms, wall sides,
+// solids, piece parts).
+void add_texture_refs(const nlohmann::json& value, std::set<std::string>& refs) {
+  if (value.is_object()) {
+    for (const auto& [key, member] : value.items()) {
+      if (std::string_view(key).ends_with("texture") && member.is_object() && member.contains("image") &&
+          is_stored_image_id(member.at("image"))) {
+        refs.insert(member.at("image").get<std::string>());
+      }
+      add_texture_refs(member, refs);
+    }
+  } else if (value.is_array()) {
+    for (const nlohmann::json& item : value) add_texture_refs(item, refs);
+  }
+}
+
+// The stored images a scene document's textures name by id, each once, sorted.
+std::vector<std::string> texture_refs_of(const nlohmann::json& document) {
+  std::set<std::string> refs;
+  add_texture_refs(document, refs);
+  return {refs.begin(), refs.end()};
+}
+
 // `limits` resolving each mesh once however many solids place it: a home places its few dozen
 // models hundreds of times, and with a shared store each resolution asks the database.
 ParseLimits resolving_each_mesh_once(const ParseLimits& limits) {
@@ -107,6 +138,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
     }
   }
   out->mesh_refs.assign(refs.begin(), refs.end());
+  out->texture_refs = texture_refs_of(document);
   return out;
 }
 
@@ -114,10 +146,13 @@ std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, co
   return prepare_scene(parse_json_text(text, limits), limits);
 }
 
-StoredDocument scene_document(const StoredScene& scene) { return {scene.id, scene.text, scene.mesh_refs}; }
+StoredDocument scene_document(const StoredScene& scene) {
+  return {scene.id, scene.text, scene.mesh_refs, scene.texture_refs};
+}
 
 StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits) {
-  return {hash_hex(text), text, refs_of(parse_json_text(text, limits), limits)};
+  const nlohmann::json document = parse_json_text(text, limits);
+  return {hash_hex(text), text, refs_of(document, limits), texture_refs_of(document)};
 }
 
 std::string static_id_of(const std::string& text, const ParseLimits& limits) {

@@ -3,7 +3,8 @@
 // owners, retention, files or rows: content_store.hpp, postgres_store.hpp). What is prepared from it
 // (the parsed scene, its tessellation, placement warnings and hierarchy) is a StoredScene, kept in
 // the prepared cache (prepared_cache.hpp) and rebuilt from the text when the cache evicted it. Meshes
-// placed by "ref" are resolved through the limits' resolver (the stored meshes).
+// placed by "ref" and images named by id are resolved through the limits' resolvers (the stored
+// meshes and images).
 #pragma once
 
 #include "render/pipelines/render.hpp"
@@ -23,10 +24,11 @@ namespace rr::server {
 struct StoredScene : PreparedScene {
   static constexpr const char* kind = "scene";  // in answers, log events and file or table names
   static constexpr const char* plural = "scenes";
-  std::string id;                      // hash_hex(text)
-  std::string text;                    // canonical JSON of the scene document
-  size_t bytes = 0;                    // what it costs in memory: charged against the prepared cache's budget
-  std::vector<std::string> mesh_refs;  // the stored meshes it places, each once, sorted
+  std::string id;                         // hash_hex(text)
+  std::string text;                       // canonical JSON of the scene document
+  size_t bytes = 0;                       // what it costs in memory: charged against the prepared cache's budget
+  std::vector<std::string> mesh_refs;     // the stored meshes it places, each once, sorted
+  std::vector<std::string> texture_refs;  // the stored images its textures name, each once, sorted
 };
 
 // Parses and validates one scene document (JSON already parsed with the limits' depth bound) into a
@@ -39,7 +41,8 @@ std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, co
 
 // What a store keeps of a prepared scene.
 StoredDocument scene_document(const StoredScene& scene);
-// A stored scene file's text -> its document: the id it hashes to and the meshes it places, without
+// A stored scene file's text -> its document: the id it hashes to, the meshes it places and the
+// images it names, without
 // preparing it (start-up). Throws when it is not JSON.
 StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits);
 // The static id (X-Scene-Id) of a stored scene's text: parsed, its meshes resolved, not tessellated.

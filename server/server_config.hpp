@@ -49,6 +49,8 @@ struct ServerConfig {
   int scene_ttl_s = 0;                        // stored scenes go this long after their last access; 0: kept
   size_t mesh_store_bytes = size_t{4} << 30;  // stored meshes (POST /v1/meshes); their ttl is scene_ttl_s
   size_t mesh_store_entries = 100'000;
+  size_t texture_store_bytes = size_t{4} << 30;  // stored images (POST /v1/textures), their encoded bytes
+  size_t texture_store_entries = 100'000;
   // The shared store (server/postgres_store.hpp): stored scenes and meshes in PostgreSQL, so any
   // replica answers any stored id. Empty: the embedded store (memory, and data_dir when given).
   std::string store_url;        // postgresql://user:password@host:port/database

@@ -1,5 +1,5 @@
 // Storing a document for a request and answering it (declared in routes.hpp), one template for
-// scenes and meshes: the document goes to its store, and what was prepared to check it to the
+// scenes, meshes and images: the document goes to its store, and what was prepared to check it to the
 // prepared cache, so the renders that follow find it ready. Every DocumentStore::PutResult maps to
 // its answer here (201 or 200 with Location, 409, 413, 507, 422). What differs by kind is in the
 // overloads below: a scene also names its static scene id (X-Scene-Id, the log line) and its
@@ -19,22 +19,33 @@ using nlohmann::json;
 
 void note_storing(const StoredScene& scene) { request_context().scene_id = scene.static_id; }
 void note_storing(const StoredMesh&) {}
+void note_storing(const StoredTexture&) {}
 
-// The store says only that something the scene places is gone: the answer names the first mesh
-// no longer stored (the first it places, when every one is back by now).
+// The store says only that something the scene uses is gone: the answer names the first mesh or
+// image no longer stored (the first it uses, when every one is back by now).
 [[noreturn]] void throw_missing_reference(ServiceState& state, const StoredScene& scene) {
-  std::string mesh = scene.mesh_refs.at(0);
   for (const std::string& id : scene.mesh_refs) {
     if (!state.stores.meshes->find(id, false)) {
-      mesh = id;
-      break;
+      throw HttpError(422, "The stored mesh " + id + " that this scene places was deleted while it was stored.",
+                      {{"", "there is no stored mesh \"" + id + "\""}});
     }
   }
-  throw HttpError(422, "The stored mesh " + mesh + " that this scene places was deleted while it was stored.",
-                  {{"", "there is no stored mesh \"" + mesh + "\""}});
+  for (const std::string& id : scene.texture_refs) {
+    if (!state.stores.textures->find(id, false)) {
+      throw HttpError(422,
+                      "The stored image " + id + " that this scene's textures name was deleted while it was stored.",
+                      {{"", "there is no stored image \"" + id + "\""}});
+    }
+  }
+  const std::string first = scene.mesh_refs.empty() ? scene.texture_refs.at(0) : scene.mesh_refs.at(0);
+  throw HttpError(422, "The stored document " + first + " that this scene uses was deleted while it was stored.",
+                  {{"", "there is no stored document \"" + first + "\""}});
 }
 [[noreturn]] void throw_missing_reference(ServiceState&, const StoredMesh&) {
   throw std::logic_error("a mesh places no stored document");
+}
+[[noreturn]] void throw_missing_reference(ServiceState&, const StoredTexture&) {
+  throw std::logic_error("an image uses no stored document");
 }
 
 void add_answer_members(ServiceState& state, httplib::Response& res, const StoredScene& scene, json& body) {
@@ -43,9 +54,11 @@ void add_answer_members(ServiceState& state, httplib::Response& res, const Store
   body["expires"] = time_or_null(state.stores.scenes->expiry_from_now());
 }
 void add_answer_members(ServiceState&, httplib::Response&, const StoredMesh&, json&) {}
+void add_answer_members(ServiceState&, httplib::Response&, const StoredTexture&, json&) {}
 
 StoredDocument document_of(const StoredScene& scene) { return scene_document(scene); }
 StoredDocument document_of(const StoredMesh& mesh) { return mesh_document(mesh); }
+StoredDocument document_of(const StoredTexture& texture) { return texture_document(texture); }
 
 template <class T>
 [[noreturn]] void throw_store_full(DocumentStore<T>& store) {
@@ -110,5 +123,7 @@ template bool store_document(ServiceState&, const std::shared_ptr<const StoredSc
 template bool store_document(ServiceState&, const std::shared_ptr<const StoredMesh>&);
 template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredScene>&, json);
 template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredMesh>&, json);
+template bool store_document(ServiceState&, const std::shared_ptr<const StoredTexture>&);
+template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredTexture>&, json);
 
 }  // namespace rr::server

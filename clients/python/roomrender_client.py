@@ -205,6 +205,24 @@ class Client:
         self._require("/v1/scenes/{id}", "delete")
         self._send("DELETE", f"/v1/scenes/{_segment(scene_id)}")
 
+    def store_texture(self, image: bytes) -> dict:
+        """POST /v1/textures: stores a PNG or JPEG file's bytes (the server tells them apart by
+        their first bytes); returns the receipt {id, location, created, media_type, width, height,
+        bytes}. A texture then names the image by id: {"image": receipt["id"], ...}."""
+        self._require("/v1/textures")
+        _, _, raw = self._send("POST", "/v1/textures", image, "application/octet-stream", "application/json")
+        return json.loads(raw)
+
+    def get_texture(self, texture_id: str) -> bytes:
+        """GET /v1/textures/{id}: the stored image's bytes, as they were sent."""
+        self._require("/v1/textures/{id}", "get")
+        return self._send("GET", f"/v1/textures/{_segment(texture_id)}")[2]
+
+    def delete_texture(self, texture_id: str) -> None:
+        """DELETE /v1/textures/{id}; the server answers 409 while a stored scene uses the image."""
+        self._require("/v1/textures/{id}", "delete")
+        self._send("DELETE", f"/v1/textures/{_segment(texture_id)}")
+
     def render_stored(self, scene_id: str, camera: Optional[dict] = None, options: Optional[dict] = None,
                       json_answer: bool = True) -> RenderResult:
         """POST /v1/scenes/{id}/render with only the view: no scene upload, parse or tessellation."""

@@ -43,6 +43,9 @@ struct ParseLimits {
   // Whether a ref names a mesh that is always there (the server's catalogue): a stored scene placing
   // it depends on no stored document. Unset: none is.
   std::function<bool(const std::string& id)> builtin_mesh;
+  // Finds a stored image for a texture's "image" given as a 16-hex-digit id (nullptr: none). Unset,
+  // every id is refused (422).
+  std::function<std::shared_ptr<const TextureImage>(const std::string& id)> resolve_texture;
 };
 
 // Parses JSON text, rejecting what nlohmann would accept but we will not: nesting deeper than

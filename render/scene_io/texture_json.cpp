@@ -1,8 +1,9 @@
 // JSON texture objects -> SurfaceTexture (docs/scene-format.md, "Textures"): {"image", "width",
 // "height", "x_offset", "y_offset", "angle"}, the angle in degrees as every angle of the format and
-// stored in radians. `image` is a data: URI of a PNG or JPEG; a 16-hex-digit string is kept for a
-// stored image's id and refused until images are stored. Each distinct image is decoded once per
-// request; its size is checked from the URI's length and the image's header before anything is decoded.
+// stored in radians. `image` is a data: URI of a PNG or JPEG, or the 16-hex-digit id of a stored
+// image, found through the limits' resolver. Each distinct image is decoded once per request; its
+// size is checked from the URI's length and the image's header before anything is decoded. A stored
+// image's pixels count against the request's decoded budget as an inline one's do.
 #include "render/scene_io/errors.hpp"
 #include "render/scene_io/scene_json_detail.hpp"
 
@@ -74,8 +75,33 @@ std::shared_ptr<const TextureImage> decode_image(const std::string& uri, const s
   return image;
 }
 
+// A stored image by id. Its decoded pixels count against the request's budget like an inline
+// image's; it was checked against the per-image caps when it was stored.
+std::shared_ptr<const TextureImage> resolve_image(const std::string& id, const std::string& pointer, const Bounds& b) {
+  TextureImages& images = *b.images;
+  const ParseLimits& limits = b.limits;
+  std::shared_ptr<const TextureImage> image = limits.resolve_texture ? limits.resolve_texture(id) : nullptr;
+  if (!image) {  // remembered, so another surface naming it is told the same without asking again
+    const std::string problem = "there is no stored image \"" + id + "\"";
+    images.by_image[id] = TextureImages::Entry{nullptr, problem};
+    throw_invalid(pointer, problem);
+  }
+  const size_t bytes = size_t(image->width()) * size_t(image->height()) * decoded_bytes_per_pixel;
+  if (images.decoded_bytes + bytes > limits.max_texture_decoded_bytes) {
+    throw_too_large(pointer,
+                    "the stored image " + id + " decodes to " + bytes_text(bytes) +
+                        "; the request's images may decode to at most " + bytes_text(limits.max_texture_decoded_bytes) +
+                        " in all, mip chains included, and earlier images take " + bytes_text(images.decoded_bytes));
+  }
+  images.decoded_bytes += bytes;
+  images.by_image[id] = TextureImages::Entry{image, ""};
+  return image;
+}
+
 std::shared_ptr<const TextureImage> read_image(const json& value, const std::string& pointer, const Bounds& b) {
-  if (!value.is_string()) throw_invalid(pointer, "must be a string: a data: URI of a PNG or JPEG image");
+  if (!value.is_string()) {
+    throw_invalid(pointer, "must be a string: a data: URI of a PNG or JPEG image, or a stored image's id");
+  }
   const std::string& text = value.get_ref<const std::string&>();
   if (!b.images) throw_invalid(pointer, "textures are not read here");
   if (auto it = b.images->by_image.find(text); it != b.images->by_image.end()) {
@@ -83,13 +109,11 @@ std::shared_ptr<const TextureImage> read_image(const json& value, const std::str
     return it->second.image;
   }
   if (text.starts_with("data:")) return decode_image(text, pointer, b);
-  if (is_image_id(text)) {
-    throw_invalid(pointer,
-                  "names a stored image by id, which this server does not store yet: give the image as a "
-                  "data: URI (\"data:image/png;base64,...\")");
-  }
-  throw_invalid(pointer, "must be a data: URI (\"data:image/png;base64,...\") of a PNG or JPEG image, not \"" +
-                             quote_input(text) + "\"");
+  if (is_image_id(text)) return resolve_image(text, pointer, b);
+  throw_invalid(pointer,
+                "must be a data: URI (\"data:image/png;base64,...\") of a PNG or JPEG image or the 16-hex-digit id "
+                "of a stored image (POST /v1/textures), not \"" +
+                    quote_input(text) + "\"");
 }
 
 std::shared_ptr<const SurfaceTexture> read_texture_object(const json& value, const std::string& pointer,

@@ -164,6 +164,36 @@ class StoredScenes(ServerTest):
         self.assertEqual(caught.exception.status, 404)
 
 
+class StoredTextures(ServerTest):
+    needs = [("post", "/v1/textures"), ("get", "/v1/textures/{id}"), ("delete", "/v1/textures/{id}"),
+             ("post", "/v1/scenes")]
+
+    def test_a_texture_naming_the_stored_image_draws_as_its_data_uri(self):
+        import base64
+        request = small(load_example("studio_textured"))
+        texture = request["scene"]["walls"][0]["right_texture"]
+        png = base64.b64decode(texture["image"].split(",", 1)[1])
+        receipt = self.client.store_texture(png)
+        self.assertRegex(receipt["id"], r"^[0-9a-f]{16}$")
+        self.assertEqual(receipt["media_type"], "image/png")
+        self.assertEqual(self.client.store_texture(png)["id"], receipt["id"])  # content-addressed
+        self.assertEqual(self.client.get_texture(receipt["id"]), png)
+        inline = self.client.render(request, json_answer=False).png
+        by_id = json.loads(json.dumps(request))
+        by_id["scene"]["walls"][0]["right_texture"]["image"] = receipt["id"]
+        self.assertEqual(self.client.render(by_id, json_answer=False).png, inline)
+
+        scene = self.client.store_scene(by_id["scene"])
+        with self.assertRaises(rc.RoomrenderError) as caught:
+            self.client.delete_texture(receipt["id"])
+        self.assertEqual(caught.exception.status, 409)
+        self.client.delete_scene(scene["id"])
+        self.client.delete_texture(receipt["id"])
+        with self.assertRaises(rc.RoomrenderError) as caught:
+            self.client.get_texture(receipt["id"])
+        self.assertEqual(caught.exception.status, 404)
+
+
 class CameraPath(ServerTest):
     def test_orbit_cameras_keep_distance_height_and_target(self):
         camera = load_example("studio")["camera"]

@@ -163,7 +163,8 @@ for (const ref of new Set(refs)) {
 }
 
 // --- the OpenAPI document's request examples are accepted --------------------------------------
-// The examples openapi.json shows (and /docs with it) are sent as they are; an import example is
+// The examples openapi.json shows (and /docs with it) are sent as they are (an externalValue as the
+// bytes the server serves there); an import example is
 // named by the {format} it is for, and PUT's {id} is the one POST gave the same scene.
 const document = JSON.parse(readFileSync(`${repo}/schemas/openapi.json`, "utf8"));
 const storedIds = [];
@@ -174,10 +175,14 @@ for (const [path, item] of Object.entries(document.paths)) {
         let url = path.replace("{format}", name);
         if (url.includes("{id}")) url = url.replace("{id}", storedIds.at(-1) || "0000000000000000");
         const json = type.endsWith("json");
+        // A binary body (an image) is shown by externalValue, a path this server serves: its bytes are sent.
+        const value = example.externalValue
+          ? Buffer.from(await (await fetch(origin + example.externalValue)).arrayBuffer())
+          : example.value;
         const res = await fetch(origin + url, {
           method: method.toUpperCase(),
           headers: { "Content-Type": type },
-          body: json ? JSON.stringify(example.value) : example.value,
+          body: json ? JSON.stringify(value) : value,
         });
         const body = await res.arrayBuffer();
         check(res.ok, `openapi example ${name} of ${method.toUpperCase()} ${path} (${type}) is accepted`,

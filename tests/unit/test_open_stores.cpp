@@ -80,7 +80,7 @@ TEST(OpenStores, AnUnknownSchemeOrABadUrlIsRefusedNamingTheFlag) {
 }
 
 StoredDocument scene_placing(const std::string& id, const std::string& mesh) {
-  return {id, "{\"solids\":[{\"ref\":\"" + mesh + "\"}]}", {mesh}};
+  return {id, "{\"solids\":[{\"ref\":\"" + mesh + "\"}]}", {mesh}, {}};
 }
 
 TEST(OpenStores, TheEmbeddedBackendHoldsScenesToTheMeshesTheyPlace) {
@@ -98,6 +98,24 @@ TEST(OpenStores, TheEmbeddedBackendHoldsScenesToTheMeshesTheyPlace) {
   EXPECT_EQ(stores.scenes->release(scene.id, std::nullopt), SceneDocuments::ReleaseResult::removed);
   EXPECT_TRUE(stores.meshes->pinned_by(mesh->id, 5).empty());
   EXPECT_EQ(stores.meshes->release(mesh->id, std::nullopt), MeshDocuments::ReleaseResult::removed);
+}
+
+// The same rule for the images a scene's textures name: stored only while they are, and they stay
+// while it does. The store holds bytes; only their hash names them.
+TEST(OpenStores, TheEmbeddedBackendHoldsScenesToTheImagesTheirTexturesName) {
+  Stores stores = open_stores(default_server_config(), quiet);
+  const StoredDocument image = read_texture_document("not decoded by the store");
+  const StoredDocument scene{
+      "00000000000000ab", "{\"floor\":{\"texture\":{\"image\":\"" + image.id + "\"}}}", {}, {image.id}};
+  EXPECT_EQ(stores.scenes->put(scene, ""), SceneDocuments::PutResult::missing_reference);
+
+  ASSERT_EQ(stores.textures->put(image, ""), TextureDocuments::PutResult::created);
+  ASSERT_EQ(stores.scenes->put(scene, ""), SceneDocuments::PutResult::created);
+  EXPECT_EQ(stores.textures->release(image.id, std::nullopt), TextureDocuments::ReleaseResult::pinned);
+  EXPECT_EQ(stores.textures->pinned_by(image.id, 5), std::vector<std::string>{scene.id});
+  EXPECT_EQ(stores.scenes->release(scene.id, std::nullopt), SceneDocuments::ReleaseResult::removed);
+  EXPECT_TRUE(stores.textures->pinned_by(image.id, 5).empty());
+  EXPECT_EQ(stores.textures->release(image.id, std::nullopt), TextureDocuments::ReleaseResult::removed);
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ using namespace rr::server;
 // Two contents under one id (as a crafted FNV-1a collision would give) are refused, never merged.
 TEST(SceneStore, SameIdWithOtherContentIsAConflict) {
   SceneStore store({}, [](const std::string&, nlohmann::ordered_json) {});
-  auto scene = [](const std::string& text) { return StoredDocument{"0123456789abcdef", text, {}}; };
+  auto scene = [](const std::string& text) { return StoredDocument{"0123456789abcdef", text, {}, {}}; };
   EXPECT_EQ(store.put(scene("{\"walls\":[]}"), ""), SceneStore::PutResult::created);
   EXPECT_EQ(store.put(scene("{\"walls\":[]}"), ""), SceneStore::PutResult::existed);
   EXPECT_EQ(store.put(scene("{\"solids\":[]}"), ""), SceneStore::PutResult::conflict);
@@ -30,7 +30,7 @@ TEST(SceneStore, ReferencesPerOwnerAndNoEviction) {
   SceneStoreConfig config;
   config.max_entries = 1;
   SceneStore store(config, [](const std::string&, nlohmann::ordered_json) {});
-  auto scene = [](const std::string& id) { return StoredDocument{id, "{}", {}}; };
+  auto scene = [](const std::string& id) { return StoredDocument{id, "{}", {}, {}}; };
   EXPECT_EQ(store.put(scene("0000000000000001"), "a"), SceneStore::PutResult::created);
   EXPECT_EQ(store.put(scene("0000000000000001"), "b"), SceneStore::PutResult::existed);
   EXPECT_EQ(store.put(scene("0000000000000002"), "a"), SceneStore::PutResult::full);

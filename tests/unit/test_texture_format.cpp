@@ -160,11 +160,12 @@ TEST(SceneJsonTextures, ProblemsNameTheirPointers) {
   EXPECT_EQ(refusal(one_solid({{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"texture", "a.png"}})),
             std::pair(at, K::invalid));
 
-  // The stored-image id form is recognised and refused as such.
+  // An id with no resolver (or one that knows no such image) names the stored image it missed.
   try {
     request_from_json(box_with(texture("0123456789abcdef")));
+    ADD_FAILURE() << "an unknown stored image was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("stored image"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no stored image \"0123456789abcdef\""), std::string::npos) << e.what();
   }
   EXPECT_EQ(
       refusal(
@@ -173,6 +174,56 @@ TEST(SceneJsonTextures, ProblemsNameTheirPointers) {
       std::pair(std::string("/scene/walls/0/left_color"), K::invalid));
   EXPECT_EQ(refusal({{"options", {{"texture_filter", "cubic"}}}}),
             std::pair(std::string("/options/texture_filter"), K::invalid));
+}
+
+// A stored image named by id comes from the limits' resolver, asked once per request however many
+// surfaces name it, and is the very image the same bytes' data: URI decodes to.
+TEST(SceneJsonTextures, AnIdResolvesThroughTheLimitsOncePerRequest) {
+  const std::string uri = png_uri(4, 2);
+  std::vector<uint8_t> bytes;
+  ASSERT_TRUE(decode_data_uri(uri, texture_image_bytes_cap, bytes, nullptr));
+  std::shared_ptr<const TextureImage> stored = decode_texture(bytes, TextureLimits{}, nullptr);
+  ASSERT_TRUE(stored);
+  int asked = 0;
+  ParseLimits limits;
+  limits.resolve_texture = [&](const std::string& id) -> std::shared_ptr<const TextureImage> {
+    ++asked;
+    return id == stored->content_id ? stored : nullptr;
+  };
+  const json request = {
+      {"scene",
+       {{"floor", {{"cells", {1, 1}}, {"texture", texture(stored->content_id)}}},
+        {"solids",
+         {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"texture", texture(uri)}},
+          {{"type", "box"}, {"center", {2, 0}}, {"size", {1, 1, 1}}, {"texture", texture(stored->content_id)}}}}}}};
+  const RenderRequest parsed = request_from_json(request, limits);
+  EXPECT_EQ(asked, 1);
+  EXPECT_EQ(parsed.scene.geometry.floor.texture->decoded, stored);
+  EXPECT_EQ(parsed.scene.geometry.solids[1].texture->decoded, stored);
+  EXPECT_EQ(parsed.scene.geometry.solids[0].texture->decoded->content_id, stored->content_id);
+  EXPECT_EQ(parsed.scene.geometry.solids[0].texture->decoded->levels[0].rgb, stored->levels[0].rgb);
+
+  // An unknown id is told at every surface naming it, asking the resolver once.
+  const json unknown = {
+      {"scene",
+       {{"floor", {{"cells", {1, 1}}, {"texture", texture("00000000000000ff")}}},
+        {"solids",
+         {{{"type", "box"}, {"center", {0, 0}}, {"size", {1, 1, 1}}, {"texture", texture("00000000000000ff")}}}}}}};
+  asked = 0;
+  try {
+    request_from_json(unknown, limits);
+    ADD_FAILURE() << "an unknown stored image was accepted";
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.errors().size(), 2u) << e.what();
+    EXPECT_EQ(e.errors()[0].pointer, "/scene/floor/texture/image");
+    EXPECT_EQ(e.errors()[1].pointer, "/scene/solids/0/texture/image");
+  }
+  EXPECT_EQ(asked, 1);
+  // A stored image's pixels count against the request's decoded budget as an inline one's do.
+  ParseLimits tight = limits;
+  tight.max_texture_decoded_bytes = 4 * 2 * 4 - 1;
+  EXPECT_EQ(refusal({{"scene", {{"floor", {{"cells", {1, 1}}, {"texture", texture(stored->content_id)}}}}}}, tight),
+            std::pair(std::string("/scene/floor/texture/image"), InputError::Kind::too_large));
 }
 
 // The same unreadable image named twice is told at both places (and decoded once).

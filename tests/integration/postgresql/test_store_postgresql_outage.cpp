@@ -67,7 +67,7 @@ TEST_F(PostgresStoreTest, ServerStartedWithoutItsDatabaseBecomesReadyWhenItAnswe
   auto stored = post_scene_within_5s(server, scene_with_box_at(0.0));
   ASSERT_TRUE(stored);
   EXPECT_EQ(stored->status, 201) << stored->body;
-  EXPECT_EQ(sql("SELECT max(version) FROM rr_schema_version"), "1");
+  EXPECT_EQ(sql("SELECT max(version) FROM rr_schema_version"), "2");  // the newest: stored images
 }
 
 TEST_F(PostgresStoreTest, FullStoreGives507OnEveryServerUntilAScenesIsDeleted) {
