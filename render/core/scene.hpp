@@ -28,7 +28,7 @@ struct TextureImage;  // texture.hpp
 // tiles) and turned by `angle` (docs/scene-format.md says along which axes, per surface). A surface's
 // colour multiplies the texel (a textured surface's colour defaults to white).
 struct SurfaceTexture {
-  std::string image;                            // as the request named it: a data: URI
+  std::string image;                            // as the request named it: a data: URI or a stored id
   std::shared_ptr<const TextureImage> decoded;  // never null once read
   double width = 1.0, height = 1.0;             // one tile, metres
   double x_offset = 0.0, y_offset = 0.0;        // fractions of a tile
