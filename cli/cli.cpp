@@ -142,6 +142,25 @@ int run_render(std::span<const std::string> argv) {
       patch.flag_by_pointer);
 }
 
+namespace {
+
+// compare's texture error: which polygon ids are textured comes from the request (or the OBJ) of
+// --request / --obj, tessellated as a render tessellates it; --test-ids keeps the pixels where the
+// test drew the reference's polygon.
+TexturedPixelError compare_textures(const ParsedArgs& args, const IdBuffer& reference_ids, const Image& reference,
+                                    const Image& test) {
+  const std::string text = flag(args, "--obj")
+                               ? imported_request_text(*flag(args, "--obj"), ImportFormat::obj, ImportOptions{})
+                               : read_input(*flag(args, "--request"));
+  const RenderRequest request = request_from_json(parse_json_text(text), request_limits());
+  std::optional<IdBuffer> test_ids;
+  if (auto path = flag(args, "--test-ids")) test_ids = decode_id_buffer(read_input(*path));
+  return texture_error(reference_ids, textured_polygons(tessellate(request.scene.geometry)), reference, test,
+                       test_ids ? &*test_ids : nullptr);
+}
+
+}  // namespace
+
 // Both files are id buffers or both PNGs (told apart by the PNG signature); the first is the
 // reference. Prints error_measures_json: visibility for id buffers, shading for PNGs.
 int run_compare(std::span<const std::string> argv) {
@@ -184,16 +203,7 @@ int run_compare(std::span<const std::string> argv) {
       if (auto path = flag(args, "--edges")) {
         const IdBuffer ids = decode_id_buffer(read_input(*path));
         edges = edge_error(ids, ra, rb);
-        if (flag(args, "--request") || flag(args, "--obj")) {
-          const std::string text = flag(args, "--obj")
-                                       ? imported_request_text(*flag(args, "--obj"), ImportFormat::obj, ImportOptions{})
-                                       : read_input(*flag(args, "--request"));
-          RenderRequest request = request_from_json(parse_json_text(text), request_limits());
-          const PreparedScene scene = prepare_scene(std::move(request.scene));
-          std::optional<IdBuffer> test_ids;
-          if (auto test_path = flag(args, "--test-ids")) test_ids = decode_id_buffer(read_input(*test_path));
-          texture = texture_error(ids, textured_polygons(scene.soup), ra, rb, test_ids ? &*test_ids : nullptr);
-        }
+        if (flag(args, "--request") || flag(args, "--obj")) texture = compare_textures(args, ids, ra, rb);
       }
     } else {
       const IdBuffer ra = decode(a, 0, decode_id_buffer), rb = decode(b, 1, decode_id_buffer);

@@ -62,37 +62,11 @@ void handle_get_mesh(ServiceState& state, const Request& req, Response& res, con
 // With tokens, a delete drops the caller's reference only; the mesh goes with the last one, unless
 // a stored scene places it (409, naming a few of those scenes).
 void handle_delete_mesh(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  const std::optional<std::string> owner = releasing_owner(state);
-  const std::string& id = match.params.at(0);
-  const MeshDocuments::ReleaseResult released = state.stores.meshes->release(id, owner);
-  if (released == MeshDocuments::ReleaseResult::removed) state.cache.forget<StoredMesh>(id);
-  switch (released) {
-    case MeshDocuments::ReleaseResult::not_found:
-      throw HttpError(404, "There is no stored mesh " + id + ".");
-    case MeshDocuments::ReleaseResult::not_owner:
-      throw HttpError(403, "The mesh " + id +
-                               " is stored, but not by this token's owner; only an owner can "
-                               "drop its reference.");
-    case MeshDocuments::ReleaseResult::read_only:
-      throw HttpError(403, "The mesh " + id +
-                               " is part of the server's furniture catalogue (GET /v1/catalogue): it is read-only and "
-                               "stays for every scene that places it.");
-    case MeshDocuments::ReleaseResult::pinned: {
-      std::vector<FieldError> errors;
-      std::string list;
-      for (const std::string& scene : state.stores.meshes->pinned_by(id, 5)) {
-        errors.push_back({"", "placed by stored scene " + scene});
-        list += (list.empty() ? "" : ", ") + scene;
-      }
-      throw HttpError(409,
-                      "The mesh " + id + " is placed by stored scenes (" + list + (errors.size() == 5 ? ", ..." : "") +
-                          "); delete those scenes first. A mesh stays while a stored scene places it.",
-                      errors);
-    }
-    case MeshDocuments::ReleaseResult::removed:
-    case MeshDocuments::ReleaseResult::reference_dropped:
-      res.status = 204;
-  }
+  release_and_answer<StoredMesh>(
+      state, res, match.params.at(0),
+      {"mesh", "placed by stored scene", "placed by stored scenes", "A mesh stays while a stored scene places it.",
+       " is part of the server's furniture catalogue (GET /v1/catalogue): it is read-only and stays for every scene "
+       "that places it."});
 }
 
 }  // namespace

@@ -103,20 +103,16 @@ Stores open_embedded(const ServerConfig& c, const StoreLog& log) {
   auto pins = std::make_shared<EmbeddedPins>();
   Stores out;
   out.shared = pins;
-  MeshStoreConfig meshes = mesh_config(c);
-  meshes.data_dir = c.data_dir;
-  meshes.pinned = [&pins = pins->meshes](const std::string& id) { return pins.pinned(id); };
-  meshes.pinned_by = [&pins = pins->meshes](const std::string& id, size_t most) {
-    return pins.scenes_placing(id, most);
+  // A mesh or an image is pinned while a stored scene names it, as its half of the pins records.
+  auto pinned_config = [&c](auto config, MeshPins& half) {
+    config.data_dir = c.data_dir;
+    config.pinned = [&half](const std::string& id) { return half.pinned(id); };
+    config.pinned_by = [&half](const std::string& id, size_t most) { return half.scenes_placing(id, most); };
+    return config;
   };
-  out.meshes = std::make_unique<PinnedDocuments<StoredMesh>>(std::move(meshes), log, *pins);
-  TextureStoreConfig textures = texture_config(c);
-  textures.data_dir = c.data_dir;
-  textures.pinned = [&pins = pins->textures](const std::string& id) { return pins.pinned(id); };
-  textures.pinned_by = [&pins = pins->textures](const std::string& id, size_t most) {
-    return pins.scenes_placing(id, most);
-  };
-  out.textures = std::make_unique<PinnedDocuments<StoredTexture>>(std::move(textures), log, *pins);
+  out.meshes = std::make_unique<PinnedDocuments<StoredMesh>>(pinned_config(mesh_config(c), pins->meshes), log, *pins);
+  out.textures =
+      std::make_unique<PinnedDocuments<StoredTexture>>(pinned_config(texture_config(c), pins->textures), log, *pins);
   SceneStoreConfig scenes = scene_config(c);
   scenes.data_dir = c.data_dir;
   scenes.on_change = [&pins = *pins](const std::string& id, const std::vector<std::string>& refs,

@@ -140,6 +140,21 @@ bool store_document(ServiceState& state, const std::shared_ptr<const T>& item);
 template <class T>
 void store_and_answer(ServiceState& state, httplib::Response& res, const std::shared_ptr<const T>& item,
                       nlohmann::json body);
+// What a DELETE's refusals say of a scene, mesh or image ("The mesh ID is placed by stored scenes
+// (...); delete those scenes first. A mesh stays while a stored scene places it.").
+struct ReleaseWording {
+  const char* noun;                        // "scene", "mesh", "image"
+  const char* pinned_detail = nullptr;     // per pinning scene: "placed by stored scene"; null: never pinned
+  const char* pinned_summary = nullptr;    // "placed by stored scenes"
+  const char* pinned_rule = nullptr;       // "A mesh stays while a stored scene places it."
+  const char* read_only_reason = nullptr;  // after "The mesh ID": why it cannot go; null: never read-only
+};
+// Drops the caller's reference (releasing_owner) to the stored `id` and answers 204, or throws
+// HttpError 404 (not stored), 403 (stored by another owner; read-only, with a reason), 409 (pinned:
+// names up to five stored scenes). Forgets the cached document when it is removed. store_answer.cpp.
+template <class T>
+void release_and_answer(ServiceState& state, httplib::Response& res, const std::string& id,
+                        const ReleaseWording& wording);
 // Throws HttpError 503 (+ Retry-After) unless `admission` is admitted.
 void require_admission(ServiceState& state, RenderGate::Admission admission);
 // A stopwatch started on admission, and how long the request waited for its slot (the `queue` stage).

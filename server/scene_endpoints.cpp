@@ -84,25 +84,10 @@ void handle_get_scene(ServiceState& state, const Request& req, Response& res, co
   send_stored_document(req, res, id, *text);
 }
 
-// With tokens, a delete drops the caller's reference only; the scene goes with the last one.
+// With tokens, a delete drops the caller's reference only; the scene goes with the last one. Scenes
+// are never pinned nor read-only.
 void handle_delete_scene(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  const std::optional<std::string> owner = releasing_owner(state);
-  const std::string& id = match.params.at(0);
-  const SceneDocuments::ReleaseResult released = state.stores.scenes->release(id, owner);
-  if (released == SceneDocuments::ReleaseResult::removed) state.cache.forget<StoredScene>(id);
-  switch (released) {
-    case SceneDocuments::ReleaseResult::not_found:
-      throw HttpError(404, "There is no stored scene " + id + ".");
-    case SceneDocuments::ReleaseResult::not_owner:
-      throw HttpError(403, "The scene " + id +
-                               " is stored, but not by this token's owner; only an owner can "
-                               "drop its reference.");
-    case SceneDocuments::ReleaseResult::pinned:  // scenes are never pinned nor read-only
-    case SceneDocuments::ReleaseResult::read_only:
-    case SceneDocuments::ReleaseResult::removed:
-    case SceneDocuments::ReleaseResult::reference_dropped:
-      res.status = 204;
-  }
+  release_and_answer<StoredScene>(state, res, match.params.at(0), {"scene"});
 }
 
 size_t limit_param(const Request& req) {

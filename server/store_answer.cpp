@@ -1,4 +1,4 @@
-// Storing a document for a request and answering it (declared in routes.hpp), one template for
+// Storing a document for a request and answering it, and dropping one (declared in routes.hpp), one template for
 // scenes, meshes and images: the document goes to its store, and what was prepared to check it to the
 // prepared cache, so the renders that follow find it ready. Every DocumentStore::PutResult maps to
 // its answer here (201 or 200 with Location, 409, 413, 507, 422). What differs by kind is in the
@@ -119,11 +119,53 @@ void store_and_answer(ServiceState& state, httplib::Response& res, const std::sh
   send_json(res, body, created ? 201 : 200);
 }
 
+template <class T>
+void release_and_answer(ServiceState& state, httplib::Response& res, const std::string& id,
+                        const ReleaseWording& wording) {
+  using ReleaseResult = typename DocumentStore<T>::ReleaseResult;
+  const std::string the = std::string("The ") + wording.noun + " " + id;
+  DocumentStore<T>& store = state.stores.of<T>();
+  const ReleaseResult released = store.release(id, releasing_owner(state));
+  if (released == ReleaseResult::removed) state.cache.forget<T>(id);
+  switch (released) {
+    case ReleaseResult::not_found:
+      throw HttpError(404, std::string("There is no stored ") + wording.noun + " " + id + ".");
+    case ReleaseResult::not_owner:
+      throw HttpError(403, the + " is stored, but not by this token's owner; only an owner can drop its reference.");
+    case ReleaseResult::read_only:
+      if (wording.read_only_reason) throw HttpError(403, the + wording.read_only_reason);
+      break;
+    case ReleaseResult::pinned: {
+      if (!wording.pinned_detail) break;
+      std::vector<FieldError> errors;
+      std::string list;
+      for (const std::string& scene : store.pinned_by(id, 5)) {
+        errors.push_back({"", std::string(wording.pinned_detail) + " " + scene});
+        list += (list.empty() ? "" : ", ") + scene;
+      }
+      throw HttpError(409,
+                      the + " is " + wording.pinned_summary + " (" + list + (errors.size() == 5 ? ", ..." : "") +
+                          "); delete those scenes first. " + wording.pinned_rule,
+                      errors);
+    }
+    case ReleaseResult::removed:
+    case ReleaseResult::reference_dropped:
+      break;
+  }
+  res.status = 204;
+}
+
 template bool store_document(ServiceState&, const std::shared_ptr<const StoredScene>&);
 template bool store_document(ServiceState&, const std::shared_ptr<const StoredMesh>&);
 template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredScene>&, json);
 template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredMesh>&, json);
 template bool store_document(ServiceState&, const std::shared_ptr<const StoredTexture>&);
 template void store_and_answer(ServiceState&, httplib::Response&, const std::shared_ptr<const StoredTexture>&, json);
+template void release_and_answer<StoredScene>(ServiceState&, httplib::Response&, const std::string&,
+                                              const ReleaseWording&);
+template void release_and_answer<StoredMesh>(ServiceState&, httplib::Response&, const std::string&,
+                                             const ReleaseWording&);
+template void release_and_answer<StoredTexture>(ServiceState&, httplib::Response&, const std::string&,
+                                                const ReleaseWording&);
 
 }  // namespace rr::server

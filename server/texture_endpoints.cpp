@@ -42,36 +42,12 @@ void handle_get_texture(ServiceState& state, const Request& req, Response& res, 
 }
 
 // With tokens, a delete drops the caller's reference only; the image goes with the last one, unless
-// a stored scene's texture names it (409, naming a few of those scenes).
+// a stored scene's texture names it (409, naming a few of those scenes). No image ships with the
+// server, so none is read-only.
 void handle_delete_texture(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  const std::optional<std::string> owner = releasing_owner(state);
-  const std::string& id = match.params.at(0);
-  const TextureDocuments::ReleaseResult released = state.stores.textures->release(id, owner);
-  if (released == TextureDocuments::ReleaseResult::removed) state.cache.forget<StoredTexture>(id);
-  switch (released) {
-    case TextureDocuments::ReleaseResult::not_found:
-      throw HttpError(404, "There is no stored image " + id + ".");
-    case TextureDocuments::ReleaseResult::not_owner:
-      throw HttpError(
-          403, "The image " + id + " is stored, but not by this token's owner; only an owner can drop its reference.");
-    case TextureDocuments::ReleaseResult::pinned: {
-      std::vector<FieldError> errors;
-      std::string list;
-      for (const std::string& scene : state.stores.textures->pinned_by(id, 5)) {
-        errors.push_back({"", "used by stored scene " + scene});
-        list += (list.empty() ? "" : ", ") + scene;
-      }
-      throw HttpError(409,
-                      "The image " + id + " is used by the textures of stored scenes (" + list +
-                          (errors.size() == 5 ? ", ..." : "") +
-                          "); delete those scenes first. An image stays while a stored scene uses it.",
-                      errors);
-    }
-    case TextureDocuments::ReleaseResult::read_only:  // no image ships with the server
-    case TextureDocuments::ReleaseResult::removed:
-    case TextureDocuments::ReleaseResult::reference_dropped:
-      res.status = 204;
-  }
+  release_and_answer<StoredTexture>(state, res, match.params.at(0),
+                                    {"image", "used by stored scene", "used by the textures of stored scenes",
+                                     "An image stays while a stored scene uses it."});
 }
 
 }  // namespace

@@ -180,14 +180,16 @@ TEST(TextureDecode, HugeHeaderRefusedBeforeDecoding) {
   EXPECT_NE(error.message.find("5 x 4"), std::string::npos) << error.message;
 }
 
+// The texture decoder's fuzz seeds and findings.
+const std::filesystem::path texture_seeds = std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "fuzz" / "texture_seeds";
+
 // Every prefix of the texture decoder's fuzz seeds (fuzz/texture_seeds: PNGs of three colour types,
 // baseline, grey and progressive JPEGs, and the fuzzer's findings), and each with any one byte replaced by its
 // complement: each decodes or is refused with a reason, and a decoded image has a whole mip chain (the sanitized run
 // checks that no byte outside the input or the image is touched).
 TEST(TextureDecode, EveryTruncationAndByteFlipOfTheSeedsDecodesOrIsRefused) {
   std::vector<std::string> seeds;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "fuzz" / "texture_seeds")) {
+  for (const auto& entry : std::filesystem::directory_iterator(texture_seeds)) {
     seeds.push_back(testing::read_file(entry.path()));
   }
   ASSERT_GE(seeds.size(), 6u);
@@ -221,8 +223,7 @@ TEST(TextureDecode, EveryTruncationAndByteFlipOfTheSeedsDecodesOrIsRefused) {
 // after the scan header (found by the test above under UBSan) and, in a file from libFuzzer, before
 // the frame header, where reading the size alone wrote past it. Both are refused by their header.
 TEST(TextureDecode, HuffmanTableOfMoreThan256CodesIsRefused) {
-  const std::string found = testing::read_file(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "fuzz" / "texture_seeds" /
-                                               "dht_259_codes_before_sof.jpg");
+  const std::string found = testing::read_file(texture_seeds / "dht_259_codes_before_sof.jpg");
   TextureError before_frame = refusal(as_bytes(found));
   EXPECT_EQ(before_frame.kind, TextureError::Kind::unreadable);
   EXPECT_NE(before_frame.message.find("Huffman table"), std::string::npos) << before_frame.message;
@@ -240,8 +241,7 @@ TEST(TextureDecode, HuffmanTableOfMoreThan256CodesIsRefused) {
 // A PNG from libFuzzer on which Debian's stb_image passed a null pointer to memcpy (it skips CRCs and
 // read on into a zero-length chunk): libpng refuses it at its IHDR's CRC.
 TEST(TextureDecode, PngWithABadHeaderCrcIsRefused) {
-  const std::string found = testing::read_file(std::filesystem::path(ROOMRENDER_SOURCE_DIR) / "fuzz" / "texture_seeds" /
-                                               "png_ihdr_bad_crc_empty_chunk.png");
+  const std::string found = testing::read_file(texture_seeds / "png_ihdr_bad_crc_empty_chunk.png");
   TextureError error = refusal(as_bytes(found));
   EXPECT_EQ(error.kind, TextureError::Kind::unreadable);
   EXPECT_NE(error.message.find("CRC"), std::string::npos) << error.message;
