@@ -2,12 +2,14 @@
 // home and its furniture models, an R2V floor plan, a Wavefront OBJ model or a zip of one and its
 // .mtl) -> the complete render request it describes (render/import/import.hpp), ready for POST
 // /v1/render. With ?store=1 the scene is stored instead (as POST /v1/scenes), its furniture meshes
-// each once in the mesh store (as POST /v1/meshes) placed by ref, and the answer names it and
-// carries the default camera and options. Query: scale (metres per file unit; the format's
+// each once in the mesh store (as POST /v1/meshes) placed by ref, its images each once in the image
+// store (as POST /v1/textures) named by id, and the answer names it and carries the default camera
+// and options. Query: scale (metres per file unit; the format's
 // default otherwise), width and height (the request's image size), store, furniture (boxes|models:
 // models by default when the file is a zip, which is where they come from).
 // Files of other tools are larger than requests: the route has its own body limit
 // (--max-import-bytes, 64 MiB), and importing holds a render slot like a render does.
+#include "render/core/texture.hpp"
 #include "render/import/import.hpp"
 #include "render/scene_io/mesh_json.hpp"
 #include "server/problem.hpp"
@@ -72,6 +74,35 @@ void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
   imported.meshes.clear();
 }
 
+// Each distinct image of `imported`'s textures (a data: URI, as the importers write them) stored once
+// (as POST /v1/textures stores it), and every texture showing it rewritten to name its stored id:
+// a textured home's scene then holds each image's 16-digit id instead of megabytes of base64.
+void store_texture_images(ServiceState& state, ImportResult& imported) {
+  std::map<std::string, std::string> stored_ids;  // data: URI -> stored image id
+  for_each_texture(imported.request["scene"], [&](json& texture) {
+    json& image = texture["image"];
+    if (!image.is_string() || !image.get_ref<const std::string&>().starts_with("data:")) return;
+    const std::string& uri = image.get_ref<const std::string&>();
+    auto [it, first] = stored_ids.try_emplace(uri);
+    if (first) {
+      std::vector<uint8_t> bytes;
+      std::string problem;
+      if (!decode_data_uri(uri, state.limits.max_texture_image_bytes, bytes, &problem)) {
+        throw InputError(InputError::Kind::invalid, "", "an imported image: " + problem);
+      }
+      std::shared_ptr<const StoredTexture> stored;
+      try {
+        stored = read_stored_texture(std::string(bytes.begin(), bytes.end()), state.limits);
+      } catch (const InputError& e) {  // the importer checked its format, so only a limit can refuse it
+        throw InputError(e.kind(), "", "an imported image: " + e.summary());
+      }
+      store_document(state, stored);
+      it->second = stored->id;
+    }
+    image = it->second;
+  });
+}
+
 void handle_import(ServiceState& state, const Request& req, Response& res, const RouteMatch& match) {
   const ImportFormatInfo* format = find_import_format(match.params.at(0));
   if (!format) throw HttpError(404, "There is no importer " + match.params[0] + ".");
@@ -90,6 +121,7 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
     imported = import_file_text(req.body, format->format, options);  // companion files only from a zip
     if (!store) return;
     store_furniture_meshes(state, imported);
+    store_texture_images(state, imported);
     scene = prepare_scene(imported.request.at("scene"), state.limits);
   });
   json warnings = json::array();

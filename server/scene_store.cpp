@@ -71,27 +71,34 @@ bool is_stored_image_id(const nlohmann::json& value) {
   return text.size() == 16 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
 }
 
-// Adds to `refs` the stored images named by id in `value`: the "image" of every texture member
-// ("texture", "left_texture", "floor_texture", ...) anywhere in it (floors, rooms, wall sides,
-// solids, piece parts).
-void add_texture_refs(const nlohmann::json& value, std::set<std::string>& refs) {
+// Calls visit(texture) for every texture member ("texture", "left_texture", "floor_texture", ...)
+// anywhere in `value` (floors, rooms, wall sides, solids, piece parts) that is an object with an "image".
+template <class Json, class Visit>
+void visit_textures(Json& value, Visit&& visit) {
   if (value.is_object()) {
-    for (const auto& [key, member] : value.items()) {
-      if (std::string_view(key).ends_with("texture") && member.is_object() && member.contains("image") &&
-          is_stored_image_id(member.at("image"))) {
-        refs.insert(member.at("image").get<std::string>());
-      }
-      add_texture_refs(member, refs);
+    for (auto it = value.begin(); it != value.end(); ++it) {
+      if (std::string_view(it.key()).ends_with("texture") && it->is_object() && it->contains("image")) visit(*it);
+      visit_textures(*it, visit);
     }
   } else if (value.is_array()) {
-    for (const nlohmann::json& item : value) add_texture_refs(item, refs);
+    for (auto& item : value) visit_textures(item, visit);
   }
 }
+
+}  // namespace
+
+void for_each_texture(nlohmann::json& document, const std::function<void(nlohmann::json& texture)>& visit) {
+  visit_textures(document, visit);
+}
+
+namespace {
 
 // The stored images a scene document's textures name by id, each once, sorted.
 std::vector<std::string> texture_refs_of(const nlohmann::json& document) {
   std::set<std::string> refs;
-  add_texture_refs(document, refs);
+  visit_textures(document, [&](const nlohmann::json& texture) {
+    if (is_stored_image_id(texture.at("image"))) refs.insert(texture.at("image").get<std::string>());
+  });
   return {refs.begin(), refs.end()};
 }
 

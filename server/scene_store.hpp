@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +48,10 @@ StoredDocument scene_document(const StoredScene& scene);
 StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits);
 // The static id (X-Scene-Id) of a stored scene's text: parsed, its meshes resolved, not tessellated.
 std::string static_id_of(const std::string& text, const ParseLimits& limits);
+
+// Calls visit(texture) for every texture object with an "image" in a scene document: the members
+// named "texture" or ending in "_texture" of its floors, rooms, walls, solids and piece parts.
+void for_each_texture(nlohmann::json& document, const std::function<void(nlohmann::json& texture)>& visit);
 
 // "/scene/solids/2" -> "/solids/2": a request pointer made relative to the scene document.
 std::string scene_document_pointer(const std::string& request_pointer);

@@ -100,14 +100,17 @@ struct Sh3dModelCache {
   size_t polygons_repaired = 0;
 };
 
+struct Sh3dTextures;
+
 // The parts of a piece's model, one per OBJ group with faces: {"name": its material, "ref": its mesh
-// in cache.meshes (the unit box form), "color"[, "material"]}, coloured by the piece's color, else its
-// <material> colours by name, else the model's .mtl, else Sweet Home 3D's default library (whose
-// materials bring their specular terms too), else grey. `extent` gets the model's extent after its modelRotation (0
+// in cache.meshes (the unit box form), "color"[, "material"]} or, textured, {"name", "ref",
+// "texture"}: the piece's color, else its <texture> on every part, else its <material>s' colours and
+// textures by name, else the model's .mtl, else Sweet Home 3D's default library (whose materials
+// bring their specular terms too), else grey; textures are read through `textures`. `extent` gets the model's extent after its modelRotation (0
 // on an axis where it is flat). nullopt when the model is not available through
 // options.read_companion (its name as written, then furniture/<file name>) or has no faces.
 std::optional<nlohmann::json> model_parts(const Sh3dElement& e, const ImportOptions& options, Sh3dModelCache& cache,
-                                          Vec3& extent);
+                                          Sh3dTextures& textures, Vec3& extent);
 
 // Sweet Home 3D's modelRotation text (a row-major 3x3 matrix of 9 numbers), identity when absent or
 // malformed.

@@ -112,23 +112,56 @@ const Sh3dModelVariant& model_variant(const std::string& name, const Sh3dModel& 
   return variant;
 }
 
-// One part per group of `variant` with faces, coloured by `piece_color`, else `piece_materials` by
-// name, else the model's .mtl, else the default library, else grey.
-json variant_parts(const Sh3dModel* model, const Sh3dModelVariant& variant,
-                   const std::map<std::string, Color>& piece_materials, std::optional<Color> piece_color) {
+// What a piece lays over its model, in Sweet Home 3D's order: its colour, else its texture (on every
+// part), else its <material>s by name, each a colour or a texture.
+struct PieceLook {
+  std::optional<Color> color;
+  std::optional<json> texture;
+  std::map<std::string, Color> material_colors;
+  std::map<std::string, json> material_textures;
+};
+
+PieceLook piece_look(const Sh3dElement& e, const ImportOptions& options, Sh3dTextures& textures) {
+  PieceLook look;
+  look.color = color_attribute(e.node, "color");
+  if (!look.color) look.texture = sh3d_texture(e, "", options, textures);
+  for (pugi::xml_node m : e.node.children("material")) {
+    const std::string name = m.attribute("name").as_string("");
+    if (auto color = color_attribute(m, "color")) {
+      look.material_colors[name] = *color;
+    } else if (auto texture = sh3d_texture(Sh3dElement{m, e.pointer, e.line}, "", options, textures)) {
+      look.material_textures[name] = std::move(*texture);
+    }
+  }
+  return look;
+}
+
+// One part per group of `variant` with faces, looking as `look` says, else as the model's .mtl, else
+// the default library, else grey. A textured part has no colour of its own (white under the image)
+// and is mapped by its faces' planes (docs/scene-format.md), as the model meshes carry no uvs.
+json variant_parts(const Sh3dModel* model, const Sh3dModelVariant& variant, const PieceLook& look) {
   json parts = json::array();
   for (size_t g = 0; g < model->obj.groups.size(); ++g) {
     if (variant.mesh_keys[g].empty()) continue;
     const std::string& material_name = model->obj.groups[g].material;
+    json part = {{"name", material_name}, {"ref", variant.mesh_keys[g]}};
+    const json* texture = look.texture ? &*look.texture : nullptr;
+    if (auto it = look.material_textures.find(material_name); !texture && it != look.material_textures.end())
+      texture = &it->second;
+    if (!look.color && texture) {
+      part["texture"] = *texture;
+      parts.push_back(std::move(part));
+      continue;
+    }
     MtlMaterial material;  // grey
     const std::map<std::string, MtlMaterial>& library = default_materials();
     if (auto it = library.find(material_name); it != library.end()) material = it->second;
     if (auto it = model->mtl_materials.find(material_name); it != model->mtl_materials.end()) material = it->second;
     // A colour of the piece's own replaces the model's material: no specular term, no texture.
-    if (auto it = piece_materials.find(material_name); it != piece_materials.end())
+    if (auto it = look.material_colors.find(material_name); it != look.material_colors.end())
       material = plain_material(it->second);
-    if (piece_color) material = plain_material(*piece_color);
-    json part = {{"name", material_name}, {"ref", variant.mesh_keys[g]}, {"color", json_color(material.diffuse)}};
+    if (look.color) material = plain_material(*look.color);
+    part["color"] = json_color(material.diffuse);
     if (json m = material_json(material); !m.is_null()) part["material"] = std::move(m);
     parts.push_back(std::move(part));
   }
@@ -152,7 +185,7 @@ glm::dmat3 model_rotation_matrix(std::string_view text) {
 }
 
 std::optional<json> model_parts(const Sh3dElement& e, const ImportOptions& options, Sh3dModelCache& cache,
-                                Vec3& extent) {
+                                Sh3dTextures& textures, Vec3& extent) {
   const std::string name = e.node.attribute("model").as_string("");
   if (name.empty()) return std::nullopt;
   std::shared_ptr<const Sh3dModel> model = load_model(name, options, cache);
@@ -160,11 +193,7 @@ std::optional<json> model_parts(const Sh3dElement& e, const ImportOptions& optio
   const bool mirrored = e.node.attribute("modelMirrored").as_bool(false);
   const Sh3dModelVariant& variant = model_variant(name, *model, model_rotation(e.node), mirrored, cache);
   extent = variant.extent;
-  std::map<std::string, Color> piece_materials;
-  for (pugi::xml_node m : e.node.children("material")) {
-    if (auto color = color_attribute(m, "color")) piece_materials[m.attribute("name").as_string("")] = *color;
-  }
-  json parts = variant_parts(model.get(), variant, piece_materials, color_attribute(e.node, "color"));
+  json parts = variant_parts(model.get(), variant, piece_look(e, options, textures));
   if (parts.empty()) return std::nullopt;
   return parts;
 }
@@ -251,7 +280,7 @@ FurnitureModel import_furniture_model(std::string_view obj_text, const std::stri
   const Sh3dModelVariant& variant =
       model_variant(name, model, model_rotation_matrix(model_rotation_text), false, cache);
   FurnitureModel out;
-  out.parts = variant_parts(&model, variant, {}, std::nullopt);
+  out.parts = variant_parts(&model, variant, PieceLook{});
   if (out.parts.empty()) throw InputError(Kind::invalid, "", "the model has no faces to draw");
   out.meshes = std::move(cache.meshes);
   out.extent = variant.extent;

@@ -14,7 +14,7 @@ namespace rr::import_detail {
 namespace {
 
 std::string describe(const Sh3dElement& e, const char* attribute) {
-  return "line " + std::to_string(e.line) + ": <" + e.node.name() + "> " + attribute;
+  return "line " + std::to_string(e.line) + ": <" + e.node.name() + "> " + (*attribute ? attribute : "texture");
 }
 
 }  // namespace

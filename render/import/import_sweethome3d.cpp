@@ -385,7 +385,8 @@ std::vector<FurnitureItem> furniture_items(const pugi::xml_node& home, const Sh3
 // A group as one piece: its box is the group's, and each member's model groups (a unit cube for a
 // member without a model) are parts placed in it by the member's own transform.
 std::optional<json> group_piece(const FurnitureItem& item, const PiecePlacement& group, const Sh3dLevel& level,
-                                const ImportOptions& options, Sh3dModelCache& models, size_t& skipped) {
+                                const ImportOptions& options, Sh3dModelCache& models, Sh3dTextures& textures,
+                                size_t& skipped) {
   json parts = json::array();
   for (const Sh3dElement& m : item.members) {
     const std::optional<PiecePlacement> place = read_placement(m, level);
@@ -395,7 +396,7 @@ std::optional<json> group_piece(const FurnitureItem& item, const PiecePlacement&
     }
     Vec3 extent{1.0};
     std::optional<json> member_parts;
-    if (options.furniture_models) member_parts = model_parts(m, options, models, extent);
+    if (options.furniture_models) member_parts = model_parts(m, options, models, textures, extent);
     if (!member_parts) {
       member_parts = json::array({{{"ref", unit_box_mesh(models)}, {"color", json_color(piece_color(m.node))}}});
       extent = Vec3{1.0};
@@ -451,7 +452,7 @@ void add_lamp_lights(const Elements& all, const Sh3dHome& h, Color home_light_co
 // One solid per top-level piece, lamp or group: a piece of its model's parts, or a box of its size
 // when its model is not there (or boxes were asked for); each lamp's light sources as point lights.
 void add_furniture(const pugi::xml_node& home, const Elements& all, const Sh3dHome& h, const ImportOptions& options,
-                   json& solids, json& lights, ImportResult& result) {
+                   Sh3dTextures& textures, json& solids, json& lights, ImportResult& result) {
   std::vector<std::string>& warnings = result.warnings;
   size_t skipped = 0;
   Sh3dModelCache models;
@@ -467,10 +468,10 @@ void add_furniture(const pugi::xml_node& home, const Elements& all, const Sh3dHo
     std::optional<json> solid;
     Vec3 extent{1.0};
     if (!item.members.empty()) {
-      solid = group_piece(item, *place, level, options, models, skipped);
+      solid = group_piece(item, *place, level, options, models, textures, skipped);
       if (!solid) continue;
     } else if (std::optional<json> parts;
-               options.furniture_models && (parts = model_parts(e, options, models, extent))) {
+               options.furniture_models && (parts = model_parts(e, options, models, textures, extent))) {
       solid = piece_json(element_label(e), *place, std::move(*parts));
     } else {
       solid = json{{"type", "box"},
@@ -480,6 +481,12 @@ void add_furniture(const pugi::xml_node& home, const Elements& all, const Sh3dHo
                    {"size", json_vec3(place->size)},
                    {"rotation_y", -place->angle * 180.0 / pi},
                    {"color", json_color(piece_color(e.node))}};
+      if (!e.node.attribute("color")) {
+        if (std::optional<json> texture = sh3d_texture(e, "", options, textures)) {
+          solid->erase("color");
+          (*solid)["texture"] = std::move(*texture);
+        }
+      }
     }
     tag_level(*solid, level);
     solids.push_back(std::move(*solid));
@@ -538,8 +545,8 @@ ImportResult import_sweethome3d(std::string_view home_xml, const ImportOptions& 
   add_sh3d_walls(elements_named(all, "wall"), read_openings(all, h), h, options, textures, walls, solids,
                  result.warnings, box);
   add_rooms(all, h, options, textures, rooms, result.warnings);
+  add_furniture(root, all, h, options, textures, solids, lights, result);
   add_texture_warnings(textures, result.warnings);
-  add_furniture(root, all, h, options, solids, lights, result);
   const double aspect = double(options.width) / double(options.height);
   std::optional<json> camera = observer_camera(all, aspect, box);
   if (!camera) {

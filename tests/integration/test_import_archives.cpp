@@ -2,9 +2,11 @@
 // zipped with the furniture it names (skipped without ../shared) imports with its models, stores and
 // renders with every pipeline (zbuffer and bsp under sanitizers); its furniture polygons equal those of `roomrender
 // import --furniture models`; a .sh3d laid out as Sweet Home 3D writes it (numbered model entries) imports the same; an
-// OBJ zip brings its .mtl colours; a .sh3d with textures on a room floor and a wall side (one image in
-// the archive, one from the bundled catalogue) stores and renders textured; hostile and broken archives
+// OBJ zip brings its .mtl colours; a .sh3d with textures on a room floor, a wall side and a piece (one
+// image in the archive, two from the bundled catalogue) and an OBJ zip with its map_Kd images store
+// each image once and render textured; hostile and broken archives
 // get the documented 4xx naming the entry, quickly.
+#include "render/core/hash.hpp"
 #include "render/core/image.hpp"
 #include "render/core/tessellate.hpp"
 #include "render/import/import.hpp"
@@ -286,30 +288,38 @@ const char* kHome = R"(<home><wall id='w' xStart='0' yStart='0' xEnd='400' yEnd=
 const char* kChair = "mtllib chair.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3 4\n";
 
 // A room whose floor names the default catalogue's red tiles (no image in the archive: the bundled
-// one is used) and a wall whose inner (right) side carries the archive's entry "0", Sweet Home 3D's
-// small bricks, seen from inside. Stored with store=1 and rendered, it shows far more colours than
-// the same home without its <texture> elements.
-TEST(ArchiveImport, Sh3dTexturesOnAFloorAndAWallSideRenderTextured) {
-  const std::string bricks = rr::testing::read_file(rr::testing::source_dir() / "catalogue/textures/smallBricks.jpg");
-  auto home = [](const std::string& floor, const std::string& wall) {
+// one is used), a wall whose inner (right) side carries the archive's entry "0", Sweet Home 3D's
+// small bricks, and a piece with the blue tiles over its model, seen from inside. Stored with
+// store=1, the scene names each image by the id of its bytes, stored once in the image store; rendered,
+// it shows far more colours than the same home without its <texture> elements.
+TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndRenderTextured) {
+  const fs::path catalogue = rr::testing::source_dir() / "catalogue/textures";
+  const std::string bricks = rr::testing::read_file(catalogue / "smallBricks.jpg");
+  auto home = [](const std::string& floor, const std::string& wall, const std::string& piece) {
     return "<home wallHeight='250'><observerCamera attribute='observerCamera' x='200' y='280' z='160' "
            "yaw='3.1415927' pitch='0.25' fieldOfView='1.2'/>\n"
            "<wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' height='250' thickness='10'>" +
            wall +
            "</wall>\n<room name='R'><point x='0' y='0'/><point x='400' y='0'/><point x='400' y='300'/>"
            "<point x='0' y='300'/>" +
-           floor + "</room>\n</home>\n";
+           floor +
+           "</room>\n<pieceOfFurniture name='Panel' model='furniture/panel.obj' x='200' y='150' width='120' "
+           "depth='10' height='120'>" +
+           piece + "</pieceOfFurniture>\n</home>\n";
   };
+  const std::string panel = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 0.1\nf 1 2 3 4\nf 1 5 2\n";
   const std::string floor =
       "<texture attribute='floorTexture' catalogId='eTeks#redTiles' name='Red tiles' width='40' height='40' "
       "image='redTiles.jpg'/>";
   const std::string wall =
       "<texture attribute='rightSideTexture' catalogId='eTeks#smallBricks' name='Bricks' width='23' "
       "height='14.9' image='0'/>";
+  const std::string piece =
+      "<texture catalogId='eTeks#blueTiles' name='Blue tiles' width='30' height='30' image='blueTiles.jpg'/>";
   TestServer server;
   auto client = server.client(60);
-  auto distinct_colours = [&](const std::string& xml, const std::vector<ZipEntry>& more) {
-    std::vector<ZipEntry> entries{{"Home.xml", xml}};
+  auto distinct_colours = [&](const std::string& xml, const std::vector<ZipEntry>& more, json* stored_scene) {
+    std::vector<ZipEntry> entries{{"Home.xml", xml}, {"furniture/panel.obj", panel}};
     entries.insert(entries.end(), more.begin(), more.end());
     auto stored =
         client.Post("/v1/import/sh3d?store=1&width=160&height=120", make_zip(entries), "application/vnd.sweethome3d");
@@ -317,6 +327,9 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAndAWallSideRenderTextured) {
     if (!stored || stored->status != 201) return size_t{0};
     const json receipt = json::parse(stored->body);
     EXPECT_TRUE(receipt["warnings"].empty()) << receipt["warnings"];
+    auto scene = client.Get(receipt["location"].get<std::string>().c_str());
+    EXPECT_TRUE(scene && scene->status == 200);
+    if (scene && stored_scene) *stored_scene = json::parse(scene->body);
     const json view = {{"camera", receipt["camera"]}, {"options", {{"width", 160}, {"height", 120}}}};
     auto png =
         client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
@@ -332,11 +345,98 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAndAWallSideRenderTextured) {
     }
     return colours.size();
   };
-  const size_t plain = distinct_colours(home("", ""), {});
-  const size_t textured = distinct_colours(home(floor, wall), {{"0", bricks}});
-  std::printf("[ textures ] distinct colours: %zu untextured, %zu textured\n", plain, textured);
+  const size_t plain = distinct_colours(home("", "", ""), {}, nullptr);
+  json scene;
+  const size_t textured = distinct_colours(home(floor, wall, piece), {{"0", bricks}}, &scene);
+  std::printf("[ textures ] distinct colours: %zu untextured, %zu textured; stored scene %zu B\n", plain, textured,
+              scene.dump().size());
   EXPECT_GT(plain, 0u);
   EXPECT_GT(textured, 10 * plain);
+  // Each image is named by the id of its bytes and served by the image store as they were.
+  const std::string text = scene.dump();
+  EXPECT_EQ(text.find("data:"), std::string::npos);
+  std::map<std::string, std::string> images = {
+      {"/rooms/0/floor_texture/image", rr::testing::read_file(catalogue / "redTiles.jpg")},
+      {"/walls/0/right_texture/image", bricks},
+      {"/solids/0/parts/0/texture/image", rr::testing::read_file(catalogue / "blueTiles.jpg")}};
+  std::set<std::string> ids;
+  for (const auto& [pointer, bytes] : images) {
+    const json::json_pointer at(pointer);
+    ASSERT_TRUE(scene.contains(at)) << pointer << " in " << text.substr(0, 400);
+    const std::string id = scene.at(at).get<std::string>();
+    EXPECT_EQ(id, rr::hash_hex(bytes)) << pointer;
+    ids.insert(id);
+    auto served = client.Get(("/v1/textures/" + id).c_str());
+    ASSERT_TRUE(served);
+    EXPECT_EQ(served->status, 200) << pointer;
+    EXPECT_TRUE(served->body == bytes) << pointer;
+  }
+  EXPECT_EQ(ids.size(), 3u);
+  // The stored images stay while the scene names them.
+  auto refused = client.Delete(("/v1/textures/" + *ids.begin()).c_str());
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 409);
+}
+
+// The fireplace room's OBJ with its .mtl and the images its map_Kd lines name, zipped as a user
+// would, imported with store=1: four images stored once each, and the stored scene drawn from inside
+// shows far more colours than the same zip without its images.
+TEST(ArchiveImport, ObjZipWithItsImagesStoresThemOnceAndRendersTextured) {
+  const std::optional<fs::path> shared = rr::testing::shared_data_dir();
+  if (!shared) GTEST_SKIP() << "../shared/data is absent";
+  const fs::path room = *shared / "meshes/fireplace_room";
+  std::vector<ZipEntry> entries = {{"fireplace_room_uv.obj", rr::testing::read_file(room / "fireplace_room_uv.obj")},
+                                   {"fireplace_room_uv.mtl", rr::testing::read_file(room / "fireplace_room_uv.mtl")}};
+  const std::vector<ZipEntry> without_images = entries;
+  for (const auto& file : fs::directory_iterator(room / "textures")) {
+    entries.push_back({"textures/" + file.path().filename().string(), rr::testing::read_file(file.path())});
+  }
+  TestServer server;
+  auto client = server.client(120);
+  // The accuracy bench's camera of this room (its box: x -0.51 .. 5.12, y 0 .. 2.88, z -3.64 .. 0.59):
+  // inside, near the +x wall, looking along -x.
+  const json view = {{"camera", {{"position", {4.67, 1.58, -1.52}}, {"target", {0.05, 1.0, -1.52}}, {"fov_y", 60}}},
+                     {"options", {{"width", 160}, {"height", 120}}}};
+  auto import_and_draw = [&](const std::vector<ZipEntry>& files, json* stored_scene) {
+    auto stored = client.Post("/v1/import/obj?store=1", make_zip(files), "application/zip");
+    EXPECT_TRUE(stored && stored->status == 201) << (stored ? stored->body.substr(0, 300) : "no answer");
+    if (!stored || stored->status != 201) return size_t{0};
+    const std::string location = json::parse(stored->body)["location"];
+    if (stored_scene) *stored_scene = json::parse(client.Get(location.c_str())->body);
+    auto png = client.Post((location + "/render").c_str(), view.dump(), "application/json");
+    EXPECT_TRUE(png && png->status == 200) << (png ? png->body.substr(0, 300) : "no answer");
+    if (!png || png->status != 200) return size_t{0};
+    const rr::Image image = rr::decode_png(png->body);
+    std::set<uint32_t> colours;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const uint8_t* p = image.pixel(x, y);
+        colours.insert(uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]);
+      }
+    }
+    return colours.size();
+  };
+  json scene;
+  const size_t textured = import_and_draw(entries, &scene);
+  const size_t plain = import_and_draw(without_images, nullptr);
+  std::set<std::string> ids;
+  size_t textures = 0;
+  for (const json& solid : scene["solids"]) {
+    if (!solid.contains("texture")) continue;
+    ++textures;
+    ids.insert(solid["texture"]["image"].get<std::string>());
+  }
+  std::printf("[ textures ] fireplace room: %zu colours textured, %zu without images; %zu textured solids, %zu "
+              "images; stored scene %zu B\n",
+              textured, plain, textures, ids.size(), scene.dump().size());
+  EXPECT_EQ(scene.dump().find("data:"), std::string::npos);
+  EXPECT_EQ(ids.size(), 4u);
+  for (const std::string& id : ids) {
+    auto served = client.Get(("/v1/textures/" + id).c_str());
+    ASSERT_TRUE(served);
+    EXPECT_EQ(served->status, 200) << id;
+  }
+  EXPECT_GT(textured, 5 * plain);
 }
 
 TEST(ArchiveImport, ObjZipAppliesItsMaterialLibrary) {

@@ -717,3 +717,62 @@ TEST(ImportSh3d, TextureImagesComeFromTheArchiveThenTheCatalogue) {
             std::string::npos)
       << r.warnings[1];
 }
+
+// A piece's <texture> goes on every part of its model with no colour of its own (white under the
+// image); a <material>'s texture only on the parts of that material; the piece's colour wins over
+// both, as in Sweet Home 3D; a piece drawn as a box takes its texture too. Tile sizes as for rooms.
+TEST(ImportSh3d, PieceAndMaterialTexturesGoOnTheirParts) {
+  const std::string chair =
+      "mtllib chair.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+      "usemtl seat\nf 1 2 3 4\nusemtl legs\nf 1 2 6 5\n";
+  const std::string mtl = "newmtl seat\nKd 1 0 0\nnewmtl legs\nKd 0 0 1\n";
+  auto piece = [](const std::string& name, const std::string& attributes, const std::string& children) {
+    return "<pieceOfFurniture name='" + name + "' model='furniture/chair.obj' x='100' y='100' width='50' " +
+           "depth='50' height='90' " + attributes + ">" + children + "</pieceOfFurniture>\n";
+  };
+  const std::string tiles = "<texture catalogId='eTeks#blueTiles' name='Blue tiles' width='30' height='30' "
+                            "image='blueTiles.jpg'/>";
+  const std::string home =
+      "<home wallHeight='250'>\n" + piece("Whole", "", tiles) +
+      piece("Seat", "", "<material name='seat'><texture catalogId='eTeks#oldWoodenFloor' name='Wood' width='60' "
+                        "height='60' image='2'/></material><material name='legs' color='FF00FF00'/>") +
+      piece("Painted", "color='FF808080'", tiles) +
+      "<pieceOfFurniture name='Crate' model='furniture/missing.obj' x='300' y='100' width='50' depth='50' "
+      "height='50'>" + tiles + "</pieceOfFurniture>\n</home>\n";
+  const std::string zip =
+      rr::testing::make_zip({{"Home.xml", home}, {"furniture/chair.obj", chair}, {"furniture/chair.mtl", mtl}});
+  rr::ImportOptions options;
+  options.furniture_models = true;
+  ImportResult r = rr::import_file_text(zip, rr::ImportFormat::sweethome3d, options);
+  const json& solids = r.request["scene"]["solids"];
+  ASSERT_EQ(solids.size(), 4u) << solids.dump().substr(0, 400);
+  const std::string blue = data_uri_of_file(catalogue_textures / "blueTiles.jpg");
+  const std::string wood = data_uri_of_file(catalogue_textures / "oldWoodenFloor.jpg");
+  auto part = [&](size_t solid, const std::string& name) {
+    for (const json& p : solids[solid]["parts"]) {
+      if (p["name"] == name) return p;
+    }
+    ADD_FAILURE() << "no part " << name << " in " << solids[solid].dump().substr(0, 300);
+    return json();
+  };
+  for (const char* name : {"seat", "legs"}) {
+    const json whole = part(0, name);
+    EXPECT_EQ(whole["texture"]["image"], blue) << name;
+    EXPECT_DOUBLE_EQ(whole["texture"]["width"].get<double>(), 0.3);
+    EXPECT_FALSE(whole.contains("color")) << name;
+  }
+  EXPECT_EQ(part(1, "seat")["texture"]["image"], wood);  // "2" is not in the archive: the catalogue's
+  EXPECT_DOUBLE_EQ(part(1, "seat")["texture"]["height"].get<double>(), 0.6);
+  EXPECT_FALSE(part(1, "legs").contains("texture"));
+  EXPECT_EQ(part(1, "legs")["color"], json::array({0.0, 1.0, 0.0}));
+  for (const char* name : {"seat", "legs"}) EXPECT_FALSE(part(2, name).contains("texture")) << name;
+  EXPECT_EQ(solids[3]["type"], "box");
+  EXPECT_EQ(solids[3]["texture"]["image"], blue);
+  EXPECT_FALSE(solids[3].contains("color"));
+  // The request reads, and the textured parts are drawn textured.
+  const rr::RenderRequest request = rr::request_from_json(r.request);
+  const rr::PolygonSoup soup = rr::tessellate(request.scene.geometry);
+  size_t textured = 0;
+  for (const rr::Polygon& p : soup.polygons) textured += p.uv_map != 0;
+  EXPECT_EQ(textured, 2u + 1u + 6u);  // both faces of Whole, Seat's seat, the crate's six
+}
