@@ -76,30 +76,38 @@ void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
 
 // Each distinct image of `imported`'s textures (a data: URI, as the importers write them) stored once
 // (as POST /v1/textures stores it), and every texture showing it rewritten to name its stored id:
-// a textured home's scene then holds each image's 16-digit id instead of megabytes of base64.
+// a textured home's scene then holds each image's 16-digit id instead of megabytes of base64. An
+// image the store refuses (its data does not decode; the importers checked the header) leaves its
+// surfaces untextured, with a warning naming the first of them.
 void store_texture_images(ServiceState& state, ImportResult& imported) {
-  std::map<std::string, std::string> stored_ids;  // data: URI -> stored image id
-  for_each_texture(imported.request["scene"], [&](json& texture) {
+  std::map<std::string, std::optional<std::string>> stored_ids;  // data: URI -> stored image id
+  for_each_texture(imported.request["scene"], "", [&](json& texture, const std::string& pointer) {
     json& image = texture["image"];
-    if (!image.is_string() || !image.get_ref<const std::string&>().starts_with("data:")) return;
+    if (!image.is_string() || !image.get_ref<const std::string&>().starts_with("data:")) return true;
     const std::string& uri = image.get_ref<const std::string&>();
     auto [it, first] = stored_ids.try_emplace(uri);
     if (first) {
       std::vector<uint8_t> bytes;
       std::string problem;
-      if (!decode_data_uri(uri, state.limits.max_texture_image_bytes, bytes, &problem)) {
-        throw InputError(InputError::Kind::invalid, "", "an imported image: " + problem);
-      }
       std::shared_ptr<const StoredTexture> stored;
-      try {
-        stored = read_stored_texture(std::string(bytes.begin(), bytes.end()), state.limits);
-      } catch (const InputError& e) {  // the importer checked its format, so only a limit can refuse it
-        throw InputError(e.kind(), "", "an imported image: " + e.summary());
+      if (decode_data_uri(uri, state.limits.max_texture_image_bytes, bytes, &problem)) {
+        try {
+          stored = read_stored_texture(std::string(bytes.begin(), bytes.end()), state.limits);
+        } catch (const InputError& e) {
+          problem = e.summary();
+        }
+      }
+      if (!stored) {
+        imported.warnings.push_back("the image of " + pointer + " (and of any surface sharing it) was refused: " +
+                                    problem + "; drawn untextured");
+        return false;
       }
       store_document(state, stored);
       it->second = stored->id;
     }
-    image = it->second;
+    if (!it->second) return false;
+    image = *it->second;
+    return true;
   });
 }
 

@@ -5,6 +5,7 @@
 #include "render/core/hash.hpp"
 #include "render/core/scene_id.hpp"
 #include "render/core/texture.hpp"
+#include "render/scene_io/errors.hpp"
 
 #include <map>
 #include <set>
@@ -87,8 +88,22 @@ void visit_textures(Json& value, Visit&& visit) {
 
 }  // namespace
 
-void for_each_texture(nlohmann::json& document, const std::function<void(nlohmann::json& texture)>& visit) {
-  visit_textures(document, visit);
+void for_each_texture(nlohmann::json& value, const std::string& pointer,
+                      const std::function<bool(nlohmann::json& texture, const std::string& pointer)>& keep) {
+  if (value.is_object()) {
+    for (auto it = value.begin(); it != value.end();) {
+      const std::string at = pointer_append(pointer, it.key());
+      if (std::string_view(it.key()).ends_with("texture") && it->is_object() && it->contains("image") &&
+          !keep(*it, at)) {
+        it = value.erase(it);
+        continue;
+      }
+      for_each_texture(*it, at, keep);
+      ++it;
+    }
+  } else if (value.is_array()) {
+    for (size_t i = 0; i < value.size(); ++i) for_each_texture(value[i], pointer_append(pointer, i), keep);
+  }
 }
 
 namespace {

@@ -49,9 +49,11 @@ StoredDocument read_scene_document(const std::string& text, const ParseLimits& l
 // The static id (X-Scene-Id) of a stored scene's text: parsed, its meshes resolved, not tessellated.
 std::string static_id_of(const std::string& text, const ParseLimits& limits);
 
-// Calls visit(texture) for every texture object with an "image" in a scene document: the members
-// named "texture" or ending in "_texture" of its floors, rooms, walls, solids and piece parts.
-void for_each_texture(nlohmann::json& document, const std::function<void(nlohmann::json& texture)>& visit);
+// Calls keep(texture, its pointer below `pointer`) for every texture object with an "image" in a
+// scene document (the members named "texture" or ending in "_texture" of its floors, rooms, walls,
+// solids and piece parts) and removes those for which it returns false.
+void for_each_texture(nlohmann::json& document, const std::string& pointer,
+                      const std::function<bool(nlohmann::json& texture, const std::string& pointer)>& keep);
 
 // "/scene/solids/2" -> "/solids/2": a request pointer made relative to the scene document.
 std::string scene_document_pointer(const std::string& request_pointer);

@@ -61,6 +61,12 @@ struct TextureError {
 std::shared_ptr<const TextureImage> decode_texture(std::span<const uint8_t> encoded, const TextureLimits& limits,
                                                    TextureError* error);
 
+// Sniffs a PNG or JPEG from its first bytes and reads its header's size without decoding it: false,
+// and *error filled, when it is neither, its header is unreadable or the size is over `limits` (what
+// decode_texture checks before it decodes).
+bool read_texture_header(std::span<const uint8_t> encoded, const TextureLimits& limits, int* width, int* height,
+                         TextureError* error);
+
 // The bytes of a `data:` URI ("data:image/png;base64,...": a media type, ";base64", a comma, then
 // base64). Returns false and fills *error on anything else, or when the decoded bytes would exceed
 // max_bytes (checked from the length before decoding).

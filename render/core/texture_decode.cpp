@@ -117,12 +117,18 @@ struct JpegDecoder {
   std::string reason() const { return handle ? tjGetErrorStr2(handle) : "cannot start the JPEG decoder"; }
 };
 
-// TurboJPEG counts bytes in unsigned long; the header gives the size and colour space.
+// TurboJPEG counts bytes in unsigned long; the header gives the size and colour space. A file that
+// ends before its frame header is "read" with only a warning (premature end) and no size: refused.
 bool read_jpeg_header(JpegDecoder& decoder, std::span<const uint8_t> bytes, int* width, int* height) {
-  int subsampling = 0, colorspace = 0;
-  return decoder.handle && bytes.size() <= ULONG_MAX &&
-         tjDecompressHeader3(decoder.handle, bytes.data(), static_cast<unsigned long>(bytes.size()), width, height,
-                             &subsampling, &colorspace) == 0;
+  int subsampling = 0, colorspace = 0, w = 0, h = 0;
+  if (!decoder.handle || bytes.size() > ULONG_MAX ||
+      tjDecompressHeader3(decoder.handle, bytes.data(), static_cast<unsigned long>(bytes.size()), &w, &h,
+                          &subsampling, &colorspace) != 0 ||
+      w <= 0 || h <= 0) {
+    return false;
+  }
+  *width = w, *height = h;
+  return true;
 }
 
 // The accurate integer IDCT and smooth chroma upsampling (TurboJPEG's defaults), whose SIMD paths
@@ -273,11 +279,11 @@ size_t TextureImage::bytes() const {
   return total;
 }
 
-std::shared_ptr<const TextureImage> decode_texture(std::span<const uint8_t> encoded, const TextureLimits& limits,
-                                                   TextureError* error) {
-  auto refuse = [&](TextureError::Kind kind, std::string message) -> std::shared_ptr<const TextureImage> {
+bool read_texture_header(std::span<const uint8_t> encoded, const TextureLimits& limits, int* width_out,
+                         int* height_out, TextureError* error) {
+  auto refuse = [&](TextureError::Kind kind, std::string message) {
     if (error) *error = {kind, std::move(message)};
-    return nullptr;
+    return false;
   };
   const std::optional<Format> format = sniff(encoded);
   if (!format) {
@@ -308,11 +314,22 @@ std::shared_ptr<const TextureImage> decode_texture(std::span<const uint8_t> enco
     return refuse(TextureError::Kind::unreadable,
                   name + " header unreadable (" + (reason.empty() ? "corrupt or unsupported" : reason) + ")");
   }
+  if (width_out) *width_out = w;
+  if (height_out) *height_out = h;
+  return true;
+}
+
+std::shared_ptr<const TextureImage> decode_texture(std::span<const uint8_t> encoded, const TextureLimits& limits,
+                                                   TextureError* error) {
+  int w = 0, h = 0;
+  if (!read_texture_header(encoded, limits, &w, &h, error)) return nullptr;
   // Decoded to RGB: an alpha channel is dropped (a texture colours an opaque surface), grey is expanded.
   Image decoded;
   std::string failure;
   if (!decode_rgb8(encoded, decoded, &failure)) {
-    return refuse(TextureError::Kind::unreadable, name + " data unreadable: " + failure);
+    const std::string name = format_name(*sniff(encoded));
+    if (error) *error = {TextureError::Kind::unreadable, name + " data unreadable: " + failure};
+    return nullptr;
   }
   assert(decoded.width == w && decoded.height == h);
 

@@ -7,6 +7,8 @@
 // is counted in a warning. Bad numbers and indices are errors naming the line. The camera looks
 // from inside when the model has a floor and a ceiling (docs/import.md), else frames it from outside.
 #include "render/import/import_obj.hpp"
+
+#include "render/core/texture.hpp"
 #include "render/import/import.hpp"
 #include "render/scene_io/scene_json.hpp"
 
@@ -378,6 +380,26 @@ std::optional<std::string> image_data_uri(std::string_view bytes) {
   return out;
 }
 
+std::optional<std::string> usable_image_data_uri(std::string_view bytes, std::string* problem) {
+  if (bytes.size() > texture_image_bytes_cap) {
+    *problem = "has " + std::to_string(bytes.size()) + " bytes, more than the " +
+               std::to_string(texture_image_bytes_cap) + " a request takes per image";
+    return std::nullopt;
+  }
+  std::optional<std::string> uri = image_data_uri(bytes);
+  if (!uri) {
+    *problem = "is neither a PNG nor a JPEG";
+    return std::nullopt;
+  }
+  TextureError error;
+  if (!read_texture_header({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, TextureLimits{}, nullptr,
+                           nullptr, &error)) {
+    *problem = "is refused: " + error.message;
+    return std::nullopt;
+  }
+  return uri;
+}
+
 void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& warnings) {
   if (repairs.triangulated) {
     warnings.push_back(std::to_string(repairs.triangulated) + " non-planar faces were split into triangles");
@@ -411,7 +433,7 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 // The data: URI of the image file at `path` (as read_companion takes it), or nullopt with a warning
-// when it is missing, over the request's per-image cap, or not a PNG or JPEG.
+// when it is missing or a request could not use it (usable_image_data_uri).
 std::optional<std::string> load_texture(const std::string& path, const ImportOptions& options,
                                         std::vector<std::string>& warnings) {
   std::optional<std::string> bytes = options.read_companion ? options.read_companion(path) : std::nullopt;
@@ -420,14 +442,9 @@ std::optional<std::string> load_texture(const std::string& path, const ImportOpt
     warnings.push_back(what + "is not available: its materials are drawn untextured");
     return std::nullopt;
   }
-  if (bytes->size() > texture_image_bytes_cap) {
-    warnings.push_back(what + "has " + std::to_string(bytes->size()) + " bytes, more than the " +
-                       std::to_string(texture_image_bytes_cap) +
-                       " a request takes per image: its materials are drawn untextured");
-    return std::nullopt;
-  }
-  std::optional<std::string> uri = image_data_uri(*bytes);
-  if (!uri) warnings.push_back(what + "is neither a PNG nor a JPEG image: its materials are drawn untextured");
+  std::string problem;
+  std::optional<std::string> uri = usable_image_data_uri(*bytes, &problem);
+  if (!uri) warnings.push_back(what + problem + ": its materials are drawn untextured");
   return uri;
 }
 

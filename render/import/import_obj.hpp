@@ -105,6 +105,12 @@ nlohmann::json group_mesh(const Group& g, const ObjData& obj, const std::vector<
 // PNG or JPEG (by their first bytes).
 std::optional<std::string> image_data_uri(std::string_view bytes);
 
+// The data: URI of an image file's bytes when a request can use it: at most texture_image_bytes_cap
+// bytes, a PNG or JPEG whose header reads and is within the default TextureLimits (checked without
+// decoding). Otherwise nullopt and *problem says why, to follow the file's name: "is neither a PNG
+// nor a JPEG", "has N bytes, more than ...", "is refused: PNG header says 100000 x 100000 pixels; ...".
+std::optional<std::string> usable_image_data_uri(std::string_view bytes, std::string* problem);
+
 void add_repair_warnings(const RepairCounts& repairs, std::vector<std::string>& warnings);
 
 }  // namespace rr::import_detail

@@ -4,7 +4,7 @@
 // fractions of a tile, `angle` is in radians and `scale` multiplies the tile. `image` names the
 // image's content: an entry of a .sh3d archive ("0", "12", ...) or a file beside Home.xml, whose
 // format is told from its first bytes.
-#include "render/import/import_obj.hpp"  // image_data_uri
+#include "render/import/import_obj.hpp"  // usable_image_data_uri
 #include "render/import/import_sh3d.hpp"
 
 #include <cmath>
@@ -37,13 +37,13 @@ std::optional<nlohmann::json> sh3d_texture(const Sh3dElement& e, const char* att
     if (!bytes && !catalog_id.empty()) {
       if (std::optional<std::string_view> bundled = catalogue_texture(catalog_id)) bytes = std::string(*bundled);
     }
-    if (bytes) it->second = image_data_uri(*bytes);
+    std::string problem;
+    if (bytes) it->second = usable_image_data_uri(*bytes, &problem);
     if (!bytes) {
       textures.missing.push_back(describe(e, attribute) + " image '" + quote_input(image.empty() ? catalog_id : image) +
                                  "' is neither in the file nor in the default catalogue");
     } else if (!it->second) {
-      textures.missing.push_back(describe(e, attribute) + " image '" + quote_input(image) +
-                                 "' is neither a PNG nor a JPEG");
+      textures.missing.push_back(describe(e, attribute) + " image '" + quote_input(image) + "' " + problem);
     }
   }
   if (!it->second) return std::nullopt;

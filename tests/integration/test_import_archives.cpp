@@ -13,6 +13,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "server_fixture.hpp"
+#include "support/image_bytes.hpp"
 #include "support/sweet_homes.hpp"
 #include "support/zip_builder.hpp"
 
@@ -439,6 +440,93 @@ TEST(ArchiveImport, ObjZipWithItsImagesStoresThemOnceAndRendersTextured) {
   EXPECT_GT(textured, 5 * plain);
 }
 
+// Images a request could not use, in a .sh3d laid out as Sweet Home 3D writes it: a header claiming
+// 100,000 x 100,000 pixels, a JPEG cut in its first 20 bytes, a GIF, an entry over the 4 MiB a request
+// takes per image (all refused from their first bytes by the importer), and a JPEG cut inside its
+// scan data (its header reads; storing it decodes it, which fails). Each surface stays untextured
+// with a warning naming its line and entry or pointer; the home imports, inline and stored, quickly,
+// and the server stays healthy. Inline, the cut JPEG reaches the render, which refuses it at its pointer.
+TEST(ArchiveImport, BadImagesInAnArchiveLeaveTheirSurfacesUntexturedWithAWarning) {
+  const std::string jpeg =
+      rr::testing::read_file(rr::testing::source_dir() / "catalogue/textures/smallBricks.jpg");
+  auto texture = [](const char* attribute, const char* entry) {
+    return std::string("<texture attribute='") + attribute + "' name='T' width='40' height='40' image='" + entry +
+           "'/>";
+  };
+  const std::string xml =
+      "<home wallHeight='250'><observerCamera attribute='observerCamera' x='200' y='280' z='160' "
+      "yaw='3.1415927' pitch='0.25' fieldOfView='1.2'/>\n"
+      "<wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' height='250' thickness='10'>" +
+      texture("rightSideTexture", "2") + texture("leftSideTexture", "3") +
+      "</wall>\n<room name='R'><point x='0' y='0'/><point x='400' y='0'/><point x='400' y='300'/>"
+      "<point x='0' y='300'/>" +
+      texture("floorTexture", "0") + texture("ceilingTexture", "1") +
+      "</room>\n<room name='S'><point x='0' y='300'/><point x='400' y='300'/><point x='400' y='400'/>"
+      "<point x='0' y='400'/>" +
+      texture("floorTexture", "4") + "</room>\n</home>\n";
+  std::string oversized = rr::testing::png_head(64, 64);
+  oversized.resize((4u << 20) + 1, '\0');
+  const std::string body = make_zip({{"Home", "serialized Java objects we do not read"},
+                                     {"Home.xml", xml},
+                                     {"ContentDigests", ""},
+                                     {"0", rr::testing::png_head(100000, 100000)},
+                                     {"1", jpeg.substr(0, 20)},
+                                     {"2", "GIF89a\x01\x00\x01\x00 not an image we take"},
+                                     {"3", oversized, false},  // stored: zeros would deflate past the bomb ratio
+                                     {"4", jpeg.substr(0, jpeg.size() * 6 / 10)}});
+  TestServer server;
+  auto client = server.client(60);
+  const std::vector<std::pair<std::string, std::string>> said_by_importer = {
+      {"rightSideTexture image '2'", "is neither a PNG nor a JPEG"},
+      {"leftSideTexture image '3'", "has 4194305 bytes, more than the 4194304"},
+      {"floorTexture image '0'", "is refused: PNG header says 100000 x 100000 pixels"},
+      {"ceilingTexture image '1'", "is refused: JPEG header unreadable"}};
+  auto expect_said = [&](const json& warnings, const std::string& what, const std::string& says) {
+    for (const json& w : warnings) {
+      const std::string text = w.get<std::string>();
+      if (text.find(what) != std::string::npos && text.find(says) != std::string::npos) return;
+    }
+    ADD_FAILURE() << "no warning on " << what << " saying " << says << " in " << warnings.dump();
+  };
+  for (const bool store : {false, true}) {
+    const auto start = std::chrono::steady_clock::now();
+    auto imported =
+        client.Post(store ? "/v1/import/sh3d?store=1&width=96&height=72" : "/v1/import/sh3d?width=96&height=72", body,
+                    "application/vnd.sweethome3d");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_TRUE(imported);
+    ASSERT_EQ(imported->status, store ? 201 : 200) << imported->body.substr(0, 400);
+    EXPECT_LT(seconds, 5.0);
+    const json answer = json::parse(imported->body);
+    const json warnings = store ? answer["warnings"] : json();
+    std::printf("[ bad images ] %s: %d in %.2f s, %s\n", store ? "store=1" : "inline", imported->status, seconds,
+                imported->get_header_value("X-Warning-Count").c_str());
+    if (!store) {
+      EXPECT_EQ(imported->get_header_value("X-Warning-Count"), "4") << answer["scene"]["rooms"].dump().substr(0, 300);
+      // The cut JPEG's header reads, so the request carries it; the render decodes it and refuses it there.
+      const json& floor = answer["scene"]["rooms"][1]["floor_texture"];
+      ASSERT_TRUE(floor.is_object()) << answer["scene"]["rooms"].dump().substr(0, 300);
+      json request = answer;
+      auto rendered = client.Post("/v1/render", request.dump(), "application/json");
+      const json problem = expect_problem(rendered, 422);
+      EXPECT_EQ(problem["errors"][0]["pointer"], "/scene/rooms/1/floor_texture/image") << problem.dump();
+      EXPECT_NE(problem.dump().find("JPEG data unreadable"), std::string::npos) << problem.dump();
+      continue;
+    }
+    for (const auto& [what, says] : said_by_importer) expect_said(warnings, what, says);
+    expect_said(warnings, "/rooms/1/floor_texture", "JPEG data unreadable");
+    EXPECT_EQ(warnings.size(), 5u) << warnings.dump();
+    // The stored scene names no image and draws.
+    const std::string location = answer["location"];
+    EXPECT_EQ(client.Get(location.c_str())->body.find("texture"), std::string::npos);
+    const json view = {{"camera", answer["camera"]}, {"options", {{"width", 96}, {"height", 72}}}};
+    auto png = client.Post((location + "/render").c_str(), view.dump(), "application/json");
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png->status, 200) << png->body.substr(0, 300);
+  }
+  expect_healthy(server);
+}
+
 TEST(ArchiveImport, ObjZipAppliesItsMaterialLibrary) {
   TestServer server;
   auto client = server.client();
@@ -491,8 +579,13 @@ std::vector<BadArchive> bad_archives() {
   std::string twice = make_zip({{"Home.xml", kHome}, {"Home.xmm", kHome}});
   for (size_t at = twice.find("Home.xmm"); at != std::string::npos; at = twice.find("Home.xmm"))
     twice.replace(at, 8, "Home.xml");
+  const std::string image_home = "<home><room><point x='0' y='0'/><point x='100' y='0'/><point x='0' y='100'/>"
+                                 "<texture attribute='floorTexture' name='T' width='40' height='40' image='0'/>"
+                                 "</room></home>";
+  const std::string image_bomb = make_zip({{"Home.xml", image_home}, {"0", std::string(48u << 20, '\0')}});
   return {
       {"bomb by ratio", "sh3d", bomb, 413, "/entry/furniture~1chair.obj", "zip bomb"},
+      {"image entry a bomb", "sh3d", image_bomb, 413, "/entry/0", "zip bomb"},
       {"bomb with a lying header", "sh3d", rr::testing::with_declared_size(bomb, "furniture/chair.obj", 2000), 413,
        "/entry/furniture~1chair.obj", ""},
       {"total size over the cap", "sh3d", over_total, 413, "/entry/c", "256 MiB"},

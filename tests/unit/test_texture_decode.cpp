@@ -274,6 +274,25 @@ TEST(TextureDecode, UnreadableBytesRefused) {
   EXPECT_EQ(refusal({}).kind, TextureError::Kind::unreadable);
 }
 
+// TurboJPEG "reads" a header that ends before the frame (SOF) with only a warning and no size; such
+// a file is refused at its header, naming the premature end, and read_texture_header agrees.
+TEST(TextureDecode, JpegEndingBeforeItsFrameHeaderIsRefusedAtTheHeader) {
+  const std::string jpeg = testing::read_file(testing::source_dir() / "catalogue/textures/smallBricks.jpg");
+  for (size_t cut : {size_t{3}, size_t{20}, size_t{100}}) {
+    TextureError error = refusal(as_bytes(jpeg.substr(0, cut)));
+    EXPECT_EQ(error.kind, TextureError::Kind::unreadable) << cut;
+    EXPECT_NE(error.message.find("JPEG header unreadable"), std::string::npos) << cut << ": " << error.message;
+    int w = -1, h = -1;
+    EXPECT_FALSE(read_texture_header(as_bytes(jpeg.substr(0, cut)), TextureLimits{}, &w, &h, &error)) << cut;
+    EXPECT_EQ(w, -1) << cut;
+  }
+  int w = 0, h = 0;
+  TextureError error;
+  ASSERT_TRUE(read_texture_header(as_bytes(jpeg), TextureLimits{}, &w, &h, &error)) << error.message;
+  EXPECT_EQ(w, 256);
+  EXPECT_EQ(h, 166);
+}
+
 // The mip filter's slow reference: destination texel d of an axis of n -> m texels covers source
 // [d n / m, (d + 1) n / m); in units of 1/m that is [d n, (d + 1) n), and source texel s is
 // [s m, (s + 1) m). Each source texel weighs its overlap; the sum is rounded to nearest, ties up.
