@@ -10,8 +10,10 @@
 // into a 4x multisample framebuffer object and resolves it with glBlitFramebuffer every frame
 // (OSMesa's own buffer has no multisample visual; an FBO in its context does).
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/glext.h>
+// osmesa.h first: it includes gl.h, which glext.h needs for GLenum and the rest.
 #include <GL/osmesa.h>
+
+#include <GL/glext.h>
 
 #define GLM_FORCE_SILENT_WARNINGS
 #include <glm/glm.hpp>
