@@ -89,14 +89,16 @@ void write_obj(const PolygonSoup& soup, const glm::dvec3& irradiance, const fs::
     if (p.id != k) throw std::runtime_error("polygon ids are not 0..n-1 in this view");
     if (p.material != material) obj << "usemtl m" << (material = p.material) << "\n";
     const bool textured = p.uv_map > 0 && soup.materials[p.material].texture;
-    std::string face = "f";
+    std::string face = "f";  // appended piecewise: GCC 12 warns (-Wrestrict) on " " + std::string
     for (const Vec3& q : soup.points(p)) {
       obj << "v " << number(q.x) << " " << number(q.y) << " " << number(q.z) << "\n";
-      face += " " + std::to_string(++v);
+      face += ' ';
+      face += std::to_string(++v);
       if (textured) {
         const glm::dvec2 uv = soup.uv_maps[p.uv_map - 1].at(q);
         obj << "vt " << number(uv.x) << " " << number(uv.y) << "\n";
-        face += "/" + std::to_string(++vt);
+        face += '/';
+        face += std::to_string(++vt);
       }
     }
     obj << face << "\n";
