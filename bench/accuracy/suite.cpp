@@ -47,6 +47,7 @@ BenchScene finish(std::string name, std::string scene_class, std::string source,
     scene.light_added = true;
   }
   request["options"] = {{"width", options.width}, {"height", options.height}};
+  scene.request_json = request.dump();
   scene.request = request_from_json(request);
   scene.prepared = prepare_scene(std::move(scene.request.scene));
   scene.name = std::move(name);

@@ -32,6 +32,7 @@ struct BenchScene {
   PreparedScene prepared;    // the scene, tessellated, with its id
   bool light_added = false;  // the source had no light: one default directional light was added
   std::string camera_note;   // how the camera was chosen
+  std::string request_json;  // the request as built, before parsing: for tools that hand it on
 };
 
 // Loads every scene of the suite that exists; prints one line per skipped source to stderr.

@@ -9,9 +9,16 @@
 // in f-line order) over --background, the matched setup of bench/antialias.py; --samples 4 renders
 // into a 4x multisample framebuffer object and resolves it with glBlitFramebuffer every frame
 // (OSMesa's own buffer has no multisample visual; an FBO in its context does).
+// --mode textured draws each face in its material's Kd times its map_Kd image (the OBJ's `vt`, v up,
+// `mtllib`/`usemtl`; nothing lit) with --textures nearest|bilinear|trilinear|anisotropic, the matched
+// setup of bench/textured_peer.py. Textures are RGB8 (no sRGB decode) and repeat; a map named X_0.png
+// takes its mip levels from X_1.png, X_2.png, ... when they exist (the chain roomrender built), else
+// from glGenerateMipmap.
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/glext.h>
+// osmesa.h first: it includes gl.h, which glext.h needs for GLenum and the rest.
 #include <GL/osmesa.h>
+
+#include <GL/glext.h>
 
 #define GLM_FORCE_SILENT_WARNINGS
 #include <glm/glm.hpp>
@@ -20,6 +27,8 @@
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <chrono>
@@ -41,28 +50,83 @@ struct Vertex {
   float p[3];
   float n[3];
   uint32_t face;
-  float c[3];  // --mode ambient: the face's colour, 0..1
+  float c[3];   // --mode ambient: the face's colour, 0..1; --mode textured: its material's Kd
+  float uv[2];  // --mode textured: the corner's vt (v up)
+};
+
+// A material of the OBJ's .mtl: Kd and the path of its map_Kd (empty: untextured).
+struct ObjMaterial {
+  std::string name, map;
+  float kd[3] = {0.7f, 0.7f, 0.7f};
+};
+
+// Consecutive triangles of one material: one draw call of --mode textured.
+struct DrawRun {
+  GLint first = 0;
+  GLsizei count = 0;
+  size_t material = 0;
 };
 
 struct Mesh {
   std::vector<Vertex> vertices;  // 3 per triangle
   size_t faces = 0;
   glm::dvec3 lo{1e300}, hi{-1e300};
+  std::vector<ObjMaterial> materials;  // from `mtllib`; [0] is the default when there is none
+  std::vector<DrawRun> runs;
 };
 
-// Reads `v` and `f` lines (f tokens may be i, i/t, i/t/n or i//n; negative indices count back from
-// the last `v`). Everything else is ignored: the harness needs positions and faces only.
+// Reads newmtl, Kd and map_Kd (paths relative to the .mtl) of an OBJ's material library.
+void read_mtl(const std::string& path, std::vector<ObjMaterial>& out) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  const std::string dir = path.substr(0, path.find_last_of('/') + 1);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream s(line);
+    std::string key;
+    s >> key;
+    if (key == "newmtl") s >> out.emplace_back().name;
+    else if (key == "Kd" && !out.empty()) s >> out.back().kd[0] >> out.back().kd[1] >> out.back().kd[2];
+    else if (key == "map_Kd" && !out.empty()) s >> out.back().map, out.back().map = dir + out.back().map;
+  }
+}
+
+// Reads `v`, `vt`, `f`, `mtllib` and `usemtl` lines (f tokens may be i, i/t, i/t/n or i//n; negative
+// indices count back from the last `v` or `vt`). Everything else is ignored.
 Mesh read_obj(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path);
   std::vector<glm::dvec3> positions;
+  std::vector<glm::dvec2> uvs;
   std::vector<glm::dvec3> face;
+  std::vector<glm::dvec2> face_uv;
   Mesh mesh;
+  mesh.materials.emplace_back();
+  size_t material = 0;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.size() < 2 || line[1] != ' ' || (line[0] != 'v' && line[0] != 'f')) continue;
-    const char* s = line.c_str() + 2;
+    if (line.rfind("mtllib ", 0) == 0) {
+      mesh.materials.clear();
+      read_mtl(path.substr(0, path.find_last_of('/') + 1) + line.substr(7), mesh.materials);
+      if (mesh.materials.empty()) mesh.materials.emplace_back();
+      continue;
+    }
+    if (line.rfind("usemtl ", 0) == 0) {
+      auto it = std::find_if(mesh.materials.begin(), mesh.materials.end(),
+                             [&](const ObjMaterial& m) { return m.name == line.substr(7); });
+      if (it == mesh.materials.end()) throw std::runtime_error("unknown material " + line.substr(7));
+      material = size_t(it - mesh.materials.begin());
+      continue;
+    }
+    const bool vt = line.rfind("vt ", 0) == 0;
+    if (!vt && (line.size() < 2 || line[1] != ' ' || (line[0] != 'v' && line[0] != 'f'))) continue;
+    const char* s = line.c_str() + (vt ? 3 : 2);
     char* end = nullptr;
+    if (vt) {
+      glm::dvec2 uv;
+      for (int k = 0; k < 2; ++k, s = end) uv[k] = std::strtod(s, &end);
+      uvs.push_back(uv);
+      continue;
+    }
     if (line[0] == 'v') {
       glm::dvec3 p;
       for (int k = 0; k < 3; ++k, s = end) p[k] = std::strtod(s, &end);
@@ -70,36 +134,55 @@ Mesh read_obj(const std::string& path) {
       continue;
     }
     face.clear();
+    face_uv.clear();
     for (;;) {
       long index = std::strtol(s, &end, 10);
       if (end == s) break;
       long i = index < 0 ? long(positions.size()) + index : index - 1;
       if (i < 0 || size_t(i) >= positions.size()) throw std::runtime_error("bad face index in " + path);
       face.push_back(positions[size_t(i)]);
+      glm::dvec2 uv(0.0);
+      if (*end == '/' && end[1] != '/') {
+        s = end + 1;
+        long t = std::strtol(s, &end, 10);
+        long j = t < 0 ? long(uvs.size()) + t : t - 1;
+        if (j < 0 || size_t(j) >= uvs.size()) throw std::runtime_error("bad texture index in " + path);
+        uv = uvs[size_t(j)];
+      }
+      face_uv.push_back(uv);
       for (s = end; *s && *s != ' ' && *s != '\t'; ++s) {
-      }  // skip /t/n
+      }  // skip /n
     }
     if (face.size() < 3) throw std::runtime_error("face with fewer than 3 vertices in " + path);
     glm::dvec3 newell(0.0);  // twice the vector area; robust for any planar polygon
     for (size_t k = 0; k < face.size(); ++k) newell += glm::cross(face[k], face[(k + 1) % face.size()]);
     double len = glm::length(newell);
     glm::vec3 n = len > 0.0 ? glm::vec3(newell / len) : glm::vec3(0, 1, 0);
-    auto emit = [&](const glm::dvec3& p) {
-      mesh.vertices.push_back(
-          {{float(p.x), float(p.y), float(p.z)}, {n.x, n.y, n.z}, uint32_t(mesh.faces), {0.7f, 0.7f, 0.7f}});
+    const float* kd = mesh.materials[material].kd;
+    auto emit = [&](size_t k) {
+      const glm::dvec3& p = face[k];
+      mesh.vertices.push_back({{float(p.x), float(p.y), float(p.z)},
+                               {n.x, n.y, n.z},
+                               uint32_t(mesh.faces),
+                               {kd[0], kd[1], kd[2]},
+                               {float(face_uv[k].x), float(face_uv[k].y)}});
       mesh.lo = glm::min(mesh.lo, p);
       mesh.hi = glm::max(mesh.hi, p);
     };
-    for (size_t k = 0; k + 2 < face.size(); ++k) {
-      emit(face[0]), emit(face[k + 1]), emit(face[k + 2]);
+    if (mesh.runs.empty() || mesh.runs.back().material != material) {
+      mesh.runs.push_back({GLint(mesh.vertices.size()), 0, material});
     }
+    for (size_t k = 0; k + 2 < face.size(); ++k) {
+      emit(0), emit(k + 1), emit(k + 2);
+    }
+    mesh.runs.back().count = GLsizei(mesh.vertices.size()) - mesh.runs.back().first;
     ++mesh.faces;
   }
   return mesh;
 }
 
 struct Options {
-  std::string obj, mode = "lambert", out, ids, face_colors;
+  std::string obj, mode = "lambert", out, ids, face_colors, textures = "trilinear";
   glm::dvec3 eye{0, 1.6, 5}, target{0, 1, 0}, up{0, 1, 0}, light_dir{0, 1, 0}, background{0, 0, 0};
   double fovy = 60, near = 0.1, far = 100;
   int width = 1280, height = 720, frames = 10, warmup = 1, shadow_size = 2048, samples = 1;
@@ -153,6 +236,7 @@ Options parse_options(int argc, char** argv) {
     else if (name == "--shadow-size") o.shadow_size = std::stoi(value);
     else if (name == "--samples") o.samples = std::stoi(value);
     else if (name == "--face-colors") o.face_colors = value;
+    else if (name == "--textures") o.textures = value;
     else if (name == "--background") o.background = parse_vec3(value) / 255.0;
     else if (name == "--size") {
       if (std::sscanf(value.c_str(), "%dx%d", &o.width, &o.height) != 2) throw std::runtime_error("--size WxH");
@@ -161,8 +245,11 @@ Options parse_options(int argc, char** argv) {
     }
   }
   if (o.obj.empty()) throw std::runtime_error("--obj FILE is required");
-  if (o.mode != "lambert" && o.mode != "phong_shadow" && o.mode != "ambient") {
-    throw std::runtime_error("--mode lambert|phong_shadow|ambient");
+  if (o.mode != "lambert" && o.mode != "phong_shadow" && o.mode != "ambient" && o.mode != "textured") {
+    throw std::runtime_error("--mode lambert|phong_shadow|ambient|textured");
+  }
+  if (o.textures != "nearest" && o.textures != "bilinear" && o.textures != "trilinear" && o.textures != "anisotropic") {
+    throw std::runtime_error("--textures nearest|bilinear|trilinear|anisotropic");
   }
   if (o.mode == "ambient" && o.face_colors.empty()) throw std::runtime_error("--mode ambient needs --face-colors");
   if (o.samples != 1 && o.samples != 4) throw std::runtime_error("--samples 1|4");
@@ -177,6 +264,7 @@ layout(location = 0) in vec3 p_world;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in uint face;
 layout(location = 3) in vec3 face_color;
+layout(location = 4) in vec2 uv;
 uniform mat4 clip_from_world;
 uniform mat4 light_clip_from_world;
 out vec3 v_normal;
@@ -184,8 +272,10 @@ out vec3 v_world;
 out vec4 v_light_clip;
 flat out uint v_face;
 flat out vec3 v_color;
+out vec2 v_uv;
 void main() {
   v_color = face_color;
+  v_uv = uv;
   v_normal = normal;
   v_world = p_world;
   v_light_clip = light_clip_from_world * vec4(p_world, 1.0);
@@ -208,6 +298,16 @@ constexpr const char* ambient_fragment = R"(#version 330 core
 flat in vec3 v_color;
 out vec4 color;
 void main() { color = vec4(v_color, 1.0); }
+)";
+
+// The matched setup of the texture bench: Kd times the filtered texel, nothing lit.
+constexpr const char* textured_fragment = R"(#version 330 core
+flat in vec3 v_color;
+in vec2 v_uv;
+uniform sampler2D albedo;
+uniform bool textured;
+out vec4 color;
+void main() { color = vec4(v_color * (textured ? texture(albedo, v_uv).rgb : vec3(1.0)), 1.0); }
 )";
 
 // Blinn-Phong with a hard (PCF 1: one nearest-texel compare) shadow-map lookup.
@@ -312,6 +412,69 @@ glm::dmat4 fit_light(const Mesh& mesh, glm::dvec3 to_light) {
   glm::dvec3 up = std::abs(to_light.y) > 0.99 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   glm::dmat4 view = glm::lookAt(centre + to_light * (2.0 * r), centre, up);
   return glm::ortho(-r, r, -r, r, r, 3.0 * r) * view;
+}
+
+// An image as RGB8 rows from the bottom, GL's order, so that t is the OBJ's v (v up).
+std::vector<uint8_t> read_rgb_bottom_up(const std::string& path, int& w, int& h) {
+  int channels = 0;
+  uint8_t* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+  if (!data) throw std::runtime_error("cannot read image " + path);
+  std::vector<uint8_t> rgb(size_t(w) * size_t(h) * 3);
+  for (int y = 0; y < h; ++y)
+    std::memcpy(&rgb[size_t(h - 1 - y) * size_t(w) * 3], data + size_t(y) * size_t(w) * 3, size_t(w) * 3);
+  stbi_image_free(data);
+  return rgb;
+}
+
+// A map_Kd texture: repeat in both directions, the filter of --textures. Its mip levels are the files
+// X_1.png, X_2.png, ... beside X_0.png (each side halved, rounding down, to 1 x 1: a complete chain),
+// else glGenerateMipmap's. Anisotropic is trilinear with GL_TEXTURE_MAX_ANISOTROPY at `anisotropy`.
+struct MapTexture {
+  GLuint name = 0;
+  int levels = 1;
+  bool generated = false;  // the chain is glGenerateMipmap's, not the files'
+};
+
+MapTexture make_map_texture(const std::string& path, const std::string& filter, float anisotropy) {
+  MapTexture t;
+  glGenTextures(1, &t.name);
+  glBindTexture(GL_TEXTURE_2D, t.name);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  int w = 0, h = 0;
+  std::vector<uint8_t> rgb = read_rgb_bottom_up(path, w, h);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  const bool mipmapped = filter == "trilinear" || filter == "anisotropic";
+  const std::string suffix = "_0.png";
+  if (mipmapped && path.size() > suffix.size() &&
+      path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    const std::string stem = path.substr(0, path.size() - suffix.size());
+    for (;; ++t.levels) {
+      const std::string next = stem + "_" + std::to_string(t.levels) + ".png";
+      if (!std::ifstream(next)) break;
+      int lw = 0, lh = 0;
+      rgb = read_rgb_bottom_up(next, lw, lh);
+      if (lw != std::max(1, w >> t.levels) || lh != std::max(1, h >> t.levels)) {
+        throw std::runtime_error(next + " is not half the size of the level above");
+      }
+      glTexImage2D(GL_TEXTURE_2D, t.levels, GL_RGB8, lw, lh, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+    }
+  }
+  if (mipmapped && t.levels == 1 && (w > 1 || h > 1)) {
+    glGenerateMipmap(GL_TEXTURE_2D);
+    t.generated = true;
+    for (int s = std::max(w, h); s > 1; s /= 2) ++t.levels;
+  }
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, t.levels - 1);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter == "nearest" ? GL_NEAREST : GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                  filter == "nearest"    ? GL_NEAREST
+                  : filter == "bilinear" ? GL_LINEAR
+                                         : GL_LINEAR_MIPMAP_LINEAR);
+  if (filter == "anisotropic") glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, anisotropy);
+  return t;
 }
 
 // PNG via stb_image_write (the harness is its own program, so it holds its own implementation).
@@ -442,14 +605,19 @@ int run(const Options& o) {
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, n)));
   glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, face)));
   glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, c)));
-  for (GLuint a = 0; a < 4; ++a) glEnableVertexAttribArray(a);
+  glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, uv)));
+  for (GLuint a = 0; a < 5; ++a) glEnableVertexAttribArray(a);
   const GLsizei vertex_count = GLsizei(mesh.vertices.size());
 
   const glm::dvec3 to_light = glm::normalize(o.light_dir);
   const glm::dmat4 clip_from_world = glm::perspective(glm::radians(o.fovy), double(o.width) / o.height, o.near, o.far) *
                                      glm::lookAt(o.eye, o.target, o.up);
   const glm::dmat4 light_clip = fit_light(mesh, to_light);
-  GLuint color_program = link(shadowed ? phong_fragment : o.mode == "ambient" ? ambient_fragment : lambert_fragment);
+  const bool textured = o.mode == "textured";
+  GLuint color_program = link(shadowed              ? phong_fragment
+                              : o.mode == "ambient" ? ambient_fragment
+                              : textured            ? textured_fragment
+                                                    : lambert_fragment);
   glUseProgram(color_program);
   set_mat4(color_program, "clip_from_world", clip_from_world);
   set_mat4(color_program, "light_clip_from_world", light_clip);
@@ -464,6 +632,22 @@ int run(const Options& o) {
     glUseProgram(depth_program);
     set_mat4(depth_program, "clip_from_world", light_clip);
   }
+  // Our anisotropic filter takes at most 16 taps: ask for 16, or the driver's maximum when lower.
+  GLfloat max_anisotropy = 0.0f;
+  glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &max_anisotropy);
+  const float anisotropy = std::min(16.0f, max_anisotropy);
+  std::vector<MapTexture> maps(mesh.materials.size());
+  int generated_chains = 0;
+  if (textured) {
+    glUseProgram(color_program);
+    glUniform1i(glGetUniformLocation(color_program, "albedo"), 0);
+    for (size_t k = 0; k < maps.size(); ++k) {
+      if (mesh.materials[k].map.empty()) continue;
+      maps[k] = make_map_texture(mesh.materials[k].map, o.textures, anisotropy);
+      generated_chains += maps[k].generated;
+    }
+  }
+  const GLint textured_uniform = glGetUniformLocation(color_program, "textured");
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);  // ties keep the first drawn, as roomrender's z-buffer
   glClearColor(float(o.background.r), float(o.background.g), float(o.background.b), 1.0f);
@@ -490,7 +674,17 @@ int run(const Options& o) {
     glUseProgram(color_program);
     glBindFramebuffer(GL_FRAMEBUFFER, msaa.draw);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDrawArrays(GL_TRIANGLES, 0, vertex_count);
+    if (textured) {  // one draw per run of a material, in f-line order (depth ties keep the first)
+      glActiveTexture(GL_TEXTURE0);
+      for (const DrawRun& run : mesh.runs) {
+        const GLuint map = maps[run.material].name;
+        glUniform1i(textured_uniform, map != 0);
+        if (map) glBindTexture(GL_TEXTURE_2D, map);
+        glDrawArrays(GL_TRIANGLES, run.first, run.count);
+      }
+    } else {
+      glDrawArrays(GL_TRIANGLES, 0, vertex_count);
+    }
     if (msaa.draw) {
       glBindFramebuffer(GL_DRAW_FRAMEBUFFER, msaa.resolve);
       glBlitFramebuffer(0, 0, o.width, o.height, 0, 0, o.width, o.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -518,12 +712,15 @@ int run(const Options& o) {
   const char* threads = std::getenv("LP_NUM_THREADS");
   std::printf(
       "{\"peer\":\"osmesa\",\"renderer\":\"%s\",\"gl_version\":\"%s\",\"lp_num_threads\":\"%s\","
-      "\"mode\":\"%s\",\"samples\":%d,\"faces\":%zu,\"triangles\":%zu,\"width\":%d,\"height\":%d,\"shadow_size\":%d,"
+      "\"mode\":\"%s\",\"textures\":\"%s\",\"max_anisotropy\":%g,\"generated_mip_chains\":%d,\"samples\":%d,\"faces\":%"
+      "zu,\"triangles\":%zu,\"width\":%d,\"height\":%d,\"shadow_size\":%d,"
       "\"frames\":%d,\"warmup\":%d,\"setup_ms\":%.3f,\"frame_ms_min\":%.3f,\"frame_ms_median\":%.3f,"
       "\"frame_ms_max\":%.3f}\n",
       reinterpret_cast<const char*>(glGetString(GL_RENDERER)), reinterpret_cast<const char*>(glGetString(GL_VERSION)),
-      threads ? threads : "default", o.mode.c_str(), o.samples, mesh.faces, mesh.vertices.size() / 3, o.width, o.height,
-      shadowed ? o.shadow_size : 0, o.frames, o.warmup, setup_ms, sorted.front(), median, sorted.back());
+      threads ? threads : "default", o.mode.c_str(), textured ? o.textures.c_str() : "none",
+      textured && o.textures == "anisotropic" ? double(anisotropy) : 0.0, generated_chains, o.samples, mesh.faces,
+      mesh.vertices.size() / 3, o.width, o.height, shadowed ? o.shadow_size : 0, o.frames, o.warmup, setup_ms,
+      sorted.front(), median, sorted.back());
   OSMesaDestroyContext(context);
   return 0;
 }
