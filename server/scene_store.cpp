@@ -73,25 +73,26 @@ bool is_stored_image_id(const nlohmann::json& value) {
 
 // Adds to `refs` the stored images named by id in `value`: the "image" of every texture member
 // ("texture", "left_texture", "floor_texture", ...) anywhere in it (floors, rooms, wall sides,
-// solids, piece parts).
-void add_texture_refs(const nlohmann::json& value, std::set<std::string>& refs) {
+// solids, piece parts), but for those always there (the catalogue's).
+void add_texture_refs(const nlohmann::json& value, const ParseLimits& limits, std::set<std::string>& refs) {
   if (value.is_object()) {
     for (const auto& [key, member] : value.items()) {
       if (std::string_view(key).ends_with("texture") && member.is_object() && member.contains("image") &&
           is_stored_image_id(member.at("image"))) {
-        refs.insert(member.at("image").get<std::string>());
+        const std::string& id = member.at("image").get_ref<const std::string&>();
+        if (!(limits.builtin_texture && limits.builtin_texture(id))) refs.insert(id);
       }
-      add_texture_refs(member, refs);
+      add_texture_refs(member, limits, refs);
     }
   } else if (value.is_array()) {
-    for (const nlohmann::json& item : value) add_texture_refs(item, refs);
+    for (const nlohmann::json& item : value) add_texture_refs(item, limits, refs);
   }
 }
 
 // The stored images a scene document's textures name by id, each once, sorted.
-std::vector<std::string> texture_refs_of(const nlohmann::json& document) {
+std::vector<std::string> texture_refs_of(const nlohmann::json& document, const ParseLimits& limits) {
   std::set<std::string> refs;
-  add_texture_refs(document, refs);
+  add_texture_refs(document, limits, refs);
   return {refs.begin(), refs.end()};
 }
 
@@ -138,7 +139,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
     }
   }
   out->mesh_refs.assign(refs.begin(), refs.end());
-  out->texture_refs = texture_refs_of(document);
+  out->texture_refs = texture_refs_of(document, limits);
   return out;
 }
 
@@ -152,7 +153,7 @@ StoredDocument scene_document(const StoredScene& scene) {
 
 StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits) {
   const nlohmann::json document = parse_json_text(text, limits);
-  return {hash_hex(text), text, refs_of(document, limits), texture_refs_of(document)};
+  return {hash_hex(text), text, refs_of(document, limits), texture_refs_of(document, limits)};
 }
 
 std::string static_id_of(const std::string& text, const ParseLimits& limits) {
