@@ -1,6 +1,6 @@
 // Reading the furniture catalogue (see catalogue.hpp): catalogue.json's entries, each model through
-// import_furniture_model, each part's mesh prepared as a stored mesh, and the answer of
-// GET /v1/catalogue written once.
+// import_furniture_model, each part's mesh prepared as a stored mesh, textures.json's images decoded
+// as stored images, and the answers of GET /v1/catalogue and GET /v1/catalogue/textures written once.
 #include "server/catalogue.hpp"
 
 #include "render/core/hash.hpp"
@@ -75,6 +75,70 @@ std::string answer_of(const Catalogue& catalogue) {
       .dump();
 }
 
+// One texture: its image decoded with the service's caps, as POST /v1/textures would store it.
+CatalogueTexture read_texture(const json& entry, const fs::path& dir, const ParseLimits& limits, Catalogue& catalogue) {
+  CatalogueTexture texture;
+  texture.catalog_id = entry.at("catalog_id").get<std::string>();
+  texture.name = entry.at("name").get<std::string>();
+  texture.category = entry.at("category").get<std::string>();
+  texture.width_cm = entry.at("width").get<double>();
+  texture.height_cm = entry.at("height").get<double>();
+  const fs::path file = dir / entry.at("image").get<std::string>();
+  const std::optional<std::string> bytes = read_file(file);
+  if (!bytes) throw std::runtime_error("cannot read " + file.string());
+  std::shared_ptr<const StoredTexture> image = read_stored_texture(*bytes, limits);
+  texture.id = image->id;
+  catalogue.images.emplace(image->id, std::move(image));
+  return texture;
+}
+
+std::string textures_answer_of(const Catalogue& catalogue, const json& document) {
+  json textures = json::array();
+  for (const CatalogueTexture& texture : catalogue.textures) {
+    const StoredTexture& image = *catalogue.images.at(texture.id);
+    textures.push_back({{"id", texture.id},
+                        {"catalog_id", texture.catalog_id},
+                        {"name", texture.name},
+                        {"category", texture.category},
+                        {"size_cm", {{"width", texture.width_cm}, {"height", texture.height_cm}}},
+                        {"pixels", {{"width", image.image->width()}, {"height", image.image->height()}}},
+                        {"url", "/v1/textures/" + texture.id}});
+  }
+  return json{{"textures", std::move(textures)},
+              {"licence", document.value("licence", "")},
+              {"attribution", document.value("attribution", "")}}
+      .dump();
+}
+
+std::string quoted_hash(const std::string& text) {
+  // Appended, not concatenated: GCC 12 warns of a memcpy overlap in "\"" + std::string (-Wrestrict).
+  std::string out;
+  out.append(1, '"').append(hash_hex(text)).append(1, '"');
+  return out;
+}
+
+void read_textures(const fs::path& dir, const ParseLimits& limits, Catalogue& catalogue) {
+  const fs::path index = dir / "textures.json";
+  json document = json::object();
+  if (const std::optional<std::string> text = dir.empty() ? std::nullopt : read_file(index)) {
+    try {
+      document = json::parse(*text);
+      for (const json& entry : document.at("textures")) {
+        try {
+          catalogue.textures.push_back(read_texture(entry, dir, limits, catalogue));
+        } catch (const std::exception& e) {
+          catalogue.problems.push_back("catalogue texture " + entry.value("catalog_id", std::string("?")) +
+                                       " is left out: " + e.what());
+        }
+      }
+    } catch (const json::exception& e) {
+      throw std::runtime_error(index.string() + " does not read: " + e.what());
+    }
+  }
+  catalogue.textures_answer = textures_answer_of(catalogue, document);
+  catalogue.textures_etag = quoted_hash(catalogue.textures_answer);
+}
+
 }  // namespace
 
 const CatalogueItem* Catalogue::find(const std::string& id) const {
@@ -106,8 +170,8 @@ std::shared_ptr<const Catalogue> load_catalogue(const fs::path& dir, const Parse
     }
   }
   catalogue->answer = answer_of(*catalogue);
-  // Appended, not concatenated: GCC 12 warns of a memcpy overlap in "\"" + std::string (-Wrestrict).
-  catalogue->etag.append(1, '"').append(hash_hex(catalogue->answer)).append(1, '"');
+  catalogue->etag = quoted_hash(catalogue->answer);
+  read_textures(dir, limits, *catalogue);
   return catalogue;
 }
 

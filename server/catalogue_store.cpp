@@ -1,35 +1,34 @@
-// The catalogue's meshes in front of the mesh store (see catalogue_store.hpp).
+// The parse limits that resolve the catalogue's meshes and images (see catalogue_store.hpp).
 #include "server/catalogue_store.hpp"
 
 #include <mutex>
 
 namespace rr::server {
 
-CatalogueMeshes::PutResult CatalogueMeshes::put(const StoredDocument& document, const std::string& owner) {
-  if (catalogue_->meshes.contains(document.id)) return PutResult::existed;
-  return store_->put(document, owner);
+namespace {
+
+// The resolvers and built-in tests of `limits` over the catalogue `get` returns.
+template <class Get>
+ParseLimits resolving(ParseLimits limits, Get get) {
+  limits.resolve_mesh = [get](const std::string& id) -> std::shared_ptr<const MeshData> {
+    const Catalogue& catalogue = get();
+    auto it = catalogue.meshes.find(id);
+    return it == catalogue.meshes.end() ? nullptr : it->second->mesh;
+  };
+  limits.builtin_mesh = [get](const std::string& id) { return get().meshes.contains(id); };
+  limits.resolve_texture = [get](const std::string& id) -> std::shared_ptr<const TextureImage> {
+    const Catalogue& catalogue = get();
+    auto it = catalogue.images.find(id);
+    return it == catalogue.images.end() ? nullptr : it->second->image;
+  };
+  limits.builtin_texture = [get](const std::string& id) { return get().images.contains(id); };
+  return limits;
 }
 
-std::optional<std::string> CatalogueMeshes::find(const std::string& id, bool with_text) {
-  if (auto it = catalogue_->meshes.find(id); it != catalogue_->meshes.end()) {
-    return with_text ? it->second->text : std::string();
-  }
-  return store_->find(id, with_text);
-}
-
-CatalogueMeshes::ReleaseResult CatalogueMeshes::release(const std::string& id,
-                                                        const std::optional<std::string>& owner) {
-  if (catalogue_->meshes.contains(id)) return ReleaseResult::read_only;
-  return store_->release(id, owner);
-}
+}  // namespace
 
 ParseLimits catalogue_limits(ParseLimits limits, std::shared_ptr<const Catalogue> catalogue) {
-  limits.resolve_mesh = [catalogue](const std::string& id) -> std::shared_ptr<const MeshData> {
-    auto it = catalogue->meshes.find(id);
-    return it == catalogue->meshes.end() ? nullptr : it->second->mesh;
-  };
-  limits.builtin_mesh = [catalogue](const std::string& id) { return catalogue->meshes.contains(id); };
-  return limits;
+  return resolving(std::move(limits), [catalogue]() -> const Catalogue& { return *catalogue; });
 }
 
 ParseLimits lazy_catalogue_limits(ParseLimits limits, const std::filesystem::path& dir) {
@@ -42,13 +41,7 @@ ParseLimits lazy_catalogue_limits(ParseLimits limits, const std::filesystem::pat
     std::call_once(lazy->once, [&] { lazy->catalogue = load_catalogue(dir, base); });
     return *lazy->catalogue;
   };
-  limits.resolve_mesh = [get](const std::string& id) -> std::shared_ptr<const MeshData> {
-    const Catalogue& catalogue = get();
-    auto it = catalogue.meshes.find(id);
-    return it == catalogue.meshes.end() ? nullptr : it->second->mesh;
-  };
-  limits.builtin_mesh = [get](const std::string& id) { return get().meshes.contains(id); };
-  return limits;
+  return resolving(std::move(limits), get);
 }
 
 }  // namespace rr::server

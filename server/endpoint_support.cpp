@@ -72,7 +72,8 @@ ServerConfig with_catalogue(ServerConfig config, const std::shared_ptr<const Cat
 }
 
 Stores with_catalogue(Stores stores, const std::shared_ptr<const Catalogue>& catalogue) {
-  stores.meshes = std::make_unique<CatalogueMeshes>(std::move(stores.meshes), catalogue);
+  stores.meshes = std::make_unique<CatalogueMeshes>(std::move(stores.meshes), catalogue, catalogue->meshes);
+  stores.textures = std::make_unique<CatalogueImages>(std::move(stores.textures), catalogue, catalogue->images);
   return stores;
 }
 

@@ -37,7 +37,8 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
       limits_(c.limits),
       bsp(pool_, c.bsp_cache_entries),
       shadow(pool_, CachePool::unbounded, c.shadow_cache_bytes) {
-  // The configuration's own resolver (the catalogue's meshes) first: what it holds is never stored.
+  // The configuration's own resolvers (the catalogue's meshes and images) first: what they hold is
+  // never stored.
   limits_.resolve_mesh = [this,
                           first = c.limits.resolve_mesh](const std::string& id) -> std::shared_ptr<const MeshData> {
     if (first) {
@@ -46,7 +47,11 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
     auto stored = find<StoredMesh>(id);
     return stored ? stored->mesh : nullptr;
   };
-  limits_.resolve_texture = [this](const std::string& id) -> std::shared_ptr<const TextureImage> {
+  limits_.resolve_texture = [this, first = c.limits.resolve_texture](
+                                const std::string& id) -> std::shared_ptr<const TextureImage> {
+    if (first) {
+      if (auto image = first(id)) return image;
+    }
     auto stored = find<StoredTexture>(id);
     return stored ? stored->image : nullptr;
   };

@@ -72,17 +72,21 @@ bool is_stored_image_id(const nlohmann::json& value) {
   return text.size() == 16 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
 }
 
-// Calls visit(texture) for every texture member ("texture", "left_texture", "floor_texture", ...)
-// anywhere in `value` (floors, rooms, wall sides, solids, piece parts) that is an object with an "image".
-template <class Json, class Visit>
-void visit_textures(Json& value, Visit&& visit) {
+// Adds to `refs` the stored images named by id in `value`: the "image" of every texture member
+// ("texture", "left_texture", "floor_texture", ...) anywhere in it (floors, rooms, wall sides,
+// solids, piece parts), but for those always there (the catalogue's).
+void add_texture_refs(const nlohmann::json& value, const ParseLimits& limits, std::set<std::string>& refs) {
   if (value.is_object()) {
-    for (auto it = value.begin(); it != value.end(); ++it) {
-      if (std::string_view(it.key()).ends_with("texture") && it->is_object() && it->contains("image")) visit(*it);
-      visit_textures(*it, visit);
+    for (const auto& [key, member] : value.items()) {
+      if (std::string_view(key).ends_with("texture") && member.is_object() && member.contains("image") &&
+          is_stored_image_id(member.at("image"))) {
+        const std::string& id = member.at("image").get_ref<const std::string&>();
+        if (!(limits.builtin_texture && limits.builtin_texture(id))) refs.insert(id);
+      }
+      add_texture_refs(member, limits, refs);
     }
   } else if (value.is_array()) {
-    for (auto& item : value) visit_textures(item, visit);
+    for (const nlohmann::json& item : value) add_texture_refs(item, limits, refs);
   }
 }
 
@@ -109,11 +113,9 @@ void for_each_texture(nlohmann::json& value, const std::string& pointer,
 namespace {
 
 // The stored images a scene document's textures name by id, each once, sorted.
-std::vector<std::string> texture_refs_of(const nlohmann::json& document) {
+std::vector<std::string> texture_refs_of(const nlohmann::json& document, const ParseLimits& limits) {
   std::set<std::string> refs;
-  visit_textures(document, [&](const nlohmann::json& texture) {
-    if (is_stored_image_id(texture.at("image"))) refs.insert(texture.at("image").get<std::string>());
-  });
+  add_texture_refs(document, limits, refs);
   return {refs.begin(), refs.end()};
 }
 
@@ -160,7 +162,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
     }
   }
   out->mesh_refs.assign(refs.begin(), refs.end());
-  out->texture_refs = texture_refs_of(document);
+  out->texture_refs = texture_refs_of(document, limits);
   return out;
 }
 
@@ -174,7 +176,7 @@ StoredDocument scene_document(const StoredScene& scene) {
 
 StoredDocument read_scene_document(const std::string& text, const ParseLimits& limits) {
   const nlohmann::json document = parse_json_text(text, limits);
-  return {hash_hex(text), text, refs_of(document, limits), texture_refs_of(document)};
+  return {hash_hex(text), text, refs_of(document, limits), texture_refs_of(document, limits)};
 }
 
 std::string static_id_of(const std::string& text, const ParseLimits& limits) {

@@ -228,7 +228,7 @@ const std::vector<ServerSetting>& server_settings() {
     {"--examples-dir", text(&C::examples_dir, "the source tree's examples"), "", "directory of example requests"},
     {"--schemas-dir", text(&C::schemas_dir, "the source tree's schemas"), "", "directory of JSON Schemas and openapi.json"},
     {"--catalogue-dir", text(&C::catalogue_dir, "the source tree's catalogue"), "",
-     "directory of the furniture catalogue (catalogue.json, models/, icons/); none there: an empty catalogue"},
+     "directory of the furniture and texture catalogues (catalogue.json, models/, icons/, textures.json, textures/); none there: an empty catalogue"},
     {"--max-connections", integer(&C::max_connections, 1, 1000000), "",
      "open client connections; when full the oldest idle one, else the oldest unfinished head, is closed"},
     {"--max-idle-connections", integer(&C::max_idle_connections, 0, 1000000), "",

@@ -42,12 +42,15 @@ void handle_get_texture(ServiceState& state, const Request& req, Response& res, 
 }
 
 // With tokens, a delete drops the caller's reference only; the image goes with the last one, unless
-// a stored scene's texture names it (409, naming a few of those scenes). No image ships with the
-// server, so none is read-only.
+// a stored scene's texture names it (409, naming a few of those scenes). The texture catalogue's
+// images are read-only (403).
 void handle_delete_texture(ServiceState& state, const Request&, Response& res, const RouteMatch& match) {
-  release_and_answer<StoredTexture>(state, res, match.params.at(0),
-                                    {"image", "used by stored scene", "used by the textures of stored scenes",
-                                     "An image stays while a stored scene uses it."});
+  release_and_answer<StoredTexture>(
+      state, res, match.params.at(0),
+      {"image", "used by stored scene", "used by the textures of stored scenes",
+       "An image stays while a stored scene uses it.",
+       " is part of the server's texture catalogue (GET /v1/catalogue/textures): it is read-only and stays for "
+       "every scene that uses it."});
 }
 
 }  // namespace

@@ -46,6 +46,9 @@ struct ParseLimits {
   // Finds a stored image for a texture's "image" given as a 16-hex-digit id (nullptr: none). Unset,
   // every id is refused (422).
   std::function<std::shared_ptr<const TextureImage>(const std::string& id)> resolve_texture;
+  // Whether an image id names an image that is always there (the server's texture catalogue): a
+  // stored scene naming it depends on no stored document. Unset: none is.
+  std::function<bool(const std::string& id)> builtin_texture;
 };
 
 // Parses JSON text, rejecting what nlohmann would accept but we will not: nesting deeper than

@@ -289,13 +289,14 @@ const char* kHome = R"(<home><wall id='w' xStart='0' yStart='0' xEnd='400' yEnd=
 const char* kChair = "mtllib chair.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3 4\n";
 
 // A room whose floor names the default catalogue's red tiles (no image in the archive: the bundled
-// one is used), a wall whose inner (right) side carries the archive's entry "0", Sweet Home 3D's
-// small bricks, and a piece with the blue tiles over its model, seen from inside. Stored with
+// one is used), a wall whose inner (right) side carries the archive's entry "0" (a PNG of noise),
+// and a piece with the blue tiles over its model, seen from inside. Stored with
 // store=1, the scene names each image by the id of its bytes, stored once in the image store; rendered,
 // it shows far more colours than the same home without its <texture> elements.
 TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndRenderTextured) {
   const fs::path catalogue = rr::testing::source_dir() / "catalogue/textures";
-  const std::string bricks = rr::testing::read_file(catalogue / "smallBricks.jpg");
+  // The archive's own image: not one of the catalogue's, which the server holds from the start.
+  const std::string noise = rr::encode_png(rr::testing::random_image(64, 64, 11));
   auto home = [](const std::string& floor, const std::string& wall, const std::string& piece) {
     return "<home wallHeight='250'><observerCamera attribute='observerCamera' x='200' y='280' z='160' "
            "yaw='3.1415927' pitch='0.25' fieldOfView='1.2'/>\n"
@@ -348,7 +349,7 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndR
   };
   const size_t plain = distinct_colours(home("", "", ""), {}, nullptr);
   json scene;
-  const size_t textured = distinct_colours(home(floor, wall, piece), {{"0", bricks}}, &scene);
+  const size_t textured = distinct_colours(home(floor, wall, piece), {{"0", noise}}, &scene);
   std::printf("[ textures ] distinct colours: %zu untextured, %zu textured; stored scene %zu B\n", plain, textured,
               scene.dump().size());
   EXPECT_GT(plain, 0u);
@@ -358,7 +359,7 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndR
   EXPECT_EQ(text.find("data:"), std::string::npos);
   std::map<std::string, std::string> images = {
       {"/rooms/0/floor_texture/image", rr::testing::read_file(catalogue / "redTiles.jpg")},
-      {"/walls/0/right_texture/image", bricks},
+      {"/walls/0/right_texture/image", noise},
       {"/solids/0/parts/0/texture/image", rr::testing::read_file(catalogue / "blueTiles.jpg")}};
   std::set<std::string> ids;
   for (const auto& [pointer, bytes] : images) {
@@ -373,10 +374,13 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndR
     EXPECT_TRUE(served->body == bytes) << pointer;
   }
   EXPECT_EQ(ids.size(), 3u);
-  // The stored images stay while the scene names them.
-  auto refused = client.Delete(("/v1/textures/" + *ids.begin()).c_str());
+  // The archive's image stays while the scene names it; the catalogue's are read-only.
+  auto refused = client.Delete(("/v1/textures/" + rr::hash_hex(noise)).c_str());
   ASSERT_TRUE(refused);
   EXPECT_EQ(refused->status, 409);
+  auto catalogue_image = client.Delete(("/v1/textures/" + rr::hash_hex(images.begin()->second)).c_str());
+  ASSERT_TRUE(catalogue_image);
+  EXPECT_EQ(catalogue_image->status, 403);
 }
 
 // The fireplace room's OBJ with its .mtl and the images its map_Kd lines name, zipped as a user

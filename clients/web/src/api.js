@@ -121,6 +121,24 @@ export class Api {
     return this.has("/v1/catalogue", "get") ? this.getJson("/v1/catalogue") : null;
   }
 
+  // GET /v1/catalogue/textures: the texture catalogue ({textures: [{id, catalog_id, name, category,
+  // size_cm, pixels, url}], attribution}), or null from a server without one.
+  async textureCatalogue() {
+    return this.has("/v1/catalogue/textures", "get") ? this.getJson("/v1/catalogue/textures") : null;
+  }
+
+  // POST /v1/textures: stores a PNG or JPEG file -> {id, width, height, ...}.
+  async storeTexture(file, { signal } = {}) {
+    const res = await fetch(this.url("/v1/textures"), {
+      method: "POST",
+      headers: this.authorized({ "Content-Type": file.type || "application/octet-stream", Accept: "application/json" }),
+      body: file,
+      signal,
+    });
+    if (!res.ok) throw scopedError(res.status, await problemOf(res));
+    return res.json();
+  }
+
   async examples() {
     return (await this.getJson("/examples/")).examples || [];
   }

@@ -14,6 +14,7 @@ import { tools, toolMethods } from "./designer_tools.js";
 import { commandMethods } from "./designer_commands.js";
 import { at, setAt, clone } from "./designer_util.js";
 import { catalogueEntries, categories } from "./catalogue.js";
+import { paletteEntries, uploadedEntry } from "./textures.js";
 import { bodyRadiusM } from "./visitor.js";
 import { sceneLevels, levelsToDraw, levelShown, levelLabel } from "./levels.js";
 
@@ -37,7 +38,8 @@ export const newRequest = () => ({
 
 export class Designer {
   constructor(editor, { onEdited, onStatus, onSave = null, onReplaced = () => {}, autosaveText = null,
-    onDragPreview = () => {}, frameCamera = async () => null, busy = () => false, onCameraMoved = onEdited }) {
+    onDragPreview = () => {}, frameCamera = async () => null, busy = () => false, onCameraMoved = onEdited,
+    imageUrl = (id) => `/v1/textures/${id}` }) {
     this.editor = editor;
     this.onEdited = onEdited;      // a designer edit was applied: render
     this.onStatus = onStatus;
@@ -49,9 +51,12 @@ export class Designer {
     this.onCameraMoved = onCameraMoved;  // the camera moved (walk, framing): render
     this.busy = busy;              // true while a gesture goes on: the camera's text waits for its end
     this.plan = new PlanView($("plan"));
+    this.plan.imageUrl = imageUrl;
     this.tool = "select";
     this.item = "box";
     this.catalogue = new Map();    // the server's catalogue entries by id (catalogue.js)
+    this.textures = new Map();     // the palette's textures by stored image id (textures.js)
+    this.textureId = null;         // the texture the Texture tool puts on (null: none picked yet)
     this.selection = null;
     this.level = null;             // the level tab chosen (levels.js), null: All
     this.chain = [];               // wall tool: points clicked so far
@@ -394,6 +399,7 @@ export class Designer {
     $("visitor-panel").hidden = tool !== "walk";
     for (const b of document.querySelectorAll("[data-tool]")) b.setAttribute("aria-pressed", String(b.dataset.tool === tool));
     $("catalogue").classList.toggle("inactive", tool !== "furniture");
+    $("texture-palette").classList.toggle("inactive", tool !== "texture");
     document.body.dataset.tool = tool;
     if (tool !== previous) tools[tool].enter?.(this);
     this.redraw();
@@ -435,6 +441,52 @@ export class Designer {
     };
     select.onchange = show;
     show();
+  }
+
+  // The texture palette: a button per texture of the server's catalogue (GET /v1/catalogue/textures,
+  // or null), and an upload when `upload` (async (file) -> POST /v1/textures's answer) is given; an
+  // uploaded image joins the palette, chosen. Choosing one takes up the Texture tool.
+  setTextures(answer, upload) {
+    for (const e of paletteEntries(answer)) this.textures.set(e.id, e);
+    $("texture-palette").hidden = !this.textures.size && !upload;
+    $("texture-upload").closest("label").hidden = !upload;
+    const show = () => {
+      $("texture-items").replaceChildren(...[...this.textures.values()].map((e) => {
+        const b = document.createElement("button");
+        b.type = "button";
+        b.dataset.texture = e.id;
+        b.title = `${e.name}, a tile ${Math.round(e.widthM * 1000) / 10} × ${Math.round(e.heightM * 1000) / 10} cm`;
+        b.setAttribute("aria-label", e.name);
+        b.setAttribute("aria-pressed", String(e.id === this.textureId));
+        const img = document.createElement("img");
+        img.src = this.plan.imageUrl(e.id);
+        img.alt = "";
+        b.append(img);
+        b.addEventListener("click", () => this.pickTexture(e.id));
+        return b;
+      }));
+    };
+    this.showTextures = show;
+    $("texture-upload").onchange = async (event) => {
+      const file = event.target.files?.[0];
+      event.target.value = "";
+      if (!file || !upload) return;
+      try {
+        const stored = await upload(file);
+        this.textures.set(stored.id, uploadedEntry(stored, file.name));
+        this.pickTexture(stored.id);
+        this.onStatus(`${file.name} is stored as image ${stored.id}: click a surface in the plan to put it on.`);
+      } catch (error) {
+        this.onStatus(`${file.name} was not stored: ${error.message}`);
+      }
+    };
+    show();
+  }
+
+  pickTexture(id) {
+    this.textureId = id;
+    this.showTextures?.();
+    this.setTool("texture");
   }
 
   select(pointer) {

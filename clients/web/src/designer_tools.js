@@ -9,6 +9,7 @@ import { snapWallPoint, snapToGrid, wallEnds, hitTest, projectOnWall, openingAt,
 import { at, setAt, clone } from "./designer_util.js";
 import { roomAt } from "./rooms.js";
 import { onLevel } from "./levels.js";
+import { paintTarget, textureOf } from "./textures.js";
 
 const $ = (id) => document.getElementById(id);
 const snapPx = 10;  // wall ends within this many pixels catch the pointer
@@ -45,6 +46,7 @@ export const tools = {
   door: { shortcut: "d", down: (d, p, e) => d.clickOpening(p, e) },
   window: { shortcut: "n", down: (d, p, e) => d.clickOpening(p, e) },
   furniture: { shortcut: "f", down: (d, p) => d.dropFurniture(p) },
+  texture: { shortcut: "t", down: (d, p, e) => d.paintAt(p, e) },
   light: { shortcut: "l", down: (d, p, e) => d.clickLight(p, e) },
   walk: {
     shortcut: "k",
@@ -313,6 +315,24 @@ export const toolMethods = {
       const solid = on ? { ...made, level: on.level, base: on.elevation + (made.base ?? 0) } : made;
       r.scene.solids.push(solid);
       this.selection = `/scene/solids/${r.scene.solids.length - 1}`;
+    });
+  },
+
+  // Texture: a click puts the palette's texture on the surface under it (textures.js, paintTarget):
+  // a wall's side, a solid, a room's floor or the floor grid; the texture names the stored image by id.
+  paintAt(p, e) {
+    const entry = this.textures.get(this.textureId);
+    if (!entry) {
+      this.refuse("Pick a texture in the palette first.", e);
+      return;
+    }
+    const target = paintTarget(this.lastScene, p, this.tolerance(), this.level);
+    if (!target) {
+      this.refuse("No surface here: click a wall side, a room, the floor or a solid.", e);
+      return;
+    }
+    this.edit((r) => {
+      at(r, target.pointer)[target.member] = textureOf(entry);
     });
   },
 

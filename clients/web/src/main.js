@@ -364,6 +364,7 @@ const designer = new Designer(editor, {
   onCameraMoved: ({ preview = false } = {}) => render({ moved: true, preview }),
   busy: () => $("views").classList.contains("dragging") || Boolean(designer.drag),
   onStatus: setStatus,
+  imageUrl: (id) => api.url(`/v1/textures/${id}`),
   onSave: () => sharing.save().then((id) => {
     if (id) yourScenes.refreshIfOpen();
     return id;
@@ -531,6 +532,7 @@ async function start() {
   controls.setPipelines(pipelines);
   controls.setImportSupported(api.has("/v1/import/{format}"));
   designer.setCatalogue(await api.catalogue().catch(() => null));
+  designer.setTextures(await api.textureCatalogue().catch(() => null), api.has("/v1/textures") ? (file) => api.storeTexture(file) : null);
   if (schemas) {
     editor.setChecker(sharing.filterChecker(makeRequestChecker(...schemas)));
     $("check-note").textContent = "Checked against the server's schema as you type; Ctrl+Enter renders.";

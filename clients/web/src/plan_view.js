@@ -5,6 +5,7 @@
 // the SVG's bounding box plus that.
 import { onLevel } from "./levels.js";
 import { polygonArea } from "./rooms.js";
+import { storedImageId, wallSideStrip } from "./textures.js";
 import { wallPolygon, openingPolygon, solidFootprint, solidAnchor, sceneBounds, projectOnWall, wallLength, resizeHandles } from "./plan_math.js";
 
 const NS = "http://www.w3.org/2000/svg";
@@ -40,6 +41,23 @@ export class PlanView {
     this.ox = 40;   // SVG pixel of plan x = 0
     this.oy = 40;   // SVG pixel of plan z = 0
     this.visitor = null;  // {radiusM} in walk mode: the camera is drawn as the visitor
+    this.imageUrl = (id) => `/v1/textures/${id}`;  // where a stored image is fetched from
+  }
+
+  // The fill of a surface with `texture` (a scene texture member): a pattern of its stored image, one
+  // tile its size in metres, from the plan's origin; `fallback` when it names no stored image.
+  textureFill(texture, fallback) {
+    const id = storedImageId(texture);
+    if (!id) return fallback;
+    const w = (texture.width ?? 1) * this.s;
+    const h = (texture.height ?? 1) * this.s;
+    const key = `texture-${id}-${w.toFixed(2)}-${h.toFixed(2)}`.replace(/\./g, "_");
+    if (!this.patterns.has(key)) {
+      const pattern = el("pattern", { id: key, patternUnits: "userSpaceOnUse", x: this.ox, y: this.oy, width: w, height: h }, this.defs);
+      el("image", { href: this.imageUrl(id), width: w, height: h, preserveAspectRatio: "none" }, pattern);
+      this.patterns.add(key);
+    }
+    return `url(#${key})`;
   }
 
   size() {
@@ -84,6 +102,8 @@ export class PlanView {
   draw(scene, { selection = null, marks = new Map(), clashes = [], preview = null, camera = null, level = null } = {}) {
     const svg = this.svg;
     svg.replaceChildren();
+    this.defs = el("defs", {}, svg);
+    this.patterns = new Set();
     const { w, h } = this.size();
     this.drawGrid(w, h);
     const decorate = (node, pointer) => {
@@ -101,19 +121,28 @@ export class PlanView {
       const o = f.origin || [0, 0];
       const c = f.cell_size ?? 1;
       const [x, y] = this.toSvg(o);
-      decorate(el("rect", { x, y, width: f.cells[0] * c * this.s, height: f.cells[1] * c * this.s, class: "floor" }, svg), "/scene/floor");
+      const fill = this.textureFill(f.texture, null);  // over the floor's fill in the style sheet
+      decorate(el("rect", { x, y, width: f.cells[0] * c * this.s, height: f.cells[1] * c * this.s, class: "floor",
+        style: fill ? `fill: ${fill}` : null }, svg), "/scene/floor");
     }
     // Rooms' floor polygons, under everything else and not selectable (the panel edits no room); their
     // names and areas are written over the walls and furniture.
     const labels = [];
     for (const room of scene.rooms || []) {
       if (!Array.isArray(room?.points) || room.points.some((q) => !Array.isArray(q)) || !onLevel(room, level)) continue;
-      el("polygon", { points: this.points(room.points), class: "room", fill: colorText(room.floor_color, "#d9d4c7") }, svg);
+      el("polygon", { points: this.points(room.points), class: "room",
+        fill: this.textureFill(room.floor_texture, colorText(room.floor_color, "#d9d4c7")) }, svg);
       if (room.points.length >= 3) labels.push(room);
     }
     (scene.walls || []).forEach((wall, i) => {
       if (!Array.isArray(wall.start) || !Array.isArray(wall.end) || !onLevel(wall, level)) return;
       decorate(el("polygon", { points: this.points(wallPolygon(wall)), class: "wall" }, svg), `/scene/walls/${i}`);
+      // A textured side: its half of the wall filled with the image.
+      for (const side of ["left", "right"]) {
+        const fill = this.textureFill(wall[`${side}_texture`], null);
+        const strip = fill && wallSideStrip(wall, side);
+        if (strip) el("polygon", { points: this.points(strip), class: "wall-side-texture", fill, "data-side": side }, svg);
+      }
       (wall.openings || []).forEach((o, k) => {
         decorate(el("polygon", { points: this.points(openingPolygon(wall, o)), class: `opening ${o.type}` }, svg),
           `/scene/walls/${i}/openings/${k}`);
@@ -136,7 +165,7 @@ export class PlanView {
         return;  // half-typed in the editor
       }
       // A piece without a colour of its own shows its first part's.
-      const fill = colorText(s.color ?? (Array.isArray(s.parts) ? s.parts[0]?.color : undefined), "#b3b3b3");
+      const fill = this.textureFill(s.texture, colorText(s.color ?? (Array.isArray(s.parts) ? s.parts[0]?.color : undefined), "#b3b3b3"));
       const node = f.circle
         ? el("circle", { cx: this.toSvg(f.circle.center)[0], cy: this.toSvg(f.circle.center)[1], r: f.circle.radius * this.s, class: "solid", fill }, svg)
         : el("polygon", { points: this.points(f.polygon), class: "solid", fill }, svg);

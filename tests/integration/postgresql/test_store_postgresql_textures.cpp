@@ -1,7 +1,7 @@
 // Stored images in the shared store (--store postgresql://...): the encoded bytes in rr_textures as
 // bytea, read back byte-identical through another server after the first has gone; a stored scene
 // whose texture names the image pins it through rr_texture_placements (409 until the scene is
-// deleted), and the fill row counts its bytes.
+// deleted), and the fill row counts its bytes; a scene naming a catalogue image pins nothing.
 #include "postgres_cluster.hpp"
 #include "support/image_bytes.hpp"
 
@@ -60,6 +60,25 @@ TEST_F(PostgresStoreTest, StoredImagesReadBackByteIdenticalAndStayWhileAStoredSc
   const json unknown =
       expect_problem(second.client().Post("/v1/scenes", scene_textured_by(id).dump(), "application/json"), 422);
   EXPECT_EQ(unknown.at("errors").at(0).at("pointer"), "/floor/texture/image") << unknown.dump();
+}
+
+// A scene naming an image of the texture catalogue (GET /v1/catalogue/textures) is stored without a
+// row of rr_textures or rr_texture_placements: the server holds the image itself, read-only.
+TEST_F(PostgresStoreTest, ASceneNamingACatalogueImageIsStoredWithoutPinningIt) {
+  TestServer server(config());
+  const json catalogue = json::parse(server.client().Get("/v1/catalogue/textures")->body);
+  ASSERT_FALSE(catalogue.at("textures").empty());
+  const std::string id = catalogue["textures"][0]["id"];
+  auto stored = server.client().Post("/v1/scenes", scene_textured_by(id).dump(), "application/json");
+  ASSERT_TRUE(stored);
+  ASSERT_EQ(stored->status, 201) << stored->body;
+  const std::string scene_id = json::parse(stored->body).at("id");
+  EXPECT_EQ(sql("SELECT count(*) FROM rr_textures"), "0");
+  EXPECT_EQ(sql("SELECT count(*) FROM rr_texture_placements"), "0");
+  auto drawn = server.client().Get(("/v1/scenes/" + scene_id + "/render.png?width=64&height=48").c_str());
+  ASSERT_TRUE(drawn);
+  EXPECT_EQ(drawn->status, 200) << drawn->body;
+  expect_problem(server.client().Delete(("/v1/textures/" + id).c_str()), 403);
 }
 
 // A database of the schema before stored images (version 1: scenes and meshes only) is migrated
