@@ -249,6 +249,28 @@ else
   fail "Sweet Home 3D catalogue textures: $jpegs JPEGs, PNGs of $textured_bytes and $plain_bytes bytes: $(head -c 300 "$work/textured.png")"
 fi
 
+# The texture catalogue from the image's copy, and the same textured home imported with store=1:
+# its scene names the catalogue's images by id (no data: URI), and the stored scene renders textured.
+got=$(fetch /v1/catalogue/textures)
+textures=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["textures"]))' "$work/out" 2>/dev/null || echo 0)
+[ "${got%% *}" = 200 ] && [ "$textures" -eq 26 ] && pass "GET /v1/catalogue/textures -> $got, $textures images" ||
+  fail "GET /v1/catalogue/textures -> $got, $textures images: $(head -c 300 "$work/out")"
+got=$(fetch '/v1/import/sh3d?store=1&width=320&height=240' -H 'Content-Type: application/xml' \
+  --data-binary @"$work/textured.xml")
+location=$(json_field "$work/out" location || true)
+fetch "$location" >/dev/null
+ids=$(grep -o '"image":"[0-9a-f]\{16\}"' "$work/out" | sort -u | wc -l)
+uris=$(grep -c 'data:' "$work/out" || true)
+fetch "$location/render.png?width=320&height=240" >/dev/null
+cp "$work/out" "$work/stored-textured.png"
+stored_bytes=$(stat -c %s "$work/stored-textured.png")
+if [ "${got%% *}" = 201 ] && [ "$ids" -eq 2 ] && [ "$uris" -eq 0 ] && is_png "$work/stored-textured.png" &&
+  [ "$stored_bytes" -gt $((4 * plain_bytes)) ]; then
+  pass "textured home stored with store=1 -> $got, $ids images by id, rendered: $stored_bytes-byte PNG"
+else
+  fail "textured home with store=1 -> $got, $ids ids, $uris data: URIs, $stored_bytes-byte PNG: $(head -c 300 "$work/out")"
+fi
+
 # A unit cube as a Wavefront OBJ, imported and stored in one request.
 printf 'v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\n%s\n' \
   'f 1 2 3 4
