@@ -40,12 +40,12 @@ struct Catalogue {
   std::vector<CatalogueItem> items;                                 // in the catalogue file's order
   std::map<std::string, std::shared_ptr<const StoredMesh>> meshes;  // by id: every part's mesh
   std::string attribution, licence;
-  std::string answer;                 // the GET /v1/catalogue body, made once
-  std::string etag;                   // its content hash, quoted
-  std::vector<CatalogueTexture> textures;                                // in textures.json's order
+  std::string answer;                                                  // the GET /v1/catalogue body, made once
+  std::string etag;                                                    // its content hash, quoted
+  std::vector<CatalogueTexture> textures;                              // in textures.json's order
   std::map<std::string, std::shared_ptr<const StoredTexture>> images;  // by id: every texture's image
-  std::string textures_answer;  // the GET /v1/catalogue/textures body, made once
-  std::string textures_etag;    // its content hash, quoted
+  std::string textures_answer;                                         // the GET /v1/catalogue/textures body, made once
+  std::string textures_etag;                                           // its content hash, quoted
   std::vector<std::string> problems;  // entries left out, and why (the service logs them at start)
 
   const CatalogueItem* find(const std::string& id) const;

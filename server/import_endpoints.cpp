@@ -98,8 +98,8 @@ void store_texture_images(ServiceState& state, ImportResult& imported) {
         }
       }
       if (!stored) {
-        imported.warnings.push_back("the image of " + pointer + " (and of any surface sharing it) was refused: " +
-                                    problem + "; drawn untextured");
+        imported.warnings.push_back("the image of " + pointer +
+                                    " (and of any surface sharing it) was refused: " + problem + "; drawn untextured");
         return false;
       }
       store_document(state, stored);

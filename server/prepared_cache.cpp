@@ -47,8 +47,8 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
     auto stored = find<StoredMesh>(id);
     return stored ? stored->mesh : nullptr;
   };
-  limits_.resolve_texture = [this, first = c.limits.resolve_texture](
-                                const std::string& id) -> std::shared_ptr<const TextureImage> {
+  limits_.resolve_texture =
+      [this, first = c.limits.resolve_texture](const std::string& id) -> std::shared_ptr<const TextureImage> {
     if (first) {
       if (auto image = first(id)) return image;
     }

@@ -122,8 +122,8 @@ struct JpegDecoder {
 bool read_jpeg_header(JpegDecoder& decoder, std::span<const uint8_t> bytes, int* width, int* height) {
   int subsampling = 0, colorspace = 0, w = 0, h = 0;
   if (!decoder.handle || bytes.size() > ULONG_MAX ||
-      tjDecompressHeader3(decoder.handle, bytes.data(), static_cast<unsigned long>(bytes.size()), &w, &h,
-                          &subsampling, &colorspace) != 0 ||
+      tjDecompressHeader3(decoder.handle, bytes.data(), static_cast<unsigned long>(bytes.size()), &w, &h, &subsampling,
+                          &colorspace) != 0 ||
       w <= 0 || h <= 0) {
     return false;
   }
@@ -279,8 +279,8 @@ size_t TextureImage::bytes() const {
   return total;
 }
 
-bool read_texture_header(std::span<const uint8_t> encoded, const TextureLimits& limits, int* width_out,
-                         int* height_out, TextureError* error) {
+bool read_texture_header(std::span<const uint8_t> encoded, const TextureLimits& limits, int* width_out, int* height_out,
+                         TextureError* error) {
   auto refuse = [&](TextureError::Kind kind, std::string message) {
     if (error) *error = {kind, std::move(message)};
     return false;

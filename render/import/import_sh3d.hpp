@@ -106,8 +106,8 @@ struct Sh3dTextures;
 // in cache.meshes (the unit box form), "color"[, "material"]} or, textured, {"name", "ref",
 // "texture"}: the piece's color, else its <texture> on every part, else its <material>s' colours and
 // textures by name, else the model's .mtl, else Sweet Home 3D's default library (whose materials
-// bring their specular terms too), else grey; textures are read through `textures`. `extent` gets the model's extent after its modelRotation (0
-// on an axis where it is flat). nullopt when the model is not available through
+// bring their specular terms too), else grey; textures are read through `textures`. `extent` gets the model's extent
+// after its modelRotation (0 on an axis where it is flat). nullopt when the model is not available through
 // options.read_companion (its name as written, then furniture/<file name>) or has no faces.
 std::optional<nlohmann::json> model_parts(const Sh3dElement& e, const ImportOptions& options, Sh3dModelCache& cache,
                                           Sh3dTextures& textures, Vec3& extent);

@@ -431,9 +431,10 @@ TEST(ArchiveImport, ObjZipWithItsImagesStoresThemOnceAndRendersTextured) {
     ++textures;
     ids.insert(solid["texture"]["image"].get<std::string>());
   }
-  std::printf("[ textures ] fireplace room: %zu colours textured, %zu without images; %zu textured solids, %zu "
-              "images; stored scene %zu B\n",
-              textured, plain, textures, ids.size(), scene.dump().size());
+  std::printf(
+      "[ textures ] fireplace room: %zu colours textured, %zu without images; %zu textured solids, %zu "
+      "images; stored scene %zu B\n",
+      textured, plain, textures, ids.size(), scene.dump().size());
   EXPECT_EQ(scene.dump().find("data:"), std::string::npos);
   EXPECT_EQ(ids.size(), 4u);
   for (const std::string& id : ids) {
@@ -451,8 +452,7 @@ TEST(ArchiveImport, ObjZipWithItsImagesStoresThemOnceAndRendersTextured) {
 // with a warning naming its line and entry or pointer; the home imports, inline and stored, quickly,
 // and the server stays healthy. Inline, the cut JPEG reaches the render, which refuses it at its pointer.
 TEST(ArchiveImport, BadImagesInAnArchiveLeaveTheirSurfacesUntexturedWithAWarning) {
-  const std::string jpeg =
-      rr::testing::read_file(rr::testing::source_dir() / "catalogue/textures/smallBricks.jpg");
+  const std::string jpeg = rr::testing::read_file(rr::testing::source_dir() / "catalogue/textures/smallBricks.jpg");
   auto texture = [](const char* attribute, const char* entry) {
     return std::string("<texture attribute='") + attribute + "' name='T' width='40' height='40' image='" + entry +
            "'/>";
@@ -583,9 +583,10 @@ std::vector<BadArchive> bad_archives() {
   std::string twice = make_zip({{"Home.xml", kHome}, {"Home.xmm", kHome}});
   for (size_t at = twice.find("Home.xmm"); at != std::string::npos; at = twice.find("Home.xmm"))
     twice.replace(at, 8, "Home.xml");
-  const std::string image_home = "<home><room><point x='0' y='0'/><point x='100' y='0'/><point x='0' y='100'/>"
-                                 "<texture attribute='floorTexture' name='T' width='40' height='40' image='0'/>"
-                                 "</room></home>";
+  const std::string image_home =
+      "<home><room><point x='0' y='0'/><point x='100' y='0'/><point x='0' y='100'/>"
+      "<texture attribute='floorTexture' name='T' width='40' height='40' image='0'/>"
+      "</room></home>";
   const std::string image_bomb = make_zip({{"Home.xml", image_home}, {"0", std::string(48u << 20, '\0')}});
   return {
       {"bomb by ratio", "sh3d", bomb, 413, "/entry/furniture~1chair.obj", "zip bomb"},

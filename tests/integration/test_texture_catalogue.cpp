@@ -104,8 +104,9 @@ TEST_F(TextureCatalogue, ATextureNamingItByIdDrawsItsDataUriAndAStoredSceneKeeps
   auto rendered = client().Post("/v1/render", by_id.dump(), "application/json");
   ASSERT_TRUE(rendered);
   ASSERT_EQ(rendered->status, 200) << rendered->body;
-  auto inline_image = client().Post(
-      "/v1/render", textured_request("data:image/jpeg;base64," + base64_encode(jpeg), 0.425).dump(), "application/json");
+  auto inline_image =
+      client().Post("/v1/render", textured_request("data:image/jpeg;base64," + base64_encode(jpeg), 0.425).dump(),
+                    "application/json");
   ASSERT_TRUE(inline_image);
   EXPECT_EQ(inline_image->body, rendered->body);
   EXPECT_NE(client().Post("/v1/render", small_request, "application/json")->body, rendered->body) << "textured";

@@ -730,15 +730,18 @@ TEST(ImportSh3d, PieceAndMaterialTexturesGoOnTheirParts) {
     return "<pieceOfFurniture name='" + name + "' model='furniture/chair.obj' x='100' y='100' width='50' " +
            "depth='50' height='90' " + attributes + ">" + children + "</pieceOfFurniture>\n";
   };
-  const std::string tiles = "<texture catalogId='eTeks#blueTiles' name='Blue tiles' width='30' height='30' "
-                            "image='blueTiles.jpg'/>";
+  const std::string tiles =
+      "<texture catalogId='eTeks#blueTiles' name='Blue tiles' width='30' height='30' "
+      "image='blueTiles.jpg'/>";
   const std::string home =
       "<home wallHeight='250'>\n" + piece("Whole", "", tiles) +
-      piece("Seat", "", "<material name='seat'><texture catalogId='eTeks#oldWoodenFloor' name='Wood' width='60' "
-                        "height='60' image='2'/></material><material name='legs' color='FF00FF00'/>") +
+      piece("Seat", "",
+            "<material name='seat'><texture catalogId='eTeks#oldWoodenFloor' name='Wood' width='60' "
+            "height='60' image='2'/></material><material name='legs' color='FF00FF00'/>") +
       piece("Painted", "color='FF808080'", tiles) +
       "<pieceOfFurniture name='Crate' model='furniture/missing.obj' x='300' y='100' width='50' depth='50' "
-      "height='50'>" + tiles + "</pieceOfFurniture>\n</home>\n";
+      "height='50'>" +
+      tiles + "</pieceOfFurniture>\n</home>\n";
   const std::string zip =
       rr::testing::make_zip({{"Home.xml", home}, {"furniture/chair.obj", chair}, {"furniture/chair.mtl", mtl}});
   rr::ImportOptions options;
