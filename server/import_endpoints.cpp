@@ -9,6 +9,7 @@
 // models by default when the file is a zip, which is where they come from).
 // Files of other tools are larger than requests: the route has its own body limit
 // (--max-import-bytes, 64 MiB), and importing holds a render slot like a render does.
+#include "render/core/hash.hpp"
 #include "render/core/texture.hpp"
 #include "render/import/import.hpp"
 #include "render/scene_io/mesh_json.hpp"
@@ -74,6 +75,25 @@ void store_furniture_meshes(ServiceState& state, ImportResult& imported) {
   imported.meshes.clear();
 }
 
+// The id of the image a data: URI holds, stored as POST /v1/textures stores it; an image of the
+// server's texture catalogue is there already and is not decoded again. nullopt, with *problem
+// saying why, when it does not decode.
+std::optional<std::string> store_image(ServiceState& state, const std::string& uri, std::string* problem) {
+  std::vector<uint8_t> bytes;
+  if (!decode_data_uri(uri, state.limits.max_texture_image_bytes, bytes, problem)) return std::nullopt;
+  const std::string encoded(bytes.begin(), bytes.end());
+  if (std::string id = hash_hex(encoded); state.limits.builtin_texture && state.limits.builtin_texture(id)) return id;
+  std::shared_ptr<const StoredTexture> stored;
+  try {
+    stored = read_stored_texture(encoded, state.limits);
+  } catch (const InputError& e) {
+    *problem = e.summary();
+    return std::nullopt;
+  }
+  store_document(state, stored);
+  return stored->id;
+}
+
 // Each distinct image of `imported`'s textures (a data: URI, as the importers write them) stored once
 // (as POST /v1/textures stores it), and every texture showing it rewritten to name its stored id:
 // a textured home's scene then holds each image's 16-digit id instead of megabytes of base64. An
@@ -84,26 +104,11 @@ void store_texture_images(ServiceState& state, ImportResult& imported) {
   for_each_texture(imported.request["scene"], "", [&](json& texture, const std::string& pointer) {
     json& image = texture["image"];
     if (!image.is_string() || !image.get_ref<const std::string&>().starts_with("data:")) return true;
-    const std::string& uri = image.get_ref<const std::string&>();
-    auto [it, first] = stored_ids.try_emplace(uri);
-    if (first) {
-      std::vector<uint8_t> bytes;
-      std::string problem;
-      std::shared_ptr<const StoredTexture> stored;
-      if (decode_data_uri(uri, state.limits.max_texture_image_bytes, bytes, &problem)) {
-        try {
-          stored = read_stored_texture(std::string(bytes.begin(), bytes.end()), state.limits);
-        } catch (const InputError& e) {
-          problem = e.summary();
-        }
-      }
-      if (!stored) {
-        imported.warnings.push_back("the image of " + pointer +
-                                    " (and of any surface sharing it) was refused: " + problem + "; drawn untextured");
-        return false;
-      }
-      store_document(state, stored);
-      it->second = stored->id;
+    auto [it, first] = stored_ids.try_emplace(image.get<std::string>());
+    std::string problem;
+    if (first && !(it->second = store_image(state, it->first, &problem))) {
+      imported.warnings.push_back("the image of " + pointer +
+                                  " (and of any surface sharing it) was refused: " + problem + "; drawn untextured");
     }
     if (!it->second) return false;
     image = *it->second;

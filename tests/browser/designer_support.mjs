@@ -100,8 +100,9 @@ export async function drawRoom(page) {
   await page.keyboard.press("Escape");
 }
 
-// The page point over world point p in the page's image (the inverse of camera.js's pixelRay).
-export async function worldToPage(page, camera, options, p) {
+// Image pixel (u, v) over world point p for a request's camera and options (the inverse of
+// camera.js's pixelRay).
+export function worldToImage(camera, options, p) {
   const sub = (a, b) => a.map((v, i) => v - b[i]);
   const dot = (a, b) => a.reduce((s, v, i) => s + v * b[i], 0);
   const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
@@ -112,7 +113,12 @@ export async function worldToPage(page, camera, options, p) {
   const d = sub(p, camera.position);
   const tanY = Math.tan(((camera.fov_y ?? 60) * Math.PI) / 360);
   const aspect = options.width / options.height;
-  const u = ((dot(d, right) / dot(d, forward) / (tanY * aspect) + 1) / 2) * options.width;
-  const v = ((1 - dot(d, up) / dot(d, forward) / tanY) / 2) * options.height;
+  return [((dot(d, right) / dot(d, forward) / (tanY * aspect) + 1) / 2) * options.width,
+    ((1 - dot(d, up) / dot(d, forward) / tanY) / 2) * options.height];
+}
+
+// The page point over world point p in the page's image.
+export async function worldToPage(page, camera, options, p) {
+  const [u, v] = worldToImage(camera, options, p);
   return hooks(page, "viewToPage", u - 0.5, v - 0.5);
 }

@@ -7,25 +7,9 @@
 //   node tests/browser/textures.mjs BUILD/roomrender OUT_DIR designer_texture_palette
 import path from "node:path";
 import { runScenario, assert, skip, repoRoot, serverHas, renderSeq } from "./support.mjs";
-import { hooks, idle, request, openEmpty, drawRoom, clickPlan, designerReady, waitForNewRender } from "./designer_support.mjs";
+import { hooks, idle, request, openEmpty, drawRoom, clickPlan, designerReady, waitForNewRender, worldToImage } from "./designer_support.mjs";
 
 const [binary, outDir, scenario] = process.argv.slice(2);
-
-// Image pixel (u, v) over world point p for the request's camera (camera.js's pixelRay inverted).
-function project(camera, options, p) {
-  const sub = (a, b) => a.map((v, i) => v - b[i]);
-  const dot = (a, b) => a.reduce((s, v, i) => s + v * b[i], 0);
-  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-  const unit = (a) => a.map((v) => v / Math.hypot(...a));
-  const forward = unit(sub(camera.target, camera.position));
-  const right = unit(cross(forward, camera.up || [0, 1, 0]));
-  const up = cross(right, forward);
-  const d = sub(p, camera.position);
-  const tanY = Math.tan(((camera.fov_y ?? 60) * Math.PI) / 360);
-  const aspect = options.width / options.height;
-  return [((dot(d, right) / dot(d, forward) / (tanY * aspect) + 1) / 2) * options.width,
-    ((1 - dot(d, up) / dot(d, forward) / tanY) / 2) * options.height];
-}
 
 // The RGB pixels of a base64 PNG, decoded by the page: {width, height, data}.
 function pixels(page, png) {
@@ -91,7 +75,7 @@ const scenarios = {
     const diff = difference(a, b);
     // The outer face runs past the room's corners by half a wall's thickness, to the side walls' outer faces.
     const h = wall.thickness / 2;
-    const corners = [[-h, 0], [5 + h, 0], [-h, wall.height], [5 + h, wall.height]].map(([x, y]) => project(r1.camera, r1.options, [x, y, 4 + h]));
+    const corners = [[-h, 0], [5 + h, 0], [-h, wall.height], [5 + h, wall.height]].map(([x, y]) => worldToImage(r1.camera, r1.options, [x, y, 4 + h]));
     const face = [Math.min(...corners.map((c) => c[0])), Math.min(...corners.map((c) => c[1])), Math.max(...corners.map((c) => c[0])), Math.max(...corners.map((c) => c[1]))];
     const margin = 2;
     assert(diff.count > 0 && diff.box[0] >= face[0] - margin && diff.box[1] >= face[1] - margin && diff.box[2] <= face[2] + margin && diff.box[3] <= face[3] + margin,

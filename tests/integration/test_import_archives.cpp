@@ -283,6 +283,20 @@ TEST(ArchiveImport, Sh3dLayoutWithNumberedModelEntriesImportsTheSameFurniture) {
   }
 }
 
+// How many distinct RGB colours a PNG holds: a textured surface shows hundreds where a plain one shows
+// a few shades.
+size_t distinct_colours(const std::string& png) {
+  const rr::Image image = rr::decode_png(png);
+  std::set<uint32_t> colours;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* p = image.pixel(x, y);
+      colours.insert(uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]);
+    }
+  }
+  return colours.size();
+}
+
 const char* kHome = R"(<home><wall id='w' xStart='0' yStart='0' xEnd='400' yEnd='0' thickness='10' height='250'/>
 <pieceOfFurniture name='Chair' model='furniture/chair.obj' x='100' y='100' width='50' depth='50' height='90'/>
 </home>)";
@@ -320,7 +334,7 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndR
       "<texture catalogId='eTeks#blueTiles' name='Blue tiles' width='30' height='30' image='blueTiles.jpg'/>";
   TestServer server;
   auto client = server.client(60);
-  auto distinct_colours = [&](const std::string& xml, const std::vector<ZipEntry>& more, json* stored_scene) {
+  auto import_and_draw = [&](const std::string& xml, const std::vector<ZipEntry>& more, json* stored_scene) {
     std::vector<ZipEntry> entries{{"Home.xml", xml}, {"furniture/panel.obj", panel}};
     entries.insert(entries.end(), more.begin(), more.end());
     auto stored =
@@ -337,19 +351,11 @@ TEST(ArchiveImport, Sh3dTexturesOnAFloorAWallSideAndAPieceStoreEachImageOnceAndR
         client.Post((receipt["location"].get<std::string>() + "/render").c_str(), view.dump(), "application/json");
     EXPECT_TRUE(png && png->status == 200) << (png ? png->body.substr(0, 300) : "no answer");
     if (!png || png->status != 200) return size_t{0};
-    const rr::Image image = rr::decode_png(png->body);
-    std::set<uint32_t> colours;
-    for (int y = 0; y < image.height; ++y) {
-      for (int x = 0; x < image.width; ++x) {
-        const uint8_t* p = image.pixel(x, y);
-        colours.insert(uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]);
-      }
-    }
-    return colours.size();
+    return distinct_colours(png->body);
   };
-  const size_t plain = distinct_colours(home("", "", ""), {}, nullptr);
+  const size_t plain = import_and_draw(home("", "", ""), {}, nullptr);
   json scene;
-  const size_t textured = distinct_colours(home(floor, wall, piece), {{"0", noise}}, &scene);
+  const size_t textured = import_and_draw(home(floor, wall, piece), {{"0", noise}}, &scene);
   std::printf("[ textures ] distinct colours: %zu untextured, %zu textured; stored scene %zu B\n", plain, textured,
               scene.dump().size());
   EXPECT_GT(plain, 0u);
@@ -411,15 +417,7 @@ TEST(ArchiveImport, ObjZipWithItsImagesStoresThemOnceAndRendersTextured) {
     auto png = client.Post((location + "/render").c_str(), view.dump(), "application/json");
     EXPECT_TRUE(png && png->status == 200) << (png ? png->body.substr(0, 300) : "no answer");
     if (!png || png->status != 200) return size_t{0};
-    const rr::Image image = rr::decode_png(png->body);
-    std::set<uint32_t> colours;
-    for (int y = 0; y < image.height; ++y) {
-      for (int x = 0; x < image.width; ++x) {
-        const uint8_t* p = image.pixel(x, y);
-        colours.insert(uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]);
-      }
-    }
-    return colours.size();
+    return distinct_colours(png->body);
   };
   json scene;
   const size_t textured = import_and_draw(entries, &scene);
