@@ -4,6 +4,7 @@
 // ServerConfig::limits.
 #include "server/settings.hpp"
 
+#include "render/core/raster.hpp"
 #include "server/open_stores.hpp"
 #include "server/request_head.hpp"
 
@@ -190,7 +191,8 @@ const std::vector<ServerSetting>& server_settings() {
     {"--max-body-bytes", integer(&C::max_body_bytes, 1, big), "bytes", "largest request body"},
     {"--max-import-bytes", integer(&C::max_import_bytes, 1, big), "bytes", "largest file POSTed to /v1/import/{format}"},
     {"--max-json-depth", integer(&L::max_depth, 4, 10000), "", "deepest JSON nesting"},
-    {"--max-image-side", integer(&L::max_image_side, 1, 65536), "pixels", "largest width or height"},
+    {"--max-image-side", integer(&L::max_image_side, 1, max_image_side_for_raster), "pixels",
+     "largest width or height"},
     {"--max-pixels", integer(&L::max_pixels, 1, big), "pixels", "largest width * height"},
     {"--max-render-bytes", integer(&L::max_render_bytes, 1, big), "bytes",
      "a frame's buffer memory, the A-buffer of options.antialias included"},

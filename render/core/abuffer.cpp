@@ -22,14 +22,15 @@ SampleSet make_sample_set(int samples) {
   set.count = int(pattern.size());
   set.colour_bits = (uint32_t{1} << set.count) - 1;
   for (int i = 0; i < set.count; ++i) {
-    // Offsets are whole sixteenths of a pixel: exact in 1/256.
+    // Offsets are whole sixteenths of a pixel: exact in sub-pixel units.
     set.dx[i] = int32_t(std::lround((double(pattern[size_t(i)].x) - 0.5) * double(subpixel_one)));
     set.dy[i] = int32_t(std::lround((double(pattern[size_t(i)].y) - 0.5) * double(subpixel_one)));
     set.nearest[i] = i;
   }
   set.dx[set.count] = set.dy[set.count] = 0;
   std::stable_sort(set.nearest, set.nearest + set.count, [&](int a, int b) {
-    return set.dx[a] * set.dx[a] + set.dy[a] * set.dy[a] < set.dx[b] * set.dx[b] + set.dy[b] * set.dy[b];
+    auto d2 = [&](int i) { return int64_t(set.dx[i]) * set.dx[i] + int64_t(set.dy[i]) * set.dy[i]; };
+    return d2(a) < d2(b);
   });
   return set;
 }

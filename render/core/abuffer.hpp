@@ -21,7 +21,7 @@ constexpr int abuffer_tile = 64;           // pixels per tile side, as the pipel
 constexpr int max_translucent_layers = 8;  // per pixel; past it the first-composited layer is dropped
 constexpr uint32_t no_owner = 0xFFFFFFFFu;
 
-// A pattern's samples in 1/256 pixel from the pixel centre; sample `count` is the centre itself,
+// A pattern's samples in sub-pixel units (raster.hpp) from the pixel centre; sample `count` is the centre itself,
 // which decides the id buffer and the shading point but carries no colour weight.
 struct SampleSet {
   int count = 1;             // S, colour samples
@@ -32,7 +32,7 @@ struct SampleSet {
 SampleSet make_sample_set(int samples);
 
 // One triangle's edge-function offsets at each sample (exact integers: the sample offsets are whole
-// 1/256 pixels and step_x, step_y multiples of 256).
+// sub-pixel units and step_x, step_y multiples of subpixel_one).
 struct SampleEdges {
   int n = 1;  // samples tested: S + 1
   int64_t de[3][17] = {};

@@ -13,7 +13,7 @@ namespace rr {
 namespace {
 
 // How far inside a polygon's edges a block must lie, in pixels: well beyond the rasterizer's vertex
-// snapping (half of 1/256 pixel per axis), so every sample of the block is inside the snapped
+// snapping (half a sub-pixel unit per axis), so every sample of the block is inside the snapped
 // polygon however its pieces are rasterized.
 constexpr double cover_margin = 1.0 / 64.0;
 // The farthest a snapped vertex lies from the exact one, in pixels.

@@ -3,8 +3,8 @@
 // compares: larger is nearer) and perspective-correct barycentrics.
 // Coverage rule: pixel (x, y) is covered when its centre (x + 0.5, y + 0.5) is strictly inside the
 // triangle, or exactly on a top or left edge (the top-left rule), so triangles sharing an edge cover
-// each pixel on it exactly once. Vertices snap to 1/256 pixel (8 sub-pixel bits); edge functions are
-// exact 64-bit integers, so coverage never depends on rounding. Either winding is accepted.
+// each pixel on it exactly once. Vertices snap to 1/16384 pixel (14 sub-pixel bits); edge functions
+// are exact 64-bit integers, so coverage never depends on rounding. Either winding is accepted.
 // TriangleSetup holds that integer set-up; the tiled z-buffer (visibility.cpp) uses the same one,
 // so both rasterizers cover the same pixels and compute the same weights bit for bit.
 #pragma once
@@ -31,12 +31,26 @@ struct Fragment {
   double b[3] = {0.0, 0.0, 0.0};  // perspective-correct weights of v0, v1, v2 (sum to 1)
 };
 
-constexpr int subpixel_bits = 8;
+// Why 14 bits, and what they need. Clipping keeps x and y within the guard band, so a vertex lies
+// within [-S/2, 3S/2] pixels of an image whose sides are at most S (max_image_side_for_raster):
+// |X| <= 1.5 S 2^b in sub-pixel units. An edge function at a pixel centre inside the image is
+// dx (py - y0) - dy (px - x0) with |dx|, |dy| <= 2 S 2^b and |py - y0|, |px - x0| <= 1.5 S 2^b, so
+// it and every partial sum on the way (c, c + x step_x, ...) stay within 6 S^2 2^(2b); the set-up's
+// area products within 4 S^2 2^(2b). Both fit int64 when S 2^b < 1.24e9, and snapped coordinates
+// fit the binned int32 when 1.5 S 2^b < 2^31. With S = 65536 and b = 14, S 2^b = 1.07e9. More bits
+// would need smaller images, and would push the edge values of triangles over about 4,000 pixels
+// past 2^52, where span_weights leaves its double stepping for int64.
+// A vertex then moves at most 2^-15 pixel per axis when snapped, which is what separates the
+// rasterizer's coverage from the reference's exact projection (docs/accuracy.md, "Specks").
+constexpr int subpixel_bits = 14;
 constexpr int64_t subpixel_one = int64_t{1} << subpixel_bits;
+constexpr int max_image_side_for_raster = 65536;
+static_assert(double(max_image_side_for_raster) * double(subpixel_one) < 1.24e9, "edge functions fit int64");
+static_assert(1.5 * double(max_image_side_for_raster) * double(subpixel_one) < 2147483648.0, "binned X, Y fit int32");
 
 namespace detail {
 // std::llround (half away from zero) without the libm call: v - trunc(v) is exact for |v| < 2^52,
-// far beyond the guard band's coordinates in 1/256 pixel.
+// far beyond the guard band's coordinates in sub-pixel units (below 2^31).
 inline int64_t snap_round(double v) {
   const int64_t t = int64_t(v);
   const double d = v - double(t);

@@ -121,7 +121,7 @@ class Coverage {
 };
 
 // Whether every pixel whose centre lies in the screen rectangle [min, max] is written. One pixel of
-// margin on each side covers the rasterizer's vertex snapping (1/256 pixel) and pixel-centre
+// margin on each side covers the rasterizer's vertex snapping (raster.hpp's sub-pixel grid) and pixel-centre
 // sampling: a polygon whose screen vertices lie in the rectangle writes no pixel outside it.
 bool rect_hidden(const Coverage& coverage, const ViewTransform& view, Vec2 min, Vec2 max) {
   auto clamp_to = [](double v, int limit) { return int(std::clamp(v, 0.0, double(limit))); };

@@ -42,7 +42,7 @@ void ProjectedSet::add(const DrawScratch& scratch, const DrawSource& source, Ord
   for (const RasterVertex& v : scratch.screen) {
     x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
   }
-  // A covered pixel's centre lies within 1/512 pixel (the snapping) of the vertices' box.
+  // A covered pixel's centre lies within half a sub-pixel unit (the snapping) of the vertices' box.
   auto clamp = [](double v, int hi) { return int(std::clamp(v, 0.0, double(hi))); };
   p.bounds = {clamp(std::floor(x0) - 1, width), clamp(std::floor(y0) - 1, height), clamp(std::ceil(x1) + 1, width),
               clamp(std::ceil(y1) + 1, height)};

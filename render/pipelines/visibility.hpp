@@ -19,7 +19,7 @@ constexpr int tile_size = 64;  // pixels; a tile's depth and triangle buffers (3
 
 // One fan triangle of a projected polygon, snapped to the sub-pixel grid.
 struct BinnedTriangle {
-  int32_t X[3], Y[3];  // 1/256 pixel; the guard band keeps them far inside int32
+  int32_t X[3], Y[3];  // sub-pixel units; raster.hpp's bound keeps them inside int32
   double inv_w[3];
   uint32_t slot;  // index into VisibilityInput::polygons
   uint32_t k;     // fan triangle (0, k+1, k+2)

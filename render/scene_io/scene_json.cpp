@@ -8,6 +8,7 @@
 #include "render/core/abuffer.hpp"
 
 #include "render/core/camera.hpp"
+#include "render/core/raster.hpp"
 #include "render/core/sample_pattern.hpp"
 #include "render/core/scene_names.hpp"
 #include "render/core/solids.hpp"
@@ -403,7 +404,7 @@ RenderOptions read_options(const json& value, const std::string& pointer, const 
                  {"width", "height", "pipeline", "shading", "painter", "bsp", "shadows", "shadow", "png", "levels",
                   "ceilings", "antialias", "culling", "exposure", "texture_filter"});
   RenderOptions o;
-  NumberRange side{1.0, double(b.limits.max_image_side)};
+  NumberRange side{1.0, double(std::min(b.limits.max_image_side, max_image_side_for_raster))};
   side.kind_above = Kind::too_large;
   o.width = int(r.integer("width", o.width, side));
   o.height = int(r.integer("height", o.height, side));

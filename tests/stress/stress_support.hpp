@@ -134,8 +134,9 @@ struct StressScene {
   }
 
   // Drawn by a row of testing::exact_pipelines() in its exact mode.
-  Frame render_exact(const PipelineInfo& pipeline) const {
-    return render_frame(request.scene, soup, request.camera, testing::exact_options(pipeline, request.options)).frame;
+  Frame render_exact(const PipelineInfo& pipeline) const { return run_exact(pipeline).frame; }
+  RenderResult run_exact(const PipelineInfo& pipeline) const {
+    return render_frame(request.scene, soup, request.camera, testing::exact_options(pipeline, request.options));
   }
 };
 

@@ -14,9 +14,9 @@ namespace {
 
 // Per channel: one of the 16 sub-samples may see another polygon (255 / 16, rounded up), plus one
 // step of rounding. Why one may: the rasterizer tests sub-samples against its edges with vertices
-// snapped to 1/256 pixel, the reference against the exact projection, so a sub-sample within that
-// distance of an edge can land on either side; two such sub-samples in one pixel need two edges
-// within 1/256 pixel of two of its sub-samples at once.
+// snapped to the sub-pixel grid, the reference against the exact projection, so a sub-sample within
+// half a grid unit of an edge can land on either side; two such sub-samples in one pixel need two
+// edges that close to two of its sub-samples at once.
 constexpr int tolerance = 17;
 
 struct Worst {

@@ -80,8 +80,9 @@ TEST(StressDegenerate, SliverFanTilesItsSquareWithoutHoles) {
 TEST(StressDegenerate, TJunctionsLeaveNoCrack) {
   // One 2 x 1 quad above two 1 x 1 quads whose shared corner sits on the middle of its lower
   // edge (a T-junction), in front of a red back plane: a crack would show the back plane on the
-  // seam. The reference has none; the rasterizers snap the T vertex to 1/256 pixel, so a pixel
-  // centre within 1/512 pixel of the seam could differ: at most 1 such pixel per 100 seam pixels.
+  // seam. The reference has none; the rasterizers snap the T vertex to the sub-pixel grid, so a
+  // pixel centre within half a grid unit of the seam could differ: at most 1 such pixel per 100
+  // seam pixels.
   const json solids = {
       quad({-1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 1, 0}), quad({-1, -1, 0}, {0, -1, 0}, {0, 0, 0}, {-1, 0, 0}),
       quad({0, -1, 0}, {1, -1, 0}, {1, 0, 0}, {0, 0, 0}), quad({-3, -3, -1}, {3, -3, -1}, {3, 3, -1}, {-3, 3, -1})};

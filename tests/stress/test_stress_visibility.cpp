@@ -23,7 +23,7 @@ struct Tally {
 
 // Non-edge pixels of the truth where `test` shows another polygon at that one pixel only (its four
 // neighbours in `test` are the truth's id). Two causes, both sub-pixel snapping (docs/accuracy.md):
-// a polygon corner that covers a single pixel centre by less than 1/512 pixel (the snapped corner
+// a polygon corner that covers a single pixel centre by less than half a sub-pixel unit (the snapped corner
 // covers it or not; the reference sees only that pixel, so it is no edge there), and in BSP a crack
 // at a T-junction between fragments of one polygon (a fragment split again gets a vertex its
 // sibling lacks, snapped on its own).
@@ -78,6 +78,69 @@ TEST(StressVisibility, RandomRoomsMatchTheReferenceAwayFromEdges) {
 
 TEST(StressVisibility, RandomIntersectingSoupsMatchTheReferenceAwayFromEdges) {
   check_visible_scenes("soups", 2000, 48, [](std::mt19937& rng) { return random_soup(rng, 40); });
+}
+
+// A random room with `count` sliver triangles hung in it: each 0.1 to 0.6 m long and 1 to 10 um
+// wide, its centre at least 0.6 m from the eye. At 640 x 480 and a vertical field of view of at most
+// 90 degrees a pixel there spans at least 2.5 mm, so every sliver is thinner than 1/250 pixel: it
+// covers a pixel centre only where the centre lies within that width of its axis.
+json sliver_room(std::mt19937& rng, int count) {
+  json request = random_room(rng);
+  request["options"]["width"] = 640;
+  request["options"]["height"] = 480;
+  const json& eye_json = request["camera"]["position"];
+  const Vec3 eye(eye_json[0].get<double>(), eye_json[1].get<double>(), eye_json[2].get<double>());
+  double w = 0.0, d = 0.0, h = 0.0;
+  for (const json& wall : request["scene"]["walls"]) {
+    w = std::max(w, wall["end"][0].get<double>()), d = std::max(d, wall["end"][1].get<double>());
+    h = wall["height"].get<double>();
+  }
+  json vertices = json::array(), faces = json::array();
+  while (int(faces.size()) < count) {
+    const Vec3 c(uniform(rng, 0.2, w - 0.2), uniform(rng, 0.1, h - 0.1), uniform(rng, 0.2, d - 0.2));
+    if (glm::length(c - eye) < 0.6) continue;
+    // A random axis and a random direction across it.
+    const double theta = uniform(rng, 0, 2 * pi), z = uniform(rng, -1, 1), r = std::sqrt(1 - z * z);
+    const Vec3 axis(r * std::cos(theta), z, r * std::sin(theta));
+    const Vec3 across = glm::normalize(glm::cross(axis, std::abs(axis.y) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0)));
+    const double half = uniform(rng, 0.05, 0.3), width = uniform(rng, 1e-6, 1e-5);
+    const Vec3 p[3] = {c - half * axis, c + half * axis, c + uniform(rng, -0.5, 0.5) * half * axis + width * across};
+    const size_t first = vertices.size();
+    for (const Vec3& v : p) vertices.push_back({v.x, v.y, v.z});
+    faces.push_back({first, first + 1, first + 2});
+  }
+  request["scene"]["solids"].push_back({{"type", "mesh"}, {"vertices", vertices}, {"faces", faces}});
+  return request;
+}
+
+TEST(StressVisibility, SliverRoomsMatchTheReferenceWithinTwoIn100000AwayFromEdges) {
+  // Vertex snapping is the only thing between the rasterizers' coverage and the reference's exact
+  // projection. A sliver far thinner than a pixel shows where it moves coverage most: a snapped
+  // sliver covers the centres within its own width of where the snapped vertices put it, so the
+  // share of pixels that differ off the reference's id edges grows with the snapping step.
+  const auto seeds = testing::test_seeds(5000, 8);
+  for (const PipelineInfo* p : testing::exact_pipelines(false)) {
+    size_t pixels = 0, differing = 0;
+    double worst = 0.0;
+    unsigned worst_seed = 0;
+    for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
+      std::mt19937 rng(seed);
+      const StressScene scene(sliver_room(rng, 3000));
+      const Frame truth = scene.render("reference");
+      const RenderResult run = scene.run_exact(*p);
+      const Frame& frame = run.frame;
+      ASSERT_FALSE(run.stats.painter_budget_exhausted) << p->name << " " << seed_note(seed);
+      const VisibilityError e = visibility_error(truth.ids, frame.ids);
+      EXPECT_LE(e.non_edge_share(), 2e-5) << p->name << " " << seed_note(seed) << ": " << e.non_edge_differing << " of "
+                                          << e.non_edge_pixels << " non-edge pixels differ";
+      pixels += e.non_edge_pixels, differing += e.non_edge_differing;
+      if (e.non_edge_share() > worst) worst = e.non_edge_share(), worst_seed = seed;
+    }
+    const double share = double(differing) / double(pixels);
+    std::printf("[stress] slivers %s: %zu of %zu non-edge pixels differ (%.2e; worst scene %.2e, seed %u)\n", p->name,
+                differing, pixels, share, worst, worst_seed);
+    EXPECT_LE(share, 2e-5) << p->name << ": worst " << seed_note(worst_seed);
+  }
 }
 
 TEST(StressVisibility, ZbufferResolvesOneMillimetreAtTenMetres) {

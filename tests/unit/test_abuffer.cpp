@@ -146,7 +146,7 @@ TEST(ABuffer, InterpenetratingTrianglesResolvePerSample) {
     Tile tile;
     buffer.resolve(colours, Color(0.0f), tile.rgb.data(), tile.ids.data(), abuffer_tile);
     int right = 0;  // samples of pixel 20 right of c
-    for (int i = 0; i < S; ++i) right += 20.5 + set.dx[i] / 256.0 > c;
+    for (int i = 0; i < S; ++i) right += 20.5 + set.dx[i] / double(subpixel_one) > c;
     EXPECT_NEAR(tile.channel(20, 30, 0), float(right) / float(S), byte_tolerance);
     EXPECT_NEAR(tile.channel(20, 30, 1), float(S - right) / float(S), byte_tolerance);
     EXPECT_EQ(tile.channel(19, 30, 1), 1.0f);
@@ -178,7 +178,7 @@ TEST(ABuffer, TranslucentPaneOverAnOpaqueWallCompositesToTheAnalyticColour) {
       Tile tile;
       buffer.resolve(colours, Color(0.0f), tile.rgb.data(), tile.ids.data(), abuffer_tile);
       int covered = 0;  // samples of pixel 30 right of the edge
-      for (int i = 0; i < S; ++i) covered += 30.5 + set.dx[i] / 256.0 >= edge;
+      for (int i = 0; i < S; ++i) covered += 30.5 + set.dx[i] / double(subpixel_one) >= edge;
       const float share = pane_in_front ? float(covered) / float(S) : 0.0f;
       for (int ch = 0; ch < 3; ++ch) {
         EXPECT_NEAR(tile.channel(40, 10, ch), pane_in_front ? over[ch] : wall[ch], byte_tolerance);

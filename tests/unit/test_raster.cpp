@@ -210,8 +210,9 @@ TEST(ZBuffer, NearerQuadWinsEvenOneMillimetreApartAtTenMetres) {
 TEST(ZBuffer, PerspectiveCorrectWeightsLandOnTheRayThroughThePixelCentre) {
   // Interpolating world positions with the fragment weights must give a point that projects back
   // onto the pixel centre: the test of perspective-correct interpolation. Weights come from the
-  // vertices snapped to 1/256 pixel (so they agree with coverage), hence the tolerance: a snapped
-  // vertex moves at most 1/512 pixel per axis, and so does any point interpolated from them.
+  // vertices snapped to the sub-pixel grid (so they agree with coverage), hence the tolerance: a
+  // snapped vertex moves at most half a sub-pixel unit per axis, and so does any point interpolated
+  // from them (plus the rounding of the world-space round trip).
   PolygonSoup soup = make_quads({{Vec3(-3, 0, 2), Vec3(3, 0, 2), Vec3(3, 0, -30), Vec3(-3, 0, -30)}});
   Camera cam;
   cam.position = {0.5, 1.5, 3};
@@ -224,8 +225,9 @@ TEST(ZBuffer, PerspectiveCorrectWeightsLandOnTheRayThroughThePixelCentre) {
     const ClipVertex* c[3] = {&scratch.clipped[0], &scratch.clipped[k + 1], &scratch.clipped[k + 2]};
     Vec3 p = c[0]->p_world * f.b[0] + c[1]->p_world * f.b[1] + c[2]->p_world * f.b[2];
     Vec2 s = project_to_screen(view, p);
-    EXPECT_NEAR(s.x, f.x + 0.5, 1.0 / 512);
-    EXPECT_NEAR(s.y, f.y + 0.5, 1.0 / 512);
+    const double snap = 0.5 / double(subpixel_one) + 1e-9;
+    EXPECT_NEAR(s.x, f.x + 0.5, snap);
+    EXPECT_NEAR(s.y, f.y + 0.5, snap);
     ++checked;
   });
   EXPECT_GT(checked, 500);

@@ -1,5 +1,5 @@
 // The reference renderer: its pixel-centre coverage equals the rasterizer's exactly for vertices on
-// the 1/256 sub-pixel grid (top-left rule on shared edges included); whole frames agree with the
+// the sub-pixel grid (top-left rule on shared edges included); whole frames agree with the
 // z-buffer away from id edges (near-plane crossing, back faces, translucency); its colour is
 // shade_point's at the pixel's exact hit point; its shadow rays shadow exactly the analytic
 // footprint; and the shadow mask of the rasterizing pipelines agrees with it away from shadow edges.
@@ -34,19 +34,21 @@ std::vector<int> raster_coverage(const std::vector<RasterVertex>& screen, int w,
 }
 
 TEST(Reference, CoverageEqualsTheRasterizersOnTheSubpixelGrid) {
-  // Random convex quads and triangles with vertices on the 1/256 grid, a third of them on pixel
+  // Random convex quads and triangles with vertices on the sub-pixel grid, a third of them on pixel
   // centres (so edges run through centres and the top-left rule decides), plus the two halves of
   // a square split along its diagonal: every pixel centre is covered by exactly the same test.
   const auto seeds = testing::test_seeds(4242, 300);
   const int w = 16, h = 12;
   for (unsigned seed = seeds.first; seed < seeds.first + seeds.count; ++seed) {
     std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> grid(-2 * 256, 18 * 256), centre(0, 15);
+    const int64_t one = subpixel_one;
+    std::uniform_int_distribution<int64_t> grid(-2 * one, 18 * one);
+    std::uniform_int_distribution<int> centre(0, 15);
     std::vector<RasterVertex> tri(3);
     for (RasterVertex& v : tri) {
       const bool on_centre = rng() % 3 == 0;
-      v.x = on_centre ? centre(rng) + 0.5 : grid(rng) / 256.0;
-      v.y = on_centre ? centre(rng) % h + 0.5 : grid(rng) / 256.0;
+      v.x = on_centre ? centre(rng) + 0.5 : double(grid(rng)) / double(one);
+      v.y = on_centre ? centre(rng) % h + 0.5 : double(grid(rng)) / double(one);
     }
     std::vector<Vec2> xy;
     for (const RasterVertex& v : tri) xy.push_back({v.x, v.y});

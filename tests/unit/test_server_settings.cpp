@@ -139,5 +139,19 @@ TEST(ServerSettings, NumericDefaultsGoBackThroughFlagAndVariable) {
   EXPECT_GT(checked, 40u);
 }
 
+TEST(ServerSettings, ImageSideStopsAtTheRasterizersBound) {
+  // Exact 64-bit edge functions on a 2^-14 pixel grid need sides of at most 65536 pixels
+  // (docs/architecture.md, "Precision of the rasterizer").
+  auto no_variables = [](const char*) -> std::optional<std::string> { return std::nullopt; };
+  const std::vector<std::string> largest = {"--max-image-side", "65536"}, over = {"--max-image-side", "65537"};
+  EXPECT_EQ(serve_config_from(largest, no_variables).limits.max_image_side, 65536);
+  try {
+    serve_config_from(over, no_variables);
+    ADD_FAILURE() << "--max-image-side 65537 was accepted";
+  } catch (const UsageError& e) {
+    EXPECT_TRUE(std::string(e.what()).starts_with("--max-image-side must be an integer in [1, 65536]")) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rr::server
