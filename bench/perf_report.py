@@ -9,10 +9,16 @@ import perf_plot
 
 LABELS = {"llvmpipe_flat": "llvmpipe depth+Lambert", "llvmpipe_phong_shadow": "llvmpipe Phong+shadow map",
           "embree": "Embree primary+shadow rays", "flat": "ours flat", "gouraud": "ours Gouraud",
-          "phong": "ours Phong", "phong_shadow": "ours Phong+shadows"}
+          "phong": "ours Phong", "phong_shadow": "ours Phong+shadows", "flat_culled": "ours flat, culling on"}
 ROOM_SOUPS = ("soup_1e5", "soup_1e6")
 # One colour per renderer and mode in every plot: peers in blue/red/green, ours in the rest.
-COLOURS = dict(zip(LABELS.values(), ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"]))
+COLOURS = dict(zip(LABELS.values(), ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2",
+                                            "#7f7f7f"]))
+
+
+def measured_variants(results):
+    """The variants of LABELS every scene of this run has (an older run lacks the later ones)."""
+    return [v for v in LABELS if all(v in s["runs"] for s in results["scenes"])]
 
 
 def flat_target(scene):
@@ -224,7 +230,7 @@ def ratios_section(results):
 
 
 def medians_section(results):
-    variants = list(LABELS)
+    variants = measured_variants(results)
     L = ["## Median frame times (ms)", "", "| scene | threads | " + " | ".join(LABELS[v] for v in variants) + " |",
          "|---|---:|" + "---:|" * len(variants)]
     notes = set()
@@ -254,7 +260,8 @@ def plots_section(results, svg_dir, doc_dir):
     rel = os.path.relpath(svg_dir, doc_dir)
     top, L = top_threads(results), ["## Plots", ""]
     names = [s["name"] for s in results["scenes"]]
-    frame_series = [(LABELS[v], [median_ms(s["runs"][v].get(top, [])) for s in results["scenes"]]) for v in LABELS]
+    frame_series = [(LABELS[v], [median_ms(s["runs"][v].get(top, [])) for s in results["scenes"]])
+                    for v in measured_variants(results)]
     ratio_series = [(label, [ratio_of(s, k, top) for s in results["scenes"]]) for k, label, *_ in RATIOS]
     speed_series = [(LABELS[v], [speedup_of(s, v, results) for s in results["scenes"]]) for v, _ in SPEEDUPS]
     plots = [("frames.svg", "Median frame time per scene, %s threads" % top,
@@ -270,7 +277,8 @@ def plots_section(results, svg_dir, doc_dir):
     soups = sorted((s for s in results["scenes"] if s["kind"] == "soup" and s.get("triangles")),
                    key=lambda s: s["triangles"])
     if len(soups) >= 2:
-        series = [(LABELS[v], [(s["triangles"], median_ms(s["runs"][v].get(top, []))) for s in soups]) for v in LABELS]
+        series = [(LABELS[v], [(s["triangles"], median_ms(s["runs"][v].get(top, []))) for s in soups])
+                  for v in measured_variants(results)]
         title = "Frame time against triangle count (random soups, %s threads)" % top
         svg = perf_plot.xy_plot(title, series, "triangles", "median frame time (ms)", COLOURS)
         plots.append(("soups.svg", title, svg))
