@@ -80,9 +80,9 @@ TEST(StressVisibility, RandomIntersectingSoupsMatchTheReferenceAwayFromEdges) {
   check_visible_scenes("soups", 2000, 48, [](std::mt19937& rng) { return random_soup(rng, 40); });
 }
 
-// A random room with `count` sliver triangles hung in it: each 0.1 to 0.6 m long and 1 to 10 um
-// wide, its centre at least 0.6 m from the eye. At 640 x 480 and a vertical field of view of at most
-// 90 degrees a pixel there spans at least 2.5 mm, so every sliver is thinner than 1/250 pixel: it
+// A random room with `count` sliver triangles hung in it: each 0.1 to 0.6 m long, 1 to 5 um wide and
+// wholly at least 0.6 m from the eye. At 640 x 480 and the rooms' vertical fields of view (50 to 90
+// degrees) a pixel there spans at least 1.17 mm, so every sliver is thinner than 1/200 pixel: it
 // covers a pixel centre only where the centre lies within that width of its axis.
 json sliver_room(std::mt19937& rng, int count) {
   json request = random_room(rng);
@@ -98,12 +98,12 @@ json sliver_room(std::mt19937& rng, int count) {
   json vertices = json::array(), faces = json::array();
   while (int(faces.size()) < count) {
     const Vec3 c(uniform(rng, 0.2, w - 0.2), uniform(rng, 0.1, h - 0.1), uniform(rng, 0.2, d - 0.2));
-    if (glm::length(c - eye) < 0.6) continue;
+    const double half = uniform(rng, 0.05, 0.3), width = uniform(rng, 1e-6, 5e-6);
+    if (glm::length(c - eye) < 0.6 + half) continue;
     // A random axis and a random direction across it.
     const double theta = uniform(rng, 0, 2 * pi), z = uniform(rng, -1, 1), r = std::sqrt(1 - z * z);
     const Vec3 axis(r * std::cos(theta), z, r * std::sin(theta));
     const Vec3 across = glm::normalize(glm::cross(axis, std::abs(axis.y) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0)));
-    const double half = uniform(rng, 0.05, 0.3), width = uniform(rng, 1e-6, 1e-5);
     const Vec3 p[3] = {c - half * axis, c + half * axis, c + uniform(rng, -0.5, 0.5) * half * axis + width * across};
     const size_t first = vertices.size();
     for (const Vec3& v : p) vertices.push_back({v.x, v.y, v.z});
