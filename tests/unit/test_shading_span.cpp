@@ -23,16 +23,18 @@ namespace {
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 // Every covered pixel of a random triangle, row by row: span_weights over the row's span gives each
-// pixel the same doubles as pixel_weights. Coordinates up to 2^31 / 256 pixels (the guard band's
-// reach) make edge values past 2^52, where the int64 path is taken.
-void check_random_triangles(uint32_t seed, double reach, size_t* pixels) {
+// pixel the same doubles as pixel_weights. Coordinates up to the guard band's reach for the largest
+// image (1.5 max_image_side_for_raster pixels, the bound raster.hpp's int64 edge functions hold to)
+// make edge values past 2^52, where the int64 path is taken.
+void check_random_triangles(uint32_t seed, double reach, size_t* pixels, size_t* past_2_52) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> near(-8.0, 72.0), far(-reach, reach), inv_w(0.01, 4.0);
   for (int t = 0; t < 200; ++t) {
     int64_t X[3], Y[3];
     double w[3];
     for (int v = 0; v < 3; ++v) {
-      const bool distant = v == 2 && t % 2 == 0;
+      // One far vertex in half the triangles, two in a quarter: a long edge far from the tile.
+      const bool distant = (v == 2 && t % 2 == 0) || (v == 1 && t % 4 == 0);
       X[v] = snap_to_subpixel(distant ? far(rng) : near(rng));
       Y[v] = snap_to_subpixel(distant ? far(rng) : near(rng));
       w[v] = inv_w(rng);
@@ -52,6 +54,8 @@ void check_random_triangles(uint32_t seed, double reach, size_t* pixels) {
       for (int64_t i = 0; i <= last - first; ++i) {
         const int x = px0 + int(first + i);
         const int64_t e[3] = {s.edge(0, x, y), s.edge(1, x, y), s.edge(2, x, y)};
+        constexpr int64_t exact = int64_t{1} << 52;
+        *past_2_52 += std::abs(e[0]) >= exact || std::abs(e[1]) >= exact || std::abs(e[2]) >= exact;
         Fragment f;
         pixel_weights(s, w, e, f);
         for (int c = 0; c < 3; ++c) {
@@ -66,10 +70,12 @@ void check_random_triangles(uint32_t seed, double reach, size_t* pixels) {
 }
 
 TEST(ShadingSpan, WeightsAreThoseOfPixelWeightsBitForBit) {
-  size_t pixels = 0;
-  for (uint32_t seed = 1; seed <= 20; ++seed) check_random_triangles(seed, 1e3, &pixels);
-  for (uint32_t seed = 101; seed <= 120; ++seed) check_random_triangles(seed, 8e6, &pixels);
-  EXPECT_GT(pixels, 100000u);  // the triangles really covered pixels of the tile
+  size_t pixels = 0, past_2_52 = 0;
+  for (uint32_t seed = 1; seed <= 20; ++seed) check_random_triangles(seed, 1e3, &pixels, &past_2_52);
+  const double reach = 1.5 * double(max_image_side_for_raster);
+  for (uint32_t seed = 101; seed <= 120; ++seed) check_random_triangles(seed, reach, &pixels, &past_2_52);
+  EXPECT_GT(pixels, 100000u);    // the triangles really covered pixels of the tile
+  EXPECT_GT(past_2_52, 10000u);  // and the int64 path was taken
 }
 
 TEST(ShadingSpan, ByteOfIsToByteForEveryFloatThatMatters) {
