@@ -12,8 +12,8 @@ LABELS = {"llvmpipe_flat": "llvmpipe depth+Lambert", "llvmpipe_phong_shadow": "l
           "phong": "ours Phong", "phong_shadow": "ours Phong+shadows", "flat_culled": "ours flat, culling on"}
 ROOM_SOUPS = ("soup_1e5", "soup_1e6")
 # One colour per renderer and mode in every plot: peers in blue/red/green, ours in the rest.
-COLOURS = dict(zip(LABELS.values(), ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2",
-                                            "#7f7f7f"]))
+COLOURS = dict(zip(LABELS.values(),
+                   ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"]))
 
 
 def measured_variants(results):
@@ -260,8 +260,8 @@ def plots_section(results, svg_dir, doc_dir):
     rel = os.path.relpath(svg_dir, doc_dir)
     top, L = top_threads(results), ["## Plots", ""]
     names = [s["name"] for s in results["scenes"]]
-    frame_series = [(LABELS[v], [median_ms(s["runs"][v].get(top, [])) for s in results["scenes"]])
-                    for v in measured_variants(results)]
+    variants = measured_variants(results)
+    frame_series = [(LABELS[v], [median_ms(s["runs"][v].get(top, [])) for s in results["scenes"]]) for v in variants]
     ratio_series = [(label, [ratio_of(s, k, top) for s in results["scenes"]]) for k, label, *_ in RATIOS]
     speed_series = [(LABELS[v], [speedup_of(s, v, results) for s in results["scenes"]]) for v, _ in SPEEDUPS]
     plots = [("frames.svg", "Median frame time per scene, %s threads" % top,
@@ -277,8 +277,7 @@ def plots_section(results, svg_dir, doc_dir):
     soups = sorted((s for s in results["scenes"] if s["kind"] == "soup" and s.get("triangles")),
                    key=lambda s: s["triangles"])
     if len(soups) >= 2:
-        series = [(LABELS[v], [(s["triangles"], median_ms(s["runs"][v].get(top, []))) for s in soups])
-                  for v in measured_variants(results)]
+        series = [(LABELS[v], [(s["triangles"], median_ms(s["runs"][v].get(top, []))) for s in soups]) for v in variants]
         title = "Frame time against triangle count (random soups, %s threads)" % top
         svg = perf_plot.xy_plot(title, series, "triangles", "median frame time (ms)", COLOURS)
         plots.append(("soups.svg", title, svg))

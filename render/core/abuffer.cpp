@@ -28,10 +28,8 @@ SampleSet make_sample_set(int samples) {
     set.nearest[i] = i;
   }
   set.dx[set.count] = set.dy[set.count] = 0;
-  std::stable_sort(set.nearest, set.nearest + set.count, [&](int a, int b) {
-    auto d2 = [&](int i) { return int64_t(set.dx[i]) * set.dx[i] + int64_t(set.dy[i]) * set.dy[i]; };
-    return d2(a) < d2(b);
-  });
+  auto d2 = [&](int i) { return int64_t(set.dx[i]) * set.dx[i] + int64_t(set.dy[i]) * set.dy[i]; };
+  std::stable_sort(set.nearest, set.nearest + set.count, [&](int a, int b) { return d2(a) < d2(b); });
   return set;
 }
 
