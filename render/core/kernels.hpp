@@ -5,6 +5,7 @@
 // same bytes; tests/unit/test_kernels.cpp renders the examples with each one forced and compares.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -20,9 +21,16 @@ struct Kernels {
   // no_visible) has group_of[visible[i]] == group keeps it whatever the depths say.
   void (*grouped_depth_span)(double z0, double dz_dx, int n, uint32_t id, uint32_t group, const uint32_t* group_of,
                              float* depth, uint32_t* visible);
+  // The BSP splitter's classification of n <= classify_block points per row of `rows` rows (row k at
+  // x + k stride, and so for y and z) against the plane n.p = offset (plane = {nx, ny, nz, offset}):
+  // d = nx x + ny y + nz z - offset, in that order; side[i] gets bit 0 where some row's d > epsilon
+  // and bit 1 where some row's d < -epsilon, and by_side[v] grows by the number of i with side[i] == v.
+  void (*classify_points)(const double* x, const double* y, const double* z, size_t stride, size_t rows, size_t n,
+                          const double plane[4], double epsilon, uint8_t* side, size_t by_side[4]);
 };
 
-constexpr uint32_t no_visible = 0xFFFFFFFFu;  // visible[] where nothing was drawn
+constexpr uint32_t no_visible = 0xFFFFFFFFu;
+constexpr size_t classify_block = 64;  // the most points classify_points takes at once  // visible[] where nothing was drawn
 
 // The set in use by this process.
 const Kernels& kernels();

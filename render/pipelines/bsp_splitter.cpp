@@ -5,13 +5,11 @@
 #include "render/pipelines/bsp.hpp"
 #include "render/pipelines/bsp_build.hpp"
 
+#include "render/core/kernels.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace rr::bsp_detail {
 
@@ -61,41 +59,15 @@ bool SplitterChooser::classify_sample(const Plane& plane, double epsilon, const 
   const size_t polygons = sampled_;
   sides.resize(polygons);
   counts = SplitCounts{};
-  const double nx = plane.normal.x, ny = plane.normal.y, nz = plane.normal.z, offset = plane.offset;
+  const double coefficients[4] = {plane.normal.x, plane.normal.y, plane.normal.z, plane.offset};
+  const Kernels& simd = kernels();
   uint8_t* __restrict side = sides.data();
+  static_assert(kScoreBlock <= classify_block);
   for (size_t p0 = 0; p0 < polygons; p0 += kScoreBlock) {
     const size_t count = std::min(polygons - p0, kScoreBlock);
-    uint8_t lane[kScoreBlock] = {};
-    for (size_t k = 0; k < slots_; ++k) {
-      const double* x = x_.data() + k * polygons + p0;
-      const double* y = y_.data() + k * polygons + p0;
-      const double* z = z_.data() + k * polygons + p0;
-      size_t i = 0;
-#if defined(__SSE2__)
-      // Two polygons at once with the same operations in the same order as below (SSE2 is the
-      // x86-64 baseline): the same bits.
-      const __m128d vx = _mm_set1_pd(nx), vy = _mm_set1_pd(ny), vz = _mm_set1_pd(nz), voffset = _mm_set1_pd(offset);
-      const __m128d above = _mm_set1_pd(epsilon), below = _mm_set1_pd(-epsilon);
-      for (; i + 2 <= count; i += 2) {
-        const __m128d d =
-            _mm_sub_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(vx, _mm_loadu_pd(x + i)), _mm_mul_pd(vy, _mm_loadu_pd(y + i))),
-                                  _mm_mul_pd(vz, _mm_loadu_pd(z + i))),
-                       voffset);
-        const int front = _mm_movemask_pd(_mm_cmpgt_pd(d, above)), back = _mm_movemask_pd(_mm_cmplt_pd(d, below));
-        lane[i] |= uint8_t((front & 1) | ((back & 1) << 1));
-        lane[i + 1] |= uint8_t((front >> 1) | (back & 2));
-      }
-#endif
-      for (; i < count; ++i) {
-        // Plane::distance's expression, operation for operation: dot(normal, p) - offset.
-        const double d = nx * x[i] + ny * y[i] + nz * z[i] - offset;
-        lane[i] |= uint8_t(uint8_t(d > epsilon) | uint8_t(uint8_t(d < -epsilon) << 1));
-      }
-    }
-    for (size_t i = 0; i < count; ++i) {
-      side[p0 + i] = uint8_t(lane[i]);
-      ++counts.by_side[lane[i]];
-    }
+    // Plane::distance's expression, operation for operation: dot(normal, p) - offset.
+    simd.classify_points(x_.data() + p0, y_.data() + p0, z_.data() + p0, polygons, slots_, count, coefficients, epsilon,
+                         side + p0, counts.by_side);
     const size_t p1 = p0 + count;
     if (p1 < polygons && !(counts.lower_bound(options, polygons - p1) < bound)) return false;
   }

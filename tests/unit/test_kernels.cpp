@@ -2,6 +2,7 @@
 // plain scalar loop on seeded random spans, and every example drawn by every pipeline, shading and
 // shadows setting with each level forced, against the baseline level.
 #include "render/core/kernels.hpp"
+#include "render/core/polygon_ops.hpp"
 #include "render/core/png.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <random>
 #include <vector>
@@ -80,6 +82,54 @@ TEST(Kernels, EveryLevelMatchesAScalarLoopBitForBit) {
       ASSERT_EQ(b.visible, grouped.visible);
     }
   }
+}
+
+TEST(Kernels, SplitterClassificationMatchesPlaneDistanceAtEveryLevel) {
+  const unsigned seed = std::random_device{}();
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> coordinate(-50.0, 50.0), unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> rows_of(1, 6), length(0, int(classify_block)), pick(0, 3);
+  size_t on = 0, spanning = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int rows = rows_of(rng), n = length(rng), stride = n + 3;
+    const Vec3 normal = glm::normalize(Vec3(unit(rng), unit(rng), unit(rng)) + Vec3(1e-9));
+    const Plane plane{normal, coordinate(rng)};
+    const double epsilon = trial % 3 ? 1e-6 : 0.5;
+    std::vector<double> x(size_t(rows * stride)), y(x.size()), z(x.size());
+    for (size_t i = 0; i < x.size(); ++i) {
+      Vec3 p(coordinate(rng), coordinate(rng), coordinate(rng));
+      // A quarter of the points within epsilon of the plane or on its edge: the strict comparisons.
+      const int kind = pick(rng);
+      if (kind == 0) p -= (plane.distance(p) - epsilon * unit(rng)) * normal;
+      if (kind == 1) p -= (plane.distance(p) - epsilon) * normal;
+      x[i] = p.x, y[i] = p.y, z[i] = p.z;
+    }
+    std::vector<uint8_t> want(size_t(n), 0);
+    size_t want_counts[4] = {7, 0, 3, 1};  // accumulated into, as the splitter's running counts are
+    for (int k = 0; k < rows; ++k) {
+      for (int i = 0; i < n; ++i) {
+        const size_t at = size_t(k * stride + i);
+        const double d = plane.distance(Vec3(x[at], y[at], z[at]));  // the definition
+        want[size_t(i)] |= uint8_t((d > epsilon ? 1 : 0) | (d < -epsilon ? 2 : 0));
+      }
+    }
+    for (uint8_t v : want) ++want_counts[v];
+    on += size_t(std::count(want.begin(), want.end(), 0));
+    spanning += size_t(std::count(want.begin(), want.end(), 3));
+    const double coefficients[4] = {plane.normal.x, plane.normal.y, plane.normal.z, plane.offset};
+    for (const Kernels* k : available_kernels()) {
+      SCOPED_TRACE(k->name);
+      std::vector<uint8_t> side(size_t(n), 0xAB);
+      size_t counts[4] = {7, 0, 3, 1};
+      k->classify_points(x.data(), y.data(), z.data(), size_t(stride), size_t(rows), size_t(n), coefficients, epsilon,
+                         side.data(), counts);
+      ASSERT_EQ(side, want) << "trial " << trial;
+      for (int v = 0; v < 4; ++v) ASSERT_EQ(counts[v], want_counts[v]) << "side " << v << ", trial " << trial;
+    }
+  }
+  EXPECT_GT(on, 1000u);
+  EXPECT_GT(spanning, 1000u);
 }
 
 TEST(Kernels, EveryExampleIsByteIdenticalAtEveryLevel) {
