@@ -85,8 +85,20 @@ size_t resolve_tile(const VisibilityInput& vis, size_t tile, const PixelRect& r,
   const std::vector<uint32_t>& bin = vis.bins[tile];
   thread_local std::vector<uint32_t> group_of;
   group_of.resize(bin.size());
-  for (uint32_t j = 0; j < bin.size(); ++j) group_of[j] = vis.slot_groups[vis.triangles[bin[j]].slot];
+  // A bin lists triangles scattered over the frame's array (each a cache line or two): fetched a
+  // few triangles ahead, their loads overlap instead of each waiting on memory in turn.
+  constexpr uint32_t ahead = 8;
+  const auto prefetch = [&](uint32_t j) {
+    if (j >= bin.size()) return;
+    const char* t = reinterpret_cast<const char*>(&vis.triangles[bin[j]]);
+    __builtin_prefetch(t), __builtin_prefetch(t + sizeof(BinnedTriangle) - 1);
+  };
   for (uint32_t j = 0; j < bin.size(); ++j) {
+    prefetch(j + ahead);
+    group_of[j] = vis.slot_groups[vis.triangles[bin[j]].slot];
+  }
+  for (uint32_t j = 0; j < bin.size(); ++j) {
+    prefetch(j + ahead);
     covered += resolve_triangle(vis.triangles[bin[j]], group_of[j], group_of.data(), j, r, b);
   }
   return covered;
