@@ -174,26 +174,31 @@ void fill_tile_constant(const FrameInput& input, const VisibilityInput& vis, con
   const std::vector<uint32_t>& bin = vis.bins[tile];
   w.start.resize(bin.size());  // bin position -> the triangle's polygon slot
   for (size_t j = 0; j < bin.size(); ++j) w.start[j] = vis.triangles[bin[j]].slot;
-  uint32_t* ids = frame.ids.ids.data();
-  uint8_t* rgb = frame.image.rgb.data();
+  // Locals, not members read through references: the byte stores below may alias anything, so a
+  // pointer or size held in memory would be loaded again after each of them.
+  const uint32_t* const slot_of = w.start.data();
+  const uint32_t* const visible = b.visible;
+  uint32_t* const ids = frame.ids.ids.data();
+  uint8_t* const rgb = frame.image.rgb.data();
+  const size_t width = size_t(b.width), x0 = size_t(r.x0), x1 = size_t(r.x1);
   uint32_t last_slot = no_triangle, id = background_id;
-  uint8_t bytes[3] = {0, 0, 0};
+  uint8_t red = 0, green = 0, blue = 0;
   for (int y = r.y0; y < r.y1; ++y) {
-    const size_t row = size_t(y) * size_t(b.width);
-    for (size_t i = row + size_t(r.x0); i < row + size_t(r.x1); ++i) {
-      const uint32_t v = b.visible[i];
+    const size_t row = size_t(y) * width;
+    for (size_t i = row + x0; i < row + x1; ++i) {
+      const uint32_t v = visible[i];
       if (v == no_triangle) continue;
-      const uint32_t slot = w.start[v];
+      const uint32_t slot = slot_of[v];
       if (slot != last_slot) {  // neighbouring pixels mostly show the same polygon
         const uint32_t index = vis.polygons[slot];
         const Color c = prepared.polygon_color(index);
-        bytes[0] = to_byte(c.r), bytes[1] = to_byte(c.g), bytes[2] = to_byte(c.b);
+        red = to_byte(c.r), green = to_byte(c.g), blue = to_byte(c.b);
         id = input.soup.polygons[index].id;
         last_slot = slot;
       }
       ids[i] = id;
       uint8_t* px = rgb + i * 3;
-      px[0] = bytes[0], px[1] = bytes[1], px[2] = bytes[2];
+      px[0] = red, px[1] = green, px[2] = blue;
     }
   }
 }
