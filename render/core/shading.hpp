@@ -8,6 +8,7 @@
 
 #include "render/core/draw.hpp"
 #include "render/core/frame.hpp"
+#include "render/core/kernels.hpp"
 #include "render/core/scene.hpp"
 #include "render/core/shadow.hpp"
 #include "render/core/shadow_rays.hpp"
@@ -32,13 +33,6 @@ LightTerms light_terms(const Light& light, const Material& material, Vec3 p_worl
 // Ambient + every light, unshadowed.
 Color shade_point(const Scene& scene, const Material& material, Vec3 p_world, Vec3 n, Vec3 eye);
 
-// to_byte (image.hpp) without a branch: the same byte for every float (NaN and anything not above 0
-// give 0, anything from 1 up 255, the same rounding between).
-inline uint8_t byte_of(float v) {
-  const float clamped = std::min(v > 0.0f ? v : 0.0f, 1.0f);
-  return uint8_t(int(clamped * 255.0f + 0.5f));
-}
-
 // x^shininess for x in [0, 1], from a table of 1024 intervals over [x_min, 1] (x_min =
 // specular_cutoff^(1 / shininess)), linearly interpolated; 0 below x_min. Its absolute error is below
 // specular_table_error for every shininess in [1, 10000] (the scene format's range): the
@@ -51,6 +45,8 @@ class SpecularTable {
   static constexpr int intervals = 1024;
   explicit SpecularTable(float shininess);
   float shininess() const { return shininess_; }
+  // The same mapping for the span kernels (kernels.hpp).
+  SpecularLookup lookup() const { return {values_.data(), x_min_, scale_, float(intervals) - 0.5f}; }
   float operator()(float x) const {
     const float t = (x - x_min_) * scale_;
     if (!(t > 0.0f)) return 0.0f;  // also NaN
@@ -105,7 +101,7 @@ class SurfaceShader {
   // triangle `k` of the bound polygon, the same as fragment() gives each of them, except that Phong
   // takes the specular lobe from a SpecularTable. The loops run over structure-of-arrays buffers,
   // light by light, so the per-pixel work has no calls or mode branches.
-  static constexpr size_t span_capacity = 64;
+  static constexpr size_t span_capacity = kernel_span;
   struct Span {
     int x = 0, y = 0;  // first pixel; the others follow along +x
     size_t count = 0;
@@ -174,7 +170,6 @@ class SurfaceShader {
   void span_flat(const Span& span, SpanColors& out) const;
   void span_gouraud(const Span& span, SpanColors& out) const;
   void span_phong(const Span& span, SpanColors& out) const;
-  struct PhongPixels;
   void span_phong_light(const ActiveLight& a, const PhongPixels& p, size_t count, const float* vis,
                         const SpanColors* tint, SpanColors& out) const;
   size_t bind_specular_table(float shininess);

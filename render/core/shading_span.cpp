@@ -2,12 +2,15 @@
 // polygon, given their perspective-correct weights, shaded together. Flat and Gouraud do per pixel
 // the same float operations, in the same order, as fragment(), so they give the same bytes; Phong
 // evaluates light_terms' model per pixel in floats like shade_phong, with the specular lobe from a
-// SpecularTable instead of std::pow. Each loop runs over structure-of-arrays buffers, light by light.
+// SpecularTable instead of std::pow. Each loop runs over structure-of-arrays buffers, light by light;
+// the arithmetic ones are kernels.hpp's, built for each SIMD level.
 #include "render/core/shading.hpp"
 
+#include "render/core/kernels.hpp"
 #include "render/core/shadow_rays.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -20,10 +23,6 @@ constexpr size_t cap = SurfaceShader::span_capacity;
 
 void fill(SurfaceShader::SpanColors& out, size_t count, Color c) {
   for (size_t i = 0; i < count; ++i) out.r[i] = c.r, out.g[i] = c.g, out.b[i] = c.b;
-}
-
-void to_float(const double* in, size_t count, float* out) {
-  for (size_t i = 0; i < count; ++i) out[i] = float(in[i]);
 }
 
 }  // namespace
@@ -39,17 +38,8 @@ SpecularTable::SpecularTable(float shininess) : shininess_(shininess), values_(i
 }
 
 void SurfaceShader::write_bytes(const SpanColors& c, size_t count, uint8_t* rgb) {
-  // Each pixel's 3 bytes go out as one 4-byte store whose last byte the next pixel's store
-  // overwrites; the last pixel writes 3 bytes, so nothing past the span is touched.
-  alignas(16) uint32_t packed[cap];
-  for (size_t i = 0; i < count; ++i) {
-    packed[i] = uint32_t(byte_of(c.r[i])) | uint32_t(byte_of(c.g[i])) << 8 | uint32_t(byte_of(c.b[i])) << 16;
-  }
-  if (count == 0) return;
-  for (size_t i = 0; i + 1 < count; ++i) std::memcpy(rgb + 3 * i, &packed[i], 4);
-  const uint32_t last = packed[count - 1];
-  uint8_t* px = rgb + 3 * (count - 1);
-  px[0] = uint8_t(last), px[1] = uint8_t(last >> 8), px[2] = uint8_t(last >> 16);
+  const float* const in[3] = {c.r, c.g, c.b};
+  kernels().write_bytes(in, count, rgb);
 }
 
 size_t SurfaceShader::bind_specular_table(float shininess) {
@@ -203,81 +193,55 @@ void SurfaceShader::span_flat(const Span& span, SpanColors& out) const {
 // same byte).
 void SurfaceShader::span_gouraud(const Span& span, SpanColors& out) const {
   const size_t n = shadowed_.size(), width = 1 + n, count = span.count;
+  const Kernels& simd = kernels();
   alignas(16) float b0[cap], b1[cap], b2[cap], vis[cap];
+  const double* const weights[3] = {span.b[0], span.b[1], span.b[2]};
+  float* const b[3] = {b0, b1, b2};
+  float* const rgb[3] = {out.r, out.g, out.b};
   SpanColors tint;
-  to_float(span.b[0], count, b0), to_float(span.b[1], count, b1), to_float(span.b[2], count, b2);
+  simd.to_float3(weights, count, b);
   const Color* t0 = &bound_terms_[0];
   const Color* t1 = &bound_terms_[(span.k + 1) * width];
   const Color* t2 = &bound_terms_[(span.k + 2) * width];
-  for (size_t i = 0; i < count; ++i) {
-    out.r[i] = b0[i] * t0[0].r + b1[i] * t1[0].r + b2[i] * t2[0].r;
-    out.g[i] = b0[i] * t0[0].g + b1[i] * t1[0].g + b2[i] * t2[0].g;
-    out.b[i] = b0[i] * t0[0].b + b1[i] * t1[0].b + b2[i] * t2[0].b;
-  }
+  const auto terms = [&](size_t layer) {
+    const Color a = t0[layer], c1 = t1[layer], c2 = t2[layer];
+    return std::array<float, 9>{a.r, a.g, a.b, c1.r, c1.g, c1.b, c2.r, c2.g, c2.b};
+  };
+  simd.gouraud_span(b, count, terms(0).data(), rgb);
   for (size_t s = 0; s < n; ++s) {
     span_visibility(span, s, vis);
-    const Color a = t0[1 + s], b = t1[1 + s], c = t2[1 + s];
     if (glass_) {
+      const Color a = t0[1 + s], c1 = t1[1 + s], c2 = t2[1 + s];
       span_tint(span, s, vis, tint);
       for (size_t i = 0; i < count; ++i) {
         const float v = vis[i];
-        const float r = (v * tint.r[i]) * (b0[i] * a.r + b1[i] * b.r + b2[i] * c.r);
-        const float g = (v * tint.g[i]) * (b0[i] * a.g + b1[i] * b.g + b2[i] * c.g);
-        const float bl = (v * tint.b[i]) * (b0[i] * a.b + b1[i] * b.b + b2[i] * c.b);
+        const float r = (v * tint.r[i]) * (b0[i] * a.r + b1[i] * c1.r + b2[i] * c2.r);
+        const float g = (v * tint.g[i]) * (b0[i] * a.g + b1[i] * c1.g + b2[i] * c2.g);
+        const float bl = (v * tint.b[i]) * (b0[i] * a.b + b1[i] * c1.b + b2[i] * c2.b);
         out.r[i] += v > 0.0f ? r : 0.0f;
         out.g[i] += v > 0.0f ? g : 0.0f;
         out.b[i] += v > 0.0f ? bl : 0.0f;
       }
       continue;
     }
-    for (size_t i = 0; i < count; ++i) {
-      const float v = vis[i];
-      const float r = v * (b0[i] * a.r + b1[i] * b.r + b2[i] * c.r);
-      const float g = v * (b0[i] * a.g + b1[i] * b.g + b2[i] * c.g);
-      const float bl = v * (b0[i] * a.b + b1[i] * b.b + b2[i] * c.b);
-      out.r[i] += v > 0.0f ? r : 0.0f;
-      out.g[i] += v > 0.0f ? g : 0.0f;
-      out.b[i] += v > 0.0f ? bl : 0.0f;
-    }
+    simd.gouraud_add(b, count, terms(1 + s).data(), vis, rgb);
   }
 }
 
-// Per pixel of a Phong span: the unit normal, the unit vector to the eye and the position relative
-// to the eye.
-struct SurfaceShader::PhongPixels {
-  alignas(16) float nx[cap], ny[cap], nz[cap];
-  alignas(16) float ex[cap], ey[cap], ez[cap];
-  alignas(16) float qx[cap], qy[cap], qz[cap];
-};
-
 void SurfaceShader::span_phong(const Span& span, SpanColors& out) const {
   const size_t count = span.count, k = span.k;
+  const Kernels& simd = kernels();
   PhongPixels p;
   alignas(16) float b0[cap], b1[cap], b2[cap], vis[cap];
+  const double* const weights[3] = {span.b[0], span.b[1], span.b[2]};
+  float* const b[3] = {b0, b1, b2};
   SpanColors tint;
-  to_float(span.b[0], count, b0), to_float(span.b[1], count, b1), to_float(span.b[2], count, b2);
+  simd.to_float3(weights, count, b);
   const glm::vec3 q0 = eye_to_p_[0], q1 = eye_to_p_[k + 1], q2 = eye_to_p_[k + 2];
   const glm::vec3 n0 = normal_[0], n1 = normal_[k + 1], n2 = normal_[k + 2];
-  for (size_t i = 0; i < count; ++i) {
-    const float qx = b0[i] * q0.x + b1[i] * q1.x + b2[i] * q2.x;
-    const float qy = b0[i] * q0.y + b1[i] * q1.y + b2[i] * q2.y;
-    const float qz = b0[i] * q0.z + b1[i] * q1.z + b2[i] * q2.z;
-    float nx = b0[i] * n0.x + b1[i] * n1.x + b2[i] * n2.x;
-    float ny = b0[i] * n0.y + b1[i] * n1.y + b2[i] * n2.y;
-    float nz = b0[i] * n0.z + b1[i] * n1.z + b2[i] * n2.z;
-    // Every quotient is computed, then selected: a division under a condition keeps the loop from
-    // vectorizing (it might trap), and 0 / 0 here only makes a NaN that is not selected.
-    const float n_len = std::sqrt(nx * nx + ny * ny + nz * nz);
-    const bool n_ok = n_len > 0.0f;
-    const float ux = nx / n_len, uy = ny / n_len, uz = nz / n_len;
-    nx = n_ok ? ux : n0.x, ny = n_ok ? uy : n0.y, nz = n_ok ? uz : n0.z;
-    const float q_len = std::sqrt(qx * qx + qy * qy + qz * qz);
-    const bool q_ok = q_len > 0.0f;
-    const float ex = -qx / q_len, ey = -qy / q_len, ez = -qz / q_len;
-    p.ex[i] = q_ok ? ex : nx, p.ey[i] = q_ok ? ey : ny, p.ez[i] = q_ok ? ez : nz;
-    p.nx[i] = nx, p.ny[i] = ny, p.nz[i] = nz;
-    p.qx[i] = qx, p.qy[i] = qy, p.qz[i] = qz;
-  }
+  const float q[9] = {q0.x, q0.y, q0.z, q1.x, q1.y, q1.z, q2.x, q2.y, q2.z};
+  const float nrm[9] = {n0.x, n0.y, n0.z, n1.x, n1.y, n1.z, n2.x, n2.y, n2.z};
+  simd.phong_pixels(b, count, q, nrm, p);
   fill(out, count, ambient_);
   evaluated_per_pixel_ += count * active_.size();
   for (const ActiveLight& a : active_) {
@@ -286,7 +250,7 @@ void SurfaceShader::span_phong(const Span& span, SpanColors& out) const {
       span_visibility(span, size_t(a.shadow), vis);
       if (glass_) span_tint(span, size_t(a.shadow), vis, tint), tinted = &tint;
     } else {
-      for (size_t i = 0; i < count; ++i) vis[i] = 1.0f;
+      std::fill_n(vis, count, 1.0f);
     }
     span_phong_light(a, p, count, vis, tinted, out);
   }
@@ -297,57 +261,17 @@ void SurfaceShader::span_phong(const Span& span, SpanColors& out) const {
 // normal or fully shadowed.
 void SurfaceShader::span_phong_light(const ActiveLight& a, const PhongPixels& p, size_t count, const float* vis,
                                      const SpanColors* tint, SpanColors& out) const {
-  alignas(16) float lx[cap], ly[cap], lz[cap], attenuation[cap];
-  if (a.point) {
-    for (size_t i = 0; i < count; ++i) {
-      const float dx = a.position.x - p.qx[i], dy = a.position.y - p.qy[i], dz = a.position.z - p.qz[i];
-      const float dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-      lx[i] = dx / dist, ly[i] = dy / dist, lz[i] = dz / dist;  // NaN at dist 0, and weight 0 below
-      const float at = 1.0f / (a.attenuation.x + a.attenuation.y * dist + a.attenuation.z * dist * dist);
-      attenuation[i] = dist > 0.0f ? at : 0.0f;
-    }
-  } else {
-    std::fill_n(lx, count, a.to_light.x), std::fill_n(ly, count, a.to_light.y), std::fill_n(lz, count, a.to_light.z);
-    std::fill_n(attenuation, count, 1.0f);
-  }
-  alignas(16) float n_dot_l[cap], n_dot_h[cap], weight[cap], spec[cap];
-  for (size_t i = 0; i < count; ++i) {
-    const float nl = p.nx[i] * lx[i] + p.ny[i] * ly[i] + p.nz[i] * lz[i];
-    const float hx = lx[i] + p.ex[i], hy = ly[i] + p.ey[i], hz = lz[i] + p.ez[i];
-    const float h_len = std::sqrt(hx * hx + hy * hy + hz * hz);
-    const float nh = (p.nx[i] * hx + p.ny[i] * hy + p.nz[i] * hz) / h_len;
-    const float w = attenuation[i] * vis[i];
-    n_dot_l[i] = nl;
-    n_dot_h[i] = h_len > 0.0f ? nh : 0.0f;
-    weight[i] = nl > 0.0f ? w : 0.0f;  // also 0 where vis or the attenuation is 0
-  }
-  if (a.has_specular) {
-    const SpecularTable& table = specular_tables_[table_];
-    for (size_t i = 0; i < count; ++i) spec[i] = table(n_dot_h[i]);
-  }
-  if (tint) {
-    for (size_t i = 0; i < count; ++i) {
-      const float s = a.has_specular ? spec[i] : 0.0f;
-      const float w = weight[i];
-      const float r = (a.diffuse.r * n_dot_l[i] + a.specular.r * s) * (w * tint->r[i]);
-      const float g = (a.diffuse.g * n_dot_l[i] + a.specular.g * s) * (w * tint->g[i]);
-      const float b = (a.diffuse.b * n_dot_l[i] + a.specular.b * s) * (w * tint->b[i]);
-      out.r[i] += w > 0.0f ? r : 0.0f;
-      out.g[i] += w > 0.0f ? g : 0.0f;
-      out.b[i] += w > 0.0f ? b : 0.0f;
-    }
-    return;
-  }
-  for (size_t i = 0; i < count; ++i) {
-    const float s = a.has_specular ? spec[i] : 0.0f;
-    const float w = weight[i];
-    const float r = (a.diffuse.r * n_dot_l[i] + a.specular.r * s) * w;
-    const float g = (a.diffuse.g * n_dot_l[i] + a.specular.g * s) * w;
-    const float b = (a.diffuse.b * n_dot_l[i] + a.specular.b * s) * w;
-    out.r[i] += w > 0.0f ? r : 0.0f;
-    out.g[i] += w > 0.0f ? g : 0.0f;
-    out.b[i] += w > 0.0f ? b : 0.0f;
-  }
+  const PhongSpanLight light{{a.to_light.x, a.to_light.y, a.to_light.z},
+                             {a.position.x, a.position.y, a.position.z},
+                             {a.attenuation.x, a.attenuation.y, a.attenuation.z},
+                             {a.diffuse.x, a.diffuse.y, a.diffuse.z},
+                             {a.specular.x, a.specular.y, a.specular.z},
+                             a.point,
+                             a.has_specular};
+  const SpecularLookup table = a.has_specular ? specular_tables_[table_].lookup() : SpecularLookup{};
+  const float* const tints[3] = {tint ? tint->r : nullptr, tint ? tint->g : nullptr, tint ? tint->b : nullptr};
+  float* const rgb[3] = {out.r, out.g, out.b};
+  kernels().phong_light(light, p, count, vis, tint ? tints : nullptr, table, rgb);
 }
 
 }  // namespace rr

@@ -266,31 +266,11 @@ static_assert(SurfaceShader::span_capacity >= size_t(tile_size), "a run of a til
 // below 2^52 in magnitude (each step's product and sum are then exact, and the loop vectorizes),
 // else in int64; either way each weight is the same double as pixel_weights computes.
 void span_weights(const TriangleSetup& s, const double inv_w[3], int x, int y, int n, SurfaceShader::Span& span) {
-  constexpr int64_t exact = int64_t{1} << 52;
-  alignas(16) double e[3][SurfaceShader::span_capacity];
-  for (int k = 0; k < 3; ++k) {
-    const int64_t first = s.edge(k, x, y) + s.bias[k], last = first + int64_t(n - 1) * s.step_x[k];
-    if (first > -exact && first < exact && last > -exact && last < exact) {
-      const double e0 = double(first), step = double(s.step_x[k]);
-      for (int i = 0; i < n; ++i) e[k][i] = e0 + double(i) * step;
-    } else {
-      for (int i = 0; i < n; ++i) e[k][i] = double(first + int64_t(i) * s.step_x[k]);
-    }
-  }
-  const double w0 = inv_w[s.order[0]], w1 = inv_w[s.order[1]], w2 = inv_w[s.order[2]];
-  alignas(16) double sum[SurfaceShader::span_capacity], inv[SurfaceShader::span_capacity];
-  for (int i = 0; i < n; ++i) {  // edge order; vertex order[k] takes edge k's weight below
-    e[0][i] = e[0][i] * s.inv_area * w0, e[1][i] = e[1][i] * s.inv_area * w1, e[2][i] = e[2][i] * s.inv_area * w2;
-    sum[i] = e[0][i] + e[1][i] + e[2][i];
-  }
-  // 1 / sum, or 0 where the sum is not positive: dividing in a loop of its own and selecting in the
-  // next keeps both free of control flow (a division under a condition might trap), so they vectorize.
-  for (int i = 0; i < n; ++i) inv[i] = 1.0 / sum[i];
-  for (int i = 0; i < n; ++i) {
-    const double inv_sum = sum[i] > 0.0 ? inv[i] : 0.0;
-    span.b[0][i] = e[0][i] * inv_sum, span.b[1][i] = e[1][i] * inv_sum, span.b[2][i] = e[2][i] * inv_sum;
-  }
-  if (s.order[1] != 1) std::swap_ranges(span.b[1], span.b[1] + n, span.b[2]);  // order is {0, 1, 2} or {0, 2, 1}
+  const int64_t first[3] = {s.edge(0, x, y) + s.bias[0], s.edge(1, x, y) + s.bias[1], s.edge(2, x, y) + s.bias[2]};
+  const double w[3] = {inv_w[s.order[0]], inv_w[s.order[1]], inv_w[s.order[2]]};
+  // Edge k weighs vertex order[k]: its weights go straight to that vertex's array.
+  double* const b[3] = {span.b[s.order[0]], span.b[s.order[1]], span.b[s.order[2]]};
+  kernels().span_weights(first, s.step_x, w, s.inv_area, n, b);
   span.x = x, span.y = y, span.count = size_t(n);
 }
 

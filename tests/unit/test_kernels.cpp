@@ -2,8 +2,8 @@
 // plain scalar loop on seeded random spans, and every example drawn by every pipeline, shading and
 // shadows setting with each level forced, against the baseline level.
 #include "render/core/kernels.hpp"
-#include "render/core/polygon_ops.hpp"
 #include "render/core/png.hpp"
+#include "render/core/polygon_ops.hpp"
 #include "render/pipelines/pipeline.hpp"
 #include "render/scene_io/scene_json.hpp"
 #include "support/render_modes.hpp"

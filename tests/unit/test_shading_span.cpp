@@ -1,9 +1,11 @@
-// The span shading path's pieces against the per-pixel code they replace: span_weights against
-// pixel_weights (bit for bit, including edge values too large to step in doubles), byte_of against
-// to_byte (every float that matters), and SpecularTable against std::pow (within its stated bound).
+// The span shading path's pieces against the per-pixel code they replace, at every SIMD level of
+// kernels.hpp: span_weights against pixel_weights (bit for bit, including edge values too large to
+// step in doubles), the write_bytes kernel against to_byte (every float that matters), and
+// SpecularTable against std::pow (within its stated bound).
 // That a shaded span equals fragment() pixel for pixel is held end to end by
 // Visibility.MatchesPerFragmentZBufferingOnEveryExampleAndMode.
 #include "render/core/image.hpp"
+#include "render/core/kernels.hpp"
 #include "render/core/raster.hpp"
 #include "render/core/shading.hpp"
 #include "render/pipelines/visibility.hpp"
@@ -16,6 +18,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 namespace rr {
 namespace {
@@ -69,32 +72,59 @@ void check_random_triangles(uint32_t seed, double reach, size_t* pixels, size_t*
   }
 }
 
-TEST(ShadingSpan, WeightsAreThoseOfPixelWeightsBitForBit) {
-  size_t pixels = 0, past_2_52 = 0;
-  for (uint32_t seed = 1; seed <= 20; ++seed) check_random_triangles(seed, 1e3, &pixels, &past_2_52);
-  const double reach = 1.5 * double(max_image_side_for_raster);
-  for (uint32_t seed = 101; seed <= 120; ++seed) check_random_triangles(seed, reach, &pixels, &past_2_52);
-  EXPECT_GT(pixels, 100000u);    // the triangles really covered pixels of the tile
-  EXPECT_GT(past_2_52, 10000u);  // and the int64 path was taken
+// Restores the process's kernel set when a test ends.
+struct ForcedKernels {
+  const char* before = kernels().name;
+  ~ForcedKernels() { use_kernels(before); }
+};
+
+TEST(ShadingSpan, WeightsAreThoseOfPixelWeightsBitForBitAtEveryLevel) {
+  ForcedKernels restore;
+  for (const Kernels* k : available_kernels()) {
+    SCOPED_TRACE(k->name);
+    ASSERT_TRUE(use_kernels(k->name));
+    size_t pixels = 0, past_2_52 = 0;
+    for (uint32_t seed = 1; seed <= 20; ++seed) check_random_triangles(seed, 1e3, &pixels, &past_2_52);
+    const double reach = 1.5 * double(max_image_side_for_raster);
+    for (uint32_t seed = 101; seed <= 120; ++seed) check_random_triangles(seed, reach, &pixels, &past_2_52);
+    EXPECT_GT(pixels, 100000u);    // the triangles really covered pixels of the tile
+    EXPECT_GT(past_2_52, 10000u);  // and the int64 path was taken
+  }
 }
 
-TEST(ShadingSpan, ByteOfIsToByteForEveryFloatThatMatters) {
-  // Exhaustively around every rounding boundary (k + 0.5) / 255 and around 0 and 1, then at random.
+TEST(ShadingSpan, WriteBytesIsToByteForEveryFloatThatMattersAtEveryLevel) {
+  // Exhaustively around every rounding boundary (k + 0.5) / 255 and around 0 and 1, the extremes,
+  // then at random; each channel of spans of every length up to the kernel's.
+  std::vector<float> values;
   for (int k = -1; k <= 256; ++k) {
     float v = float((k + 0.5) / 255.0);
     for (int step = 0; step < 64; ++step) v = std::nextafter(v, -1.0f);
-    for (int step = 0; step < 128; ++step, v = std::nextafter(v, 2.0f)) ASSERT_EQ(byte_of(v), to_byte(v)) << v;
+    for (int step = 0; step < 128; ++step, v = std::nextafter(v, 2.0f)) values.push_back(v);
   }
   for (float v : {0.0f, -0.0f, 1.0f, 1e30f, -1e30f, std::numeric_limits<float>::infinity(),
                   -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
                   std::numeric_limits<float>::denorm_min()}) {
-    EXPECT_EQ(byte_of(v), to_byte(v)) << v;
+    values.push_back(v);
   }
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> any(-0.5f, 1.5f);
-  for (int i = 0; i < 1000000; ++i) {
-    const float v = any(rng);
-    ASSERT_EQ(byte_of(v), to_byte(v)) << "seed 7, draw " << i << ": " << v;
+  for (int i = 0; i < 300000; ++i) values.push_back(any(rng));
+  for (const Kernels* k : available_kernels()) {
+    SCOPED_TRACE(k->name);
+    size_t at = 0, n = 0;
+    while (at + 3 * kernel_span <= values.size()) {
+      n = n % kernel_span + 1;  // spans of 1, 2, ... kernel_span pixels in turn
+      const float* const in[3] = {&values[at], &values[at + n], &values[at + 2 * n]};
+      std::vector<uint8_t> rgb(3 * n + 1, 0xAB);  // one byte past the span, which must stay
+      k->write_bytes(in, n, rgb.data());
+      for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_EQ(rgb[3 * i + size_t(c)], to_byte(in[c][i])) << "value " << in[c][i] << " (seed 7)";
+        }
+      }
+      ASSERT_EQ(rgb[3 * n], 0xAB) << "a byte past the span was written";
+      at += 3 * n;
+    }
   }
 }
 
