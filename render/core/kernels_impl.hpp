@@ -7,6 +7,12 @@ namespace rr::RR_KERNELS_NS {
 
 namespace {
 
+// The loops below use no library templates (std::min and the like): a copy of one that is not
+// inlined would be a weak symbol compiled for this level, which the linker may pick for every caller.
+// Selections are written as std::min writes them, (b < a) ? b : a, so the values are the same.
+// A pointer marked __restrict promises that the array a loop writes through it overlaps none it
+// reads, so the loop vectorizes without run-time overlap checks.
+
 void depth_span(double z0, double dz_dx, int n, uint32_t id, float* depth, uint32_t* visible) {
   for (int i = 0; i < n; ++i) {  // branch-free so that it vectorizes
     const float z = float(z0 + double(i) * dz_dx);
@@ -51,12 +57,6 @@ void classify_points(const double* x, const double* y, const double* z, size_t s
   by_side[1] += size_t(front - both), by_side[2] += size_t(back - both), by_side[3] += size_t(both);
   by_side[0] += n - size_t(front + back - both);
 }
-
-// The loops below use no library templates (std::min and the like): a copy of one that is not
-// inlined would be a weak symbol compiled for this level, which the linker may pick for every caller.
-// Selections are written as std::min writes them, (b < a) ? b : a, so the values are the same.
-// Arrays a loop writes never overlap those it reads (__restrict), so the loops vectorize without
-// run-time overlap checks.
 
 void span_weights(const int64_t first[3], const int64_t step[3], const double w[3], double inv_area, int n,
                   double* const b[3]) {
