@@ -60,10 +60,9 @@ struct Kernels {
   void (*span_weights)(const int64_t first[3], const int64_t step[3], const double w[3], double inv_area, int n,
                        double* const b[3]);
   void (*to_float3)(const double* const in[3], size_t n, float* const out[3]);
-  // Gouraud: out[c][i] = b0 t[c] + b1 t[3 + c] + b2 t[6 + c]; the _add form adds v times that where
-  // v = vis[i] > 0.
-  void (*gouraud_span)(const float* const b[3], size_t n, const float t[9], float* const out[3]);
-  void (*gouraud_add)(const float* const b[3], size_t n, const float t[9], const float* vis, float* const out[3]);
+  // Gouraud: with vis null, out[c][i] = b0 t[c] + b1 t[3 + c] + b2 t[6 + c]; else out[c][i] gains
+  // v times that where v = vis[i] > 0 (a shadowed light's term).
+  void (*gouraud_span)(const float* const b[3], size_t n, const float t[9], const float* vis, float* const out[3]);
   // Phong: the pixels' normals, eye vectors and positions from the vertices' q[3 v + c] (position
   // relative to the eye) and nrm[3 v + c] (normal); then one light's Blinn-Phong term added to out,
   // scaled by vis and, when tint is not null, by tint[c][i].

@@ -97,25 +97,18 @@ void to_float3(const double* const in[3], size_t n, float* const out[3]) {
   }
 }
 
-void gouraud_span(const float* const b[3], size_t n, const float t[9], float* const out[3]) {
+void gouraud_span(const float* const b[3], size_t n, const float t[9], const float* __restrict vis,
+                  float* const out[3]) {
   const float* __restrict b0 = b[0];
   const float* __restrict b1 = b[1];
   const float* __restrict b2 = b[2];
   for (int c = 0; c < 3; ++c) {
     const float t0 = t[c], t1 = t[3 + c], t2 = t[6 + c];
     float* __restrict o = out[c];
-    for (size_t i = 0; i < n; ++i) o[i] = b0[i] * t0 + b1[i] * t1 + b2[i] * t2;
-  }
-}
-
-void gouraud_add(const float* const b[3], size_t n, const float t[9], const float* __restrict vis,
-                 float* const out[3]) {
-  const float* __restrict b0 = b[0];
-  const float* __restrict b1 = b[1];
-  const float* __restrict b2 = b[2];
-  for (int c = 0; c < 3; ++c) {
-    const float t0 = t[c], t1 = t[3 + c], t2 = t[6 + c];
-    float* __restrict o = out[c];
+    if (!vis) {
+      for (size_t i = 0; i < n; ++i) o[i] = b0[i] * t0 + b1[i] * t1 + b2[i] * t2;
+      continue;
+    }
     for (size_t i = 0; i < n; ++i) {
       const float v = vis[i];
       const float term = v * (b0[i] * t0 + b1[i] * t1 + b2[i] * t2);
@@ -236,7 +229,7 @@ void write_bytes(const float* const in[3], size_t n, uint8_t* rgb) {
 
 }  // namespace
 
-const Kernels set{RR_KERNELS_NAME, depth_span,  grouped_depth_span, classify_points, span_weights, to_float3,
-                  gouraud_span,    gouraud_add, phong_pixels,       phong_light,     write_bytes};
+const Kernels set{RR_KERNELS_NAME, depth_span,   grouped_depth_span, classify_points, span_weights,
+                  to_float3,       gouraud_span, phong_pixels,       phong_light,     write_bytes};
 
 }  // namespace rr::RR_KERNELS_NS

@@ -206,7 +206,7 @@ void SurfaceShader::span_gouraud(const Span& span, SpanColors& out) const {
     const Color a = t0[layer], c1 = t1[layer], c2 = t2[layer];
     return std::array<float, 9>{a.r, a.g, a.b, c1.r, c1.g, c1.b, c2.r, c2.g, c2.b};
   };
-  simd.gouraud_span(b, count, terms(0).data(), rgb);
+  simd.gouraud_span(b, count, terms(0).data(), nullptr, rgb);
   for (size_t s = 0; s < n; ++s) {
     span_visibility(span, s, vis);
     if (glass_) {
@@ -223,7 +223,7 @@ void SurfaceShader::span_gouraud(const Span& span, SpanColors& out) const {
       }
       continue;
     }
-    simd.gouraud_add(b, count, terms(1 + s).data(), vis, rgb);
+    simd.gouraud_span(b, count, terms(1 + s).data(), vis, rgb);
   }
 }
 
