@@ -14,14 +14,16 @@ std::optional<double> intersect_polygon(const PolygonSoup& soup, const Polygon& 
   // counter-clockwise about its normal, so every edge cross product has the sign of that component.
   const Vec3 a = glm::abs(polygon.normal);
   const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  const int u = drop == 2 ? 0 : drop + 1, v = drop == 0 ? 2 : drop - 1;
   const double sign = polygon.normal[drop] >= 0.0 ? 1.0 : -1.0;
   const auto points = soup.points(polygon);
-  for (size_t j = 0; j < points.size(); ++j) {
-    const Vec3& s = points[j];
-    const Vec3& e = points[(j + 1) % points.size()];
-    const double cross = (e[u] - s[u]) * (p[v] - s[v]) - (e[v] - s[v]) * (p[u] - s[u]);
+  if (points.empty()) return t;
+  // Edges (s, e) in order, the last one closing back to the first vertex (no index wraps).
+  const Vec3* s = &points.back();
+  for (const Vec3& e : points) {
+    const double cross = (e[u] - (*s)[u]) * (p[v] - (*s)[v]) - (e[v] - (*s)[v]) * (p[u] - (*s)[u]);
     if (sign * cross < 0.0) return std::nullopt;
+    s = &e;
   }
   return t;
 }
