@@ -62,6 +62,7 @@ struct RenderStats {
   size_t lights_evaluated = 0;  // light-polygon (flat) or light-vertex/pixel evaluations
   bool shadow_skipped = true;   // no shadow lookups or rays (no light, shadows off, or nothing to cast)
   size_t lamps_culled = 0;      // shadow.method rays, culling on: lights that see no cell the view reaches
+  size_t lamps_blocked = 0;     // the same: pairs of a shown polygon and a kept lamp that cannot light any of it
   size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
   // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
   size_t objects_occluded = 0;    // objects in the frustum with a front face, none of it drawn: all hidden
@@ -108,6 +109,7 @@ inline size_t light_mask_bytes(size_t lights) { return lights > 8 ? (lights + 7)
 struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
 struct SceneCells;                               // cells.hpp: cells and portals of one static scene
 struct ShadowBvh;                                // shadow_rays.hpp: the shadow rays' tree of one static soup
+struct LampsBlocked;                             // sight_cones.hpp: lamps that cannot light a polygon
 class DepthPyramid;                              // occlusion.hpp: one frame's hierarchical depth
 struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
 using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
@@ -168,6 +170,10 @@ struct FrameInput {
   // Per scene light, 1 when the light is skipped altogether (rays only: it sees no cell the view
   // reaches, so every ray it would get is blocked); null: none is.
   const std::vector<uint8_t>* lights_skipped = nullptr;
+  // Finer, per polygon (rays only): the lamps none of whose rays to any point of the polygon can be
+  // unblocked, because no sight line from the lamp into the polygon's cells reaches its bounds.
+  // Null: none known.
+  const LampsBlocked* lamps_blocked = nullptr;
   // Per soup object, 0 when its bounding box lies outside the view frustum (frustum.hpp); null:
   // not computed (the bsp pipeline culls subtrees of its tree instead).
   const std::vector<uint8_t>* objects_in_view = nullptr;

@@ -109,7 +109,7 @@ void SurfaceShader::collect_reaching(const Polygon& source) {
   sign_ = lit_side(source, input_.view.eye);
   reaching_.clear();
   for (uint32_t l = 0; l < input_.scene.lights.size(); ++l) {
-    if (skipped(l)) continue;
+    if (skipped(l) || blocked(l, source.id)) continue;
     if (light_reaches(input_.scene.lights[l], sign_ * source.normal, sign_ * source.offset)) reaching_.push_back(l);
   }
 }

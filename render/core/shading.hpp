@@ -12,6 +12,7 @@
 #include "render/core/scene.hpp"
 #include "render/core/shadow.hpp"
 #include "render/core/shadow_rays.hpp"
+#include "render/core/sight_cones.hpp"
 #include "render/core/surface.hpp"
 #include "render/core/tessellate.hpp"
 
@@ -137,6 +138,8 @@ class SurfaceShader {
   // rays, -1 when it is never shadowed.
   int32_t slot_of(uint32_t l) const { return maps_ ? maps_->slot_of_light[l] : rays_ ? int32_t(l) : -1; }
   bool skipped(uint32_t l) const { return input_.lights_skipped && (*input_.lights_skipped)[l]; }
+  // Light l cannot light any point of the polygon with id `id`: every ray toward it is blocked.
+  bool blocked(uint32_t l, uint32_t id) const { return input_.lamps_blocked && input_.lamps_blocked->blocked(id, l); }
   float ray_visibility(const Shadowed& light, Vec3 p_world) const;
   Vec3 world_at(const Fragment& f, size_t k) const {
     return f.b[0] * world_[0] + f.b[1] * world_[k + 1] + f.b[2] * world_[k + 2];

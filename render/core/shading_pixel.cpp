@@ -29,7 +29,7 @@ void SurfaceShader::bind(uint32_t index, const DrawScratch& scratch) {
   const auto& lights = input_.scene.lights;
   for (uint32_t l = 0; l < lights.size(); ++l) {
     const Light& light = lights[l];
-    if (skipped(l) || !light_reaches(light, sign_ * poly.normal, sign_ * poly.offset)) continue;
+    if (skipped(l) || blocked(l, poly.id) || !light_reaches(light, sign_ * poly.normal, sign_ * poly.offset)) continue;
     ActiveLight a;
     const int32_t slot = slot_of(l);
     if (slot >= 0 && maps_) {
@@ -140,6 +140,7 @@ void SurfaceShader::bind_gouraud(uint32_t index, const DrawScratch& scratch) {
 // itself is left out of the casters by its id, as the reference leaves out the polygon it hit, rather
 // than moving the origin off the surface, so that a decision is the reference's at the same point.
 float SurfaceShader::ray_visibility(const Shadowed& light, Vec3 p_world) const {
+  if (input_.lamps_blocked && input_.lamps_blocked->fixture_closes(uint32_t(light.slot), p_world)) return 0.0f;
   return shadow_ray_blocked(*rays_, input_.soup, self_, p_world, *light.ray_light, &memos_[size_t(light.slot)]) ? 0.0f
                                                                                                                 : 1.0f;
 }

@@ -271,18 +271,28 @@ bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t 
   if (stats) ++stats->rays;
   // The memo's polygon is one of the tree's items, so it is a caster exactly when the walk below
   // would find it one: the same own-id exclusion, caster rule and exact test.
-  if (memo && memo->blocker != UINT32_MAX) {
-    const Polygon& q = soup.polygons[memo->blocker];
-    if (q.id != self && casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) {
-      if (stats) ++stats->blocked, ++stats->memo_hits, ++stats->polygons;
-      return true;
+  // Moves `blocker` to the memo's front, the others back by one (from slot `from`, or all).
+  auto remember = [&](uint32_t blocker, size_t from) {
+    for (size_t k = from; k > 0; --k) memo->older[k - 1] = k >= 2 ? memo->older[k - 2] : memo->blocker;
+    memo->blocker = blocker;
+  };
+  if (memo) {
+    for (size_t k = 0; k < ShadowRayMemo::size; ++k) {
+      const uint32_t blocker = k == 0 ? memo->blocker : memo->older[k - 1];
+      if (blocker == UINT32_MAX) break;
+      const Polygon& q = soup.polygons[blocker];
+      if (stats) ++stats->polygons;
+      if (q.id != self && casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) {
+        if (stats) ++stats->blocked, ++stats->memo_hits;
+        if (k > 0) remember(blocker, k);
+        return true;
+      }
     }
-    if (stats) ++stats->polygons;
   }
   return walk(bvh, p, s, stats, [&](uint32_t leaf) {
     const uint32_t blocker = leaf_blocker(bvh, soup, leaf, self, p, light, s, stats);
     if (blocker == UINT32_MAX) return false;
-    if (memo) memo->blocker = blocker;
+    if (memo) remember(blocker, ShadowRayMemo::size - 1);
     if (stats) ++stats->blocked;
     return true;
   });
@@ -301,6 +311,95 @@ Color shadow_ray_transmittance(const ShadowBvh& bvh, const PolygonSoup& soup, ui
     return false;
   });
   return Color(through);
+}
+
+FixtureMap fixture_map(const PolygonSoup& soup, std::span<const uint32_t> polygons, const Light& light, double margin,
+                       int n) {
+  FixtureMap map;
+  map.light = light.position;
+  const Vec3 l = light.position;
+  double reach = 0.0;
+  std::vector<uint32_t> casters;
+  for (uint32_t k : polygons) {
+    const Polygon& q = soup.polygons[k];
+    if ((q.flags & polygon_translucent) || !casts_shadow(q, light)) continue;
+    if (!(std::abs(glm::dot(q.normal, l) - q.offset) > margin)) continue;
+    const std::span<const Vec3> v = soup.points(q);
+    if (v.size() < 3) continue;
+    // Planar and convex, winding about its normal (as intersect_polygon reads it).
+    bool usable = true;
+    for (size_t m = 0; m < v.size() && usable; ++m) {
+      const Vec3 a = v[m], b = v[(m + 1) % v.size()], c = v[(m + 2) % v.size()];
+      usable = std::abs(glm::dot(q.normal, a) - q.offset) <= 1e-3 * margin &&
+               glm::dot(glm::cross(b - a, c - b), q.normal) > 0.0;
+    }
+    if (!usable) continue;
+    casters.push_back(k);
+    for (const Vec3& p : v) reach = std::max(reach, glm::length(p - l));
+  }
+  if (casters.empty()) return map;
+  map.n = n;
+  map.far2 = (reach + margin) * (reach + margin);
+  map.bits.assign((size_t(6) * size_t(n) * size_t(n) + 63) / 64, 0);
+  // Per face, the corner rays' hits of the caster at hand: 1 when inside with the margin.
+  std::vector<uint8_t> hit(size_t(n + 1) * size_t(n + 1));
+  std::vector<Vec3> inward;  // the caster at hand: per edge, the unit normal into it in its plane
+  for (int face = 0; face < 6; ++face) {
+    const int axis = face / 2, b = axis == 2 ? 0 : axis + 1, c = axis == 0 ? 2 : axis - 1;
+    const double sign = face % 2 ? -1.0 : 1.0;
+    auto corner = [&](int i, int j) {
+      Vec3 d(0.0);
+      d[axis] = sign, d[b] = -1.0 + 2.0 * i / n, d[c] = -1.0 + 2.0 * j / n;
+      return d;
+    };
+    for (uint32_t k : casters) {
+      const Polygon& q = soup.polygons[k];
+      const std::span<const Vec3> v = soup.points(q);
+      inward.resize(v.size());
+      for (size_t m = 0; m < v.size(); ++m)
+        inward[m] = glm::normalize(glm::cross(q.normal, v[(m + 1) % v.size()] - v[m]));
+      // The corners to test: those within the caster's image on this face (all its vertices ahead).
+      double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+      bool ahead = true;
+      for (const Vec3& p : v) {
+        const Vec3 d = p - l;
+        if (!(d[axis] * sign > 0.0)) ahead = false;
+        const double w = d[axis] * sign;
+        u0 = std::min(u0, d[b] / w), u1 = std::max(u1, d[b] / w), v0 = std::min(v0, d[c] / w),
+        v1 = std::max(v1, d[c] / w);
+      }
+      if (!ahead) continue;
+      const int i0 = std::max(0, int(std::floor((u0 + 1.0) * 0.5 * n))),
+                i1 = std::min(n, int(std::ceil((u1 + 1.0) * 0.5 * n)));
+      const int j0 = std::max(0, int(std::floor((v0 + 1.0) * 0.5 * n))),
+                j1 = std::min(n, int(std::ceil((v1 + 1.0) * 0.5 * n)));
+      if (i0 >= i1 || j0 >= j1) continue;
+      for (int j = j0; j <= j1; ++j) {
+        for (int i = i0; i <= i1; ++i) {
+          const Vec3 d = corner(i, j);
+          const double denom = glm::dot(q.normal, d);
+          bool inside = denom != 0.0;
+          if (inside) {
+            const double t = (q.offset - glm::dot(q.normal, l)) / denom;
+            const Vec3 p = l + t * d;
+            inside = t > 0.0 && glm::length(p - l) <= reach;
+            // At least `margin` inside every edge, in the polygon's plane.
+            for (size_t m = 0; m < v.size() && inside; ++m) inside = glm::dot(p - v[m], inward[m]) >= margin;
+          }
+          hit[size_t(j) * size_t(n + 1) + size_t(i)] = inside;
+        }
+      }
+      for (int j = j0; j < j1; ++j) {
+        for (int i = i0; i < i1; ++i) {
+          auto at = [&](int x, int y) { return hit[size_t(y) * size_t(n + 1) + size_t(x)] != 0; };
+          if (!(at(i, j) && at(i + 1, j) && at(i, j + 1) && at(i + 1, j + 1))) continue;
+          const size_t bin = (size_t(face) * size_t(n) + size_t(j)) * size_t(n) + size_t(i);
+          map.bits[bin / 64] |= uint64_t(1) << (bin % 64);
+        }
+      }
+    }
+  }
+  return map;
 }
 
 bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,

@@ -16,7 +16,9 @@
 #include "render/core/tessellate.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace rr {
@@ -63,11 +65,14 @@ inline glm::dvec3 pane_transmittance(const Material& material) {
 // edge-on to the light and, for closed objects, only the faces turned away from it. A point light within 2 epsilon of p
 // is never blocked.
 //
-// `memo` (optional, one per thread and light): the caster that blocked the last blocked ray, tested
-// before the tree and replaced by each new blocker. Any caster that blocks the segment proves the
-// answer, so the memo changes the cost, never the answer. `stats` (optional) counts the work.
+// `memo` (optional, one per thread and light): the casters that blocked the last few blocked rays,
+// tested before the tree, most recent first; a blocker found moves to the front. Any caster that blocks the segment
+// proves the answer, so the memo changes the cost, never the answer. `stats` (optional) counts the work.
 struct ShadowRayMemo {
-  uint32_t blocker = UINT32_MAX;  // a soup polygon index from ShadowBvh::items, or none
+  static constexpr size_t size = 4;
+  // Soup polygon indices from ShadowBvh::items, or none: the last blocker first, then older ones.
+  uint32_t blocker = UINT32_MAX;
+  std::array<uint32_t, size - 1> older{UINT32_MAX, UINT32_MAX, UINT32_MAX};
 };
 struct ShadowRayStats {
   uint64_t rays = 0, blocked = 0, memo_hits = 0, nodes = 0, polygons = 0;
@@ -87,6 +92,37 @@ bool shadow_ray_blocked_brute_force(const PolygonSoup& soup, double ray_epsilon,
                                     const Light& light);
 Color shadow_ray_transmittance_brute_force(const PolygonSoup& soup, double ray_epsilon, uint32_t self, Vec3 p,
                                            const Light& light);
+
+// The directions around a point light that its own fixture closes: a bin of directions (one of
+// n x n squares on each face of a cube about the light) is closed when one convex, planar caster of
+// the light (polygons of the soup near it, by the rule above) lies within `reach` of the light and is
+// crossed by all four of the bin's corner rays at least `margin` inside its edges, and its plane lies
+// more than `margin` from the light (planar: its vertices within margin / 1000 of its plane). Then every ray from the
+// light with a direction in the bin crosses that polygon within reach (the bin's cross-section with its plane is the
+// convex hull of the corner hits), so a segment from a point farther than reach + margin to the light is blocked (the
+// segment cannot start on that polygon, all of whose points are within reach).
+struct FixtureMap {
+  Vec3 light{0.0};
+  double far2 = 0.0;  // (reach + margin)^2: closes() answers only for points farther than this
+  int n = 0;          // bins per cube face edge; 0: no bin closed
+  std::vector<uint64_t> bits;
+  // Whether every shadow ray from p to the light is blocked by the fixture.
+  bool closes(Vec3 p) const {
+    if (n == 0) return false;
+    const Vec3 d = p - light;
+    if (!(glm::dot(d, d) > far2)) return false;
+    const Vec3 a = glm::abs(d);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    const int b = axis == 2 ? 0 : axis + 1, c = axis == 0 ? 2 : axis - 1;
+    const double u = d[b] / a[axis], v = d[c] / a[axis];
+    const int i = std::clamp(int((u + 1.0) * 0.5 * n), 0, n - 1), j = std::clamp(int((v + 1.0) * 0.5 * n), 0, n - 1);
+    const size_t bin = (size_t(2 * axis + (d[axis] < 0.0)) * size_t(n) + size_t(j)) * size_t(n) + size_t(i);
+    return (bits[bin / 64] >> (bin % 64)) & 1u;
+  }
+};
+// The fixture map of `light` (a point light) from `polygons` (indices into `soup`).
+FixtureMap fixture_map(const PolygonSoup& soup, std::span<const uint32_t> polygons, const Light& light, double margin,
+                       int n);
 
 // The reference's ray epsilon for `soup`: 1e-9 of its size plus 1e-12 of its distance from the origin.
 double shadow_ray_epsilon(const PolygonSoup& soup);

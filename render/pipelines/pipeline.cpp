@@ -7,6 +7,7 @@
 #include "render/core/frustum.hpp"
 #include "render/core/hierarchy.hpp"
 #include "render/core/occlusion.hpp"
+#include "render/core/parallel.hpp"
 #include "render/core/shadow.hpp"
 #include "render/core/shadow_rays.hpp"
 #include "render/core/sight_cones.hpp"
@@ -36,8 +37,16 @@ struct CullState {
   CellWalk cell_walk;
   CellFilter cell_filter;
   CellConditions cell_conditions;
-  CellWalk lamp_walk;                   // one cube face of one lamp at a time
   std::vector<uint8_t> lights_skipped;  // per scene light (shadow rays: FrameInput::lights_skipped)
+  LampsBlocked lamps_blocked;           // FrameInput::lamps_blocked; its sight per light from cull_lamps
+  // Per scene light, the last fixture map this thread made and everything it was made from: a frame
+  // whose inputs compare equal takes it as it is (the map is a function of them alone).
+  struct FixtureCache {
+    std::vector<double> key;
+    FixtureMap map;
+  };
+  std::vector<FixtureCache> fixture_cache;
+  std::vector<uint8_t> id_seen;  // per polygon id, while filling lamps_blocked
 };
 
 // The hierarchy of `soup`: the context's when it was built on this soup or on the soup this one was
@@ -123,23 +132,71 @@ ViewRegion bounding_region(const CellWalk& walk, size_t c) {
 void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, RenderStats& stats) {
   const auto& lights = input.scene.lights;
   state.lights_skipped.assign(lights.size(), 0);
+  state.lamps_blocked.sight.resize(lights.size());
+  for (LampSight& sight : state.lamps_blocked.sight) sight.everything = true;
+  state.lamps_blocked.fixtures.clear();
   input.lights_skipped = &state.lights_skipped;
   if (state.cell_walk.everything) return;
   // The lamp's views start 0.1 mm from it (locate_cells takes every cell that close as a start), and
   // their portals are widened by 1e-6 of the view plane, far beyond the rounding of a projection:
   // the walk must never miss a cell an exact ray enters.
   constexpr double near_m = 1e-4, far_m = 1e6, margin = 1e-6;
+  constexpr int fixture_bins = 64;  // per cube face edge of a lamp's fixture map
   Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const Vec3& p : input.soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
   if (input.soup.positions.empty()) return;
   // Cones that come within this of each other count as meeting: far above the clipping's rounding.
   const double tolerance = 1e-7 * glm::length(hi - lo) + 1e-9;
   const Mat4 camera_clip_from_world = cell_viewpoint(input.view).clip_from_world;
-  std::vector<HalfSpace> cones;
-  for (size_t l = 0; l < lights.size(); ++l) {
+  const size_t n_cells = cells.cells.size();
+  // Per cell and face: the group of the face's cone with the camera's, gathered face by face and
+  // then laid out by cell. Lamps are independent: one task each, writing only its own entries.
+  struct Group {
+    uint32_t cell = 0, first = 0, count = 0;
+  };
+  // The polygons of objects whose bounds hold a lamp: its fixture, for its fixture map.
+  const PolygonSoup& soup = input.soup;
+  std::vector<std::vector<uint32_t>> held(soup.objects.size());  // per object: the lamps it holds
+  bool any_held = false;
+  for (uint32_t l = 0; l < lights.size(); ++l) {
+    if (lights[l].type != LightType::point) continue;
+    const Vec3 p = lights[l].position;
+    for (uint32_t o = 0; o < soup.objects.size(); ++o) {
+      const SceneObject& object = soup.objects[o];
+      if (object.bounded && glm::all(glm::lessThan(object.lo, p)) && glm::all(glm::lessThan(p, object.hi))) {
+        held[o].push_back(l), any_held = true;
+      }
+    }
+  }
+  std::vector<std::vector<uint32_t>> fixture(lights.size());
+  for (uint32_t j = 0; any_held && j < soup.polygons.size(); ++j) {
+    for (uint32_t l : held[soup.polygons[j].object]) fixture[l].push_back(j);
+  }
+  state.lamps_blocked.fixtures.assign(lights.size(), FixtureMap{});
+  state.fixture_cache.resize(lights.size());
+  parallel_for(input.context.threads, lights.size(), [&](size_t l, unsigned) {
     const Light& light = lights[l];
-    if (light.type != LightType::point) continue;
+    LampSight& sight = state.lamps_blocked.sight[l];
+    if (light.type != LightType::point) return;
+    if (!fixture[l].empty()) {
+      thread_local std::vector<double> key;
+      key.assign({light.position.x, light.position.y, light.position.z, tolerance, double(fixture_bins)});
+      for (uint32_t k : fixture[l]) {
+        const Polygon& q = soup.polygons[k];
+        key.insert(key.end(), {double(q.flags), q.normal.x, q.normal.y, q.normal.z, q.offset, double(q.vertex_count)});
+        for (const Vec3& v : soup.points(q)) key.insert(key.end(), {v.x, v.y, v.z});
+      }
+      CullState::FixtureCache& cached = state.fixture_cache[l];
+      if (cached.key != key)
+        cached.key = key, cached.map = fixture_map(soup, fixture[l], light, tolerance, fixture_bins);
+      state.lamps_blocked.fixtures[l] = cached.map;
+    }
+    thread_local CellWalk lamp_walk;
+    thread_local std::vector<Group> found;
+    thread_local std::vector<HalfSpace> planes;
     bool sees = false;
+    found.clear();
+    planes.clear();
     for (const shadow_detail::CubeFace& face : shadow_detail::cube_faces) {
       CellViewpoint viewpoint;
       viewpoint.eye = light.position;
@@ -147,19 +204,94 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
       viewpoint.clip_from_world = glm::perspective(0.5 * std::numbers::pi, 1.0, near_m, far_m) *
                                   glm::lookAt(light.position, light.position + face.forward, face.up);
       viewpoint.margin_x = viewpoint.margin_y = margin;
-      walk_cells(cells, state.cell_conditions, viewpoint, state.lamp_walk);
-      sees = state.lamp_walk.everything;
-      for (size_t c = 0; !sees && c < cells.cells.size(); ++c) {
-        if (!state.lamp_walk.reached[c] || !state.cell_walk.reached[c]) continue;
-        cones.clear();
-        add_sight_cone(camera_clip_from_world, bounding_region(state.cell_walk, c), cones);
-        add_sight_cone(viewpoint.clip_from_world, bounding_region(state.lamp_walk, c), cones);
-        sees = half_spaces_meet_in_box(cones, lo, hi, tolerance);
+      walk_cells(cells, state.cell_conditions, viewpoint, lamp_walk);
+      if (lamp_walk.everything) {
+        sees = true;
+        found.clear();
+        break;
       }
-      if (sees) break;
+      for (size_t c = 0; c < n_cells; ++c) {
+        if (!lamp_walk.reached[c] || !state.cell_walk.reached[c]) continue;
+        const uint32_t first = uint32_t(planes.size());
+        add_sight_cone(camera_clip_from_world, bounding_region(state.cell_walk, c), planes);
+        add_sight_cone(viewpoint.clip_from_world, bounding_region(lamp_walk, c), planes);
+        const std::span<const HalfSpace> cone(planes.data() + first, planes.size() - first);
+        if (!half_spaces_meet_in_box(cone, lo, hi, tolerance)) {
+          planes.resize(first);
+          continue;
+        }
+        sees = true;
+        found.push_back({uint32_t(c), first, uint32_t(planes.size() - first)});
+      }
     }
-    if (!sees) state.lights_skipped[l] = 1, ++stats.lamps_culled;
+    if (!sees) {
+      state.lights_skipped[l] = 1;
+      return;
+    }
+    if (found.empty()) return;  // a walk gave up
+    sight.everything = false;
+    std::stable_sort(found.begin(), found.end(), [](const Group& a, const Group& b) { return a.cell < b.cell; });
+    sight.cell_first.assign(n_cells + 1, 0);
+    for (const Group& g : found) ++sight.cell_first[g.cell + 1];
+    for (size_t c = 0; c < n_cells; ++c) sight.cell_first[c + 1] += sight.cell_first[c];
+    sight.groups.clear();
+    for (const Group& g : found) sight.groups.emplace_back(g.first, g.count);
+    sight.planes.assign(planes.begin(), planes.end());
+  });
+  for (uint8_t skipped : state.lights_skipped) stats.lamps_culled += skipped;
+}
+
+// Lamps blocked per polygon (shadow rays, after the occlusion walk): a shown point x of polygon p
+// that a kept lamp lights lies in one of p's cells (its bounds touch every cell it has a point in),
+// and, by cull_lamps' argument, in the camera's cone and a face's cone of that cell, and in p's
+// bounding box. When, for every cell of p, the box lies wholly outside one half-space of each of
+// that cell's groups (each moved out by the tolerance), the lamp lights no point of p: its rays would
+// all be blocked, and leaving the lamp out of p's shading keeps the bytes.
+void block_lamps(const SceneCells& cells, FrameInput& input, CullState& state, RenderStats& stats) {
+  const PolygonSoup& soup = input.soup;
+  const auto& lights = input.scene.lights;
+  if (soup.positions.empty()) return;
+  LampsBlocked& out = state.lamps_blocked;
+  Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const Vec3& p : soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double tolerance = 1e-7 * glm::length(hi - lo) + 1e-9;
+  bool any = false;
+  for (size_t l = 0; l < lights.size(); ++l) {
+    any = any || (!state.lights_skipped[l] &&
+                  (!out.sight[l].everything || (l < out.fixtures.size() && out.fixtures[l].n > 0)));
   }
+  if (!any) return;
+  uint32_t ids = 0;
+  for (const Polygon& p : soup.polygons) ids = std::max(ids, p.id + 1);
+  out.words = (lights.size() + 63) / 64;
+  out.bits.assign(size_t(ids) * out.words, 0);
+  // An id shared by several frame polygons is left unblocked (one of them may be drawn unshown).
+  state.id_seen.assign(ids, 0);
+  for (const Polygon& p : soup.polygons) state.id_seen[p.id] = uint8_t(std::min(state.id_seen[p.id] + 1, 2));
+  std::vector<uint64_t> row(out.words);
+  const bool selection = !state.frame_of.empty();
+  for (size_t j = 0; j < soup.polygons.size(); ++j) {
+    const Polygon& p = soup.polygons[j];
+    if (!state.occlusion.shown[j] || state.id_seen[p.id] != 1) continue;
+    Vec3 plo(std::numeric_limits<double>::infinity()), phi(-std::numeric_limits<double>::infinity());
+    for (const Vec3& v : soup.points(p)) plo = glm::min(plo, v), phi = glm::max(phi, v);
+    const std::span<const uint32_t> own = cells.cells_of_polygon(selection ? p.id : uint32_t(j));
+    std::fill(row.begin(), row.end(), 0);
+    for (uint32_t l = 0; l < lights.size(); ++l) {
+      const LampSight& sight = out.sight[l];
+      if (state.lights_skipped[l] || sight.everything) continue;
+      bool lit = false;
+      for (size_t k = 0; k < own.size() && !lit; ++k) {
+        for (uint32_t g = sight.cell_first[own[k]]; g < sight.cell_first[own[k] + 1] && !lit; ++g) {
+          const auto [first, count] = sight.groups[g];
+          lit = !box_outside_half_spaces({sight.planes.data() + first, count}, plo, phi, tolerance);
+        }
+      }
+      if (!lit) row[l / 64] |= uint64_t(1) << (l % 64), ++stats.lamps_blocked;
+    }
+    std::copy(row.begin(), row.end(), out.bits.begin() + ptrdiff_t(size_t(p.id) * out.words));
+  }
+  input.lamps_blocked = &out;
 }
 
 // The cull stage: whole objects outside the frustum (rows that cull objects), then the occlusion
@@ -196,6 +328,7 @@ void cull(const PipelineInfo& pipeline, FrameInput& input, CullState& state, Ren
   if (cells) candidates.cells = walk_portals(*cells, input, state, stats);
   if (candidates.cells && input.shadow_rays) cull_lamps(*cells, input, state, stats);
   walk_occlusion(hierarchy, soup, state.frame_of, candidates, input.view, input.context.cull_eager, state.occlusion);
+  if (candidates.cells && input.shadow_rays) block_lamps(*cells, input, state, stats);
   input.polygons_shown = &state.occlusion.shown;
   input.polygons_shown_by_id = &state.occlusion.shown;
   uint32_t ids = 0;

@@ -32,7 +32,8 @@ nlohmann::ordered_json report_json(const RenderReport& report) {
                  {"cells", s.cells},
                  {"cells_visited", s.cells_visited},
                  {"portals_walked", s.portals_walked},
-                 {"lamps_culled", s.lamps_culled}};
+                 {"lamps_culled", s.lamps_culled},
+                 {"lamps_blocked", s.lamps_blocked}};
   j["shadow"] = s.shadow_skipped ? "skipped" : "rendered";
   j["shadow_cache"] = s.shadow_cache;
   j["exposure"] = report.exposure;

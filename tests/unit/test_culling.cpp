@@ -42,6 +42,7 @@ struct Matrix {
   size_t compared = 0;
   size_t cells_skipped = 0;          // pairs whose frame with culling on skipped cells the portal walk did not reach
   size_t lamps_culled = 0;           // lamps skipped by the frames with culling on (shadow rays)
+  size_t lamps_blocked = 0;          // (shown polygon, kept lamp) pairs those frames left unlit
   uint32_t drop_portal = no_object;  // the portal walk ignores this portal with culling on (a mutation)
   bool flat_shadows = false;         // flat frames cast shadows too (Phong frames always do)
 
@@ -84,9 +85,12 @@ struct Matrix {
           ++compared;
           if (on.report.stats.cells_visited < on.report.stats.cells) ++cells_skipped;
           lamps_culled += on.report.stats.lamps_culled;
+          lamps_blocked += on.report.stats.lamps_blocked;
           EXPECT_EQ(off.report.stats.lamps_culled, 0u) << "culling off skips no lamp";
+          EXPECT_EQ(off.report.stats.lamps_blocked, 0u) << "culling off leaves no polygon unlit";
           if (lit != 2) {
             EXPECT_EQ(on.report.stats.lamps_culled, 0u) << "only shadow rays skip lamps";
+            EXPECT_EQ(on.report.stats.lamps_blocked, 0u) << "only shadow rays leave polygons unlit";
           }
           const bool same_image = off.frame.image.rgb == on.frame.image.rgb;
           const bool same_ids = off.frame.ids.ids == on.frame.ids.ids;
@@ -104,8 +108,10 @@ struct Matrix {
 };
 
 // The identity check over `scenes`, one seeded camera of each kind per scene (plus its own). Returns
-// how many pairs skipped cells; `lamps_culled`, when given, gets how many lamps the frames skipped.
-size_t expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed, size_t* lamps_culled = nullptr) {
+// how many pairs skipped cells; `lamps_culled`, when given, gets how many lamps the frames skipped,
+// and `lamps_blocked` how many (polygon, lamp) pairs they left unlit.
+size_t expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed, size_t* lamps_culled = nullptr,
+                        size_t* lamps_blocked = nullptr) {
   if (scenes.empty()) return 0;
   Matrix m;
   for (const CullingScene& s : scenes) {
@@ -115,8 +121,9 @@ size_t expect_identical(const std::vector<CullingScene>& scenes, uint64_t seed, 
     }
   }
   std::cout << m.compared << " on/off pairs compared, " << m.cells_skipped << " of them skipping cells, "
-            << m.lamps_culled << " lamps skipped\n";
+            << m.lamps_culled << " lamps skipped, " << m.lamps_blocked << " polygon-lamp pairs left unlit\n";
   if (lamps_culled) *lamps_culled = m.lamps_culled;
+  if (lamps_blocked) *lamps_blocked = m.lamps_blocked;
   return m.cells_skipped;
 }
 
@@ -130,9 +137,11 @@ TEST(Culling, IdenticalOnAndOffHomesWithModels) {
       testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(),
                               {"Studio", "3BedroomApartment", "2BedroomHouseWithBasement"});
   if (homes.empty()) GTEST_SKIP() << "no homes (../shared/data absent)";
-  size_t lamps_culled = 0;
-  EXPECT_GT(expect_identical(homes, culling_seed(), &lamps_culled), 0u) << "the homes' cells were compared";
+  size_t lamps_culled = 0, lamps_blocked = 0;
+  EXPECT_GT(expect_identical(homes, culling_seed(), &lamps_culled, &lamps_blocked), 0u)
+      << "the homes' cells were compared";
   EXPECT_GT(lamps_culled, 0u) << "shadow rays skipped lamps in rooms out of sight, with the same bytes";
+  EXPECT_GT(lamps_blocked, 0u) << "and left polygons out of kept lamps' sight unlit, with the same bytes";
 }
 
 // A lamp shut in a room with no opening cannot see the cells a camera in another room reaches: with
@@ -169,6 +178,49 @@ TEST(Culling, LampInAClosedRoomTheViewCannotReachIsSkipped) {
     EXPECT_EQ(on.report.stats.lamps_culled, 1u) << "the lamp of room B";
     EXPECT_EQ(off.report.stats.lamps_culled, 0u);
     EXPECT_EQ(maps.report.stats.lamps_culled, 0u);
+    EXPECT_LT(on.report.stats.lights_evaluated, off.report.stats.lights_evaluated);
+    EXPECT_TRUE(on.frame.image.rgb == off.frame.image.rgb);
+    EXPECT_TRUE(on.frame.ids.ids == off.frame.ids.ids);
+  }
+}
+
+// A lamp in room B that sees room A only through a narrow open doorway in the wall between them is
+// kept, but the table in A's corner lies outside every sight line through the doorway: with
+// shadow rays and culling on, the table's polygons are left out of the lamp's shading (counted, fewer
+// light evaluations) and the bytes are those of culling off, which casts every ray and finds it
+// blocked.
+TEST(Culling, PolygonsOutOfAKeptLampsSightAreLeftUnlit) {
+  nlohmann::json walls = nlohmann::json::array();
+  for (const auto& [x0, z0, x1, z1] :
+       std::vector<std::array<double, 4>>{{0, 0, 8, 0}, {8, 0, 8, 4}, {8, 4, 0, 4}, {0, 4, 0, 0}})
+    walls.push_back({{"start", {x0, z0}}, {"end", {x1, z1}}});
+  walls.push_back(
+      {{"start", {4, 0}},
+       {"end", {4, 4}},
+       {"openings", {{{"type", "door"}, {"offset", 1.7}, {"width", 0.6}, {"height", 2.1}, {"leaf", false}}}}});
+  const nlohmann::json rooms = {{{"id", "A"}, {"points", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}}},
+                                {{"id", "B"}, {"points", {{4, 0}, {8, 0}, {8, 4}, {4, 4}}}}};
+  const nlohmann::json table = {{"type", "box"}, {"center", {1.0, 3.4}}, {"size", {0.8, 0.75, 0.8}}};
+  const nlohmann::json lights = {{{"type", "point"}, {"position", {6.0, 2.0, 2.0}}, {"intensity", 0.6}},
+                                 {{"type", "point"}, {"position", {2.0, 2.2, 2.0}}, {"intensity", 0.4}}};
+  const RenderRequest request =
+      request_from_json({{"scene", {{"walls", walls}, {"rooms", rooms}, {"solids", {table}}, {"lights", lights}}},
+                         {"camera", {{"position", {3.5, 1.6, 0.3}}, {"target", {1.0, 0.5, 3.4}}}}});
+  const PreparedScene scene = prepare_scene(request.scene);
+  ASSERT_TRUE(scene.cells && scene.cells->derived());
+  Matrix m;
+  m.flat_shadows = true;
+  const PipelineId z = pipeline_id(pipeline_table()[0]);
+  for (bool phong : {true, false}) {
+    SCOPED_TRACE(phong ? "phong" : "flat");
+    auto draw = [&](CullingMode culling) {
+      return m.draw(request, scene, request.camera, z, 1, phong, culling, 0, 2, ShadowMethod::rays);
+    };
+    const RenderOutcome on = draw(CullingMode::on);
+    const RenderOutcome off = draw(CullingMode::off);
+    EXPECT_EQ(on.report.stats.lamps_culled, 0u) << "room B's lamp sees room A through the doorway";
+    EXPECT_GE(on.report.stats.lamps_blocked, 5u) << "the table's visible faces, at least";
+    EXPECT_EQ(off.report.stats.lamps_blocked, 0u);
     EXPECT_LT(on.report.stats.lights_evaluated, off.report.stats.lights_evaluated);
     EXPECT_TRUE(on.frame.image.rgb == off.frame.image.rgb);
     EXPECT_TRUE(on.frame.ids.ids == off.frame.ids.ids);

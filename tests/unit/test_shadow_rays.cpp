@@ -9,6 +9,7 @@
 #include "render/pipelines/pipeline.hpp"
 #include "render/pipelines/render.hpp"
 #include "render/scene_io/scene_json.hpp"
+#include "support/culling_cases.hpp"
 #include "support/soup_builder.hpp"
 #include "support/test_support.hpp"
 
@@ -292,6 +293,50 @@ TEST(ShadowRays, RaysMethodDecidesAsTheReferenceAwayFromShadowEdgesOnSeededRando
   EXPECT_GT(lit, 5000u);  // pixels some light reaches and pixels some light does not are both common
   EXPECT_GT(unlit, 5000u);
   EXPECT_GT(compared, 100000u);
+}
+
+// A lamp's fixture map closes only directions whose rays are blocked: on the homes' lamps (pendant
+// shades, wall uplights' cups, work lamps' shades: the polygons of the objects whose bounds hold each
+// lamp), every seeded random point the map says is closed has its shadow ray blocked by the tree
+// (itself checked against the brute-force search above), and the maps close a good share of the
+// points around each uplight.
+TEST(ShadowRays, FixtureMapsCloseOnlyDirectionsWhoseRaysAreBlocked) {
+  const std::vector<testing::CullingScene> homes =
+      testing::culling_scenes("homes", testing::source_dir(), testing::shared_data_dir(), {"3BedroomApartment"});
+  if (homes.empty()) GTEST_SKIP() << "no homes (../shared/data absent)";
+  const PreparedScene prepared = prepare_scene(homes[0].request.scene);
+  const PolygonSoup& soup = prepared.soup;
+  ASSERT_TRUE(prepared.shadow_bvh);
+  const auto seeds = testing::test_seeds(3737, 1);
+  SCOPED_TRACE("seed " + std::to_string(seeds.first) +
+               " (replay with ROOMRENDER_TEST_SEED=" + std::to_string(seeds.first) + ")");
+  std::mt19937 rng(seeds.first);
+  std::normal_distribution<double> gauss;
+  std::uniform_real_distribution<double> distance(0.0, 3.0);
+  size_t maps = 0, closed = 0, tested = 0;
+  for (const Light& light : prepared.scene.lights) {
+    if (light.type != LightType::point) continue;
+    std::vector<uint32_t> fixture;
+    for (uint32_t j = 0; j < soup.polygons.size(); ++j) {
+      const SceneObject& o = soup.objects[soup.polygons[j].object];
+      if (o.bounded && glm::all(glm::lessThan(o.lo, light.position)) && glm::all(glm::lessThan(light.position, o.hi)))
+        fixture.push_back(j);
+    }
+    const FixtureMap map = fixture_map(soup, fixture, light, 2e-6, 64);
+    if (map.n == 0) continue;
+    ++maps;
+    for (int k = 0; k < 4000; ++k) {
+      const Vec3 p = light.position + distance(rng) * glm::normalize(Vec3(gauss(rng), gauss(rng), gauss(rng)));
+      ++tested;
+      if (!map.closes(p)) continue;
+      ++closed;
+      ASSERT_TRUE(shadow_ray_blocked(*prepared.shadow_bvh, soup, UINT32_MAX, p, light))
+          << "a closed direction let a ray through: light at " << light.position.x << ", " << light.position.y << ", "
+          << light.position.z << ", point " << p.x << ", " << p.y << ", " << p.z;
+    }
+  }
+  EXPECT_GE(maps, 10u) << "the apartment's lamps hang in fixtures";
+  EXPECT_GT(closed, tested / 5) << closed << " of " << tested << " points closed";
 }
 
 }  // namespace
