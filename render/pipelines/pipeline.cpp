@@ -46,6 +46,7 @@ struct CullState {
     FixtureMap map;
   };
   std::vector<FixtureCache> fixture_cache;
+  double lamp_tolerance = 0.0;   // cull_lamps' tolerance (metres), which block_lamps' tests share
   std::vector<uint8_t> id_seen;  // per polygon id, while filling lamps_blocked
 };
 
@@ -135,6 +136,7 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
   state.lamps_blocked.sight.resize(lights.size());
   for (LampSight& sight : state.lamps_blocked.sight) sight.everything = true;
   state.lamps_blocked.fixtures.clear();
+  state.lamp_tolerance = 0.0;
   input.lights_skipped = &state.lights_skipped;
   if (state.cell_walk.everything) return;
   // The lamp's views start 0.1 mm from it (locate_cells takes every cell that close as a start), and
@@ -147,6 +149,7 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
   if (input.soup.positions.empty()) return;
   // Cones that come within this of each other count as meeting: far above the clipping's rounding.
   const double tolerance = 1e-7 * glm::length(hi - lo) + 1e-9;
+  state.lamp_tolerance = tolerance;
   const Mat4 camera_clip_from_world = cell_viewpoint(input.view).clip_from_world;
   const size_t n_cells = cells.cells.size();
   // Per cell and face: the group of the face's cone with the camera's, gathered face by face and
@@ -247,23 +250,20 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
 // bounding box. When, for every cell of p, the box lies wholly outside one half-space of each of
 // that cell's groups (each moved out by the tolerance), the lamp lights no point of p: its rays would
 // all be blocked, and leaving the lamp out of p's shading keeps the bytes.
-void block_lamps(const SceneCells& cells, FrameInput& input, CullState& state, RenderStats& stats) {
+void block_lamps(const SceneCells& cells, uint32_t ids, FrameInput& input, CullState& state, RenderStats& stats) {
   const PolygonSoup& soup = input.soup;
   const auto& lights = input.scene.lights;
-  if (soup.positions.empty()) return;
   LampsBlocked& out = state.lamps_blocked;
-  Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const Vec3& p : soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const double tolerance = 1e-7 * glm::length(hi - lo) + 1e-9;
-  bool any = false;
+  bool any_sight = false, any_fixture = false;
   for (size_t l = 0; l < lights.size(); ++l) {
-    any = any || (!state.lights_skipped[l] &&
-                  (!out.sight[l].everything || (l < out.fixtures.size() && out.fixtures[l].n > 0)));
+    if (state.lights_skipped[l]) continue;
+    any_sight = any_sight || !out.sight[l].everything;
+    any_fixture = any_fixture || (l < out.fixtures.size() && out.fixtures[l].n > 0);
   }
-  if (!any) return;
-  uint32_t ids = 0;
-  for (const Polygon& p : soup.polygons) ids = std::max(ids, p.id + 1);
   out.words = (lights.size() + 63) / 64;
+  out.bits.clear();  // no polygon blocked unless a lamp's sight says so below
+  if (any_fixture) input.lamps_blocked = &out;
+  if (!any_sight) return;
   out.bits.assign(size_t(ids) * out.words, 0);
   // An id shared by several frame polygons is left unblocked (one of them may be drawn unshown).
   state.id_seen.assign(ids, 0);
@@ -284,7 +284,7 @@ void block_lamps(const SceneCells& cells, FrameInput& input, CullState& state, R
       for (size_t k = 0; k < own.size() && !lit; ++k) {
         for (uint32_t g = sight.cell_first[own[k]]; g < sight.cell_first[own[k] + 1] && !lit; ++g) {
           const auto [first, count] = sight.groups[g];
-          lit = !box_outside_half_spaces({sight.planes.data() + first, count}, plo, phi, tolerance);
+          lit = !box_outside_half_spaces({sight.planes.data() + first, count}, plo, phi, state.lamp_tolerance);
         }
       }
       if (!lit) row[l / 64] |= uint64_t(1) << (l % 64), ++stats.lamps_blocked;
@@ -328,15 +328,15 @@ void cull(const PipelineInfo& pipeline, FrameInput& input, CullState& state, Ren
   if (cells) candidates.cells = walk_portals(*cells, input, state, stats);
   if (candidates.cells && input.shadow_rays) cull_lamps(*cells, input, state, stats);
   walk_occlusion(hierarchy, soup, state.frame_of, candidates, input.view, input.context.cull_eager, state.occlusion);
-  if (candidates.cells && input.shadow_rays) block_lamps(*cells, input, state, stats);
-  input.polygons_shown = &state.occlusion.shown;
-  input.polygons_shown_by_id = &state.occlusion.shown;
   uint32_t ids = 0;
   bool same = true;
   for (size_t i = 0; i < n; ++i) {
     ids = std::max(ids, soup.polygons[i].id + 1);
     same = same && soup.polygons[i].id == i;
   }
+  if (candidates.cells && input.shadow_rays) block_lamps(*cells, ids, input, state, stats);
+  input.polygons_shown = &state.occlusion.shown;
+  input.polygons_shown_by_id = &state.occlusion.shown;
   if (!same) {
     state.shown_by_id.assign(ids, 0);
     for (size_t i = 0; i < n; ++i) state.shown_by_id[soup.polygons[i].id] |= state.occlusion.shown[i];

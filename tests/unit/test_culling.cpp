@@ -147,20 +147,30 @@ TEST(Culling, IdenticalOnAndOffHomesWithModels) {
 // A lamp shut in a room with no opening cannot see the cells a camera in another room reaches: with
 // shadow rays and culling on it is skipped (counted, and its terms never evaluated); the lamp of the
 // camera's room is not. With culling off, or shadow maps, nothing is skipped; the bytes are the same.
-TEST(Culling, LampInAClosedRoomTheViewCannotReachIsSkipped) {
+// Rooms A (x 0..4) and B (x 4..8), z 0..4, inside four outer walls; `middle` is the wall between
+// them (from (4, 0) to (4, 4)), with its openings if any. One table, the lights and the camera given.
+RenderRequest two_rooms(nlohmann::json middle, const nlohmann::json& table, const nlohmann::json& lights,
+                        const nlohmann::json& camera) {
   nlohmann::json walls = nlohmann::json::array();
   for (const auto& [x0, z0, x1, z1] :
-       std::vector<std::array<double, 4>>{{0, 0, 8, 0}, {8, 0, 8, 4}, {8, 4, 0, 4}, {0, 4, 0, 0}, {4, 0, 4, 4}})
+       std::vector<std::array<double, 4>>{{0, 0, 8, 0}, {8, 0, 8, 4}, {8, 4, 0, 4}, {0, 4, 0, 0}})
     walls.push_back({{"start", {x0, z0}}, {"end", {x1, z1}}});
+  middle["start"] = {4, 0};
+  middle["end"] = {4, 4};
+  walls.push_back(std::move(middle));
   const nlohmann::json rooms = {{{"id", "A"}, {"points", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}}},
                                 {{"id", "B"}, {"points", {{4, 0}, {8, 0}, {8, 4}, {4, 4}}}}};
+  return request_from_json(
+      {{"scene", {{"walls", walls}, {"rooms", rooms}, {"solids", {table}}, {"lights", lights}}}, {"camera", camera}});
+}
+
+TEST(Culling, LampInAClosedRoomTheViewCannotReachIsSkipped) {
   const nlohmann::json table = {{"type", "box"}, {"center", {2.0, 2.0}}, {"size", {0.8, 0.75, 0.8}}};
   const nlohmann::json lights = {{{"type", "point"}, {"position", {1.0, 2.0, 1.0}}, {"intensity", 0.6}},
                                  {{"type", "point"}, {"position", {6.0, 2.0, 2.0}}, {"intensity", 0.6}},
                                  {{"type", "directional"}, {"direction", {0.3, -1.0, 0.2}}, {"intensity", 0.3}}};
   const RenderRequest request =
-      request_from_json({{"scene", {{"walls", walls}, {"rooms", rooms}, {"solids", {table}}, {"lights", lights}}},
-                         {"camera", {{"position", {0.5, 1.6, 3.5}}, {"target", {3.0, 0.5, 1.0}}}}});
+      two_rooms(nlohmann::json::object(), table, lights, {{"position", {0.5, 1.6, 3.5}}, {"target", {3.0, 0.5, 1.0}}});
   const PreparedScene scene = prepare_scene(request.scene);
   ASSERT_TRUE(scene.cells && scene.cells->derived());
   Matrix m;
@@ -190,22 +200,13 @@ TEST(Culling, LampInAClosedRoomTheViewCannotReachIsSkipped) {
 // light evaluations) and the bytes are those of culling off, which casts every ray and finds it
 // blocked.
 TEST(Culling, PolygonsOutOfAKeptLampsSightAreLeftUnlit) {
-  nlohmann::json walls = nlohmann::json::array();
-  for (const auto& [x0, z0, x1, z1] :
-       std::vector<std::array<double, 4>>{{0, 0, 8, 0}, {8, 0, 8, 4}, {8, 4, 0, 4}, {0, 4, 0, 0}})
-    walls.push_back({{"start", {x0, z0}}, {"end", {x1, z1}}});
-  walls.push_back(
-      {{"start", {4, 0}},
-       {"end", {4, 4}},
-       {"openings", {{{"type", "door"}, {"offset", 1.7}, {"width", 0.6}, {"height", 2.1}, {"leaf", false}}}}});
-  const nlohmann::json rooms = {{{"id", "A"}, {"points", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}}},
-                                {{"id", "B"}, {"points", {{4, 0}, {8, 0}, {8, 4}, {4, 4}}}}};
+  const nlohmann::json doorway = {
+      {"openings", {{{"type", "door"}, {"offset", 1.7}, {"width", 0.6}, {"height", 2.1}, {"leaf", false}}}}};
   const nlohmann::json table = {{"type", "box"}, {"center", {1.0, 3.4}}, {"size", {0.8, 0.75, 0.8}}};
   const nlohmann::json lights = {{{"type", "point"}, {"position", {6.0, 2.0, 2.0}}, {"intensity", 0.6}},
                                  {{"type", "point"}, {"position", {2.0, 2.2, 2.0}}, {"intensity", 0.4}}};
   const RenderRequest request =
-      request_from_json({{"scene", {{"walls", walls}, {"rooms", rooms}, {"solids", {table}}, {"lights", lights}}},
-                         {"camera", {{"position", {3.5, 1.6, 0.3}}, {"target", {1.0, 0.5, 3.4}}}}});
+      two_rooms(doorway, table, lights, {{"position", {3.5, 1.6, 0.3}}, {"target", {1.0, 0.5, 3.4}}});
   const PreparedScene scene = prepare_scene(request.scene);
   ASSERT_TRUE(scene.cells && scene.cells->derived());
   Matrix m;
