@@ -1,7 +1,8 @@
 # roomrender as a container. Two stages on Debian 12:
 #   build    installs the build packages (scripts/install-deps.sh build), compiles with -Werror and
-#            runs the unit tests, so a broken build never yields an image (all but the one that holds
-#            docs/api.md to the settings table: .dockerignore keeps docs out of the context);
+#            runs the unit tests, in two shards side by side, so a broken build never yields an image
+#            (all but the one that holds docs/api.md to the settings table: .dockerignore keeps docs
+#            out of the context);
 #   runtime  only the binary, its shared libraries (from Debian's packages), the web page, the
 #            examples, the schemas and the furniture catalogue (CC BY 3.0), run as an unprivileged user (uid 10001) that owns the data
 #            directory /var/lib/roomrender (a VOLUME: stored scenes survive restarts).
@@ -18,7 +19,9 @@ WORKDIR /src
 COPY . .
 RUN cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROOMRENDER_WERROR=ON -DROOMRENDER_BENCH=OFF \
  && cmake --build build -j"$(nproc)" --target roomrender unit_tests \
- && build/tests/unit_tests --gtest_brief=1 --gtest_filter=-ServerSettings.DocsApiTableHasEveryRowWithItsVariableDefaultAndUnit
+ && export GTEST_BRIEF=1 GTEST_FILTER=-ServerSettings.DocsApiTableHasEveryRowWithItsVariableDefaultAndUnit GTEST_TOTAL_SHARDS=2 \
+ && (GTEST_SHARD_INDEX=0 build/tests/unit_tests & first=$!; \
+     GTEST_SHARD_INDEX=1 build/tests/unit_tests; second=$?; wait "$first" && [ "$second" -eq 0 ])
 
 FROM docker.io/library/debian:bookworm AS runtime
 # libcpp-httplib0.11 pulls in OpenSSL, zlib and brotli; pugixml and libzip read Sweet Home 3D files;
