@@ -10,6 +10,7 @@
 #include "render/core/scene_names.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/view_selection.hpp"
 #include "render/scene_io/report_json.hpp"
 #include "render/scene_io/scene_json.hpp"
 
@@ -21,11 +22,14 @@ namespace rr::cli {
 
 BenchReport bench_frames(const RenderRequest& request, const PreparedScene& scene, const BenchRun& run) {
   BenchReport report;
-  // The cache lives for this run only; with run.bsp_cache the warm-up frames fill it as the first
-  // request for a scene fills the service's.
+  // The caches live for this run only; with run.bsp_cache the warm-up frames fill it as the first
+  // request for a scene fills the service's, and they fill the views' cache (a view that leaves levels
+  // or ceilings out) as they do the service's.
   BspCache bsp_cache(size_t{1} << 30);
   ShadowCache shadow_cache(size_t{1} << 30);
+  ViewCache view_cache(size_t{1} << 30);
   RenderContext context;
+  context.view_cache = &view_cache;
   context.threads = run.threads;
   context.encode = false;  // frames are measured up to the image; encoding is bench/png.cpp's
   if (run.bsp_cache) context.bsp_cache = &bsp_cache;

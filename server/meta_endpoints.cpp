@@ -81,6 +81,7 @@ void handle_metrics(ServiceState& state, const Request&, Response& res, const Ro
   MetricsSnapshot snapshot{state.gate.load(),
                            state.cache.bsp.stats(),
                            state.cache.shadow.stats(),
+                           state.cache.views.stats(),
                            state.cache.scene_stats(),
                            state.cache.mesh_stats(),
                            state.cache.texture_stats(),

@@ -81,8 +81,9 @@ const CacheFamily cache_families[] = {
 
 void cache_samples(std::string& out, const MetricsSnapshot& snap) {
   const std::pair<const char*, const CacheStats*> caches[] = {
-      {"bsp", &snap.bsp_cache},     {"shadow", &snap.shadow_cache},    {"scenes", &snap.scene_cache},
-      {"meshes", &snap.mesh_cache}, {"textures", &snap.texture_cache}, {"all", &snap.all_cache}};
+      {"bsp", &snap.bsp_cache},      {"shadow", &snap.shadow_cache}, {"views", &snap.view_cache},
+      {"scenes", &snap.scene_cache}, {"meshes", &snap.mesh_cache},   {"textures", &snap.texture_cache},
+      {"all", &snap.all_cache}};
   for (const CacheFamily& family : cache_families) {
     header(out, family.name, family.type, family.help);
     for (const auto& [cache, stats] : caches)

@@ -33,6 +33,7 @@ struct MetricsSnapshot {
   // The prepared cache (server/prepared_cache.hpp) by part, and all of it.
   CacheStats bsp_cache;
   CacheStats shadow_cache;
+  CacheStats view_cache;
   CacheStats scene_cache;
   CacheStats mesh_cache;
   CacheStats texture_cache;

@@ -78,6 +78,7 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
   const int y = pixel_coordinate(pixel.y, "y", view.options.height, "tall");
   {
     RenderContext context{&state.cache.bsp, &token, scene.static_id, &state.cache.shadow};
+    context.view_cache = &state.cache.views;
     context.threads = render_threads(state.config);
     context.encode = false;
     const RenderOutcome out = render(view, scene, context);

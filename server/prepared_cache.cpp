@@ -3,6 +3,7 @@
 
 #include "render/pipelines/bsp.hpp"
 #include "render/pipelines/shadow_cache.hpp"
+#include "render/pipelines/view_selection.hpp"
 #include "server/server_config.hpp"
 
 #include <stdexcept>
@@ -36,7 +37,8 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
       textures_(pool_),
       limits_(c.limits),
       bsp(pool_, c.bsp_cache_entries),
-      shadow(pool_, CachePool::unbounded, c.shadow_cache_bytes) {
+      shadow(pool_, CachePool::unbounded, c.shadow_cache_bytes),
+      views(pool_) {
   // The configuration's own resolvers (the catalogue's meshes and images) first: what they hold is
   // never stored.
   limits_.resolve_mesh = [this,

@@ -2,7 +2,8 @@
 // one least-recently-used order (a CachePool, render/core/lru_cache.hpp): stored scenes prepared for
 // drawing (StoredScene: parsed, tessellated, with warnings and hierarchy), stored meshes parsed
 // (StoredMesh), stored images decoded with their mip chains (StoredTexture), and the BSP trees and shadow maps of
-// static scenes, which inline renders share with stored ones. Nothing acknowledged lives only here: what is evicted is
+// static scenes, and the views of them that leave levels or ceilings out (their polygons and shadow-ray
+// trees), which inline renders share with stored ones. Nothing acknowledged lives only here: what is evicted is
 // rebuilt from its document in the store (document_store.hpp) when next wanted, once however many requests want it at
 // that moment (single-flight), and draws the same bytes. Shadow maps may take at most --shadow-cache-bytes of it.
 #pragma once
@@ -69,6 +70,7 @@ class PreparedCache {
  public:
   BspCache bsp;        // keyed by static scene id + BSP options
   ShadowCache shadow;  // keyed by static scene id + lights + map options (+ view)
+  ViewCache views;     // keyed by static scene id + a view's selection of levels and ceilings (+ "|rays")
 };
 
 }  // namespace rr::server

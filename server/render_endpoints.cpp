@@ -73,6 +73,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
                      const CancelToken& token, const SlotClock& clock) {
   check_cancel(&token);
   RenderContext context{&state.cache.bsp, &token, plan.scene.static_id, &state.cache.shadow};
+  context.view_cache = &state.cache.views;
   context.threads = render_threads(state.config);  // the server's setting, never the request's
   context.queue_ms = clock.queue_ms;
   context.parse_ms = plan.parse_ms;

@@ -115,6 +115,8 @@ struct BspTree;                                  // bsp.hpp: a tree of one stati
 using BspCache = SharedLruCache<BspTree>;        // keyed by scene id + BSP options, shared across requests
 struct ShadowMaps;                               // shadow.hpp: the shadow pass's depth maps for one frame
 using ShadowCache = SharedLruCache<ShadowMaps>;  // keyed by scene id + lights + map options (+ view)
+struct SelectedView;                             // view_selection.hpp: a view's selection of a scene's soup
+using ViewCache = SharedLruCache<SelectedView>;  // keyed by scene id + selection (+ "|rays")
 
 // What one render is given besides the scene and the view (all optional): what outlives it and is
 // shared across requests (caches, cancellation), how to run it, and what its caller measured first.
@@ -123,8 +125,11 @@ struct RenderContext {
   const CancelToken* cancel = nullptr;  // null: never cancelled
   std::string scene_id;                 // scene_id(geometry) when the caller knows it; else computed
   ShadowCache* shadow_cache = nullptr;  // null: every frame with shadows runs its own shadow pass
-  bool shadow_mask = false;             // fill Frame::shadow_mask (error measures); off: no cost
-  unsigned threads = 1;                 // threads drawing the tiles and encoding the PNG (output does not depend on it)
+  // Views that leave levels or ceilings out: the kept polygons and their shadow-ray tree, made once
+  // per selection. Null: each such frame copies its selection (and builds its tree) anew.
+  ViewCache* view_cache = nullptr;
+  bool shadow_mask = false;  // fill Frame::shadow_mask (error measures); off: no cost
+  unsigned threads = 1;      // threads drawing the tiles and encoding the PNG (output does not depend on it)
   // The hierarchy of `hierarchy_soup` (the prepared scene's soup; a frame of a selection of it maps
   // its polygons by id). Null: a frame that culls occlusion builds a private one (timed as build).
   const SceneHierarchy* hierarchy = nullptr;

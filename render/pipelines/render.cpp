@@ -6,6 +6,7 @@
 #include "render/core/scene_id.hpp"
 #include "render/core/timer.hpp"
 #include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/pipeline_table.hpp"
 #include "render/pipelines/view_selection.hpp"
 
 #include <algorithm>
@@ -121,12 +122,20 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
   // A view that leaves levels or ceilings out draws a copy without them, cached under its own keys.
   const Camera camera = view_camera(view.camera, view.options, scene.soup);
   const SoupSelection selection = select_objects(scene.scene.geometry, scene.soup, camera, view.options);
-  PolygonSoup selected;
+  std::shared_ptr<const SelectedView> selected;
+  double tree_ms = 0.0;  // the selection's shadow-ray tree, when this frame built it
   if (!selection.everything) {
-    selected = selected_soup(scene.soup, selection);
     frame_context.scene_id += selection.key_suffix;
+    const RenderOptions& o = view.options;
+    ViewTree tree = ViewTree::none;
+    if (o.shadows && !scene.scene.lights.empty() && pipeline_info(o.pipeline).shadow_maps)
+      tree = o.shadow.method == ShadowMethod::rays ? ViewTree::always : ViewTree::with_panes;
+    selected =
+        selected_view(scene.soup, selection, frame_context.scene_id, tree, context.view_cache, context.cancel, tree_ms);
+    if (selected->shadow_bvh)
+      frame_context.shadow_bvh = selected->shadow_bvh.get(), frame_context.shadow_bvh_soup = selected->soup.get();
   }
-  const PolygonSoup& soup = selection.everything ? scene.soup : selected;
+  const PolygonSoup& soup = selected ? *selected->soup : scene.soup;
   // Exposure scales the lights once here; at exactly 1 the scene is drawn as it is, byte for byte.
   const double exposure =
       view.options.auto_exposure ? choose_exposure(view, camera, scene, context) : view.options.exposure;
@@ -134,6 +143,7 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
   if (exposure != 1.0) exposed = exposed_scene(scene.scene, exposure);
   RenderResult result =
       render_frame(exposure != 1.0 ? exposed : scene.scene, soup, camera, view.options, frame_context);
+  result.timings.shadow_ms += tree_ms;
   RenderOutcome out;
   out.camera = camera;
   out.frame = std::move(result.frame);

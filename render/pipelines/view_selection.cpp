@@ -4,6 +4,10 @@
 #include "render/pipelines/view_selection.hpp"
 
 #include "render/core/hash.hpp"
+#include "render/core/hierarchy.hpp"
+#include "render/core/timer.hpp"
+
+#include <algorithm>
 
 namespace rr {
 
@@ -80,6 +84,46 @@ PolygonSoup selected_soup(const PolygonSoup& soup, const SoupSelection& selectio
     out.polygons.push_back(q);
   }
   return out;
+}
+
+size_t SelectedView::bytes() const {
+  size_t out = sizeof(SelectedView);
+  if (soup) {
+    out += sizeof(PolygonSoup) + soup->positions.capacity() * sizeof(Vec3) +
+           soup->normals.capacity() * sizeof(glm::vec3) + soup->polygons.capacity() * sizeof(Polygon) +
+           soup->materials.capacity() * sizeof(Material) + soup->objects.capacity() * sizeof(SceneObject) +
+           soup->uv_maps.capacity() * sizeof(UvMap);
+  }
+  if (shadow_bvh) out += shadow_bvh->bytes();
+  return out;
+}
+
+std::shared_ptr<const SelectedView> selected_view(const PolygonSoup& soup, const SoupSelection& selection,
+                                                  const std::string& key, ViewTree tree, ViewCache* cache,
+                                                  const CancelToken* cancel, double& tree_ms) {
+  auto make = [&] {
+    auto view = std::make_shared<SelectedView>();
+    view->soup = std::make_shared<const PolygonSoup>(selected_soup(soup, selection));
+    const auto& polygons = view->soup->polygons;
+    view->panes = std::any_of(polygons.begin(), polygons.end(),
+                              [](const Polygon& p) { return (p.flags & polygon_translucent) != 0; });
+    return ViewCache::Built{view, view->bytes()};
+  };
+  // The same view with the tree of its soup: the soup is shared with `plain`, and counted again.
+  auto with_tree = [&](const std::shared_ptr<const SelectedView>& plain) {
+    auto view = std::make_shared<SelectedView>(*plain);
+    Stopwatch clock;
+    view->shadow_bvh =
+        std::make_shared<const ShadowBvh>(build_shadow_bvh(*view->soup, build_hierarchy(*view->soup, cancel)));
+    tree_ms += clock.elapsed_ms();
+    return ViewCache::Built{view, view->bytes()};
+  };
+  bool hit = false;
+  std::shared_ptr<const SelectedView> plain = cache ? cache->get_or_build(key, make, hit) : make().value;
+  if (tree == ViewTree::none || (tree == ViewTree::with_panes && !plain->panes)) return plain;
+  if (!cache) return with_tree(plain).value;
+  return cache->get_or_build(
+      key + "|rays", [&] { return with_tree(plain); }, hit);
 }
 
 }  // namespace rr

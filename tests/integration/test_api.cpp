@@ -6,6 +6,8 @@
 #include "server_fixture.hpp"
 
 #include "render/pipelines/pipeline.hpp"
+#include "render/pipelines/render.hpp"
+#include "render/scene_io/scene_json.hpp"
 #include "server/http_server.hpp"
 #include "support/api_routes.hpp"
 
@@ -169,6 +171,39 @@ TEST_F(ApiTest, XCacheMissThenHitForTheBspPipeline) {
   EXPECT_GE(server_->metric("roomrender_cache_hits_total", {"cache=\"bsp\""}), 1.0);
 }
 
+// A view that leaves a level out is made once: the second render of it, from another camera, takes
+// its polygons and shadow-ray tree from the views' part of the prepared cache, and draws what a
+// server that never saw the first would.
+TEST_F(ApiTest, AViewLeavingALevelOutIsMadeOnceForEveryCamera) {
+  json request = json::parse(small_request);
+  request["scene"]["levels"] = json::parse(R"([{"id": "low"}, {"id": "high", "elevation": 1.5}])");
+  request["scene"]["solids"][0]["center"] = {0.3, 0.6};  // a scene no other test has drawn
+  request["scene"]["solids"].push_back(
+      {{"type", "box"}, {"center", {0, 0}}, {"base", 1.5}, {"size", {1, 0.2, 1}}, {"level", "high"}});
+  request["options"]["levels"] = {"low"};
+  request["options"]["shadows"] = true;
+  request["options"]["shadow"] = {{"method", "rays"}};
+  const double builds = server_->metric("roomrender_cache_builds_total", {"cache=\"views\""});
+  const double hits = server_->metric("roomrender_cache_hits_total", {"cache=\"views\""});
+  auto first = post_json("/v1/render", request.dump(), "image/png");
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 200) << first->body;
+  EXPECT_EQ(server_->metric("roomrender_cache_builds_total", {"cache=\"views\""}), builds + 2.0)
+      << "the selection and its tree";
+  request["camera"]["position"] = {-3, 2, 4};
+  auto second = post_json("/v1/render", request.dump(), "image/png");
+  ASSERT_TRUE(second);
+  ASSERT_EQ(second->status, 200) << second->body;
+  EXPECT_EQ(server_->metric("roomrender_cache_builds_total", {"cache=\"views\""}), builds + 2.0);
+  EXPECT_EQ(server_->metric("roomrender_cache_hits_total", {"cache=\"views\""}), hits + 2.0);
+  EXPECT_GT(server_->metric("roomrender_cache_bytes", {"cache=\"views\""}), 0.0);
+  // The same bytes as a render that makes the view for itself.
+  rr::RenderRequest parsed = rr::request_from_json(request);
+  const rr::PreparedScene scene = rr::prepare_scene(parsed.scene);
+  rr::RenderContext alone;
+  EXPECT_TRUE(second->body == rr::render(parsed, scene, alone).png) << "a cached view draws other bytes";
+}
+
 // Shadow maps fitted to the whole scene serve every camera: the second view reuses the first's maps
 // (no shadow pass), and the outcome is a header, a JSON member and a /metrics series like the BSP's.
 TEST_F(ApiTest, XShadowCacheMissThenHitForASceneFittedMap) {
@@ -200,7 +235,7 @@ TEST_F(ApiTest, XShadowCacheMissThenHitForASceneFittedMap) {
 // the document stores' budgets are their own.
 TEST_F(ApiTest, CachesAndStoresAreExportedWithTheirBudgets) {
   rr::server::ServerConfig config = server_->service().config();
-  for (const char* part : {"bsp", "scenes", "meshes", "all"}) {
+  for (const char* part : {"bsp", "views", "scenes", "meshes", "textures", "all"}) {
     EXPECT_EQ(server_->metric("roomrender_cache_budget_bytes", {"cache=\"" + std::string(part) + "\""}),
               double(config.cache_bytes))
         << part;

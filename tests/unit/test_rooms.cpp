@@ -7,6 +7,7 @@
 #include "render/core/scene_id.hpp"
 #include "render/import/import.hpp"
 #include "render/pipelines/render.hpp"
+#include "render/pipelines/view_selection.hpp"
 
 #include <gtest/gtest.h>
 
@@ -321,6 +322,71 @@ TEST(Levels, SelectionKeepsPolygonIdsAndTheCacheApart) {
     if (both.frame.ids.ids[i] <= 5) same += viewable.frame.ids.ids[i] == both.frame.ids.ids[i];
   }
   EXPECT_GT(same, 0u);
+}
+
+// A view that leaves a level out draws the same bytes whether its selection is made for the frame or
+// taken from a view cache, and the cache makes each selection once: its polygons, and their shadow-ray
+// tree for rays, and for maps only when the kept polygons hold a pane.
+TEST(Levels, ASelectionIsMadeOnceAndDrawsTheSameBytesFromTheCache) {
+  json request = {
+      {"scene",
+       {{"levels", {{{"id", "a"}}, {{"id", "b"}, {"elevation", 2.0}}}},
+        {"floor", {{"origin", {-2, -2}}, {"cells", {4, 4}}}},
+        {"walls",
+         {{{"start", {-2, -1}},
+           {"end", {2, -1}},
+           {"height", 2.0},
+           {"level", "a"},
+           {"openings",
+            {{{"type", "window"},
+              {"offset", 1.0},
+              {"width", 1.5},
+              {"sill", 0.5},
+              {"height", 1.0},
+              {"color", "#99ccff"}}}}}}},
+        {"solids",
+         {{{"type", "box"}, {"center", {0.5, 0.5}}, {"size", {0.6, 0.6, 0.6}}, {"level", "a"}},
+          {{"type", "box"}, {"center", {0, 0}}, {"base", 2.0}, {"size", {2, 0.2, 2}}, {"level", "b"}}}},
+        {"lights",
+         {{{"type", "directional"}, {"direction", {0.3, -1.0, 0.6}}},
+          {{"type", "point"}, {"position", {-1.0, 1.5, 0.5}}, {"intensity", 0.5}}}}}},
+      {"camera", {{"position", {0.0, 1.2, 3.0}}, {"target", {0.0, 0.5, 0.0}}}},
+      {"options", {{"width", 96}, {"height", 72}, {"shadows", true}, {"shading", "phong"}, {"levels", {"a"}}}}};
+  const rr::RenderRequest parsed = parse(request);
+  const rr::PreparedScene scene = rr::prepare_scene(parsed.scene);
+  struct Case {
+    const char* method;
+    bool panes;
+    size_t entries;  // the selection, and its tree when the frame casts rays or its maps meet a pane
+  };
+  for (const Case& c : {Case{"rays", true, 2}, Case{"map", true, 2}, Case{"rays", false, 2}, Case{"map", false, 1}}) {
+    json r = request;
+    r["options"]["shadow"]["method"] = c.method;
+    if (!c.panes) r["scene"]["walls"][0]["openings"] = json::array();
+    const rr::RenderRequest view = parse(r);
+    const rr::PreparedScene prepared = c.panes ? rr::PreparedScene{} : rr::prepare_scene(view.scene);
+    const rr::PreparedScene& drawn = c.panes ? scene : prepared;
+    rr::RenderContext fresh;
+    fresh.encode = false;
+    const rr::RenderOutcome alone = rr::render(view, drawn, fresh);
+    rr::ViewCache cache(size_t{1} << 26);
+    rr::RenderContext cached = fresh;
+    cached.view_cache = &cache;
+    const rr::RenderOutcome first = rr::render(view, drawn, cached);
+    const rr::RenderOutcome second = rr::render(view, drawn, cached);
+    const std::string what = std::string(c.method) + (c.panes ? ", a pane kept" : ", no pane");
+    EXPECT_EQ(alone.frame.image.rgb, first.frame.image.rgb) << what;
+    EXPECT_EQ(alone.frame.image.rgb, second.frame.image.rgb) << what;
+    EXPECT_EQ(alone.frame.ids.ids, second.frame.ids.ids) << what;
+    const rr::CacheStats stats = cache.stats();
+    EXPECT_EQ(stats.builds, c.entries) << what;
+    EXPECT_EQ(stats.entries, c.entries) << what;
+    EXPECT_EQ(stats.hits, c.entries) << what << ": the second frame finds what the first made";
+    if (c.method == std::string("rays")) {
+      EXPECT_GT(first.report.timings.shadow_ms, 0.0) << what << ": the first frame builds the tree (timed as shadow)";
+      EXPECT_EQ(second.report.timings.shadow_ms, 0.0) << what << ": the second builds nothing";
+    }
+  }
 }
 
 // --- Sweet Home 3D homes ----------------------------------------------------------------------------
