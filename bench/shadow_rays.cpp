@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   size_t blocked = 0;
   std::vector<uint8_t> ours(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
-    ours[i] = shadow_ray_blocked(bvh, soup, rays[i].self, rays[i].p, prepared.scene.lights[rays[i].light]);
+    ours[i] = shadow_ray_blocked(bvh, rays[i].self, rays[i].p, prepared.scene.lights[rays[i].light]);
     blocked += ours[i];
   }
   const double ours_ms = clock.elapsed_ms();
@@ -83,16 +83,15 @@ int main(int argc, char** argv) {
   size_t memo_disagree = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const Light& light = prepared.scene.lights[rays[i].light];
-    memo_disagree +=
-        shadow_ray_blocked(bvh, soup, rays[i].self, rays[i].p, light, &memos[rays[i].light]) != bool(ours[i]);
+    memo_disagree += shadow_ray_blocked(bvh, rays[i].self, rays[i].p, light, &memos[rays[i].light]) != bool(ours[i]);
   }
   const double memo_ms = memo_clock.elapsed_ms();
   ShadowRayStats plain, memo;
   std::fill(memos.begin(), memos.end(), ShadowRayMemo{});
   for (const Ray& ray : rays) {
     const Light& light = prepared.scene.lights[ray.light];
-    shadow_ray_blocked(bvh, soup, ray.self, ray.p, light, nullptr, &plain);
-    shadow_ray_blocked(bvh, soup, ray.self, ray.p, light, &memos[ray.light], &memo);
+    shadow_ray_blocked(bvh, ray.self, ray.p, light, nullptr, &plain);
+    shadow_ray_blocked(bvh, ray.self, ray.p, light, &memos[ray.light], &memo);
   }
   auto per_ray = [](const ShadowRayStats& st) {
     const double n = double(std::max<uint64_t>(st.rays, 1));

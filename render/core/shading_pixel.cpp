@@ -141,8 +141,7 @@ void SurfaceShader::bind_gouraud(uint32_t index, const DrawScratch& scratch) {
 // than moving the origin off the surface, so that a decision is the reference's at the same point.
 float SurfaceShader::ray_visibility(const Shadowed& light, Vec3 p_world) const {
   if (input_.lamps_blocked && input_.lamps_blocked->fixture_closes(uint32_t(light.slot), p_world)) return 0.0f;
-  return shadow_ray_blocked(*rays_, input_.soup, self_, p_world, *light.ray_light, &memos_[size_t(light.slot)]) ? 0.0f
-                                                                                                                : 1.0f;
+  return shadow_ray_blocked(*rays_, self_, p_world, *light.ray_light, &memos_[size_t(light.slot)]) ? 0.0f : 1.0f;
 }
 
 float SurfaceShader::visibility(size_t s, const Fragment& f, size_t k) const {

@@ -46,14 +46,38 @@ Segment segment_toward(Vec3 p, const Light& light, double eps) {
   return {direction, t_min, 1.0 - t_min, false};
 }
 
-// The first caster of the leaf that blocks the segment (a soup polygon index), or UINT32_MAX.
-uint32_t leaf_blocker(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t leaf, uint32_t self, Vec3 p,
-                      const Light& light, const Segment& s, ShadowRayStats* stats) {
+// casts_shadow and intersect_polygon on a packed caster: the same arithmetic on the same values in
+// the same order, so the same answer bit for bit.
+bool caster_blocks(const ShadowBvh& bvh, const ShadowCaster& q, const Light& light, Vec3 origin, const Segment& s) {
+  const double facing = light.type == LightType::directional ? glm::dot(q.normal, light.direction)
+                                                             : q.offset - glm::dot(q.normal, light.position);
+  if (!(facing != 0.0 && !(q.closed && facing < 0.0))) return false;
+  const double denom = glm::dot(q.normal, s.direction);
+  if (denom == 0.0) return false;
+  const double t = (q.offset - glm::dot(q.normal, origin)) / denom;
+  if (!(t > s.t_min && t < s.t_max)) return false;
+  const Vec3 p = origin + t * s.direction;
+  const double sign = q.positive ? 1.0 : -1.0;
+  if (q.count == 0) return true;
+  const glm::dvec2* e = bvh.projected.data() + q.first;
+  const double pu = p[q.u], pv = p[q.v];
+  glm::dvec2 start = e[q.count - 1];
+  for (uint32_t k = 0; k < q.count; ++k) {
+    const double cross = (e[k].x - start.x) * (pv - start.y) - (e[k].y - start.y) * (pu - start.x);
+    if (sign * cross < 0.0) return false;
+    start = e[k];
+  }
+  return true;
+}
+
+// The first caster of the leaf that blocks the segment (an item of the casters' tree), or UINT32_MAX.
+uint32_t leaf_blocker(const ShadowBvh& bvh, uint32_t leaf, uint32_t self, Vec3 p, const Light& light, const Segment& s,
+                      ShadowRayStats* stats) {
   for (uint32_t i = bvh.leaf_begin[leaf]; i < bvh.leaf_begin[leaf + 1]; ++i) {
-    const Polygon& q = soup.polygons[bvh.items[i]];
+    const ShadowCaster& q = bvh.casters[i];
     if (q.id == self) continue;
     if (stats) ++stats->polygons;
-    if (casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) return bvh.items[i];
+    if (caster_blocks(bvh, q, light, p, s)) return i;
   }
   return UINT32_MAX;
 }
@@ -253,6 +277,19 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
   auto translucent = [&](uint32_t polygon) { return (soup.polygons[polygon].flags & polygon_translucent) != 0; };
   static_cast<ShadowBvhTree&>(bvh) = build_tree(hierarchy, pad, [&](uint32_t p) { return !translucent(p); });
   bvh.glass = build_tree(hierarchy, pad, translucent);
+  bvh.casters.reserve(bvh.items.size());
+  for (uint32_t item : bvh.items) {
+    const Polygon& q = soup.polygons[item];
+    ShadowCaster c;
+    c.normal = q.normal, c.offset = q.offset, c.id = q.id, c.closed = (q.flags & polygon_closed) != 0;
+    const Vec3 a = glm::abs(q.normal);
+    const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    c.u = uint8_t(drop == 2 ? 0 : drop + 1), c.v = uint8_t(drop == 0 ? 2 : drop - 1);
+    c.positive = q.normal[drop] >= 0.0;
+    c.first = uint32_t(bvh.projected.size()), c.count = q.vertex_count;
+    for (const Vec3& p : soup.points(q)) bvh.projected.emplace_back(p[c.u], p[c.v]);
+    bvh.casters.push_back(c);
+  }
   return bvh;
 }
 
@@ -261,11 +298,12 @@ size_t ShadowBvh::bytes() const {
     return t.nodes.capacity() * sizeof(ShadowBvhNode) + t.leaf_begin.capacity() * sizeof(uint32_t) +
            t.items.capacity() * sizeof(uint32_t);
   };
-  return sizeof(ShadowBvh) + tree_bytes(*this) + tree_bytes(glass);
+  return sizeof(ShadowBvh) + tree_bytes(*this) + tree_bytes(glass) + casters.capacity() * sizeof(ShadowCaster) +
+         projected.capacity() * sizeof(glm::dvec2);
 }
 
-bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light,
-                        ShadowRayMemo* memo, ShadowRayStats* stats) {
+bool shadow_ray_blocked(const ShadowBvh& bvh, uint32_t self, Vec3 p, const Light& light, ShadowRayMemo* memo,
+                        ShadowRayStats* stats) {
   const Segment s = segment_toward(p, light, bvh.ray_epsilon);
   if (s.empty || bvh.nodes.empty()) return false;
   if (stats) ++stats->rays;
@@ -280,9 +318,9 @@ bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t 
     for (size_t k = 0; k < ShadowRayMemo::size; ++k) {
       const uint32_t blocker = k == 0 ? memo->blocker : memo->older[k - 1];
       if (blocker == UINT32_MAX) break;
-      const Polygon& q = soup.polygons[blocker];
+      const ShadowCaster& q = bvh.casters[blocker];
       if (stats) ++stats->polygons;
-      if (q.id != self && casts_shadow(q, light) && intersect_polygon(soup, q, p, s.direction, s.t_min, s.t_max)) {
+      if (q.id != self && caster_blocks(bvh, q, light, p, s)) {
         if (stats) ++stats->blocked, ++stats->memo_hits;
         if (k > 0) remember(blocker, k);
         return true;
@@ -290,7 +328,7 @@ bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t 
     }
   }
   return walk(bvh, p, s, stats, [&](uint32_t leaf) {
-    const uint32_t blocker = leaf_blocker(bvh, soup, leaf, self, p, light, s, stats);
+    const uint32_t blocker = leaf_blocker(bvh, leaf, self, p, light, s, stats);
     if (blocker == UINT32_MAX) return false;
     if (memo) remember(blocker, ShadowRayMemo::size - 1);
     if (stats) ++stats->blocked;

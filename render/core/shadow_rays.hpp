@@ -37,11 +37,26 @@ struct ShadowBvhTree {
   size_t depth = 0;                  // levels of nodes (the traversal's stack holds 3 per level)
 };
 
+// What the exact test of a ray against item i of the casters' tree reads, copied from the soup in
+// the items' order, so that a leaf's polygons lie side by side: the plane, the axes of the plane its
+// inside test projects onto (intersect_polygon's choice) and the vertices' coordinates on them.
+struct ShadowCaster {
+  Vec3 normal{0.0};
+  double offset = 0.0;
+  uint32_t id = 0;                // Polygon::id
+  uint32_t first = 0, count = 0;  // into ShadowBvh::projected
+  uint8_t u = 0, v = 0;           // the two axes kept
+  uint8_t closed = 0;             // polygon_closed
+  bool positive = true;           // the dropped axis's normal component is >= 0
+};
+
 // The opaque casters' tree (its own members), and the panes' tree beside it.
 struct ShadowBvh : ShadowBvhTree {
-  ShadowBvhTree glass;       // translucent polygons; empty when the soup has none
-  double ray_epsilon = 0.0;  // shadow rays start this far from their surface point
-  size_t bytes() const;      // what both trees cost against a cache budget
+  std::vector<ShadowCaster> casters;  // per item of the casters' tree
+  std::vector<glm::dvec2> projected;  // the casters' vertices on their (u, v) axes, in order
+  ShadowBvhTree glass;                // translucent polygons; empty when the soup has none
+  double ray_epsilon = 0.0;           // shadow rays start this far from their surface point
+  size_t bytes() const;               // what both trees cost against a cache budget
 };
 
 // The casters' and the panes' trees of `soup` from its hierarchy (subtrees without a polygon of a
@@ -70,15 +85,15 @@ inline glm::dvec3 pane_transmittance(const Material& material) {
 // proves the answer, so the memo changes the cost, never the answer. `stats` (optional) counts the work.
 struct ShadowRayMemo {
   static constexpr size_t size = 4;
-  // Soup polygon indices from ShadowBvh::items, or none: the last blocker first, then older ones.
+  // Items of the casters' tree (ShadowBvh::casters), or none: the last blocker first, then older ones.
   uint32_t blocker = UINT32_MAX;
   std::array<uint32_t, size - 1> older{UINT32_MAX, UINT32_MAX, UINT32_MAX};
 };
 struct ShadowRayStats {
   uint64_t rays = 0, blocked = 0, memo_hits = 0, nodes = 0, polygons = 0;
 };
-bool shadow_ray_blocked(const ShadowBvh& bvh, const PolygonSoup& soup, uint32_t self, Vec3 p, const Light& light,
-                        ShadowRayMemo* memo = nullptr, ShadowRayStats* stats = nullptr);
+bool shadow_ray_blocked(const ShadowBvh& bvh, uint32_t self, Vec3 p, const Light& light, ShadowRayMemo* memo = nullptr,
+                        ShadowRayStats* stats = nullptr);
 
 // The light that reaches p from `light` through the panes on the same segment (the same epsilon, the
 // same own-id exclusion, and the casters' rule for which faces count: a closed pane counts once):

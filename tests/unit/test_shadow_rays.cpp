@@ -96,7 +96,7 @@ TEST(ShadowRays, SameAnswerAsTheBruteForceSearchOnSeededRandomRooms) {
     for (int i = 0; i < 3000; ++i) {
       const auto [self, p] = random_ray_origin(soup, i, rng);
       for (const Light& light : prepared.scene.lights) {
-        const bool fast = shadow_ray_blocked(bvh, soup, self, p, light);
+        const bool fast = shadow_ray_blocked(bvh, self, p, light);
         ASSERT_EQ(fast, shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, self, p, light))
             << "ray " << i << " from " << p.x << "," << p.y << "," << p.z;
         (fast ? blocked : open)++;
@@ -144,14 +144,14 @@ TEST(ShadowRays, MemoOfTheLastBlockerGivesTheBruteForceAnswers) {
       const Vec3 p = random_point_on(soup, soup.polygons[self], rng);
       for (size_t l = 0; l < memos.size(); ++l) {
         const Light& light = prepared.scene.lights[l];
-        ASSERT_EQ(shadow_ray_blocked(bvh, soup, self, p, light, &memos[l], &stats),
+        ASSERT_EQ(shadow_ray_blocked(bvh, self, p, light, &memos[l], &stats),
                   shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, self, p, light))
             << "ray " << i << " light " << l;
         if (memos[l].blocker == UINT32_MAX) continue;
         // A ray from the memo's own polygon: the memo must not block it.
         const Polygon& own = soup.polygons[memos[l].blocker];
         const Vec3 q = random_point_on(soup, own, rng);
-        ASSERT_EQ(shadow_ray_blocked(bvh, soup, own.id, q, light, &memos[l], &stats),
+        ASSERT_EQ(shadow_ray_blocked(bvh, own.id, q, light, &memos[l], &stats),
                   shadow_ray_blocked_brute_force(soup, bvh.ray_epsilon, own.id, q, light))
             << "ray " << i << " from the memo's polygon, light " << l;
         ++from_memo_polygon;
@@ -173,7 +173,7 @@ TEST(ShadowRays, TranslucentPanesCastNothingButTintAndAnEmptySoupNothingAtAll) {
   Light sun;
   sun.type = LightType::directional;
   sun.direction = Vec3(0.0, -1.0, 0.0);
-  EXPECT_FALSE(shadow_ray_blocked(none, empty.soup, 0, Vec3(0.0), sun));
+  EXPECT_FALSE(shadow_ray_blocked(none, 0, Vec3(0.0), sun));
   // The studio's windows are translucent: none of them is an item of the tree.
   const PreparedScene studio =
       prepare_scene(request_from_json(json::parse(testing::read_file(testing::examples_dir() / "studio.json"))).scene);
@@ -330,7 +330,7 @@ TEST(ShadowRays, FixtureMapsCloseOnlyDirectionsWhoseRaysAreBlocked) {
       ++tested;
       if (!map.closes(p)) continue;
       ++closed;
-      ASSERT_TRUE(shadow_ray_blocked(*prepared.shadow_bvh, soup, UINT32_MAX, p, light))
+      ASSERT_TRUE(shadow_ray_blocked(*prepared.shadow_bvh, UINT32_MAX, p, light))
           << "a closed direction let a ray through: light at " << light.position.x << ", " << light.position.y << ", "
           << light.position.z << ", point " << p.x << ", " << p.y << ", " << p.z;
     }
