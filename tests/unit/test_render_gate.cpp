@@ -1,12 +1,19 @@
 // The render gate (server/render_gate.hpp): admission up to the concurrency, a bounded queue served in
-// arrival order, queued work that expires at its deadline, and abort cancelling running work.
+// arrival order, queued work that expires at its deadline, and abort cancelling running work; the
+// render threads (server/render_threads.hpp) that admitted renders run on.
 #include "server/render_gate.hpp"
+#include "server/render_threads.hpp"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <future>
+#include <mutex>
+#include <set>
+#include <stdexcept>
 #include <thread>
+#include <vector>
 
 namespace {
 
@@ -75,6 +82,34 @@ TEST(RenderGate, QueuedWorkExpiresAtItsDeadlineAndAbortCancelsRunningWork) {
   EXPECT_TRUE(running.expired()) << "abort cancels what runs";
   gate.leave(running);
   EXPECT_TRUE(gate.wait_idle(std::chrono::steady_clock::now() + 10ms));
+}
+
+// Renders run on the render threads, not the caller's; what a job returns or throws reaches its
+// caller; jobs of many callers at once all run, on no more threads than were made.
+TEST(RenderThreads, JobsRunOnTheirOwnThreadsAndAnswerTheirCallers) {
+  RenderThreads threads(2);
+  EXPECT_NE(threads.run([] { return std::this_thread::get_id(); }), std::this_thread::get_id());
+  EXPECT_EQ(threads.run([] { return 41 + 1; }), 42);
+  EXPECT_THROW(threads.run([]() -> int { throw std::runtime_error("a render failed"); }), std::runtime_error);
+  std::mutex mutex;
+  std::set<std::thread::id> seen;
+  std::vector<std::thread> callers;
+  std::atomic<int> done{0};
+  for (int i = 0; i < 8; ++i) {
+    callers.emplace_back([&] {
+      const std::thread::id id = threads.run([] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return std::this_thread::get_id();
+      });
+      std::lock_guard lock(mutex);
+      seen.insert(id);
+      ++done;
+    });
+  }
+  for (std::thread& t : callers) t.join();
+  EXPECT_EQ(done.load(), 8);
+  EXPECT_GE(seen.size(), 1u);
+  EXPECT_LE(seen.size(), 2u);
 }
 
 }  // namespace
