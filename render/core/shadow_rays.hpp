@@ -121,17 +121,28 @@ struct FixtureMap {
   double far2 = 0.0;  // (reach + margin)^2: closes() answers only for points farther than this
   int n = 0;          // bins per cube face edge; 0: no bin closed
   std::vector<uint64_t> bits;
-  // Whether every shadow ray from p to the light is blocked by the fixture.
+  // Whether every shadow ray from p to the light is blocked by the fixture. Only a closed bin
+  // answers true, and a closed bin's proof holds for directions far beyond the rounding of u and v
+  // (its corner rays meet the caster `margin` inside its edges), so how u and v are rounded (one
+  // reciprocal here) moves no answer from a blocked ray to an unblocked one.
   bool closes(Vec3 p) const {
     if (n == 0) return false;
     const Vec3 d = p - light;
     if (!(glm::dot(d, d) > far2)) return false;
-    const Vec3 a = glm::abs(d);
-    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    const int b = axis == 2 ? 0 : axis + 1, c = axis == 0 ? 2 : axis - 1;
-    const double u = d[b] / a[axis], v = d[c] / a[axis];
-    const int i = std::clamp(int((u + 1.0) * 0.5 * n), 0, n - 1), j = std::clamp(int((v + 1.0) * 0.5 * n), 0, n - 1);
-    const size_t bin = (size_t(2 * axis + (d[axis] < 0.0)) * size_t(n) + size_t(j)) * size_t(n) + size_t(i);
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    int face = 0;
+    double w = 0.0, du = 0.0, dv = 0.0;  // the dominant axis's extent and the other two (b, c) of face
+    if (ax >= ay && ax >= az) {
+      face = d.x < 0.0, w = ax, du = d.y, dv = d.z;
+    } else if (ay >= az) {
+      face = 2 + (d.y < 0.0), w = ay, du = d.z, dv = d.x;
+    } else {
+      face = 4 + (d.z < 0.0), w = az, du = d.x, dv = d.y;
+    }
+    const double half_n = 0.5 * n, r = 1.0 / w;
+    const int i = std::clamp(int((du * r + 1.0) * half_n), 0, n - 1),
+              j = std::clamp(int((dv * r + 1.0) * half_n), 0, n - 1);
+    const size_t bin = (size_t(face) * size_t(n) + size_t(j)) * size_t(n) + size_t(i);
     return (bits[bin / 64] >> (bin % 64)) & 1u;
   }
 };
