@@ -83,7 +83,7 @@ ServiceState::ServiceState(const ServerConfig& c)
     : catalogue(load_catalogue(c.catalogue_dir, c.limits)),
       config(with_catalogue(c, catalogue)),
       gate(render_workers(c), render_queue_length(c)),
-      render_threads(render_workers(c)),
+      workers(render_workers(c)),
       stores(
           with_catalogue(open_stores(config, [this](const std::string& level,
                                                     nlohmann::ordered_json fields) { log(level, std::move(fields)); }),

@@ -81,7 +81,7 @@ void pick_and_answer(ServiceState& state, Response& res, const PixelRequest& pix
     context.view_cache = &state.cache.views;
     context.threads = render_threads(state.config);
     context.encode = false;
-    const RenderOutcome out = state.render_threads.run([&] { return render(view, scene, context); });
+    const RenderOutcome out = state.workers.run([&] { return render(view, scene, context); });
     const uint32_t id = out.frame.ids.at(x, y);
     json body = {{"x", x},
                  {"y", y},

@@ -79,7 +79,7 @@ void draw_and_answer(ServiceState& state, Response& res, const RouteMatch& match
   context.parse_ms = plan.parse_ms;
   context.tessellate_ms = plan.tessellate_ms;
   context.before_ms = plan.before_slot_ms + clock.elapsed_ms();
-  RenderOutcome out = state.render_threads.run([&] { return render(plan.view, plan.scene, context); });
+  RenderOutcome out = state.workers.run([&] { return render(plan.view, plan.scene, context); });
   const RenderReport& report = out.report;
 
   const char* pipeline = pipeline_info(report.pipeline).name;

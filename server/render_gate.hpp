@@ -2,7 +2,7 @@
 // at once, at most `queue_limit` wait behind them in arrival order, and anything beyond is refused at
 // once (the caller answers 503 + Retry-After) instead of queueing without bound. A waiter gives up at
 // its CancelToken's deadline. Admitted work runs on the caller's thread (an httplib connection
-// thread), renders on one of RenderThreads' (render_threads.hpp) while the caller waits; the
+// thread), renders on one of RenderWorkers' (render_workers.hpp) while the caller waits; the
 // connection pool is sized larger than concurrency + queue so /livez still answers.
 #pragma once
 

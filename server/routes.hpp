@@ -15,7 +15,7 @@
 #include "server/open_stores.hpp"
 #include "server/prepared_cache.hpp"
 #include "server/render_gate.hpp"
-#include "server/render_threads.hpp"
+#include "server/render_workers.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -43,9 +43,10 @@ struct ServiceState {
   std::shared_ptr<const Catalogue> catalogue;
   const ServerConfig config;
   RenderGate gate;
-  RenderThreads render_threads;  // where admitted renders run: one per render the gate admits at once
-  Stores stores;                 // the stored scene and mesh documents, in the store --store names (open_stores.hpp),
-                                 // the catalogue's meshes in front (catalogue_store.hpp)
+  RenderWorkers
+      workers;          // where admitted renders run: one thread per render the gate admits at once (--render-workers)
+  Stores stores;        // the stored scene and mesh documents, in the store --store names (open_stores.hpp),
+                        // the catalogue's meshes in front (catalogue_store.hpp)
   PreparedCache cache;  // what is prepared from them, BSP trees and shadow maps: one budget (prepared_cache.hpp)
   ParseLimits limits;   // config.limits with "ref" resolved through the catalogue, then the cache: parse
                         // requests with these

@@ -22,10 +22,7 @@ namespace {
 // keeps the cache's budget a bound on what it holds).
 size_t entry_bytes(const StoredScene& s) {
   size_t bytes = sizeof(StoredScene) + 2 * s.text.size();
-  bytes += s.soup.positions.capacity() * sizeof(Vec3) + s.soup.normals.capacity() * sizeof(glm::vec3);
-  bytes += s.soup.polygons.capacity() * sizeof(Polygon) + s.soup.materials.capacity() * sizeof(Material);
-  bytes += s.soup.objects.capacity() * sizeof(SceneObject) + s.warnings.capacity() * sizeof(PlacementWarning);
-  bytes += s.soup.uv_maps.capacity() * sizeof(UvMap);
+  bytes += soup_bytes(s.soup) + s.warnings.capacity() * sizeof(PlacementWarning);
   std::set<const TextureImage*> images;
   for (const Material& m : s.soup.materials) {
     const TextureImage* image = m.texture ? m.texture->decoded.get() : nullptr;

@@ -21,12 +21,16 @@ namespace {
 
 constexpr float inf_f = std::numeric_limits<float>::infinity();
 
-// Whether polygon q casts a shadow of `light` (shadow.cpp's caster_side): not edge-on to it, and
-// for a closed object only when it faces away from it (the same silhouette, half the faces).
+// Whether a polygon with this plane casts a shadow of `light` (shadow.cpp's caster_side): not
+// edge-on to it, and for a closed object only when it faces away from it (the same silhouette, half
+// the faces).
+bool casts_shadow(Vec3 normal, double offset, bool closed, const Light& light) {
+  const double facing = light.type == LightType::directional ? glm::dot(normal, light.direction)
+                                                             : offset - glm::dot(normal, light.position);
+  return facing != 0.0 && !(closed && facing < 0.0);
+}
 bool casts_shadow(const Polygon& q, const Light& light) {
-  const double facing = light.type == LightType::directional ? glm::dot(q.normal, light.direction)
-                                                             : q.offset - glm::dot(q.normal, light.position);
-  return facing != 0.0 && !((q.flags & polygon_closed) && facing < 0.0);
+  return casts_shadow(q.normal, q.offset, (q.flags & polygon_closed) != 0, light);
 }
 
 struct Segment {
@@ -46,8 +50,10 @@ Segment segment_toward(Vec3 p, const Light& light, double eps) {
   return {direction, t_min, 1.0 - t_min, false};
 }
 
-// casts_shadow and intersect_polygon on a packed caster: the same arithmetic on the same values in
-// the same order, so the same answer bit for bit.
+// casts_shadow and intersect_polygon on a packed caster: intersect_polygon's steps (ray_polygon.hpp:
+// ray_plane_t, then inside_projected on the axes inside_axes chose at build time) written out here,
+// the same arithmetic in the same order, so the same answer bit for bit. Written out because the
+// shared helpers, called here, cost 6-8 % of a furnished home's frame with rays.
 bool caster_blocks(const ShadowBvh& bvh, const ShadowCaster& q, const Light& light, Vec3 origin, const Segment& s) {
   const double facing = light.type == LightType::directional ? glm::dot(q.normal, light.direction)
                                                              : q.offset - glm::dot(q.normal, light.position);
@@ -282,10 +288,8 @@ ShadowBvh build_shadow_bvh(const PolygonSoup& soup, const SceneHierarchy& hierar
     const Polygon& q = soup.polygons[item];
     ShadowCaster c;
     c.normal = q.normal, c.offset = q.offset, c.id = q.id, c.closed = (q.flags & polygon_closed) != 0;
-    const Vec3 a = glm::abs(q.normal);
-    const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    c.u = uint8_t(drop == 2 ? 0 : drop + 1), c.v = uint8_t(drop == 0 ? 2 : drop - 1);
-    c.positive = q.normal[drop] >= 0.0;
+    const InsideAxes axes = inside_axes(q.normal);
+    c.u = uint8_t(axes.u), c.v = uint8_t(axes.v), c.positive = axes.sign > 0.0;
     c.first = uint32_t(bvh.projected.size()), c.count = q.vertex_count;
     for (const Vec3& p : soup.points(q)) bvh.projected.emplace_back(p[c.u], p[c.v]);
     bvh.casters.push_back(c);

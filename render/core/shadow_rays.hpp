@@ -46,7 +46,7 @@ struct ShadowCaster {
   uint32_t id = 0;                // Polygon::id
   uint32_t first = 0, count = 0;  // into ShadowBvh::projected
   uint8_t u = 0, v = 0;           // the two axes kept
-  uint8_t closed = 0;             // polygon_closed
+  bool closed = false;            // polygon_closed
   bool positive = true;           // the dropped axis's normal component is >= 0
 };
 

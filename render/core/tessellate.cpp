@@ -263,6 +263,12 @@ PolygonSoup tessellate(const StaticGeometry& geometry) {
   return soup;
 }
 
+size_t soup_bytes(const PolygonSoup& soup) {
+  return soup.positions.capacity() * sizeof(Vec3) + soup.normals.capacity() * sizeof(glm::vec3) +
+         soup.polygons.capacity() * sizeof(Polygon) + soup.materials.capacity() * sizeof(Material) +
+         soup.objects.capacity() * sizeof(SceneObject) + soup.uv_maps.capacity() * sizeof(UvMap);
+}
+
 void bound_objects(PolygonSoup& soup) {
   const Vec3 inf(std::numeric_limits<double>::infinity());
   for (SceneObject& o : soup.objects) o.bounded = true, o.lo = inf, o.hi = -inf;

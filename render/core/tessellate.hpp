@@ -91,6 +91,9 @@ struct PolygonSoup {
 // object is not a piece.
 int polygon_part(const PolygonSoup& soup, uint32_t id);
 
+// What the soup's arrays hold on the heap (their capacities), for cache budgets.
+size_t soup_bytes(const PolygonSoup& soup);
+
 // Fills every object's bounds from its polygons (an object with none gets lo > hi). Call it only on a
 // soup whose points will not move again.
 void bound_objects(PolygonSoup& soup);

@@ -88,12 +88,7 @@ PolygonSoup selected_soup(const PolygonSoup& soup, const SoupSelection& selectio
 
 size_t SelectedView::bytes() const {
   size_t out = sizeof(SelectedView);
-  if (soup) {
-    out += sizeof(PolygonSoup) + soup->positions.capacity() * sizeof(Vec3) +
-           soup->normals.capacity() * sizeof(glm::vec3) + soup->polygons.capacity() * sizeof(Polygon) +
-           soup->materials.capacity() * sizeof(Material) + soup->objects.capacity() * sizeof(SceneObject) +
-           soup->uv_maps.capacity() * sizeof(UvMap);
-  }
+  if (soup) out += sizeof(PolygonSoup) + soup_bytes(*soup);
   if (shadow_bvh) out += shadow_bvh->bytes();
   return out;
 }

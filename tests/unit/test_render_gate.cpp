@@ -1,8 +1,8 @@
 // The render gate (server/render_gate.hpp): admission up to the concurrency, a bounded queue served in
 // arrival order, queued work that expires at its deadline, and abort cancelling running work; the
-// render threads (server/render_threads.hpp) that admitted renders run on.
+// render threads (server/render_workers.hpp) that admitted renders run on.
 #include "server/render_gate.hpp"
-#include "server/render_threads.hpp"
+#include "server/render_workers.hpp"
 
 #include <gtest/gtest.h>
 
@@ -86,8 +86,8 @@ TEST(RenderGate, QueuedWorkExpiresAtItsDeadlineAndAbortCancelsRunningWork) {
 
 // Renders run on the render threads, not the caller's; what a job returns or throws reaches its
 // caller; jobs of many callers at once all run, on no more threads than were made.
-TEST(RenderThreads, JobsRunOnTheirOwnThreadsAndAnswerTheirCallers) {
-  RenderThreads threads(2);
+TEST(RenderWorkers, JobsRunOnTheirOwnThreadsAndAnswerTheirCallers) {
+  RenderWorkers threads(2);
   EXPECT_NE(threads.run([] { return std::this_thread::get_id(); }), std::this_thread::get_id());
   EXPECT_EQ(threads.run([] { return 41 + 1; }), 42);
   EXPECT_THROW(threads.run([]() -> int { throw std::runtime_error("a render failed"); }), std::runtime_error);

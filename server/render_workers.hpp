@@ -17,12 +17,12 @@
 
 namespace rr::server {
 
-class RenderThreads {
+class RenderWorkers {
  public:
-  explicit RenderThreads(size_t count);
-  RenderThreads(const RenderThreads&) = delete;
-  RenderThreads& operator=(const RenderThreads&) = delete;
-  ~RenderThreads();  // runs what is queued, then joins
+  explicit RenderWorkers(size_t count);
+  RenderWorkers(const RenderWorkers&) = delete;
+  RenderWorkers& operator=(const RenderWorkers&) = delete;
+  ~RenderWorkers();  // runs what is queued, then joins
 
   // Runs fn on one of the threads, waiting for it, and returns what it returns or throws what it
   // throws. Jobs start in the order they came.

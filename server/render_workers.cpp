@@ -1,11 +1,11 @@
-// RenderThreads (see render_threads.hpp).
-#include "server/render_threads.hpp"
+// RenderWorkers (see render_workers.hpp).
+#include "server/render_workers.hpp"
 
 #include <algorithm>
 
 namespace rr::server {
 
-RenderThreads::RenderThreads(size_t count) {
+RenderWorkers::RenderWorkers(size_t count) {
   for (size_t i = 0; i < std::max<size_t>(count, 1); ++i) {
     threads_.emplace_back([this] {
       for (;;) {
@@ -23,7 +23,7 @@ RenderThreads::RenderThreads(size_t count) {
   }
 }
 
-RenderThreads::~RenderThreads() {
+RenderWorkers::~RenderWorkers() {
   {
     std::lock_guard lock(mutex_);
     stopping_ = true;
@@ -32,7 +32,7 @@ RenderThreads::~RenderThreads() {
   for (std::thread& t : threads_) t.join();
 }
 
-void RenderThreads::post(std::function<void()> job) {
+void RenderWorkers::post(std::function<void()> job) {
   {
     std::lock_guard lock(mutex_);
     jobs_.push_back(std::move(job));
