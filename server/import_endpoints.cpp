@@ -135,7 +135,7 @@ void handle_import(ServiceState& state, const Request& req, Response& res, const
     if (!store) return;
     store_furniture_meshes(state, imported);
     store_texture_images(state, imported);
-    scene = prepare_scene(imported.request.at("scene"), state.limits);
+    scene = prepare_scene(imported.request.at("scene"), state.limits, render_threads(state.config));
   });
   json warnings = json::array();
   for (const std::string& w : imported.warnings) warnings.push_back(w);

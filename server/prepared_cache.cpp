@@ -15,14 +15,15 @@ namespace {
 // A document deleted between the look at the store and the build that reads its text.
 struct GoneMeanwhile {};
 
-std::shared_ptr<const StoredScene> read_prepared(const std::string& text, const ParseLimits& limits,
+std::shared_ptr<const StoredScene> read_prepared(const std::string& text, const ParseLimits& limits, unsigned threads,
                                                  const StoredScene*) {
-  return read_stored_scene(text, limits);
+  return read_stored_scene(text, limits, threads);
 }
-std::shared_ptr<const StoredMesh> read_prepared(const std::string& text, const ParseLimits& limits, const StoredMesh*) {
+std::shared_ptr<const StoredMesh> read_prepared(const std::string& text, const ParseLimits& limits, unsigned,
+                                                const StoredMesh*) {
   return read_stored_mesh(text, limits);
 }
-std::shared_ptr<const StoredTexture> read_prepared(const std::string& bytes, const ParseLimits& limits,
+std::shared_ptr<const StoredTexture> read_prepared(const std::string& bytes, const ParseLimits& limits, unsigned,
                                                    const StoredTexture*) {
   return read_stored_texture(bytes, limits);
 }
@@ -36,6 +37,7 @@ PreparedCache::PreparedCache(const ServerConfig& c, Stores& stores)
       meshes_(pool_),
       textures_(pool_),
       limits_(c.limits),
+      threads_(render_threads(c)),
       bsp(pool_, c.bsp_cache_entries),
       shadow(pool_, CachePool::unbounded, c.shadow_cache_bytes),
       views(pool_) {
@@ -95,7 +97,7 @@ std::shared_ptr<const T> PreparedCache::find(const std::string& id, bool* built)
           if (!text) throw GoneMeanwhile{};
           std::shared_ptr<const T> item;
           try {
-            item = read_prepared(*text, limits_, static_cast<const T*>(nullptr));
+            item = read_prepared(*text, limits_, threads_, static_cast<const T*>(nullptr));
           } catch (const InputError& e) {  // stored once, so it read then: a mesh it places is gone, or a limit fell
             throw std::runtime_error("the stored " + std::string(T::kind) + " " + id + " no longer reads: " + e.what());
           }

@@ -66,6 +66,7 @@ class PreparedCache {
   SharedLruCache<StoredMesh> meshes_;
   SharedLruCache<StoredTexture> textures_;
   ParseLimits limits_;
+  unsigned threads_ = 1;  // a rebuild prepares a scene on a render's threads
 
  public:
   BspCache bsp;        // keyed by static scene id + BSP options

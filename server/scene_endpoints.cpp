@@ -36,12 +36,12 @@ SceneBody read_scene_body(ServiceState& state, const Request& req) {
   with_render_slot(state, [&](const CancelToken&, Stopwatch&) {
     json body = parse_body(state, req);
     if (!body.is_object() || !body.contains("scene")) {
-      out.scene = prepare_scene(body, state.limits);
+      out.scene = prepare_scene(body, state.limits, render_threads(state.config));
       return;
     }
     out.pointer = "/scene";  // a whole render request: its camera and options are not stored
     try {
-      out.scene = prepare_scene(body["scene"], state.limits);
+      out.scene = prepare_scene(body["scene"], state.limits, render_threads(state.config));
     } catch (const InputError& e) {
       throw InputError(e.kind(), out.pointer + e.pointer(), e.what());
     }

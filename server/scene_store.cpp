@@ -16,7 +16,7 @@ namespace rr::server {
 namespace {
 
 // Approximate heap cost of a prepared scene: the text, the parsed scene (about as large as its text,
-// in practice smaller), the tessellation's arrays, its hierarchy, its cells, its shadow-ray tree, the
+// in practice smaller), the tessellation's arrays, its hierarchy, its cells, its shadow-ray tree, its lamps' sight, the
 // meshes it places and its decoded texture images with their mip chains
 // (counted with each scene that holds them, though the scenes placing one mesh share it: an overcount
 // keeps the cache's budget a bound on what it holds).
@@ -31,6 +31,7 @@ size_t entry_bytes(const StoredScene& s) {
   if (s.hierarchy) bytes += s.hierarchy->bytes();
   if (s.cells) bytes += s.cells->bytes();
   if (s.shadow_bvh) bytes += s.shadow_bvh->bytes();
+  if (s.lamps) bytes += s.lamps->bytes();
   std::set<const MeshData*> meshes;
   for (const Solid& solid : s.scene.geometry.solids) {
     if (solid.mesh && meshes.insert(solid.mesh.get()).second) bytes += mesh_bytes(*solid.mesh);
@@ -138,7 +139,8 @@ std::string scene_document_pointer(const std::string& request_pointer) {
   return request_pointer;
 }
 
-std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document, const ParseLimits& limits) {
+std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document, const ParseLimits& limits,
+                                                 unsigned threads) {
   RenderRequest parsed;
   try {
     parsed = request_from_json(nlohmann::json{{"scene", document}}, resolving_each_mesh_once(limits));
@@ -148,7 +150,7 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   auto out = std::make_shared<StoredScene>();
   out->text = document.dump();
   out->id = hash_hex(out->text);
-  static_cast<PreparedScene&>(*out) = rr::prepare_scene(std::move(parsed.scene));
+  static_cast<PreparedScene&>(*out) = rr::prepare_scene(std::move(parsed.scene), threads);
   out->bytes = entry_bytes(*out);
   // The stored meshes it places: those that are always there (the catalogue's) it does not depend on.
   std::set<std::string> refs;
@@ -163,8 +165,9 @@ std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document,
   return out;
 }
 
-std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, const ParseLimits& limits) {
-  return prepare_scene(parse_json_text(text, limits), limits);
+std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, const ParseLimits& limits,
+                                                     unsigned threads) {
+  return prepare_scene(parse_json_text(text, limits), limits, threads);
 }
 
 StoredDocument scene_document(const StoredScene& scene) {

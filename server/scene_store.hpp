@@ -33,12 +33,15 @@ struct StoredScene : PreparedScene {
 };
 
 // Parses and validates one scene document (JSON already parsed with the limits' depth bound) into a
-// StoredScene. Throws InputError with pointers into the document ("" is the document itself).
-std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document, const ParseLimits& limits);
+// StoredScene, on `threads` threads where its preparation divides (the result does not depend on
+// them). Throws InputError with pointers into the document ("" is the document itself).
+std::shared_ptr<const StoredScene> prepare_scene(const nlohmann::json& document, const ParseLimits& limits,
+                                                 unsigned threads = 1);
 
 // A stored scene's text -> its StoredScene (the prepared cache's rebuild). Throws InputError when
 // it no longer reads (a mesh it places is gone, a limit was lowered).
-std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, const ParseLimits& limits);
+std::shared_ptr<const StoredScene> read_stored_scene(const std::string& text, const ParseLimits& limits,
+                                                     unsigned threads = 1);
 
 // What a store keeps of a prepared scene.
 StoredDocument scene_document(const StoredScene& scene);

@@ -106,6 +106,9 @@ struct SceneCells {
   std::vector<uint32_t> barrier_objects;
   // Per band: the ceiling objects whose drawing closes its ceiling portals.
   std::vector<std::vector<uint32_t>> band_ceilings;
+  // Unique to one build_cells result (0: none; a copy keeps it, nothing changes cells once built):
+  // what a walk over these cells is kept under, so that a kept walk is never taken for another's.
+  uint64_t serial = 0;
 
   // More than the outside: a frame can skip cells. Else the scene is one cell (docs/culling.md).
   bool derived() const { return cells.size() > 1; }
@@ -133,6 +136,7 @@ struct CellConditions {
   std::vector<uint8_t> ceilings_drawn;  // per band
   std::vector<uint8_t> object_drawn;    // per soup object; empty: every object is drawn
   uint32_t dropped_pair = no_object;    // tests only: this undirected portal is ignored (a mutation)
+  bool operator==(const CellConditions&) const = default;
 };
 // `object_drawn` per soup object of the frame (empty: all), the ceilings and walls checked against it.
 CellConditions cell_conditions(const SceneCells& cells, std::vector<uint8_t> object_drawn);
@@ -178,6 +182,10 @@ struct CellWalk {
 // on return every cell a sight line from the eye within the region can enter is reached, with a
 // region that holds where such a sight line meets the view plane. Fills `out` (memory kept).
 void walk_cells(const SceneCells& cells, const CellConditions& conditions, const CellViewpoint& view, CellWalk& out);
+
+// The rectangle of the view plane holding every region `walk` reached cell c with (its sight lines
+// into c), or the whole plane when it kept none.
+ViewRegion bounding_region(const CellWalk& walk, size_t c);
 
 // What the occlusion walk reads of one frame's cell walk: polygons of no reached cell are skipped,
 // hierarchy nodes likewise by their masks and by the reached cells' regions in pixels.

@@ -8,6 +8,7 @@
 #include "render/core/cells_build.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -473,7 +474,9 @@ void measure_leaves(const StaticGeometry& g, const PolygonSoup& soup, std::vecto
 }  // namespace
 
 SceneCells build_cells(const StaticGeometry& g, const PolygonSoup& soup, const SceneHierarchy& hierarchy) {
+  static std::atomic<uint64_t> serials{0};
   SceneCells out;
+  out.serial = ++serials;
   out.cells.push_back(Cell{});  // the outside
   CellsBuild b;
   b.wall_object.assign(g.walls.size(), no_object);

@@ -152,6 +152,17 @@ CellConditions cell_conditions(const SceneCells& cells, std::vector<uint8_t> obj
   return c;
 }
 
+ViewRegion bounding_region(const CellWalk& walk, size_t c) {
+  const CellRegions& r = walk.regions[c];
+  if (r.count == 0) return {-1e30, -1e30, 1e30, 1e30};
+  ViewRegion out = r.region[0];
+  for (size_t i = 1; i < r.count; ++i) {
+    out.x0 = std::min(out.x0, r.region[i].x0), out.y0 = std::min(out.y0, r.region[i].y0);
+    out.x1 = std::max(out.x1, r.region[i].x1), out.y1 = std::max(out.y1, r.region[i].y1);
+  }
+  return out;
+}
+
 double area(const ViewRegion& r) { return r.empty() ? 0.0 : (r.x1 - r.x0) * (r.y1 - r.y0); }
 
 void walk_cells(const SceneCells& cells, const CellConditions& conditions, const CellViewpoint& view, CellWalk& out) {

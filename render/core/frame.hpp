@@ -63,7 +63,12 @@ struct RenderStats {
   bool shadow_skipped = true;   // no shadow lookups or rays (no light, shadows off, or nothing to cast)
   size_t lamps_culled = 0;      // shadow.method rays, culling on: lights that see no cell the view reaches
   size_t lamps_blocked = 0;     // the same: pairs of a shown polygon and a kept lamp that cannot light any of it
-  size_t objects_culled = 0;    // solids (and walls, floor) wholly outside the view frustum
+  // The same, what the frame made itself rather than took from its prepared scene or from this
+  // thread's last frame: lamps' cube-face portal walks and fixture maps. Not in a report's counts
+  // (they depend on what the thread drew before).
+  size_t lamp_walks_made = 0;
+  size_t fixture_maps_made = 0;
+  size_t objects_culled = 0;  // solids (and walls, floor) wholly outside the view frustum
   // Occlusion culling (options.culling on, pipelines whose row uses it; the same for any thread count).
   size_t objects_occluded = 0;    // objects in the frustum with a front face, none of it drawn: all hidden
   size_t nodes_tested = 0;        // hierarchy (or BSP) nodes tested against the depth pyramid
@@ -109,6 +114,7 @@ inline size_t light_mask_bytes(size_t lights) { return lights > 8 ? (lights + 7)
 struct SceneHierarchy;                           // hierarchy.hpp: the pipelines' BVH of one static soup
 struct SceneCells;                               // cells.hpp: cells and portals of one static scene
 struct ShadowBvh;                                // shadow_rays.hpp: the shadow rays' tree of one static soup
+struct PreparedLamps;                            // lamp_sight.hpp: what a prepared scene's lamps see
 struct LampsBlocked;                             // sight_cones.hpp: lamps that cannot light a polygon
 class DepthPyramid;                              // occlusion.hpp: one frame's hierarchical depth
 struct BspTree;                                  // bsp.hpp: a tree of one static scene for one set of BSP options
@@ -141,6 +147,10 @@ struct RenderContext {
   // shadow rays over another soup (a view's selection) builds a private one.
   const ShadowBvh* shadow_bvh = nullptr;
   const PolygonSoup* shadow_bvh_soup = nullptr;
+  // What the lamps of `lamps_soup` (the prepared scene's soup) see, made with it; lamp culling takes
+  // an entry only when it was made from what the frame would make it from. Null: each frame makes its own.
+  const PreparedLamps* lamps = nullptr;
+  const PolygonSoup* lamps_soup = nullptr;
   bool use_cells = true;               // benches only: false culls occlusion without the portal walk
   int cull_eager = 0;                  // tests only: the occlusion test made that many margins too eager (a mutation)
   uint32_t drop_portal = 0xFFFFFFFFu;  // tests only: the portal walk ignores this portal (a mutation)

@@ -6,6 +6,7 @@
 #include "render/core/draw.hpp"
 #include "render/core/frustum.hpp"
 #include "render/core/hierarchy.hpp"
+#include "render/core/lamp_sight.hpp"
 #include "render/core/occlusion.hpp"
 #include "render/core/parallel.hpp"
 #include "render/core/shadow.hpp"
@@ -18,7 +19,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numbers>
+#include <utility>
 
 namespace rr {
 
@@ -46,6 +47,19 @@ struct CullState {
     FixtureMap map;
   };
   std::vector<FixtureCache> fixture_cache;
+  // Per scene light, the cube-face portal walks from its position that this thread last made (when
+  // the prepared scene's do not serve): a walk is a function of the cells, the conditions and the
+  // viewpoint alone, so a frame with the same cells (serial), conditions and light position takes
+  // them as they are.
+  struct LampWalks {
+    bool kept = false;
+    Vec3 position{0.0};
+    std::vector<LampFaceWalk> faces;
+  };
+  std::vector<LampWalks> lamp_walks;
+  std::vector<std::pair<size_t, size_t>> made;  // per scene light: walks and fixture maps this frame made
+  uint64_t lamp_walks_cells = 0;                // the cells' serial and the conditions every kept walk was made with
+  CellConditions lamp_walks_conditions;
   double lamp_tolerance = 0.0;   // cull_lamps' tolerance (metres), which block_lamps' tests share
   std::vector<uint8_t> id_seen;  // per polygon id, while filling lamps_blocked
 };
@@ -103,19 +117,6 @@ const CellFilter* walk_portals(const SceneCells& cells, const FrameInput& input,
   return &state.cell_filter;
 }
 
-// The rectangle of the view plane holding every region a walk reached cell c with (its sight lines
-// into c), or the whole plane when it kept none.
-ViewRegion bounding_region(const CellWalk& walk, size_t c) {
-  const CellRegions& r = walk.regions[c];
-  if (r.count == 0) return {-1e30, -1e30, 1e30, 1e30};
-  ViewRegion out = r.region[0];
-  for (size_t i = 1; i < r.count; ++i) {
-    out.x0 = std::min(out.x0, r.region[i].x0), out.y0 = std::min(out.y0, r.region[i].y0);
-    out.x1 = std::max(out.x1, r.region[i].x1), out.y1 = std::max(out.y1, r.region[i].y1);
-  }
-  return out;
-}
-
 // Lamps culled by what they see (shadow rays only, after the camera's portal walk): a point light
 // whose own portal walk, one per cube face from its position over the whole sphere, reaches no cell
 // the camera's walk reached, cannot light any point the frame shows. A shown point lies in a cell the
@@ -139,85 +140,97 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
   state.lamp_tolerance = 0.0;
   input.lights_skipped = &state.lights_skipped;
   if (state.cell_walk.everything) return;
-  // The lamp's views start 0.1 mm from it (locate_cells takes every cell that close as a start), and
-  // their portals are widened by 1e-6 of the view plane, far beyond the rounding of a projection:
-  // the walk must never miss a cell an exact ray enters.
-  constexpr double near_m = 1e-4, far_m = 1e6, margin = 1e-6;
-  constexpr int fixture_bins = 64;  // per cube face edge of a lamp's fixture map
+  const PolygonSoup& soup = input.soup;
+  if (soup.positions.empty()) return;
   Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const Vec3& p : input.soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  if (input.soup.positions.empty()) return;
-  // Cones that come within this of each other count as meeting: far above the clipping's rounding.
-  const double tolerance = 1e-7 * glm::length(hi - lo) + 1e-9;
+  for (const Vec3& p : soup.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double tolerance = lamp_tolerance(lo, hi);
   state.lamp_tolerance = tolerance;
   const Mat4 camera_clip_from_world = cell_viewpoint(input.view).clip_from_world;
   const size_t n_cells = cells.cells.size();
+  // The prepared scene's walks and fixture maps, where they were made from what this frame would
+  // make them from; per light, its position must match too.
+  const PreparedLamps* prepared = input.context.lamps_soup == &soup ? input.context.lamps : nullptr;
+  const bool prepared_walks = prepared && prepared->cells != 0 && prepared->cells == cells.serial &&
+                              prepared->conditions == state.cell_conditions;
+  const bool prepared_fixtures = prepared && prepared->tolerance == tolerance;
+  auto prepared_lamp = [&](size_t l) -> const PreparedLamps::Lamp* {
+    if (!prepared || l >= prepared->lamps.size()) return nullptr;
+    const PreparedLamps::Lamp& lamp = prepared->lamps[l];
+    return lamp.point && lamp.position == lights[l].position ? &lamp : nullptr;
+  };
+  bool all_fixtures_prepared = prepared_fixtures;
+  for (size_t l = 0; l < lights.size() && all_fixtures_prepared; ++l)
+    all_fixtures_prepared = lights[l].type != LightType::point || prepared_lamp(l);
+  const std::vector<std::vector<uint32_t>> fixture =
+      all_fixtures_prepared ? std::vector<std::vector<uint32_t>>(lights.size()) : lamp_fixtures(soup, lights);
+  if (cells.serial == 0 || state.lamp_walks_cells != cells.serial ||
+      state.lamp_walks_conditions != state.cell_conditions) {
+    for (CullState::LampWalks& walks : state.lamp_walks) walks.kept = false;
+    state.lamp_walks_cells = cells.serial;
+    state.lamp_walks_conditions = state.cell_conditions;
+  }
+  state.lamp_walks.resize(lights.size());
+  state.lamps_blocked.fixtures.assign(lights.size(), FixtureMap{});
+  state.fixture_cache.resize(lights.size());
+  state.made.assign(lights.size(), {0, 0});  // per light: walks, fixture maps
   // Per cell and face: the group of the face's cone with the camera's, gathered face by face and
   // then laid out by cell. Lamps are independent: one task each, writing only its own entries.
   struct Group {
     uint32_t cell = 0, first = 0, count = 0;
   };
-  // The polygons of objects whose bounds hold a lamp: its fixture, for its fixture map.
-  const PolygonSoup& soup = input.soup;
-  std::vector<std::vector<uint32_t>> held(soup.objects.size());  // per object: the lamps it holds
-  bool any_held = false;
-  for (uint32_t l = 0; l < lights.size(); ++l) {
-    if (lights[l].type != LightType::point) continue;
-    const Vec3 p = lights[l].position;
-    for (uint32_t o = 0; o < soup.objects.size(); ++o) {
-      const SceneObject& object = soup.objects[o];
-      if (object.bounded && glm::all(glm::lessThan(object.lo, p)) && glm::all(glm::lessThan(p, object.hi))) {
-        held[o].push_back(l), any_held = true;
-      }
-    }
-  }
-  std::vector<std::vector<uint32_t>> fixture(lights.size());
-  for (uint32_t j = 0; any_held && j < soup.polygons.size(); ++j) {
-    for (uint32_t l : held[soup.polygons[j].object]) fixture[l].push_back(j);
-  }
-  state.lamps_blocked.fixtures.assign(lights.size(), FixtureMap{});
-  state.fixture_cache.resize(lights.size());
   parallel_for(input.context.threads, lights.size(), [&](size_t l, unsigned) {
     const Light& light = lights[l];
     LampSight& sight = state.lamps_blocked.sight[l];
     if (light.type != LightType::point) return;
-    if (!fixture[l].empty()) {
+    const PreparedLamps::Lamp* ready = prepared_lamp(l);
+    if (prepared_fixtures && ready) {
+      state.lamps_blocked.fixtures[l] = ready->fixture;
+    } else if (!fixture[l].empty()) {
       thread_local std::vector<double> key;
-      key.assign({light.position.x, light.position.y, light.position.z, tolerance, double(fixture_bins)});
+      key.assign({light.position.x, light.position.y, light.position.z, tolerance, double(lamp_fixture_bins)});
       for (uint32_t k : fixture[l]) {
         const Polygon& q = soup.polygons[k];
         key.insert(key.end(), {double(q.flags), q.normal.x, q.normal.y, q.normal.z, q.offset, double(q.vertex_count)});
         for (const Vec3& v : soup.points(q)) key.insert(key.end(), {v.x, v.y, v.z});
       }
       CullState::FixtureCache& cached = state.fixture_cache[l];
-      if (cached.key != key)
-        cached.key = key, cached.map = fixture_map(soup, fixture[l], light, tolerance, fixture_bins);
+      if (cached.key != key) {
+        cached.key = key, cached.map = fixture_map(soup, fixture[l], light, tolerance, lamp_fixture_bins);
+        state.made[l].second = 1;
+      }
       state.lamps_blocked.fixtures[l] = cached.map;
     }
-    thread_local CellWalk lamp_walk;
+    const std::vector<LampFaceWalk>* faces = nullptr;
+    if (prepared_walks && ready) {
+      faces = &ready->faces;
+    } else {
+      CullState::LampWalks& walks = state.lamp_walks[l];
+      if (!(walks.kept && walks.position == light.position)) {
+        walks.kept = true, walks.position = light.position;
+        walks.faces = walk_from_lamp(cells, state.cell_conditions, light.position);
+        state.made[l].first = walks.faces.size();
+      }
+      faces = &walks.faces;
+    }
     thread_local std::vector<Group> found;
     thread_local std::vector<HalfSpace> planes;
     bool sees = false;
     found.clear();
     planes.clear();
-    for (const shadow_detail::CubeFace& face : shadow_detail::cube_faces) {
-      CellViewpoint viewpoint;
-      viewpoint.eye = light.position;
-      viewpoint.reach = near_m * std::sqrt(3.0);
-      viewpoint.clip_from_world = glm::perspective(0.5 * std::numbers::pi, 1.0, near_m, far_m) *
-                                  glm::lookAt(light.position, light.position + face.forward, face.up);
-      viewpoint.margin_x = viewpoint.margin_y = margin;
-      walk_cells(cells, state.cell_conditions, viewpoint, lamp_walk);
-      if (lamp_walk.everything) {
+    for (size_t f = 0; f < faces->size(); ++f) {
+      const LampFaceWalk& walk = (*faces)[f];
+      if (walk.everything) {
         sees = true;
         found.clear();
         break;
       }
+      const Mat4 lamp_clip_from_world = lamp_face_view(light.position, f).clip_from_world;
       for (size_t c = 0; c < n_cells; ++c) {
-        if (!lamp_walk.reached[c] || !state.cell_walk.reached[c]) continue;
+        if (!walk.reached[c] || !state.cell_walk.reached[c]) continue;
         const uint32_t first = uint32_t(planes.size());
         add_sight_cone(camera_clip_from_world, bounding_region(state.cell_walk, c), planes);
-        add_sight_cone(viewpoint.clip_from_world, bounding_region(lamp_walk, c), planes);
+        add_sight_cone(lamp_clip_from_world, walk.regions[c], planes);
         const std::span<const HalfSpace> cone(planes.data() + first, planes.size() - first);
         if (!half_spaces_meet_in_box(cone, lo, hi, tolerance)) {
           planes.resize(first);
@@ -242,6 +255,7 @@ void cull_lamps(const SceneCells& cells, FrameInput& input, CullState& state, Re
     sight.planes.assign(planes.begin(), planes.end());
   });
   for (uint8_t skipped : state.lights_skipped) stats.lamps_culled += skipped;
+  for (const auto& [walks, maps] : state.made) stats.lamp_walks_made += walks, stats.fixture_maps_made += maps;
 }
 
 // Lamps blocked per polygon (shadow rays, after the occlusion walk): a shown point x of polygon p
@@ -268,29 +282,36 @@ void block_lamps(const SceneCells& cells, uint32_t ids, FrameInput& input, CullS
   // An id shared by several frame polygons is left unblocked (one of them may be drawn unshown).
   state.id_seen.assign(ids, 0);
   for (const Polygon& p : soup.polygons) state.id_seen[p.id] = uint8_t(std::min(state.id_seen[p.id] + 1, 2));
-  std::vector<uint64_t> row(out.words);
   const bool selection = !state.frame_of.empty();
-  for (size_t j = 0; j < soup.polygons.size(); ++j) {
-    const Polygon& p = soup.polygons[j];
-    if (!state.occlusion.shown[j] || state.id_seen[p.id] != 1) continue;
-    Vec3 plo(std::numeric_limits<double>::infinity()), phi(-std::numeric_limits<double>::infinity());
-    for (const Vec3& v : soup.points(p)) plo = glm::min(plo, v), phi = glm::max(phi, v);
-    const std::span<const uint32_t> own = cells.cells_of_polygon(selection ? p.id : uint32_t(j));
-    std::fill(row.begin(), row.end(), 0);
-    for (uint32_t l = 0; l < lights.size(); ++l) {
-      const LampSight& sight = out.sight[l];
-      if (state.lights_skipped[l] || sight.everything) continue;
-      bool lit = false;
-      for (size_t k = 0; k < own.size() && !lit; ++k) {
-        for (uint32_t g = sight.cell_first[own[k]]; g < sight.cell_first[own[k] + 1] && !lit; ++g) {
-          const auto [first, count] = sight.groups[g];
-          lit = !box_outside_half_spaces({sight.planes.data() + first, count}, plo, phi, state.lamp_tolerance);
+  // Chunks of polygons as tasks: each writes the rows of its own polygons' ids (an id of one polygon
+  // only) and its own count.
+  constexpr size_t chunk = 512;
+  const size_t chunks = (soup.polygons.size() + chunk - 1) / chunk;
+  std::vector<size_t> blocked(chunks, 0);
+  parallel_for(input.context.threads, chunks, [&](size_t task, unsigned) {
+    const size_t end = std::min(soup.polygons.size(), (task + 1) * chunk);
+    for (size_t j = task * chunk; j < end; ++j) {
+      const Polygon& p = soup.polygons[j];
+      if (!state.occlusion.shown[j] || state.id_seen[p.id] != 1) continue;
+      Vec3 plo(std::numeric_limits<double>::infinity()), phi(-std::numeric_limits<double>::infinity());
+      for (const Vec3& v : soup.points(p)) plo = glm::min(plo, v), phi = glm::max(phi, v);
+      const std::span<const uint32_t> own = cells.cells_of_polygon(selection ? p.id : uint32_t(j));
+      uint64_t* const row = out.bits.data() + size_t(p.id) * out.words;
+      for (uint32_t l = 0; l < lights.size(); ++l) {
+        const LampSight& sight = out.sight[l];
+        if (state.lights_skipped[l] || sight.everything) continue;
+        bool lit = false;
+        for (size_t k = 0; k < own.size() && !lit; ++k) {
+          for (uint32_t g = sight.cell_first[own[k]]; g < sight.cell_first[own[k] + 1] && !lit; ++g) {
+            const auto [first, count] = sight.groups[g];
+            lit = !box_outside_half_spaces({sight.planes.data() + first, count}, plo, phi, state.lamp_tolerance);
+          }
         }
+        if (!lit) row[l / 64] |= uint64_t(1) << (l % 64), ++blocked[task];
       }
-      if (!lit) row[l / 64] |= uint64_t(1) << (l % 64), ++stats.lamps_blocked;
     }
-    std::copy(row.begin(), row.end(), out.bits.begin() + ptrdiff_t(size_t(p.id) * out.words));
-  }
+  });
+  for (size_t b : blocked) stats.lamps_blocked += b;
   input.lamps_blocked = &out;
 }
 

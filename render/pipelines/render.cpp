@@ -83,7 +83,7 @@ double choose_exposure(const RenderRequest& view, const Camera& camera, const Pr
 
 }  // namespace
 
-PreparedScene prepare_scene(Scene scene) {
+PreparedScene prepare_scene(Scene scene, unsigned threads) {
   PreparedScene out;
   out.scene = std::move(scene);
   Stopwatch clock;
@@ -92,6 +92,7 @@ PreparedScene prepare_scene(Scene scene) {
   out.hierarchy = std::make_shared<const SceneHierarchy>(build_hierarchy(out.soup));
   out.cells = std::make_shared<const SceneCells>(build_cells(out.scene.geometry, out.soup, *out.hierarchy));
   out.shadow_bvh = std::make_shared<const ShadowBvh>(build_shadow_bvh(out.soup, *out.hierarchy));
+  out.lamps = std::make_shared<const PreparedLamps>(prepare_lamps(out.soup, *out.cells, out.scene.lights, threads));
   out.tessellate_ms = clock.elapsed_ms();
   out.static_id = scene_id(out.scene.geometry);
   out.warnings = placement_warnings(out.scene, out.soup);
@@ -118,6 +119,7 @@ RenderOutcome render(const RenderRequest& view, const PreparedScene& scene, cons
     frame_context.cells = scene.cells.get();
   }
   if (scene.shadow_bvh) frame_context.shadow_bvh = scene.shadow_bvh.get(), frame_context.shadow_bvh_soup = &scene.soup;
+  if (scene.lamps) frame_context.lamps = scene.lamps.get(), frame_context.lamps_soup = &scene.soup;
   const std::string static_id = frame_context.scene_id;
   // A view that leaves levels or ceilings out draws a copy without them, cached under its own keys.
   const Camera camera = view_camera(view.camera, view.options, scene.soup);

@@ -8,6 +8,7 @@
 #include "render/core/cells.hpp"
 #include "render/core/frame.hpp"
 #include "render/core/hierarchy.hpp"
+#include "render/core/lamp_sight.hpp"
 #include "render/core/placement.hpp"
 #include "render/core/shadow_rays.hpp"
 
@@ -30,12 +31,15 @@ struct PreparedScene {
   std::shared_ptr<const SceneCells> cells;
   // The shadow rays' tree of `soup`'s casters, collapsed from `hierarchy` (shared likewise).
   std::shared_ptr<const ShadowBvh> shadow_bvh;
-  double tessellate_ms = 0.0;  // the time tessellation took, with the hierarchy's, cells' and shadow tree's builds
+  // What its lamps see through the cells, and their fixture maps (lamp culling with shadow rays; shared likewise).
+  std::shared_ptr<const PreparedLamps> lamps;
+  double tessellate_ms =
+      0.0;  // the time tessellation took, with the hierarchy's, cells', shadow tree's and lamps' builds
 };
 
-// Tessellates `scene`, builds its hierarchy, cells and shadow-ray tree and computes its id and
-// placement warnings.
-PreparedScene prepare_scene(Scene scene);
+// Tessellates `scene`, builds its hierarchy, cells, shadow-ray tree and lamps' sight and computes
+// its id and placement warnings. `threads` share the lamps' part (the result does not depend on them).
+PreparedScene prepare_scene(Scene scene, unsigned threads = 1);
 
 struct RenderReport {
   StageTimings timings;  // queue .. encode and total (stage_table)

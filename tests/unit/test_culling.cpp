@@ -228,6 +228,63 @@ TEST(Culling, PolygonsOutOfAKeptLampsSightAreLeftUnlit) {
   }
 }
 
+// What lamp culling knows without the camera (each lamp's cube-face portal walks, its fixture map) is
+// made once with the prepared scene: a frame takes it and makes none, and its bytes are those of a
+// frame that makes its own. A frame of a scene prepared without it makes its own once, then takes the
+// ones this thread kept; a lamp that moved makes its own while the others are taken.
+TEST(Culling, LampWalksAndFixtureMapsAreMadeOnceWithTheSameBytes) {
+  const nlohmann::json doorway = {
+      {"openings", {{{"type", "door"}, {"offset", 1.7}, {"width", 0.6}, {"height", 2.1}, {"leaf", false}}}}};
+  const nlohmann::json table = {{"type", "box"}, {"center", {1.0, 3.4}}, {"size", {0.8, 0.75, 0.8}}};
+  // The second lamp sits inside the table (its fixture): its map closes every direction.
+  const nlohmann::json lights = {{{"type", "point"}, {"position", {6.0, 2.0, 2.0}}, {"intensity", 0.6}},
+                                 {{"type", "point"}, {"position", {1.0, 0.4, 3.4}}, {"intensity", 0.4}},
+                                 {{"type", "point"}, {"position", {2.0, 2.2, 2.0}}, {"intensity", 0.4}}};
+  const nlohmann::json camera = {{"position", {3.5, 1.6, 0.3}}, {"target", {1.0, 0.5, 3.4}}};
+  const RenderRequest request = two_rooms(doorway, table, lights, camera);
+  const PreparedScene scene = prepare_scene(request.scene);
+  ASSERT_TRUE(scene.cells && scene.cells->derived());
+  ASSERT_TRUE(scene.lamps);
+  ASSERT_EQ(scene.lamps->lamps.size(), 3u);
+  EXPECT_GT(scene.lamps->lamps[1].fixture.n, 0) << "the table holds the second lamp";
+  PreparedScene unprepared = scene;
+  unprepared.lamps.reset();
+  Matrix m;
+  const PipelineId z = pipeline_id(pipeline_table()[0]);
+  auto draw = [&](const RenderRequest& r, const PreparedScene& s) {
+    return m.draw(r, s, r.camera, z, 1, true, CullingMode::on, 0, 2, ShadowMethod::rays);
+  };
+  const RenderOutcome taken = draw(request, scene);
+  EXPECT_EQ(taken.report.stats.lamp_walks_made, 0u);
+  EXPECT_EQ(taken.report.stats.fixture_maps_made, 0u);
+  const RenderOutcome made = draw(request, unprepared);
+  EXPECT_GE(made.report.stats.lamp_walks_made, 3u * 6u) << "every lamp walks its six faces (none gives up here)";
+  EXPECT_EQ(made.report.stats.fixture_maps_made, 1u);
+  const RenderOutcome kept = draw(request, unprepared);
+  EXPECT_EQ(kept.report.stats.lamp_walks_made, 0u) << "the thread's walks of the last frame";
+  EXPECT_EQ(kept.report.stats.fixture_maps_made, 0u);
+  for (const RenderOutcome* o : {&made, &kept}) {
+    EXPECT_TRUE(o->frame.image.rgb == taken.frame.image.rgb);
+    EXPECT_TRUE(o->frame.ids.ids == taken.frame.ids.ids);
+    EXPECT_EQ(o->report.stats.lamps_blocked, taken.report.stats.lamps_blocked);
+    EXPECT_EQ(o->report.stats.lights_evaluated, taken.report.stats.lights_evaluated);
+  }
+  EXPECT_GT(taken.report.stats.lamps_blocked, 0u);
+  // The first lamp moved 1 cm: its prepared entries no longer serve it; the others' still do.
+  PreparedScene shifted = scene;
+  shifted.scene.lights[0].position.y += 0.01;
+  const RenderOutcome partly = draw(request, shifted);
+  EXPECT_GE(partly.report.stats.lamp_walks_made, 1u);
+  EXPECT_LE(partly.report.stats.lamp_walks_made, 6u);
+  EXPECT_EQ(partly.report.stats.fixture_maps_made, 0u);
+  PreparedScene remade = shifted;
+  remade.lamps = std::make_shared<const PreparedLamps>(prepare_lamps(remade.soup, *remade.cells, remade.scene.lights));
+  const RenderOutcome fresh = draw(request, remade);
+  EXPECT_EQ(fresh.report.stats.lamp_walks_made, 0u);
+  EXPECT_TRUE(partly.frame.image.rgb == fresh.frame.image.rgb);
+  EXPECT_FALSE(partly.frame.image.rgb == taken.frame.image.rgb) << "the moved lamp lights the room differently";
+}
+
 TEST(Culling, IdenticalOnAndOffPlansAndFireplaceRoom) {
   std::vector<CullingScene> scenes = testing::culling_scenes("r2v", testing::source_dir(), testing::shared_data_dir());
   if (scenes.size() > 2) scenes.resize(2);
