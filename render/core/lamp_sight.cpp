@@ -15,8 +15,8 @@ CellViewpoint lamp_face_view(Vec3 position, size_t face) {
   CellViewpoint viewpoint;
   viewpoint.eye = position;
   viewpoint.reach = near_m * std::sqrt(3.0);
-  viewpoint.clip_from_world = glm::perspective(0.5 * std::numbers::pi, 1.0, near_m, far_m) *
-                              glm::lookAt(position, position + f.forward, f.up);
+  viewpoint.clip_from_world =
+      glm::perspective(0.5 * std::numbers::pi, 1.0, near_m, far_m) * glm::lookAt(position, position + f.forward, f.up);
   viewpoint.margin_x = viewpoint.margin_y = margin;
   return viewpoint;
 }

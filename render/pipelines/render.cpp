@@ -83,7 +83,7 @@ double choose_exposure(const RenderRequest& view, const Camera& camera, const Pr
 
 }  // namespace
 
-PreparedScene prepare_scene(Scene scene, unsigned threads) {
+PreparedScene prepare_scene(Scene scene, unsigned threads, PrepareLamps lamps) {
   PreparedScene out;
   out.scene = std::move(scene);
   Stopwatch clock;
@@ -92,7 +92,8 @@ PreparedScene prepare_scene(Scene scene, unsigned threads) {
   out.hierarchy = std::make_shared<const SceneHierarchy>(build_hierarchy(out.soup));
   out.cells = std::make_shared<const SceneCells>(build_cells(out.scene.geometry, out.soup, *out.hierarchy));
   out.shadow_bvh = std::make_shared<const ShadowBvh>(build_shadow_bvh(out.soup, *out.hierarchy));
-  out.lamps = std::make_shared<const PreparedLamps>(prepare_lamps(out.soup, *out.cells, out.scene.lights, threads));
+  if (lamps == PrepareLamps::yes)
+    out.lamps = std::make_shared<const PreparedLamps>(prepare_lamps(out.soup, *out.cells, out.scene.lights, threads));
   out.tessellate_ms = clock.elapsed_ms();
   out.static_id = scene_id(out.scene.geometry);
   out.warnings = placement_warnings(out.scene, out.soup);

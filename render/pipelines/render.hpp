@@ -38,8 +38,11 @@ struct PreparedScene {
 };
 
 // Tessellates `scene`, builds its hierarchy, cells, shadow-ray tree and lamps' sight and computes
-// its id and placement warnings. `threads` share the lamps' part (the result does not depend on them).
-PreparedScene prepare_scene(Scene scene, unsigned threads = 1);
+// its id and placement warnings. `threads` share the lamps' part (the result does not depend on them);
+// a scene prepared for one render that casts no shadow rays leaves that part out (PrepareLamps::no:
+// `lamps` stays null, and a frame that needs it makes its own).
+enum class PrepareLamps { yes, no };
+PreparedScene prepare_scene(Scene scene, unsigned threads = 1, PrepareLamps lamps = PrepareLamps::yes);
 
 struct RenderReport {
   StageTimings timings;  // queue .. encode and total (stage_table)

@@ -247,8 +247,8 @@ TEST(Culling, LampWalksAndFixtureMapsAreMadeOnceWithTheSameBytes) {
   ASSERT_TRUE(scene.lamps);
   ASSERT_EQ(scene.lamps->lamps.size(), 3u);
   EXPECT_GT(scene.lamps->lamps[1].fixture.n, 0) << "the table holds the second lamp";
-  PreparedScene unprepared = scene;
-  unprepared.lamps.reset();
+  const PreparedScene unprepared = prepare_scene(request.scene, 2, PrepareLamps::no);
+  EXPECT_FALSE(unprepared.lamps);
   Matrix m;
   const PipelineId z = pipeline_id(pipeline_table()[0]);
   auto draw = [&](const RenderRequest& r, const PreparedScene& s) {
