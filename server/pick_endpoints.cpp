@@ -120,7 +120,7 @@ void handle_pick(ServiceState& state, const Request& req, Response& res, const R
     PixelRequest pixel = split_pixel(parse_body(state, req));
     RenderRequest request = request_from_json(pixel.view, state.limits);
     check_cancel(&token);
-    PreparedScene scene = prepare_scene(std::move(request.scene), render_threads(state.config), PrepareLamps::no);
+    PreparedScene scene = prepare_scene(std::move(request.scene), 1, PrepareLamps::no);  // a pick casts no shadow ray
     request_context().scene_id = scene.static_id;
     pick_and_answer(state, res, pixel, request, scene, "/scene", token);
   });

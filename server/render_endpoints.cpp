@@ -127,11 +127,8 @@ void handle_render(ServiceState& state, const Request& req, Response& res, const
     std::string etag = render_etag(hash_hex(member(body, "scene").dump()), body, match.media_type);
     if (answer_not_modified(req, res, etag)) return;  // before the scene is prepared: a 304 costs no tessellation
     check_cancel(&token);
-    const RenderOptions& o = request.options;
-    // The one render it is prepared for casts shadow rays (auto exposure's pre-passes do, whatever the method).
-    const bool rays = o.shadows && (o.shadow.method == ShadowMethod::rays || o.auto_exposure);
-    PreparedScene scene = prepare_scene(std::move(request.scene), render_threads(state.config),
-                                        rays ? PrepareLamps::yes : PrepareLamps::no);
+    PreparedScene scene =
+        prepare_scene(std::move(request.scene), render_threads(state.config), lamps_for(request.options));
     request_context().scene_id = scene.static_id;
     res.set_header("X-Scene-Id", scene.static_id);
     FramePlan plan{scene, request, "/scene", etag, parse_ms, scene.tessellate_ms};

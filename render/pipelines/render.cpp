@@ -100,6 +100,11 @@ PreparedScene prepare_scene(Scene scene, unsigned threads, PrepareLamps lamps) {
   return out;
 }
 
+PrepareLamps lamps_for(const RenderOptions& options) {
+  const bool rays = options.shadows && (options.shadow.method == ShadowMethod::rays || options.auto_exposure);
+  return rays ? PrepareLamps::yes : PrepareLamps::no;
+}
+
 Camera view_camera(const Camera& camera, const RenderOptions& options, const PolygonSoup& soup) {
   if (!camera.frame_all) return camera;
   Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());

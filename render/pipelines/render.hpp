@@ -43,6 +43,9 @@ struct PreparedScene {
 // `lamps` stays null, and a frame that needs it makes its own).
 enum class PrepareLamps { yes, no };
 PreparedScene prepare_scene(Scene scene, unsigned threads = 1, PrepareLamps lamps = PrepareLamps::yes);
+// What a scene prepared for one render with `options` needs: the lamps' sight when the render casts
+// shadow rays (shadow.method rays, or auto exposure, whose pre-passes draw with rays).
+PrepareLamps lamps_for(const RenderOptions& options);
 
 struct RenderReport {
   StageTimings timings;  // queue .. encode and total (stage_table)
