@@ -6,7 +6,11 @@
 # flag of ours, so a wrapper adds --shadow-method to each bench-render it runs. The load is printed by
 # side_by_side.py before each run: quote it with the numbers.
 #   bench/shadow_rays_peers.sh BUILD_DIR [side_by_side.py options, e.g. --scenes 3BedroomApartment --rounds 2]
-# Writes bench/results/shadow_rays_peers_{map,rays}.json. PEERS_BUILD defaults to /work/peers/build.
+# Writes bench/results/shadow_rays_peers_{map,rays}$SUFFIX.json. PEERS_BUILD defaults to /work/peers/build.
+# A later --modes replaces lights+shadows: SUFFIX=_conference ... --scenes conference --modes vs-embree
+# draws the conference room with its sun. The homes always get their lamps here (--home-lights); for a
+# home with one sun, run side_by_side.py --homes --modes vs-embree with the same wrapper.
+# Threads: side_by_side.py gives Embree no --threads flag, so it uses every core whatever --threads says.
 set -eu
 build=${1:?usage: bench/shadow_rays_peers.sh BUILD_DIR [side_by_side.py options]}
 shift
@@ -28,5 +32,5 @@ WRAP
   chmod +x "$wrapper"
   echo "== shadow.method $method"
   python3 "$peers/tools/side_by_side.py" "$wrapper" --homes --home-lights --modes lights+shadows \
-    --json "$here/results/shadow_rays_peers_$method.json" "$@"
+    --json "$here/results/shadow_rays_peers_$method${SUFFIX:-}.json" "$@"
 done
