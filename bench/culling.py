@@ -64,6 +64,14 @@ def peer(mode, obj, cam_flags, frames, threads, extra=()):
     return j["frame_ms_median"] if j else None
 
 
+def write_lights(scene, path):
+    """The scene's lights and ambient as a peer_render --lights file (our default ambient is 0.2)."""
+    amb = scene.get("ambient", {})
+    with open(path, "w") as f:
+        f.write('{"ambient": %s, "lights": [\n%s\n]}\n' % (json.dumps(amb if "color" in amb else amb.get("intensity", 0.2)),
+                                                           ",\n".join(" " + json.dumps(l) for l in scene.get("lights", []))))
+
+
 def cam_flags(c, light=True):
     f = lambda v: ",".join("%.9g" % x for x in v)
     out = ["--eye", f(c["position"]), "--target", f(c["target"]), "--up", f(c.get("up", [0, 1, 0])),
@@ -132,10 +140,7 @@ def homes(a, rows):
         # With the home's own lights: our Phong (no shadows) against llvmpipe's N-light Phong, observer camera.
         lights = os.path.join(work, name + ".lights.json")
         scene = json.load(open(req))["scene"]
-        amb = scene.get("ambient", {})
-        with open(lights, "w") as f:
-            f.write('{"ambient": %s, "lights": [\n%s\n]}\n' % (json.dumps(amb if "color" in amb else amb.get("intensity", 0.2)),
-                                                               ",\n".join(" " + json.dumps(l) for l in scene.get("lights", []))))
+        write_lights(scene, lights)
         cam = cam_flags(json.load(open(req))["camera"], light=False)
         for threads in a.threads:
             before, pr, on, off = load(), [], [], []

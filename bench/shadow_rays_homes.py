@@ -24,32 +24,14 @@ import argparse, glob, json, os, statistics, subprocess, sys, tempfile, time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from culling import SHARED, PEER, cam_flags, last_json, load  # noqa: E402  (the culling bench's helpers)
-
-
-def run(cmd, env=None, timeout=1800):
-    p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
-    j = last_json(p.stdout)
-    if j is None:
-        print("  failed: " + " ".join(cmd) + "\n  " + p.stderr.strip()[-400:], flush=True)
-    return j
-
-
-def embree(obj, cam, lights, frames, threads):
-    env = dict(os.environ, MESA_SHADER_CACHE_DISABLE="true", LP_NUM_THREADS=str(threads))
-    j = run([PEER, "--mode", "rt", "--rt-packet", "16", "--obj", obj, "--lights", lights] + cam +
-            ["--size", "1280x720", "--frames", str(frames), "--threads", str(threads)], env)
-    return j["frame_ms_median"] if j else None
+from culling import SHARED, PEER, cam_flags, load, peer, run, write_lights  # noqa: E402  (the culling bench's helpers)
 
 
 def ours(binary, req, cam, method, frames, threads):
     j = run([binary, "bench-render", "--request", req] + cam +
             ["--size", "1280x720", "--frames", str(frames), "--threads", str(threads), "--shading", "phong",
              "--shadows", "true", "--shadow-method", method, "--shadow-cache", "off"])
-    if not j:
-        return None
-    stages = j.get("stage_ms_median", {})
-    return {"ms": j["frame_ms_median"], "stages": stages}
+    return {"ms": j["frame_ms_median"], "stages": j.get("stage_ms_median", {})} if j else None
 
 
 def prepare(binary, xml, work):
@@ -67,11 +49,8 @@ def prepare(binary, xml, work):
                 o["opacity"] = 1.0
     opaque = os.path.join(work, name + ".opaque.json")
     json.dump(r, open(opaque, "w"))
-    amb = scene.get("ambient", {})
     lights = os.path.join(work, name + ".lights.json")
-    with open(lights, "w") as f:
-        f.write('{"ambient": %s, "lights": [\n%s\n]}\n' % (json.dumps(amb if "color" in amb else amb.get("intensity", 0.2)),
-                                                           ",\n".join(" " + json.dumps(l) for l in scene.get("lights", []))))
+    write_lights(scene, lights)
     return name, opaque, obj, lights, len(scene.get("lights", []))
 
 
@@ -105,7 +84,8 @@ def main():
             before, mine = load(), []
             for k, c in enumerate(listed):
                 cam = cam_flags(c["camera"], light=False)
-                e = embree(obj, cam, lights, a.frames, threads)
+                # Embree with the same thread count (peer_render's --threads; LP_NUM_THREADS is llvmpipe's).
+                e = peer("rt", obj, cam, a.frames, threads, ["--lights", lights, "--threads", str(threads)])
                 r = ours(binary, req, cam, "rays", a.frames, threads)
                 m = ours(binary, req, cam, "map", a.map_frames, threads)
                 if not (e and r and m):
